@@ -1,0 +1,1 @@
+"""The ``turtlectl`` command line: launch supervisor and client tools."""

@@ -1,0 +1,1 @@
+"""The launch supervisor: ``process`` (one child), ``printer`` (output), ``manager`` (the system)."""

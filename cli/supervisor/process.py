@@ -1,0 +1,87 @@
+"""One supervised child process: start, stream its output, signal, reap.
+
+Children run in their own process group, so a Ctrl-C on the terminal reaches
+only the supervisor, which then signals each child exactly once per step.
+They are told the supervisor's pid and ask Linux to SIGTERM them if it dies.
+"""
+
+from __future__ import annotations
+
+import os
+import signal
+import subprocess
+import sys
+import threading
+import time
+
+from cli.supervisor.printer import Printer
+
+
+class Child:
+    def __init__(self, name: str, argv: list[str], env: dict[str, str], printer: Printer):
+        self.name = name
+        self.argv = argv
+        self.env = env
+        self.printer = printer
+        self.proc: subprocess.Popen[bytes] | None = None
+        self.starts = 0
+        self.started_at = 0.0
+        self._reader: threading.Thread | None = None
+
+    @property
+    def pid(self) -> int | None:
+        return self.proc.pid if self.proc else None
+
+    def start(self) -> None:
+        """Spawn (fork+exec, never a bare fork: the supervisor holds a Zenoh session)."""
+        self.proc = subprocess.Popen(
+            self.argv,
+            env=self.env,
+            stdin=subprocess.DEVNULL,
+            stdout=subprocess.PIPE,
+            stderr=subprocess.STDOUT,
+            process_group=0,
+            close_fds=True,
+        )
+        self.starts += 1
+        self.started_at = time.monotonic()
+        self._reader = threading.Thread(target=self._pump, args=(self.proc,), name=f"out-{self.name}", daemon=True)
+        self._reader.start()
+
+    def _pump(self, proc: subprocess.Popen[bytes]) -> None:
+        assert proc.stdout is not None  # set by Popen(stdout=PIPE)
+        for raw in proc.stdout:
+            self.printer.line(self.name, raw.decode("utf-8", "replace"))
+        proc.stdout.close()
+
+    def poll(self) -> int | None:
+        """The exit code if the child has exited (reaping it), else None."""
+        return None if self.proc is None else self.proc.poll()
+
+    def running(self) -> bool:
+        return self.proc is not None and self.proc.poll() is None
+
+    def send(self, sig: signal.Signals) -> None:
+        if self.running():
+            assert self.proc is not None
+            try:
+                self.proc.send_signal(sig)
+            except ProcessLookupError:
+                pass
+
+    def flush_output(self, timeout: float = 1.0) -> None:
+        """Wait (bounded) for the rest of the child's output after it exited."""
+        if self._reader is not None:
+            self._reader.join(timeout)
+
+
+def python_module_argv(module: str) -> list[str]:
+    """argv that runs ``python -m module`` with this interpreter, unbuffered."""
+    return [sys.executable, "-u", "-m", module]
+
+
+def child_env(extra: dict[str, str]) -> dict[str, str]:
+    env = dict(os.environ)
+    env.update(extra)
+    env["PYTHONUNBUFFERED"] = "1"
+    return env

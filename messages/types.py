@@ -1,0 +1,139 @@
+"""The wire contract: every message that crosses a process boundary.
+
+Rules (DEVELOPERS.md, "messages/ is the contract"):
+
+* every Struct is strict (``forbid_unknown_fields``) and keyword-only;
+* every Struct is tagged with its type name (``"type": "TurtleStatus"`` in the
+  encoded map), so a payload names its own type on the wire;
+* fields added later get defaults, so old senders stay valid.
+
+Units are SI unless a field says otherwise: metres, seconds, radians, except
+where the capstone specification asks for degrees (``TurtleStatus.theta``,
+``NavigateToRequest.theta``).  ``stamp`` is wall-clock time in nanoseconds
+since the Unix epoch, ``seq`` a per-publisher counter starting at 0.
+"""
+
+from __future__ import annotations
+
+import msgspec
+
+
+class Message(msgspec.Struct, forbid_unknown_fields=True, kw_only=True, tag=True):
+    """Base of every wire type; the tag (type name) is the class name."""
+
+
+class Twist(Message):
+    """Velocity command for the turtle (turtlesim's ``cmd_vel``).
+
+    linear: forward speed along the heading, m/s (negative drives backwards).
+    angular: yaw rate, rad/s, counter-clockwise positive.
+    """
+
+    linear: float = 0.0
+    angular: float = 0.0
+    stamp: int = 0
+    seq: int = 0
+
+
+class Pose(Message):
+    """The turtle's pose as turtlesim publishes it.
+
+    x, y: position in the world frame, m (origin at the lower-left corner).
+    theta: heading, rad, in [-pi, pi), 0 along +x, counter-clockwise positive.
+    linear_velocity: m/s along the heading; angular_velocity: rad/s.
+    """
+
+    x: float
+    y: float
+    theta: float
+    linear_velocity: float = 0.0
+    angular_velocity: float = 0.0
+    stamp: int = 0
+    seq: int = 0
+
+
+class TurtleStatus(Message):
+    """The aggregated robot status of the capstone specification (10 Hz).
+
+    x, y: position, m.  theta: heading in degrees, [0, 360).
+    vel_x, vel_y: velocity in the world frame, m/s.
+    battery: simulated charge, percent, [0, 100].
+    """
+
+    x: float
+    y: float
+    theta: float
+    vel_x: float
+    vel_y: float
+    battery: float
+    stamp: int = 0
+    seq: int = 0
+
+
+class LaserScan(Message):
+    """A planar scan, as ``sensor_msgs/LaserScan`` (simplified).
+
+    Angles are rad in the turtle's frame (0 = straight ahead, CCW positive);
+    beam i points at ``angle_min + i * angle_increment``.  ranges are m;
+    a beam that hits nothing within ``range_max`` reads ``inf`` (REP 117).
+    """
+
+    angle_min: float
+    angle_max: float
+    angle_increment: float
+    range_min: float
+    range_max: float
+    ranges: list[float]
+    stamp: int = 0
+    seq: int = 0
+
+
+class NavigateToRequest(Message):
+    """Goal for the ``navigate_to`` service.
+
+    x, y: goal position in the world frame, m.  theta: goal heading, degrees
+    (any finite value; it is taken modulo 360).
+    """
+
+    x: float
+    y: float
+    theta: float
+
+
+class NavigateToResponse(Message):
+    """Outcome of a ``navigate_to`` goal.
+
+    success: the goal was reached within tolerance.
+    time_taken: seconds from the navigator receiving the request to the reply.
+    reason: empty on success, otherwise why the goal was not reached
+        (for example ``"invalid goal: x is NaN"``, ``"blocked"``, ``"timeout"``).
+    position_error: final distance to the goal position, m.
+    heading_error: final absolute heading error, degrees.
+    x, y, theta: final pose (m, m, degrees [0, 360)).
+    """
+
+    success: bool
+    time_taken: float
+    reason: str = ""
+    position_error: float = 0.0
+    heading_error: float = 0.0
+    x: float = 0.0
+    y: float = 0.0
+    theta: float = 0.0
+
+
+class ErrorReply(Message):
+    """What a service sends back when it cannot even parse a request."""
+
+    error: str
+
+
+ALL_TYPES: tuple[type[Message], ...] = (
+    Twist,
+    Pose,
+    TurtleStatus,
+    LaserScan,
+    NavigateToRequest,
+    NavigateToResponse,
+    ErrorReply,
+)

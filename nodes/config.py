@@ -1,0 +1,35 @@
+"""What the supervisor hands to each node process (pure: no zenoh).
+
+The supervisor serialises a NodeConfig to JSON in the environment variable
+``TURTLECTL_NODE_CONFIG``; the node runtime reads it back and decodes the
+``params`` table into the node kind's parameter Struct.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import msgspec
+
+from sim.world import Limits, World
+
+ENV_VAR = "TURTLECTL_NODE_CONFIG"
+SUPERVISOR_PID_VAR = "TURTLECTL_SUPERVISOR_PID"
+
+
+class NodeConfig(msgspec.Struct, forbid_unknown_fields=True, kw_only=True):
+    name: str
+    kind: str
+    connect: str
+    params: dict[str, Any] = msgspec.field(default_factory=dict)
+    world: World = msgspec.field(default_factory=World)
+    limits: Limits = msgspec.field(default_factory=Limits)
+
+
+def encode_config(config: NodeConfig) -> str:
+    return msgspec.json.encode(config).decode()
+
+
+def decode_config(text: str) -> NodeConfig:
+    """Raises msgspec.ValidationError / DecodeError with the offending path."""
+    return msgspec.json.decode(text, type=NodeConfig)

@@ -1,0 +1,36 @@
+"""Goal checks for the navigator as pure functions: no I/O, no zenoh.
+
+Units: m, degrees for the request's heading, rad inside.
+"""
+
+from __future__ import annotations
+
+import math
+
+from messages import NavigateToRequest
+from sim.world import World
+
+
+def goal_problem(request: NavigateToRequest, world: World) -> str | None:
+    """Why ``request`` cannot be a goal in ``world``, or None if it can."""
+    for name in ("x", "y", "theta"):
+        value = getattr(request, name)
+        if not math.isfinite(value):
+            return f"invalid goal: {name} is {value}"
+    if not world.contains(request.x, request.y):
+        return f"invalid goal: ({request.x:g}, {request.y:g}) is outside the world [0, {world.size:g}] m"
+    for obstacle in world.obstacles:
+        if math.hypot(request.x - obstacle.x, request.y - obstacle.y) <= obstacle.radius:
+            return f"invalid goal: ({request.x:g}, {request.y:g}) is inside an obstacle"
+    return None
+
+
+def heading_error_deg(goal_theta: float, theta: float) -> float:
+    """Absolute difference between two headings in rad, in degrees [0, 180]."""
+    return abs(math.degrees(math.remainder(goal_theta - theta, 2.0 * math.pi)))
+
+
+def stopping_margin(speed: float, scan_age: float, scan_period: float) -> float:
+    """Distance (m) the turtle may travel at ``speed`` m/s before the next scan shows it
+    anything new: since the last scan (``scan_age`` s) plus one scan period (s)."""
+    return abs(speed) * (max(scan_age, 0.0) + scan_period)

@@ -1,0 +1,66 @@
+"""Parameters of each node, with their defaults: the one source of truth.
+
+The launch file's ``[node.params]`` tables are validated against these Structs
+before anything starts (constraints carry the key path into the error); each
+node process decodes its own table into them.
+"""
+
+from __future__ import annotations
+
+from typing import Annotated
+
+import msgspec
+
+from nodes.control import Gains
+from sim.world import NonNegative, Percent, Positive
+
+Degrees = Annotated[float, msgspec.Meta(ge=-360.0, le=360.0)]
+
+
+class NavigatorParams(msgspec.Struct, forbid_unknown_fields=True, kw_only=True):
+    """position_tolerance: m.  heading_tolerance: degrees.
+    safety_distance: m; the turtle stops while an obstacle is this close in its
+    direction of travel (within safety_cone degrees either side).
+    blocked_timeout: s blocked before the goal fails with reason "blocked".
+    goal_timeout: s before a goal fails with reason "timeout".
+    pose_timeout: s without a pose before a running goal fails with reason "no pose".
+    """
+
+    position_tolerance: Positive = 0.01
+    heading_tolerance: Positive = 1.0
+    safety_distance: Positive = 0.4
+    safety_cone: Positive = 30.0
+    blocked_timeout: Positive = 10.0
+    goal_timeout: Positive = 30.0
+    pose_timeout: Positive = 0.5
+    gains: Gains = msgspec.field(default_factory=Gains)
+
+
+class StatusMonitorParams(msgspec.Struct, forbid_unknown_fields=True, kw_only=True):
+    """rate: Hz of robot/status.  battery: starting charge, %.
+    drain_per_second: %/s always; drain_per_metre: %/m travelled.
+    """
+
+    rate: Positive = 10.0
+    battery: Percent = 100.0
+    drain_per_second: NonNegative = 0.01
+    drain_per_metre: NonNegative = 0.1
+
+
+class ObstacleDetectorParams(msgspec.Struct, forbid_unknown_fields=True, kw_only=True):
+    """rate: Hz of the scan.  beams: number of rays.  angle_min, angle_max: degrees
+    relative to the heading (at most 360 apart).  range_min, range_max: m.
+    """
+
+    rate: Positive = 5.0
+    beams: Annotated[int, msgspec.Meta(ge=1, le=100_000)] = 72
+    angle_min: Degrees = -180.0
+    angle_max: Degrees = 180.0
+    range_min: NonNegative = 0.0
+    range_max: Positive = 10.0
+
+    def __post_init__(self) -> None:
+        if not self.angle_min < self.angle_max <= self.angle_min + 360.0:
+            raise ValueError("angle_max must be above angle_min and at most 360 degrees from it")
+        if not self.range_min < self.range_max:
+            raise ValueError("range_min must be below range_max")

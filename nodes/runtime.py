@@ -1,0 +1,274 @@
+"""The node runtime every turtlectl process uses: session, params, timers,
+liveliness, a single logic thread, and a clean, bounded shutdown.
+
+A node is written as a class whose constructor takes a ``Node`` and declares
+what it needs through it::
+
+    class Talker:
+        def __init__(self, node: Node[TalkerParams]):
+            self.pub = node.publisher("chatter", Twist)
+            node.timer(0.1, self.tick)
+
+    if __name__ == "__main__":
+        run(Talker, TalkerParams)
+
+Threading: Zenoh delivers samples and queries on its own threads; the runtime
+only queues them there.  Every callback, timer and handler of the node runs on
+the main thread, one at a time, so node code needs no locks.
+
+Timers run on an absolute-deadline schedule (tick k is due at start + k*period),
+so the period does not drift with the time the callbacks take.
+"""
+
+from __future__ import annotations
+
+import ctypes
+import logging
+import os
+import queue
+import signal
+import sys
+import time
+from collections.abc import Callable
+from typing import Any, Generic, TypeVar
+
+import msgspec
+import zenoh
+
+from messages import ErrorReply, Message, decode, encode, encoding_for
+from messages.keys import node_token, params_key
+from nodes.config import ENV_VAR, SUPERVISOR_PID_VAR, NodeConfig, decode_config
+from nodes.session import close_session, peer_config
+from sim.world import Limits, World
+
+P = TypeVar("P", bound=msgspec.Struct)
+M = TypeVar("M", bound=Message)
+
+EXIT_OK = 0
+EXIT_CONFIG = 2  # the node's configuration could not be used
+EXIT_SESSION = 3  # could not open a Zenoh session
+
+_PR_SET_PDEATHSIG = 1
+_PARENT_CHECK_PERIOD = 0.5  # s
+
+
+class Publisher(Generic[M]):
+    """Publishes messages of one type on one key, filling in ``stamp`` and ``seq``."""
+
+    def __init__(self, session: zenoh.Session, key: str, msg_type: type[M]):
+        self.key = key
+        self._encoding = zenoh.Encoding(encoding_for(msg_type))
+        self._pub = session.declare_publisher(key, encoding=self._encoding)
+        self._seq = 0
+
+    def publish(self, msg: M) -> M:
+        """Stamp ``msg`` (wall clock, ns) and the next sequence number, then send it."""
+        stamped = msgspec.structs.replace(msg, stamp=time.time_ns(), seq=self._seq)
+        self._seq += 1
+        self._pub.put(encode(stamped))
+        return stamped
+
+
+class Request(Generic[M]):
+    """A service request being handled; reply once, now or later, with ``respond``."""
+
+    def __init__(self, query: zenoh.Query, body: M, response_type: type[Message]):
+        self.body = body
+        self._query = query
+        self._encoding = zenoh.Encoding(encoding_for(response_type))
+        self.done = False
+
+    def respond(self, response: Message, final: bool = True) -> None:
+        """Send ``response`` to the caller; with final=True the call ends."""
+        if self.done:
+            return
+        self._query.reply(self._query.key_expr, encode(response), encoding=self._encoding)
+        if final:
+            self.done = True
+            self._query.drop()
+
+
+class _Timer:
+    def __init__(self, period: float, callback: Callable[[], None], start: float):
+        self.period = period
+        self.callback = callback
+        self.start = start
+        self.ticks = 1
+        self.deadline = start + period
+
+    def advance(self, now: float) -> None:
+        """Next deadline on the absolute grid; missed ticks are skipped, not bunched."""
+        self.ticks = max(self.ticks + 1, int((now - self.start) / self.period) + 1)
+        self.deadline = self.start + self.ticks * self.period
+
+
+class Node(Generic[P]):
+    """A running node: its name, typed params, the shared world, and its Zenoh entities."""
+
+    def __init__(self, config: NodeConfig, params: P, session: zenoh.Session):
+        self.name = config.name
+        self.params: P = params
+        self.world: World = config.world
+        self.limits: Limits = config.limits
+        self.session = session
+        self.log = logging.getLogger(config.name)
+        self._queue: queue.SimpleQueue[tuple[Callable[..., None], tuple[Any, ...]]] = queue.SimpleQueue()
+        self._timers: list[_Timer] = []
+        self._entities: list[Any] = []
+        self._bad_payloads: dict[str, int] = {}
+        self._running = True
+        self._on_shutdown: list[Callable[[], None]] = []
+        self._params_json = msgspec.json.encode(params)
+        self._entities.append(session.declare_queryable(params_key(self.name), self._on_params_query))
+
+    # -- declarations -------------------------------------------------------
+    def publisher(self, key: str, msg_type: type[M]) -> Publisher[M]:
+        pub = Publisher(self.session, key, msg_type)
+        self._entities.append(pub)
+        return pub
+
+    def subscribe(self, key: str, msg_type: type[M], callback: Callable[[M], None]) -> None:
+        """Call ``callback(msg)`` on the node thread for each valid ``msg_type`` on ``key``."""
+
+        def on_sample(sample: zenoh.Sample) -> None:  # Zenoh thread: queue only
+            self._queue.put((self._deliver, (key, msg_type, sample.payload.to_bytes(), callback)))
+
+        self._entities.append(self.session.declare_subscriber(key, on_sample))
+
+    def serve(
+        self,
+        key: str,
+        request_type: type[M],
+        response_type: type[Message],
+        handler: Callable[[Request[M]], None],
+    ) -> None:
+        """Serve a queryable; ``handler(request)`` runs on the node thread and responds when it likes."""
+
+        def on_query(query: zenoh.Query) -> None:  # Zenoh thread: queue only
+            self._queue.put((self._handle_query, (key, request_type, response_type, query, handler)))
+
+        self._entities.append(self.session.declare_queryable(key, on_query))
+
+    def timer(self, period: float, callback: Callable[[], None]) -> None:
+        """Call ``callback()`` every ``period`` s on an absolute schedule."""
+        self._timers.append(_Timer(period, callback, time.monotonic()))
+
+    def on_shutdown(self, callback: Callable[[], None]) -> None:
+        """Run ``callback()`` on the node thread when the node stops (e.g. to stop the turtle)."""
+        self._on_shutdown.append(callback)
+
+    # -- internals ----------------------------------------------------------
+    def _rejected(self, key: str, reason: str) -> None:
+        """Count a bad payload; log the first per key and then every 100th."""
+        count = self._bad_payloads.get(key, 0) + 1
+        self._bad_payloads[key] = count
+        if count == 1 or count % 100 == 0:
+            self.log.warning("dropped malformed payload #%d on %s: %s", count, key, reason)
+
+    def _deliver(self, key: str, msg_type: type[M], payload: bytes, callback: Callable[[M], None]) -> None:
+        try:
+            msg = decode(payload, msg_type)
+        except ValueError as exc:
+            self._rejected(key, str(exc))
+            return
+        callback(msg)
+
+    def _handle_query(
+        self,
+        key: str,
+        request_type: type[M],
+        response_type: type[Message],
+        query: zenoh.Query,
+        handler: Callable[[Request[M]], None],
+    ) -> None:
+        payload = query.payload.to_bytes() if query.payload is not None else b""
+        try:
+            body = decode(payload, request_type)
+        except ValueError as exc:
+            self._rejected(key, str(exc))
+            query.reply_err(encode(ErrorReply(error=str(exc))), encoding=zenoh.Encoding(encoding_for(ErrorReply)))
+            query.drop()
+            return
+        handler(Request(query, body, response_type))
+
+    def _on_params_query(self, query: zenoh.Query) -> None:  # Zenoh thread, read-only data
+        query.reply(query.key_expr, self._params_json, encoding=zenoh.Encoding.APPLICATION_JSON)
+
+    def stop(self, *_: Any) -> None:
+        """Ask the node to stop (safe from signal handlers and other threads)."""
+        self._running = False
+        self._queue.put((lambda: None, ()))
+
+    def spin(self) -> None:
+        """Run timers and queued callbacks on this thread until ``stop``."""
+        while self._running:
+            now = time.monotonic()
+            for t in self._timers:
+                if now >= t.deadline:
+                    t.advance(now)
+                    t.callback()
+            timeout = min((t.deadline for t in self._timers), default=now + 1.0) - time.monotonic()
+            try:
+                func, args = self._queue.get(timeout=max(0.0, timeout))
+            except queue.Empty:
+                continue
+            func(*args)
+        for callback in self._on_shutdown:
+            callback()
+
+
+def _watch_parent() -> Callable[[], bool]:
+    """Die with the supervisor: ask Linux for SIGTERM when the parent dies, and
+    return a check that reports a changed parent (the fallback on other systems)."""
+    expected = os.environ.get(SUPERVISOR_PID_VAR)
+    if not expected or not expected.isdigit():
+        return lambda: False
+    try:
+        libc = ctypes.CDLL(None, use_errno=True)
+        libc.prctl(_PR_SET_PDEATHSIG, signal.SIGTERM, 0, 0, 0)
+    except (OSError, AttributeError):
+        pass
+    parent = int(expected)
+    return lambda: os.getppid() != parent
+
+
+def run(node_class: Callable[[Node[P]], Any], params_type: type[P]) -> None:
+    """Entry point of a node process: read the config, open the session, spin, close; exits."""
+    logging.basicConfig(level=logging.INFO, format="%(levelname)s %(message)s", stream=sys.stderr)
+    log = logging.getLogger("runtime")
+    parent_gone = _watch_parent()
+    if parent_gone():
+        sys.exit(EXIT_OK)
+    try:
+        config = decode_config(os.environ[ENV_VAR])
+        params = msgspec.convert(config.params, params_type, strict=True)
+    except KeyError:
+        log.error("%s is not set: start nodes with `turtlectl launch`", ENV_VAR)
+        sys.exit(EXIT_CONFIG)
+    except (msgspec.ValidationError, msgspec.DecodeError) as exc:
+        log.error("invalid node configuration: %s", exc)
+        sys.exit(EXIT_CONFIG)
+
+    try:
+        session = zenoh.open(peer_config(config.connect))
+    except zenoh.ZError as exc:
+        log.error("cannot open a Zenoh session to %s: %s", config.connect, exc)
+        sys.exit(EXIT_SESSION)
+
+    node = Node(config, params, session)
+    signal.signal(signal.SIGINT, node.stop)
+    signal.signal(signal.SIGTERM, node.stop)
+    node.timer(_PARENT_CHECK_PERIOD, lambda: parent_gone() and node.stop())
+    node_class(node)
+    token = session.liveliness().declare_token(node_token(config.name, os.getpid()))
+    node.log.info("ready (pid %d)", os.getpid())
+    try:
+        node.spin()
+    finally:
+        token.undeclare()
+        if not close_session(session):
+            node.log.warning("Zenoh session did not close within 2 s; exiting anyway")
+            logging.shutdown()
+            os._exit(EXIT_OK)
+    node.log.info("stopped")
+    sys.exit(EXIT_OK)

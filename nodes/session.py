@@ -1,0 +1,66 @@
+"""Opening and closing Zenoh sessions the one way turtlectl does it.
+
+* The supervisor runs a router on ``tcp/127.0.0.1:PORT``; multicast scouting
+  is off everywhere, so only processes told the endpoint can join.
+* Nodes are peers: they find each other through the router (gossip) and then
+  talk directly, one hop less (rmw_zenoh's pattern).
+* Command-line clients are Zenoh clients of the router.
+* Closing is bounded: zenoh-python can hang at exit when a session with
+  callback subscribers is not closed, so we close explicitly, in a thread,
+  and give up after a deadline.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import threading
+
+import zenoh
+
+DEFAULT_PORT = 7447
+DEFAULT_ENDPOINT = f"tcp/127.0.0.1:{DEFAULT_PORT}"
+CONNECT_ENV = "TURTLECTL_CONNECT"
+
+
+def default_endpoint() -> str:
+    return os.environ.get(CONNECT_ENV) or DEFAULT_ENDPOINT
+
+
+def _base(mode: str) -> zenoh.Config:
+    conf = zenoh.Config()
+    conf.insert_json5("mode", json.dumps(mode))
+    conf.insert_json5("scouting/multicast/enabled", "false")
+    return conf
+
+
+def router_config(port: int) -> zenoh.Config:
+    """A router listening on loopback only."""
+    conf = _base("router")
+    conf.insert_json5("listen/endpoints", json.dumps([f"tcp/127.0.0.1:{port}"]))
+    return conf
+
+
+def peer_config(connect: str) -> zenoh.Config:
+    """A node: a peer that joins through the router at ``connect`` and listens on loopback."""
+    conf = _base("peer")
+    conf.insert_json5("connect/endpoints", json.dumps([connect]))
+    conf.insert_json5("listen/endpoints", json.dumps(["tcp/127.0.0.1:0"]))
+    return conf
+
+
+def client_config(connect: str, timeout: float) -> zenoh.Config:
+    """A command-line client of the router at ``connect``; opening fails after ``timeout`` s."""
+    conf = _base("client")
+    conf.insert_json5("connect/endpoints", json.dumps([connect]))
+    conf.insert_json5("connect/timeout_ms", str(int(timeout * 1000)))
+    conf.insert_json5("connect/exit_on_failure", "true")
+    return conf
+
+
+def close_session(session: zenoh.Session, timeout: float = 2.0) -> bool:
+    """Close ``session``, waiting at most ``timeout`` s; True if it closed in time."""
+    closer = threading.Thread(target=session.close, name="zenoh-close", daemon=True)
+    closer.start()
+    closer.join(timeout)
+    return not closer.is_alive()

@@ -1,0 +1,52 @@
+"""The status monitor process: ``turtle1/pose`` -> ``robot/status`` (TurtleStatus) at 10 Hz.
+
+Publishes on an absolute-deadline schedule (the runtime's timer), so the
+period stays 100 ms without drift.  The battery drains with time and with
+distance travelled (nodes.battery).
+"""
+
+from __future__ import annotations
+
+import math
+import time
+
+from messages import Pose, TurtleStatus
+from messages.keys import POSE, STATUS
+from nodes.battery import drain, make_status
+from nodes.params import StatusMonitorParams
+from nodes.runtime import Node, run
+
+
+class StatusMonitor:
+    def __init__(self, node: Node[StatusMonitorParams]):
+        self.node = node
+        self.pose: Pose | None = None
+        self.battery = node.params.battery
+        self.travelled = 0.0  # m since the last status
+        self.last_tick = time.monotonic()
+        self.pub = node.publisher(STATUS, TurtleStatus)
+        node.subscribe(POSE, Pose, self.on_pose)
+        node.timer(1.0 / node.params.rate, self.tick)
+
+    def on_pose(self, pose: Pose) -> None:
+        if self.pose is not None:
+            self.travelled += math.hypot(pose.x - self.pose.x, pose.y - self.pose.y)
+        self.pose = pose
+
+    def tick(self) -> None:
+        now = time.monotonic()
+        p = self.node.params
+        self.battery = drain(self.battery, now - self.last_tick, self.travelled, p.drain_per_second, p.drain_per_metre)
+        self.last_tick, self.travelled = now, 0.0
+        if self.pose is None:
+            return  # nothing to report until the simulator speaks
+        pose = self.pose
+        self.pub.publish(make_status(pose.x, pose.y, pose.theta, pose.linear_velocity, self.battery))
+
+
+def main() -> None:
+    run(StatusMonitor, StatusMonitorParams)
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,1 @@
+"""The turtle simulator: pure kinematics (`kinematics`, `world`) and its process (`node`)."""

@@ -1,0 +1,3 @@
+from sim.node import main
+
+main()

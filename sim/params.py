@@ -1,0 +1,18 @@
+"""Parameters of the simulator process (set in the launch file's ``[node.params]``)."""
+
+from __future__ import annotations
+
+import msgspec
+
+from sim.world import TURTLESIM_SIZE, Finite, Positive
+
+
+class SimParams(msgspec.Struct, forbid_unknown_fields=True, kw_only=True):
+    """x, y: spawn position, m (turtlesim's centre by default).  theta: spawn heading, rad.
+    cmd_timeout: s after the last cmd_vel at which the turtle stops (turtlesim: 1 s).
+    """
+
+    x: Finite = TURTLESIM_SIZE / 2.0
+    y: Finite = TURTLESIM_SIZE / 2.0
+    theta: Finite = 0.0
+    cmd_timeout: Positive = 1.0

@@ -1,0 +1,50 @@
+"""The world every node shares: its size, the obstacles in it, the robot's limits.
+
+Declared once, in the ``[world]`` and ``[limits]`` tables of the launch file,
+and handed to every node by the supervisor (one source of truth).
+"""
+
+from __future__ import annotations
+
+from typing import Annotated
+
+import msgspec
+
+# Constrained numbers for parameters: validated (with the key path) when a
+# launch file is converted; NaN fails every bound, 1e9 stands in for "finite".
+Finite = Annotated[float, msgspec.Meta(ge=-1e9, le=1e9)]
+Positive = Annotated[float, msgspec.Meta(gt=0.0, le=1e9)]
+NonNegative = Annotated[float, msgspec.Meta(ge=0.0, le=1e9)]
+Percent = Annotated[float, msgspec.Meta(ge=0.0, le=100.0)]
+
+#: turtlesim's canvas: 500 px at 45 px/m.
+TURTLESIM_SIZE = 500.0 / 45.0
+
+
+class Obstacle(msgspec.Struct, forbid_unknown_fields=True, kw_only=True):
+    """A circular obstacle: centre (x, y) in m, radius in m."""
+
+    x: Finite
+    y: Finite
+    radius: Positive
+
+
+class World(msgspec.Struct, forbid_unknown_fields=True, kw_only=True):
+    """A square world from (0, 0) to (size, size), in m, with circular obstacles."""
+
+    size: Positive = TURTLESIM_SIZE
+    obstacles: list[Obstacle] = msgspec.field(default_factory=list)
+
+    def contains(self, x: float, y: float) -> bool:
+        """True if (x, y), in m, lies inside the world (walls included)."""
+        return 0.0 <= x <= self.size and 0.0 <= y <= self.size
+
+
+class Limits(msgspec.Struct, forbid_unknown_fields=True, kw_only=True):
+    """The robot's motion limits; the simulator enforces them, the navigator plans within them.
+
+    max_linear_speed: m/s (either direction).  max_angular_speed: rad/s.
+    """
+
+    max_linear_speed: Positive = 4.0
+    max_angular_speed: Positive = 9.0
