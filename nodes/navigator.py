@@ -57,8 +57,6 @@ class Navigator:
     def on_goal(self, request: Request[NavigateToRequest]) -> None:
         body = request.body
         problem = goal_problem(body, self.node.world)
-        if problem is None and self.pose is None:
-            problem = "no pose from the simulator yet"
         if problem is not None:
             self.node.log.info("refused goal (%g, %g, %g deg): %s", body.x, body.y, body.theta, problem)
             request.respond(NavigateToResponse(success=False, time_taken=0.0, reason=problem))
@@ -88,7 +86,7 @@ class Navigator:
         p = self.node.params
         if now - goal.start > p.goal_timeout:
             self.finish(False, "timeout")
-        elif now - self.pose_time > p.pose_timeout:
+        elif now - max(self.pose_time, goal.start) > p.pose_timeout:
             self.finish(False, "no pose")
 
     # -- control ------------------------------------------------------------

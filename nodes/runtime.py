@@ -72,8 +72,9 @@ class Publisher(Generic[M]):
 class Request(Generic[M]):
     """A service request being handled; reply once, now or later, with ``respond``."""
 
-    def __init__(self, query: zenoh.Query, body: M, response_type: type[Message]):
+    def __init__(self, key: str, query: zenoh.Query, body: M, response_type: type[Message]):
         self.body = body
+        self._key = key
         self._query = query
         self._encoding = zenoh.Encoding(encoding_for(response_type))
         self.done = False
@@ -82,7 +83,7 @@ class Request(Generic[M]):
         """Send ``response`` to the caller; with final=True the call ends."""
         if self.done:
             return
-        self._query.reply(self._query.key_expr, encode(response), encoding=self._encoding)
+        self._query.reply(self._key, encode(response), encoding=self._encoding)
         if final:
             self.done = True
             self._query.drop()
@@ -119,7 +120,8 @@ class Node(Generic[P]):
         self._running = True
         self._on_shutdown: list[Callable[[], None]] = []
         self._params_json = msgspec.json.encode(params)
-        self._entities.append(session.declare_queryable(params_key(self.name), self._on_params_query))
+        self._params_key = params_key(self.name)
+        self._entities.append(session.declare_queryable(self._params_key, self._on_params_query))
 
     # -- declarations -------------------------------------------------------
     def publisher(self, key: str, msg_type: type[M]) -> Publisher[M]:
@@ -189,10 +191,10 @@ class Node(Generic[P]):
             query.reply_err(encode(ErrorReply(error=str(exc))), encoding=zenoh.Encoding(encoding_for(ErrorReply)))
             query.drop()
             return
-        handler(Request(query, body, response_type))
+        handler(Request(key, query, body, response_type))
 
     def _on_params_query(self, query: zenoh.Query) -> None:  # Zenoh thread, read-only data
-        query.reply(query.key_expr, self._params_json, encoding=zenoh.Encoding.APPLICATION_JSON)
+        query.reply(self._params_key, self._params_json, encoding=zenoh.Encoding.APPLICATION_JSON)
 
     def stop(self, *_: Any) -> None:
         """Ask the node to stop (safe from signal handlers and other threads)."""

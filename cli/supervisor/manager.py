@@ -89,7 +89,8 @@ class Supervisor:
             self._events.put((sample.kind == zenoh.SampleKind.PUT, parsed[0], parsed[1]))
 
     # -- children -----------------------------------------------------------
-    def _start(self, name: str) -> None:
+    def _child(self, name: str) -> Child:
+        """The Child for node ``name``: its command and environment, made once."""
         entry = self.entries[name]
         config = NodeConfig(
             name=name,
@@ -99,11 +100,11 @@ class Supervisor:
             world=self.plan.launch.world,
             limits=self.plan.launch.limits,
         )
-        child = self.children.get(name)
-        if child is None:
-            env = child_env({ENV_VAR: encode_config(config), SUPERVISOR_PID_VAR: str(os.getpid())})
-            child = Child(name, python_module_argv(KINDS[entry.run].module), env, self.printer)
-            self.children[name] = child
+        env = child_env({ENV_VAR: encode_config(config), SUPERVISOR_PID_VAR: str(os.getpid())})
+        return Child(name, python_module_argv(KINDS[entry.run].module), env, self.printer)
+
+    def _start(self, name: str) -> None:
+        child = self.children.get(name) or self.children.setdefault(name, self._child(name))
         child.start()
         self.printer.system(f"started {name} (pid {child.pid})")
 

@@ -1,0 +1,31 @@
+# The two commands of the README: `make run` and `make test` do all the set-up.
+PYTHON ?= python3
+VENV ?= .venv
+BIN := $(VENV)/bin
+
+.PHONY: install run test unit bench soak clean
+
+$(BIN)/.installed: pyproject.toml
+	$(PYTHON) -m venv $(VENV)
+	$(BIN)/python -m pip install --quiet --disable-pip-version-check -e '.[test]'
+	touch $@
+
+install: $(BIN)/.installed
+
+run: install  ## start the whole system (Ctrl-C stops it)
+	$(BIN)/turtlectl launch
+
+test: install  ## unit and multi-process integration tests
+	$(BIN)/python -m pytest
+
+unit: install  ## unit tests only
+	$(BIN)/python -m pytest -m "not integration"
+
+bench: install  ## benchmark figures (see README, Performance)
+	$(BIN)/python bench/system.py
+
+soak: install  ## goals back to back for 5 minutes
+	$(BIN)/python bench/system.py --minutes 5
+
+clean:
+	rm -rf $(VENV) *.egg-info .pytest_cache

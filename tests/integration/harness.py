@@ -1,0 +1,250 @@
+"""Run the real system for a test: `turtlectl launch` on a free port, readiness from
+liveliness tokens, fail fast when the supervisor dies, and always clean up.
+
+No fixed sleeps: every wait is on an event (an output line, a token, a message)
+under a deadline, and checks that the supervisor is still alive while waiting.
+"""
+
+from __future__ import annotations
+
+import os
+import queue
+import re
+import signal
+import socket
+import subprocess
+import sys
+import threading
+import time
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
+from pathlib import Path
+from typing import TypeVar
+
+import zenoh
+
+from messages import Message, TurtleStatus, decode, encode, encoding_for
+from messages.keys import NODE_TOKEN_PREFIX, STATUS, parse_node_token
+from nodes.session import client_config, close_session
+
+ROOT = Path(__file__).resolve().parents[2]
+DEFAULT_LAUNCH = ROOT / "launch.toml"
+NODES = ("sim", "navigator", "status_monitor", "obstacle_detector")
+T = TypeVar("T")
+
+
+def turtlectl() -> list[str]:
+    """The installed console script next to this interpreter."""
+    script = Path(sys.executable).parent / "turtlectl"
+    return [str(script)] if script.exists() else [sys.executable, "-m", "cli"]
+
+
+def free_port() -> int:
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+def pid_alive(pid: int) -> bool:
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    try:  # a zombie is dead for our purposes
+        with open(f"/proc/{pid}/stat") as f:
+            return f.read().split(") ", 1)[1][0] != "Z"
+    except OSError:
+        return False
+
+
+class SupervisorDied(AssertionError):
+    pass
+
+
+class System:
+    """A running `turtlectl launch` with a client session to its router."""
+
+    def __init__(self, launch_file: Path = DEFAULT_LAUNCH, extra_args: tuple[str, ...] = ()):
+        self.port = free_port()
+        self.endpoint = f"tcp/127.0.0.1:{self.port}"
+        self.lines: list[str] = []
+        self._line_event = threading.Condition()
+        self.proc = subprocess.Popen(
+            [*turtlectl(), "launch", str(launch_file), "--port", str(self.port), *extra_args],
+            stdout=subprocess.PIPE,
+            stderr=subprocess.STDOUT,
+            stdin=subprocess.DEVNULL,
+            start_new_session=True,
+            text=True,
+            env={**os.environ, "PYTHONUNBUFFERED": "1"},
+        )
+        self.child_pids: set[int] = set()
+        self.session: zenoh.Session | None = None
+        self.alive: dict[str, int] = {}  # node -> pid, from liveliness
+        self._token_events: queue.SimpleQueue[tuple[bool, str, int]] = queue.SimpleQueue()
+        threading.Thread(target=self._read, daemon=True).start()
+
+    # -- output ---------------------------------------------------------------
+    def _read(self) -> None:
+        assert self.proc.stdout is not None
+        for line in self.proc.stdout:
+            m = re.search(r"started \S+ \(pid (\d+)\)", line)
+            if m:
+                self.child_pids.add(int(m.group(1)))
+            with self._line_event:
+                self.lines.append(line.rstrip("\n"))
+                self._line_event.notify_all()
+        with self._line_event:
+            self._line_event.notify_all()
+
+    def output(self) -> str:
+        return "\n".join(self.lines)
+
+    def check_alive(self) -> None:
+        if self.proc.poll() is not None:
+            raise SupervisorDied(f"turtlectl launch exited with {self.proc.returncode}:\n{self.output()}")
+
+    def wait_line(self, pattern: str, timeout: float, start: int = 0) -> int:
+        """Index of the first output line from ``start`` matching ``pattern``."""
+        deadline = time.monotonic() + timeout
+        rx = re.compile(pattern)
+        with self._line_event:
+            while True:
+                for i in range(start, len(self.lines)):
+                    if rx.search(self.lines[i]):
+                        return i
+                if self.proc.poll() is not None and not any(rx.search(l) for l in self.lines[start:]):
+                    # give the reader a moment to drain, then fail fast
+                    self._line_event.wait(0.2)
+                    if not any(rx.search(l) for l in self.lines[start:]):
+                        raise SupervisorDied(f"launch exited ({self.proc.returncode}) before {pattern!r}:\n{self.output()}")
+                remaining = deadline - time.monotonic()
+                if remaining <= 0:
+                    raise AssertionError(f"no line matching {pattern!r} within {timeout} s:\n{self.output()}")
+                self._line_event.wait(min(remaining, 0.1))
+
+    # -- readiness -------------------------------------------------------------
+    def connect(self, timeout: float = 20.0) -> zenoh.Session:
+        self.wait_line(r"router listening", timeout)
+        self.session = zenoh.open(client_config(self.endpoint, 3.0))
+        self.session.liveliness().declare_subscriber(f"{NODE_TOKEN_PREFIX}/**", self._on_token, history=True)
+        return self.session
+
+    def _on_token(self, sample: zenoh.Sample) -> None:
+        parsed = parse_node_token(str(sample.key_expr))
+        if parsed:
+            self._token_events.put((sample.kind == zenoh.SampleKind.PUT, *parsed))
+
+    def _drain_tokens(self, wait: float) -> None:
+        try:
+            item = self._token_events.get(timeout=wait)
+        except queue.Empty:
+            return
+        while item is not None:
+            up, name, pid = item
+            if up:
+                self.alive[name] = pid
+                self.child_pids.add(pid)
+            elif self.alive.get(name) == pid:
+                del self.alive[name]
+            try:
+                item = self._token_events.get_nowait()
+            except queue.Empty:
+                item = None
+
+    def wait_until(self, condition: Callable[[], bool], timeout: float, what: str) -> None:
+        """Wait for ``condition`` (re-checked as liveliness events arrive) under a deadline."""
+        deadline = time.monotonic() + timeout
+        while not condition():
+            self.check_alive()
+            if time.monotonic() > deadline:
+                raise AssertionError(f"timed out after {timeout} s waiting for {what}; alive={self.alive}\n{self.output()}")
+            self._drain_tokens(0.05)
+
+    def wait_ready(self, names: tuple[str, ...] = NODES, timeout: float = 30.0) -> dict[str, int]:
+        if self.session is None:
+            self.connect(timeout)
+        self.wait_until(lambda: set(names) <= set(self.alive), timeout, f"nodes {names}")
+        return dict(self.alive)
+
+    # -- traffic -----------------------------------------------------------
+    def collect(self, key: str, msg_type: type[T], count: int, timeout: float) -> list[tuple[float, T]]:
+        """``count`` messages on ``key`` with their arrival times (monotonic s)."""
+        assert self.session is not None
+        got: queue.SimpleQueue[tuple[float, bytes]] = queue.SimpleQueue()
+        sub = self.session.declare_subscriber(key, lambda s: got.put((time.monotonic(), s.payload.to_bytes())))
+        out: list[tuple[float, T]] = []
+        deadline = time.monotonic() + timeout
+        try:
+            while len(out) < count:
+                self.check_alive()
+                if time.monotonic() > deadline:
+                    raise AssertionError(f"only {len(out)} of {count} messages on {key} within {timeout} s")
+                try:
+                    t, payload = got.get(timeout=0.1)
+                except queue.Empty:
+                    continue
+                out.append((t, decode(payload, msg_type)))
+        finally:
+            sub.undeclare()
+        return out
+
+    def call(self, key: str, request: Message, timeout: float = 10.0) -> list[zenoh.Reply]:
+        assert self.session is not None
+        return list(
+            self.session.get(
+                key, payload=encode(request), encoding=zenoh.Encoding(encoding_for(type(request))), timeout=timeout
+            )
+        )
+
+    def run_cli(self, *args: str, timeout: float = 30.0) -> subprocess.CompletedProcess[str]:
+        return subprocess.run(
+            [*turtlectl(), *args, "--connect", self.endpoint],
+            capture_output=True,
+            text=True,
+            timeout=timeout,
+            stdin=subprocess.DEVNULL,
+        )
+
+    # -- teardown ------------------------------------------------------------
+    def stop(self, sig: int = signal.SIGINT, timeout: float = 8.0) -> int:
+        """Signal the supervisor and wait for it; returns its exit code."""
+        if self.proc.poll() is None:
+            os.kill(self.proc.pid, sig)
+        try:
+            return self.proc.wait(timeout)
+        except subprocess.TimeoutExpired:
+            raise AssertionError(f"launch did not stop within {timeout} s after {sig}:\n{self.output()}") from None
+
+    def kill_everything(self) -> None:
+        """Always: close our session, kill the supervisor's group and every child seen."""
+        if self.session is not None:
+            close_session(self.session)
+            self.session = None
+        for pid in [self.proc.pid, *self.child_pids]:
+            try:
+                if pid == self.proc.pid:
+                    os.killpg(pid, signal.SIGKILL)
+                else:
+                    os.kill(pid, signal.SIGKILL)
+            except (ProcessLookupError, PermissionError):
+                pass
+        try:
+            self.proc.wait(5)
+        except subprocess.TimeoutExpired:
+            pass
+
+
+@contextmanager
+def running_system(launch_file: Path = DEFAULT_LAUNCH, ready: tuple[str, ...] = NODES) -> Iterator[System]:
+    system = System(launch_file)
+    try:
+        if ready:
+            system.wait_ready(ready)
+            if "status_monitor" in ready:  # readiness of the data path: a status has flowed
+                system.collect(STATUS, TurtleStatus, 1, timeout=10.0)
+        else:
+            system.connect()
+        yield system
+    finally:
+        system.kill_everything()

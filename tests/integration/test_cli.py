@@ -1,0 +1,68 @@
+"""The CLI's contract with nothing or something broken to talk to: exit codes and messages."""
+
+from __future__ import annotations
+
+import subprocess
+import time
+
+import pytest
+
+from tests.integration.harness import free_port, turtlectl
+
+pytestmark = pytest.mark.integration
+
+
+def run(*args: str, timeout: float = 20.0) -> subprocess.CompletedProcess[str]:
+    return subprocess.run([*turtlectl(), *args], capture_output=True, text=True, timeout=timeout, stdin=subprocess.DEVNULL)
+
+
+@pytest.mark.parametrize("args", [("nan", "1", "0"), ("1", "inf", "0"), ("1", "2", "north"), ("one", "2", "3")])
+def test_goto_bad_numbers_exit_2_before_sending(args):
+    result = run("goto", *args, "--connect", f"tcp/127.0.0.1:{free_port()}")
+    assert result.returncode == 2
+    assert "must be a" in result.stderr and "Traceback" not in result.stderr
+
+
+def test_goto_with_nothing_running_exits_3_within_3_seconds():
+    started = time.monotonic()
+    result = run("goto", "1", "1", "0", "--connect", f"tcp/127.0.0.1:{free_port()}")
+    assert result.returncode == 3, result.stderr
+    assert time.monotonic() - started < 3.0
+    assert "no turtlectl system at" in result.stderr
+
+
+def test_echo_with_nothing_running_exits_3():
+    result = run("echo", "robot/status", "--connect", f"tcp/127.0.0.1:{free_port()}")
+    assert result.returncode == 3 and "no turtlectl system" in result.stderr
+
+
+def test_connect_is_read_from_the_environment():
+    port = free_port()
+    result = subprocess.run(
+        [*turtlectl(), "goto", "1", "1", "0"],
+        capture_output=True,
+        text=True,
+        timeout=20,
+        env={**__import__("os").environ, "TURTLECTL_CONNECT": f"tcp/127.0.0.1:{port}"},
+    )
+    assert result.returncode == 3 and f"tcp/127.0.0.1:{port}" in result.stderr
+
+
+def test_malformed_launch_file_exits_2_with_the_key_path(tmp_path):
+    bad = tmp_path / "bad.toml"
+    bad.write_text('[[node]]\nname = "sim"\nrun = "sim"\n[node.params]\ncmd_timeout = "soon"\n')
+    result = run("launch", str(bad), "--port", str(free_port()))
+    assert result.returncode == 2
+    assert f"{bad}: node[0].params.cmd_timeout: Expected `float`, got `str`" in result.stderr
+    assert "router listening" not in result.stdout and "Traceback" not in result.stderr
+
+
+def test_missing_launch_file_exits_2(tmp_path):
+    result = run("launch", str(tmp_path / "none.toml"))
+    assert result.returncode == 2 and "cannot read" in result.stderr
+
+
+def test_help_documents_exit_codes():
+    result = run("goto", "--help")
+    assert result.returncode == 0 and "Example: turtlectl goto" in result.stdout
+    assert "3 nothing to talk to" in run("--help").stdout

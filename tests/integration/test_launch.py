@@ -1,0 +1,149 @@
+"""The launch supervisor: parameters from the file, obstacles, shutdown, required and respawned nodes."""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+import signal
+import subprocess
+import time
+
+import numpy as np
+import pytest
+import zenoh
+
+from cli.launchfile import parse_launch
+from messages import LaserScan, NavigateToRequest, NavigateToResponse, TurtleStatus, decode
+from messages.keys import NAVIGATE_TO, OBSTACLES, STATUS
+from nodes.scan import obstacles_in_view
+from tests.integration.harness import NODES, System, pid_alive, running_system
+
+pytestmark = pytest.mark.integration
+
+CUSTOM = """
+[world]
+size = 11.088889
+obstacles = [
+  { x = 5.0, y = 4.5, radius = 0.3 },
+  { x = 2.0, y = 6.0, radius = 0.4 },
+  { x = 3.0, y = 2.5, radius = 0.5 },
+]
+
+[limits]
+max_linear_speed = 3.5
+max_angular_speed = 8.0
+
+[[node]]
+name = "sim"
+run = "sim"
+required = true
+[node.params]
+x = 3.0
+y = 4.5
+theta = 1.0
+
+[[node]]
+name = "navigator"
+run = "navigator"
+[node.params]
+blocked_timeout = 1.0
+safety_distance = 0.5
+
+[[node]]
+name = "status_monitor"
+run = "status_monitor"
+respawn = true
+respawn_delay = 0.2
+[node.params]
+battery = 80.0
+
+[[node]]
+name = "obstacle_detector"
+run = "obstacle_detector"
+[node.params]
+beams = 90
+range_max = 2.5
+"""
+
+
+@pytest.fixture(scope="module")
+def custom(tmp_path_factory):
+    path = tmp_path_factory.mktemp("launch") / "custom.toml"
+    path.write_text(CUSTOM)
+    with running_system(path) as system:
+        yield system
+
+
+def navigate(system, x, y, theta) -> NavigateToResponse:
+    replies = system.call(NAVIGATE_TO, NavigateToRequest(x=x, y=y, theta=theta), timeout=20.0)
+    assert len(replies) == 1 and replies[0].ok is not None, replies
+    return decode(replies[0].ok.payload.to_bytes(), NavigateToResponse)
+
+
+def test_5_every_node_runs_with_the_parameters_of_the_launch_file(custom):
+    expected = parse_launch(CUSTOM).params
+    replies = list(custom.session.get("turtlectl/params/*", consolidation=zenoh.ConsolidationMode.NONE, timeout=5.0))
+    got = {str(r.ok.key_expr).rsplit("/", 1)[1]: json.loads(r.ok.payload.to_bytes()) for r in replies}
+    assert got == expected
+    assert got["obstacle_detector"]["beams"] == 90 and got["navigator"]["blocked_timeout"] == 1.0
+    # and they act on them: spawn pose, battery, beams
+    status = custom.collect(STATUS, TurtleStatus, 1, timeout=5.0)[0][1]
+    assert (status.x, status.y) == pytest.approx((3.0, 4.5))
+    assert status.theta == pytest.approx(math.degrees(1.0))
+    assert 79.0 < status.battery <= 80.0
+    scan = custom.collect(OBSTACLES, LaserScan, 1, timeout=5.0)[0][1]
+    assert len(scan.ranges) == 90 and scan.range_max == 2.5
+
+
+def test_4_ten_scans_with_three_obstacles_in_view_and_the_system_keeps_working(custom):
+    scans = custom.collect(OBSTACLES, LaserScan, 10, timeout=10.0)
+    for _, scan in scans:
+        angles = scan.angle_min + scan.angle_increment * np.arange(len(scan.ranges))
+        assert obstacles_in_view(np.asarray(scan.ranges), angles) >= 3
+    # an obstacle straight ahead: the navigator stops short of it and gives up as "blocked"
+    blocked = navigate(custom, 7.0, 4.5, 0.0)
+    assert not blocked.success and blocked.reason == "blocked", blocked
+    assert blocked.x < 5.0 - 0.3, "the turtle touched the obstacle"
+    # and still reaches a free goal afterwards
+    free = navigate(custom, 3.0, 5.5, 90.0)
+    assert free.success, free
+    custom.wait_until(lambda: set(NODES) <= set(custom.alive), 1.0, "all nodes alive")
+
+
+def test_respawned_node_comes_back_with_a_new_pid(custom):
+    old = custom.alive["status_monitor"]
+    os.kill(old, signal.SIGKILL)
+    custom.wait_until(lambda: custom.alive.get("status_monitor", old) != old, 10.0, "a new status_monitor")
+    custom.collect(STATUS, TurtleStatus, 2, timeout=5.0)
+    custom.wait_line(r"status_monitor was killed by SIGKILL; respawning", 2.0)
+
+
+def test_required_node_death_stops_the_whole_system():
+    with running_system() as system:
+        pids = system.wait_ready()
+        os.kill(pids["sim"], signal.SIGKILL)
+        assert system.proc.wait(10.0) == 1
+        assert "required node sim was killed by SIGKILL" in system.output()
+        assert not [p for p in pids.values() if pid_alive(p)]
+
+
+def test_sigint_stops_every_child_within_five_seconds():
+    with running_system() as system:
+        pids = system.wait_ready()
+        started = time.monotonic()
+        assert system.stop(signal.SIGINT) == 0
+        assert time.monotonic() - started < 5.0
+        assert not [p for p in pids.values() if pid_alive(p)]
+        assert "stopped (received SIGINT); exit code 0" in system.output()
+
+
+def test_children_do_not_outlive_a_killed_supervisor():
+    with running_system() as system:
+        pids = system.wait_ready()
+        os.killpg(system.proc.pid, signal.SIGKILL)  # the supervisor's group only: children have their own
+        system.proc.wait(5.0)
+        deadline = time.monotonic() + 5.0
+        while any(pid_alive(p) for p in pids.values()) and time.monotonic() < deadline:
+            time.sleep(0.05)  # pacing: polling process state under a deadline
+        assert not [p for p in pids.values() if pid_alive(p)]

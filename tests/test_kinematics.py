@@ -1,0 +1,65 @@
+"""The simulator's pure kinematics (turtlesim's rules)."""
+
+import math
+
+import pytest
+
+from sim.kinematics import STEP, TurtleState, effective_command, step, wrap_angle
+from sim.world import TURTLESIM_SIZE, Limits
+
+LIMITS = Limits(max_linear_speed=4.0, max_angular_speed=9.0)
+
+
+def test_straight_line_one_second():
+    s = TurtleState(x=1.0, y=1.0, theta=0.0)
+    for _ in range(int(round(1.0 / STEP))):
+        s = step(s, 2.0, 0.0, STEP, TURTLESIM_SIZE)
+    assert s.x == pytest.approx(1.0 + 2.0 * 62 * STEP)
+    assert s.y == pytest.approx(1.0)
+    assert s.v == 2.0
+
+
+def test_heading_is_integrated_before_position():
+    s = step(TurtleState(x=5.0, y=5.0, theta=0.0), 1.0, math.pi / 2 / STEP, STEP, 11.0)
+    assert s.theta == pytest.approx(math.pi / 2)
+    assert s.x == pytest.approx(5.0)
+    assert s.y == pytest.approx(5.0 + STEP)
+
+
+def test_full_turn_in_place_keeps_position_and_wraps():
+    s = TurtleState(x=3.0, y=3.0, theta=0.0)
+    for _ in range(100):
+        s = step(s, 0.0, 2 * math.pi / (100 * STEP), STEP, 11.0)
+    assert (s.x, s.y) == (3.0, 3.0)
+    assert -math.pi <= s.theta < math.pi
+    assert abs(wrap_angle(s.theta)) < 1e-9
+
+
+@pytest.mark.parametrize("theta, x, y", [(0.0, 11.0, 5.0), (math.pi / 2, 5.0, 11.0), (-math.pi, 0.0, 5.0), (-math.pi / 2, 5.0, 0.0)])
+def test_walls_clamp_position(theta, x, y):
+    s = TurtleState(x=5.0, y=5.0, theta=theta)
+    for _ in range(200):
+        s = step(s, 4.0, 0.0, STEP, 11.0)
+    assert s.x == pytest.approx(x, abs=1e-9)
+    assert s.y == pytest.approx(y, abs=1e-9)
+
+
+def test_command_times_out_after_one_second():
+    assert effective_command(1.0, 0.5, 0.99, LIMITS) == (1.0, 0.5)
+    assert effective_command(1.0, 0.5, 1.01, LIMITS) == (0.0, 0.0)
+    assert effective_command(1.0, 0.5, None, LIMITS) == (0.0, 0.0)
+
+
+def test_command_is_clipped_to_limits_both_ways():
+    assert effective_command(10.0, -20.0, 0.0, LIMITS) == (4.0, -9.0)
+    assert effective_command(-10.0, 20.0, 0.0, LIMITS) == (-4.0, 9.0)
+
+
+def test_non_finite_command_is_ignored():
+    assert effective_command(math.nan, 0.0, 0.0, LIMITS) == (0.0, 0.0)
+    assert effective_command(0.0, math.inf, 0.0, LIMITS) == (0.0, 0.0)
+
+
+@pytest.mark.parametrize("angle, wrapped", [(0.0, 0.0), (math.pi, -math.pi), (3 * math.pi / 2, -math.pi / 2), (-3 * math.pi, -math.pi)])
+def test_wrap_angle(angle, wrapped):
+    assert wrap_angle(angle) == pytest.approx(wrapped)
