@@ -13,16 +13,14 @@ from __future__ import annotations
 
 import argparse
 import math
-from importlib import metadata
 import platform
-import queue
 import random
 import statistics
 import struct
 import subprocess
 import sys
-import threading
 import time
+from importlib import metadata
 from pathlib import Path
 
 import psutil

@@ -19,7 +19,7 @@ from sim.kinematics import wrap_angle
 from sim.world import Limits, Positive
 
 
-class Phase(str, enum.Enum):
+class Phase(enum.StrEnum):
     DRIVE = "driving"
     ALIGN = "aligning"
     DONE = "done"

@@ -238,6 +238,9 @@ def run(node_class: Callable[[Node[P]], Any], params_type: type[P]) -> None:
     """Entry point of a node process: read the config, open the session, spin, close; exits."""
     logging.basicConfig(level=logging.INFO, format="%(levelname)s %(message)s", stream=sys.stderr)
     log = logging.getLogger("runtime")
+    early_stop: list[int] = []  # a stop asked for before the node exists is kept, not lost
+    for sig in (signal.SIGINT, signal.SIGTERM):
+        signal.signal(sig, lambda signum, _frame: early_stop.append(signum))
     parent_gone = _watch_parent()
     if parent_gone():
         sys.exit(EXIT_OK)
@@ -257,19 +260,21 @@ def run(node_class: Callable[[Node[P]], Any], params_type: type[P]) -> None:
         log.error("cannot open a Zenoh session to %s: %s", config.connect, exc)
         sys.exit(EXIT_SESSION)
 
-    node = Node(config, params, session)
-    signal.signal(signal.SIGINT, node.stop)
-    signal.signal(signal.SIGTERM, node.stop)
-    node.timer(_PARENT_CHECK_PERIOD, lambda: parent_gone() and node.stop())
-    node_class(node)
-    token = session.liveliness().declare_token(node_token(config.name, os.getpid()))
-    node.log.info("ready (pid %d)", os.getpid())
     try:
+        node = Node(config, params, session)
+        signal.signal(signal.SIGINT, node.stop)
+        signal.signal(signal.SIGTERM, node.stop)
+        node.timer(_PARENT_CHECK_PERIOD, lambda: parent_gone() and node.stop())
+        if early_stop:
+            node.stop()
+        node_class(node)
+        token = session.liveliness().declare_token(node_token(config.name, os.getpid()))
+        node.log.info("ready (pid %d)", os.getpid())
         node.spin()
-    finally:
         token.undeclare()
+    finally:
         if not close_session(session):
-            node.log.warning("Zenoh session did not close within 2 s; exiting anyway")
+            log.warning("Zenoh session did not close within 2 s; exiting anyway")
             logging.shutdown()
             os._exit(EXIT_OK)
     node.log.info("stopped")

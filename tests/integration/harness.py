@@ -113,10 +113,10 @@ class System:
                 for i in range(start, len(self.lines)):
                     if rx.search(self.lines[i]):
                         return i
-                if self.proc.poll() is not None and not any(rx.search(l) for l in self.lines[start:]):
+                if self.proc.poll() is not None and not any(rx.search(line) for line in self.lines[start:]):
                     # give the reader a moment to drain, then fail fast
                     self._line_event.wait(0.2)
-                    if not any(rx.search(l) for l in self.lines[start:]):
+                    if not any(rx.search(line) for line in self.lines[start:]):
                         raise SupervisorDied(f"launch exited ({self.proc.returncode}) before {pattern!r}:\n{self.output()}")
                 remaining = deadline - time.monotonic()
                 if remaining <= 0:

@@ -7,7 +7,7 @@ import time
 
 import pytest
 
-from tests.integration.harness import free_port, turtlectl
+from tests.integration.harness import free_port, running_system, turtlectl
 
 pytestmark = pytest.mark.integration
 
@@ -66,3 +66,14 @@ def test_help_documents_exit_codes():
     result = run("goto", "--help")
     assert result.returncode == 0 and "Example: turtlectl goto" in result.stdout
     assert "3 nothing to talk to" in run("--help").stdout
+
+
+def test_goto_with_no_navigator_exits_3_within_3_seconds(tmp_path):
+    only_sim = tmp_path / "sim_only.toml"
+    only_sim.write_text('[[node]]\nname = "sim"\nrun = "sim"\n')
+    with running_system(only_sim, ready=("sim",)) as system:
+        started = time.monotonic()
+        result = system.run_cli("goto", "1", "1", "0")
+        assert result.returncode == 3, result.stdout + result.stderr
+        assert time.monotonic() - started < 3.0
+        assert "nothing serves navigate_to" in result.stderr

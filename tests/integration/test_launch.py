@@ -6,7 +6,6 @@ import json
 import math
 import os
 import signal
-import subprocess
 import time
 
 import numpy as np
@@ -17,7 +16,7 @@ from cli.launchfile import parse_launch
 from messages import LaserScan, NavigateToRequest, NavigateToResponse, TurtleStatus, decode
 from messages.keys import NAVIGATE_TO, OBSTACLES, STATUS
 from nodes.scan import obstacles_in_view
-from tests.integration.harness import NODES, System, pid_alive, running_system
+from tests.integration.harness import NODES, pid_alive, running_system
 
 pytestmark = pytest.mark.integration
 
