@@ -7,17 +7,23 @@ from __future__ import annotations
 
 import contextlib
 import math
+import os
 import queue
+import secrets
 import time
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
+from typing import TypeVar
 
+import msgspec
 import zenoh
 
 from cli.errors import CliError, ExitCode
 from messages import (
+    Ack,
     DecodeError,
     ErrorReply,
     Message,
+    NavigateToFeedback,
     NavigateToRequest,
     NavigateToResponse,
     decode,
@@ -26,9 +32,10 @@ from messages import (
     encoding_for,
     type_from_encoding,
 )
-from messages.keys import NAVIGATE_TO
+from messages.keys import CLIENT_TOKEN_PREFIX, NAVIGATE_TO
 from nodes.session import client_config, close_session
 
+M = TypeVar("M", bound=Message)
 OPEN_TIMEOUT = 2.5  # s to reach the router before reporting "nothing to talk to"
 
 
@@ -55,61 +62,96 @@ def check_goal_input(x: float, y: float, theta: float) -> NavigateToRequest:
     return NavigateToRequest(x=x, y=y, theta=theta)
 
 
-def call(
-    session: zenoh.Session, key: str, request: Message, response_type: type[Message], timeout: float
-) -> Message:
-    """Send ``request`` to the queryable at ``key`` and wait for its final response.
+def replies(
+    session: zenoh.Session, key: str, request: Message, timeout: float, everyone: bool = False
+) -> Iterator[Message]:
+    """Send ``request`` to the queryable(s) at ``key``; yield each reply, decoded, as it arrives.
 
-    Raises CliError: UNREACHABLE if nobody serves ``key``, FAILED if it does not
-    answer within ``timeout`` s, BAD_INPUT if the service rejects the request.
+    All replies are kept (no consolidation), so a service can stream feedback
+    before its answer; ``everyone`` asks every matching queryable, not just one.
+    Raises CliError: UNREACHABLE if nobody serves ``key``, FAILED if nothing
+    answers within ``timeout`` s, BAD_INPUT if the service rejects the request.
     """
-    replies: queue.SimpleQueue[zenoh.Reply | None] = queue.SimpleQueue()
+    inbox: queue.SimpleQueue[zenoh.Reply | None] = queue.SimpleQueue()
     started = time.monotonic()
     session.get(
         key,
-        zenoh.handlers.Callback(replies.put, lambda: replies.put(None)),
+        zenoh.handlers.Callback(inbox.put, lambda: inbox.put(None)),
         payload=encode(request),
         encoding=zenoh.Encoding(encoding_for(type(request))),
+        consolidation=zenoh.ConsolidationMode.NONE,
+        target=zenoh.QueryTarget.ALL if everyone else zenoh.QueryTarget.BEST_MATCHING,
         timeout=timeout,
     )
-    answer: Message | None = None
+    answered = False
     while True:
         try:
-            reply = replies.get(timeout=0.1)  # short waits keep Ctrl-C responsive
+            reply = inbox.get(timeout=0.1)  # short waits keep Ctrl-C responsive
         except queue.Empty:
             continue
         if reply is None:
             break
-        answer = _read_reply(reply, key, response_type)
-    if answer is None:
+        answered = True
+        yield _read_reply(reply, key)
+    if not answered:
         if time.monotonic() - started < 0.9 * timeout:
             raise CliError(ExitCode.UNREACHABLE, f"nothing serves {key} (is the node running?)")
         raise CliError(ExitCode.FAILED, f"{key} did not answer within {timeout:g} s")
-    return answer
 
 
-def _read_reply(reply: zenoh.Reply, key: str, response_type: type[Message]) -> Message:
+def call(session: zenoh.Session, key: str, request: Message, response_type: type[M], timeout: float) -> M:
+    """The one answer of type ``response_type`` to ``request`` (see ``replies``)."""
+    for message in replies(session, key, request, timeout):
+        if isinstance(message, response_type):
+            return message
+    raise CliError(ExitCode.FAILED, f"{key} ended the call without an answer")
+
+
+def _read_reply(reply: zenoh.Reply, key: str) -> Message:
     if reply.ok is not None:
         try:
-            return decode(reply.ok.payload.to_bytes(), response_type)
+            return decode_any(reply.ok.payload.to_bytes())
         except DecodeError as exc:
             raise CliError(ExitCode.FAILED, f"{key} sent an unreadable answer: {exc}") from None
     err = reply.err
+    payload = err.payload.to_bytes() if err is not None else b""
     try:
-        message = decode(err.payload.to_bytes(), ErrorReply).error if err is not None else "unknown error"
+        message = decode(payload, ErrorReply).error
     except DecodeError:
-        message = err.payload.to_bytes().decode("utf-8", "replace") if err is not None else "unknown error"
+        message = payload.decode("utf-8", "replace") or "unknown error"
     raise CliError(ExitCode.BAD_INPUT, f"{key} rejected the request: {message}")
 
 
-def navigate(connect: str, request: NavigateToRequest, timeout: float) -> tuple[NavigateToResponse, float]:
-    """Call navigate_to; returns the response and the time the client measured, s."""
+def navigate(
+    connect: str,
+    goal: NavigateToRequest,
+    timeout: float,
+    on_feedback: Callable[[NavigateToFeedback], None] | None = None,
+) -> tuple[NavigateToResponse, float]:
+    """Call navigate_to and wait for the outcome; returns it and the time the client measured, s.
+
+    The call carries a liveliness token of this client: if the client goes away
+    (Ctrl-C, kill), the navigator cancels the goal.
+    """
+    client_id = f"{os.getpid()}-{secrets.token_hex(4)}"
     with client_session(connect) as session:
+        token = session.liveliness().declare_token(f"{CLIENT_TOKEN_PREFIX}/{client_id}")
         started = time.monotonic()
-        response = call(session, NAVIGATE_TO, request, NavigateToResponse, timeout)
-        elapsed = time.monotonic() - started
-    assert isinstance(response, NavigateToResponse)  # call() decodes as response_type
-    return response, elapsed
+        request = msgspec.structs.replace(goal, client=client_id)
+        for message in replies(session, NAVIGATE_TO, request, timeout):
+            if isinstance(message, NavigateToFeedback) and on_feedback is not None:
+                on_feedback(message)
+            elif isinstance(message, NavigateToResponse):
+                elapsed = time.monotonic() - started
+                token.undeclare()
+                return message, elapsed
+    raise CliError(ExitCode.FAILED, f"{NAVIGATE_TO} ended the call without an answer")
+
+
+def simple_call(connect: str, key: str, request: Message, everyone: bool = False, timeout: float = 5.0) -> list[Ack]:
+    """Call a simple service (Ack answers); with ``everyone``, collect every server's answer."""
+    with client_session(connect) as session:
+        return [m for m in replies(session, key, request, timeout, everyone) if isinstance(m, Ack)]
 
 
 class Received:

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import math
 
-from messages import Message, NavigateToResponse, to_builtins, to_json
+from messages import Ack, Message, NavigateToFeedback, NavigateToResponse, to_builtins, to_json
 
 
 def _value(value: object, indent: str) -> str:
@@ -38,3 +38,15 @@ def outcome_line(response: NavigateToResponse, client_time: float) -> str:
     if response.success:
         return f"reached {where} in {response.time_taken:.3f} s ({errors})"
     return f"not reached: {response.reason} after {response.time_taken:.3f} s; {where}, {errors}"
+
+
+def progress_line(fb: NavigateToFeedback) -> str:
+    """One short line for the live progress of a goal (rewritten in place on a terminal)."""
+    return (
+        f"{fb.state:8s} {fb.distance_remaining:6.3f} m, {fb.heading_remaining:5.1f} deg to go, "
+        f"eta {fb.eta:4.1f} s | at ({fb.x:.2f}, {fb.y:.2f}, {fb.theta:.0f} deg) | {fb.elapsed:.1f} s"
+    )
+
+
+def ack_lines(acks: list[Ack]) -> str:
+    return "\n".join(a.detail for a in acks)

@@ -19,6 +19,7 @@ from cli.errors import CliError, ExitCode
 from cli.launchfile import LaunchFileError, load_launch
 from cli.supervisor.manager import Supervisor
 from cli.supervisor.printer import Printer
+from messages import Cancel, Reset, TeleportAbsolute, keys
 from nodes.session import CONNECT_ENV, DEFAULT_ENDPOINT, DEFAULT_PORT
 
 EXIT_CODES = """
@@ -30,7 +31,7 @@ router, no navigator, no message); 4 launch could not start (port in use);
 
 app = typer.Typer(
     name="turtlectl",
-    help="A turtle robot over Zenoh, the ROS 2 way: launch, goto, echo." + EXIT_CODES,
+    help="A turtle robot over Zenoh, the ROS 2 way: launch, goto, cancel, teleport, reset, echo." + EXIT_CODES,
     no_args_is_help=True,
     add_completion=True,
     pretty_exceptions_enable=False,
@@ -91,12 +92,58 @@ def goto(
 ) -> None:
     """Send the turtle to (X, Y) facing THETA degrees and wait for the outcome.
 
+    On a terminal a live progress line shows the goal's state; piped, only the
+    outcome is printed.  Ctrl-C cancels the goal.
+
     Example: turtlectl goto 8 5 90
     """
     request = client.check_goal_input(_number(x, "x"), _number(y, "y"), _number(theta, "theta"))
-    response, elapsed = client.navigate(connect, request, timeout)
+    live = sys.stdout.isatty() and not json
+    show = (lambda fb: typer.echo("\r\033[K" + format.progress_line(fb), nl=False)) if live else None
+    try:
+        response, elapsed = client.navigate(connect, request, timeout, show)
+    finally:
+        if live:
+            typer.echo("\r\033[K", nl=False)
     typer.echo(format.message_json(response) if json else format.outcome_line(response, elapsed))
     raise typer.Exit(ExitCode.OK if response.success else ExitCode.FAILED)
+
+
+@app.command()
+def cancel(connect: str = ConnectOption) -> None:
+    """Cancel the running goal: the turtle brakes at once; its caller gets reason "canceled".
+
+    Exit code 1 if no goal was running.
+
+    Example: turtlectl cancel
+    """
+    (ack,) = client.simple_call(connect, keys.CANCEL, Cancel())
+    typer.echo(ack.detail)
+    raise typer.Exit(ExitCode.OK if ack.ok else ExitCode.FAILED)
+
+
+@app.command(context_settings={"ignore_unknown_options": True})
+def teleport(
+    x: str = typer.Argument(..., help="x, m."),
+    y: str = typer.Argument(..., help="y, m."),
+    theta: str = typer.Argument(..., help="Heading, degrees (as for goto)."),
+    connect: str = ConnectOption,
+) -> None:
+    """Put the turtle at (X, Y) facing THETA degrees, at rest (turtlesim's teleport_absolute).
+
+    Example: turtlectl teleport 2 2 45
+    """
+    request = TeleportAbsolute(x=_number(x, "x"), y=_number(y, "y"), theta=math.radians(_number(theta, "theta")))
+    typer.echo(format.ack_lines(client.simple_call(connect, keys.TELEPORT, request)))
+
+
+@app.command()
+def reset(connect: str = ConnectOption) -> None:
+    """Put the turtle back at its spawn pose and fill the battery (turtlesim's reset).
+
+    Example: turtlectl reset
+    """
+    typer.echo(format.ack_lines(client.simple_call(connect, keys.RESET, Reset(), everyone=True)))
 
 
 @app.command()

@@ -8,11 +8,15 @@ never matches them.
 from __future__ import annotations
 
 from messages.types import (
+    Ack,
+    Cancel,
     LaserScan,
     Message,
     NavigateToRequest,
     NavigateToResponse,
     Pose,
+    Reset,
+    TeleportAbsolute,
     TurtleStatus,
     Twist,
 )
@@ -22,6 +26,9 @@ POSE = "turtle1/pose"
 STATUS = "robot/status"
 OBSTACLES = "obstacles"
 NAVIGATE_TO = "navigate_to"
+CANCEL = "navigate_to/cancel"
+TELEPORT = "turtle1/teleport_absolute"
+RESET = "reset"
 
 TOPICS: dict[str, type[Message]] = {
     CMD_VEL: Twist,
@@ -31,10 +38,14 @@ TOPICS: dict[str, type[Message]] = {
 }
 
 SERVICES: dict[str, tuple[type[Message], type[Message]]] = {
-    NAVIGATE_TO: (NavigateToRequest, NavigateToResponse),
+    NAVIGATE_TO: (NavigateToRequest, NavigateToResponse),  # also replies NavigateToFeedback while it runs
+    CANCEL: (Cancel, Ack),
+    TELEPORT: (TeleportAbsolute, Ack),
+    RESET: (Reset, Ack),  # served by the sim (pose) and the status monitor (battery)
 }
 
 NODE_TOKEN_PREFIX = "@turtlectl/node"
+CLIENT_TOKEN_PREFIX = "@turtlectl/client"
 
 
 def node_token(name: str, pid: int) -> str:

@@ -93,8 +93,29 @@ class NavigateToRequest(Message):
 
     x, y: goal position in the world frame, m.  theta: goal heading, degrees
     (any finite value; it is taken modulo 360).
+    client: optional liveliness key of the caller (``@turtlectl/client/...``);
+        if that token disappears while the goal runs, the goal is canceled.
     """
 
+    x: float
+    y: float
+    theta: float
+    client: str = ""
+
+
+class NavigateToFeedback(Message):
+    """Progress of a running goal, replied to its caller about 10 times a second.
+
+    state: "turning", "driving" or "blocked".  distance_remaining: m.
+    heading_remaining: degrees.  eta: estimated s to arrival.  elapsed: s.
+    x, y, theta: current pose (m, m, degrees [0, 360)).
+    """
+
+    state: str
+    distance_remaining: float
+    heading_remaining: float
+    eta: float
+    elapsed: float
     x: float
     y: float
     theta: float
@@ -122,6 +143,29 @@ class NavigateToResponse(Message):
     theta: float = 0.0
 
 
+class Cancel(Message):
+    """Request to ``navigate_to/cancel``: stop the running goal (its caller gets reason "canceled")."""
+
+
+class TeleportAbsolute(Message):
+    """Request to ``turtle1/teleport_absolute``, as turtlesim's: x, y in m, theta in rad."""
+
+    x: float
+    y: float
+    theta: float
+
+
+class Reset(Message):
+    """Request to ``reset``: the turtle back to its spawn pose, the battery full."""
+
+
+class Ack(Message):
+    """Answer of a simple service: ok, and a sentence saying what was done."""
+
+    ok: bool = True
+    detail: str = ""
+
+
 class ErrorReply(Message):
     """What a service sends back when it cannot even parse a request."""
 
@@ -134,6 +178,11 @@ ALL_TYPES: tuple[type[Message], ...] = (
     TurtleStatus,
     LaserScan,
     NavigateToRequest,
+    NavigateToFeedback,
     NavigateToResponse,
+    Cancel,
+    TeleportAbsolute,
+    Reset,
+    Ack,
     ErrorReply,
 )

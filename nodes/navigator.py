@@ -1,10 +1,20 @@
 """The navigator process: serves ``navigate_to`` and drives the turtle there.
 
-One goal at a time: a new goal preempts the running one (its caller gets
-success=false, reason "preempted").  On each pose the control law
-(nodes.control) gives a velocity; the navigator stops the turtle while the
-latest scan shows an obstacle within the safety distance in its direction of
-travel, and publishes ``turtle1/cmd_vel`` only while a goal is active.
+A goal's lifecycle, as Nav2's NavigateToPose:
+
+* accepted (or refused at once: invalid, battery low), then fed back to its
+  caller about 10 times a second (NavigateToFeedback replies), and ended by
+  one NavigateToResponse: reached, or not with a reason;
+* a new goal preempts the running one (reason "preempted"); ``navigate_to/cancel``
+  cancels it ("canceled"); a caller whose liveliness token vanishes (Ctrl-C,
+  kill -9) has its goal canceled ("caller gone"), so the turtle never drives
+  for nobody; no pose for ``pose_timeout`` ends it ("no pose"), as does
+  ``goal_timeout`` ("timeout") or ``blocked_timeout`` blocked ("blocked").
+
+On each pose the control law (nodes.control) gives a velocity; the navigator
+slows it for obstacles the latest scan shows in the direction of travel and
+stops while one is within the safety distance.  It publishes
+``turtle1/cmd_vel`` only while a goal runs.
 """
 
 from __future__ import annotations
@@ -14,10 +24,20 @@ import time
 
 import numpy as np
 
-from messages import LaserScan, NavigateToRequest, NavigateToResponse, Pose, Twist
-from messages.keys import CMD_VEL, NAVIGATE_TO, OBSTACLES, POSE
-from nodes.control import Phase, control_step
-from nodes.goal import goal_problem, heading_error_deg, stopping_margin
+from messages import (
+    Ack,
+    Cancel,
+    LaserScan,
+    NavigateToFeedback,
+    NavigateToRequest,
+    NavigateToResponse,
+    Pose,
+    TurtleStatus,
+    Twist,
+)
+from messages.keys import CANCEL, CLIENT_TOKEN_PREFIX, CMD_VEL, NAVIGATE_TO, OBSTACLES, POSE, STATUS
+from nodes.control import Phase, choose_direction, control_step, remaining_time
+from nodes.goal import clearance_speed, goal_problem, heading_error_deg, stopping_margin
 from nodes.params import NavigatorParams
 from nodes.runtime import Node, Request, run
 from nodes.scan import nearest_in_cone
@@ -28,11 +48,13 @@ WATCHDOG_PERIOD = 0.05  # s
 class Goal:
     def __init__(self, request: Request[NavigateToRequest]):
         self.request = request
-        self.x = request.body.x
-        self.y = request.body.y
-        self.theta = math.radians(request.body.theta)
+        body = request.body
+        self.x, self.y, self.theta = body.x, body.y, math.radians(body.theta)
+        self.client = f"{CLIENT_TOKEN_PREFIX}/{body.client}" if body.client else ""
         self.start = time.monotonic()
         self.phase = Phase.DRIVE
+        self.direction = 0  # chosen with the first pose
+        self.state = "turning"
         self.blocked_since: float | None = None
 
 
@@ -41,6 +63,7 @@ class Navigator:
         self.node = node
         self.pose: Pose | None = None
         self.pose_time = 0.0
+        self.battery: float | None = None
         self.scan: LaserScan | None = None
         self.scan_angles = np.zeros(0)
         self.scan_time = 0.0
@@ -49,14 +72,20 @@ class Navigator:
         self.cmd_pub = node.publisher(CMD_VEL, Twist)
         node.subscribe(POSE, Pose, self.on_pose)
         node.subscribe(OBSTACLES, LaserScan, self.on_scan)
+        node.subscribe(STATUS, TurtleStatus, self.on_status)
         node.serve(NAVIGATE_TO, NavigateToRequest, NavigateToResponse, self.on_goal)
+        node.serve(CANCEL, Cancel, Ack, self.on_cancel)
+        node.watch_liveliness(f"{CLIENT_TOKEN_PREFIX}/**", self.on_client)
         node.timer(WATCHDOG_PERIOD, self.watchdog)
+        node.timer(1.0 / node.params.feedback_rate, self.feedback)
         node.on_shutdown(lambda: self.finish(False, "navigator shut down"))
 
     # -- inputs -------------------------------------------------------------
     def on_goal(self, request: Request[NavigateToRequest]) -> None:
         body = request.body
         problem = goal_problem(body, self.node.world)
+        if problem is None and self.battery is not None and self.battery < self.node.params.min_battery:
+            problem = "battery low"
         if problem is not None:
             self.node.log.info("refused goal (%g, %g, %g deg): %s", body.x, body.y, body.theta, problem)
             request.respond(NavigateToResponse(success=False, time_taken=0.0, reason=problem))
@@ -66,9 +95,24 @@ class Navigator:
         self.node.log.info("goal (%.3f, %.3f, %.1f deg)", body.x, body.y, body.theta)
         self.drive()
 
+    def on_cancel(self, request: Request[Cancel]) -> None:
+        if self.goal is None:
+            request.respond(Ack(ok=False, detail="no goal is running"))
+            return
+        goal = self.goal
+        self.finish(False, "canceled")
+        request.respond(Ack(detail=f"canceled the goal ({goal.x:g}, {goal.y:g}, {math.degrees(goal.theta):g} deg)"))
+
+    def on_client(self, key: str, alive: bool) -> None:
+        if not alive and self.goal is not None and key == self.goal.client:
+            self.finish(False, "caller gone")
+
     def on_pose(self, pose: Pose) -> None:
         self.pose, self.pose_time = pose, time.monotonic()
         self.drive()
+
+    def on_status(self, status: TurtleStatus) -> None:
+        self.battery = status.battery
 
     def on_scan(self, scan: LaserScan) -> None:
         now = time.monotonic()
@@ -89,12 +133,35 @@ class Navigator:
         elif now - max(self.pose_time, goal.start) > p.pose_timeout:
             self.finish(False, "no pose")
 
+    def feedback(self) -> None:
+        goal, pose = self.goal, self.pose
+        if goal is None or pose is None:
+            return
+        limits = self.node.limits
+        eta = remaining_time(pose.x, pose.y, pose.theta, goal.x, goal.y, goal.theta, goal.direction or 1, limits)
+        goal.request.respond(
+            NavigateToFeedback(
+                state=goal.state,
+                distance_remaining=math.hypot(goal.x - pose.x, goal.y - pose.y),
+                heading_remaining=heading_error_deg(goal.theta, pose.theta),
+                eta=eta,
+                elapsed=time.monotonic() - goal.start,
+                x=pose.x,
+                y=pose.y,
+                theta=math.degrees(pose.theta) % 360.0,
+            ),
+            final=False,
+        )
+
     # -- control ------------------------------------------------------------
     def drive(self) -> None:
         goal, pose = self.goal, self.pose
         if goal is None or pose is None:
             return
         p = self.node.params
+        limits = self.node.limits
+        if goal.direction == 0:
+            goal.direction = choose_direction(pose.x, pose.y, pose.theta, goal.x, goal.y, goal.theta, limits)
         cmd = control_step(
             pose.x,
             pose.y,
@@ -103,7 +170,8 @@ class Navigator:
             goal.y,
             goal.theta,
             goal.phase,
-            self.node.limits,
+            goal.direction,
+            limits,
             p.gains,
             p.position_tolerance,
             math.radians(p.heading_tolerance),
@@ -112,31 +180,46 @@ class Navigator:
         if cmd.phase is Phase.DONE:
             self.finish(True, "")
             return
-        if cmd.linear != 0.0 and self.blocked(cmd.linear, math.hypot(goal.x - pose.x, goal.y - pose.y)):
-            now = time.monotonic()
-            if goal.blocked_since is None:
-                goal.blocked_since = now
-                self.node.log.info("obstacle within %.2f m ahead: stopped", p.safety_distance)
-            self.cmd_pub.publish(Twist())
-            if now - goal.blocked_since > p.blocked_timeout:
-                self.finish(False, "blocked")
-            return
+        linear = cmd.linear
+        if linear != 0.0:
+            allowed = self.obstacle_speed(linear, math.hypot(goal.x - pose.x, goal.y - pose.y))
+            linear = math.copysign(min(abs(linear), allowed), linear)
+            if allowed == 0.0:
+                self.blocked(goal)
+                return
         if goal.blocked_since is not None:
             goal.blocked_since = None
             self.node.log.info("way clear: resuming")
-        self.cmd_pub.publish(Twist(linear=cmd.linear, angular=cmd.angular))
+        goal.state = "driving" if linear != 0.0 else "turning"
+        self.cmd_pub.publish(Twist(linear=linear, angular=cmd.angular))
 
-    def blocked(self, linear: float, distance_to_goal: float) -> bool:
-        """True if the latest scan shows an obstacle too close in the direction of travel."""
+    def blocked(self, goal: Goal) -> None:
+        now = time.monotonic()
+        p = self.node.params
+        if goal.blocked_since is None:
+            goal.blocked_since = now
+            self.node.log.info("obstacle within %.2f m in the direction of travel: stopped", p.safety_distance)
+        goal.state = "blocked"
+        self.cmd_pub.publish(Twist())
+        if now - goal.blocked_since > p.blocked_timeout:
+            self.finish(False, "blocked")
+
+    def obstacle_speed(self, linear: float, distance_to_goal: float) -> float:
+        """Fastest speed (m/s) allowed by the latest scan in the direction of travel;
+        0 while an obstacle between the turtle and its goal is within the safety distance."""
         if self.scan is None:
-            return False
+            return math.inf
         p = self.node.params
         direction = 0.0 if linear > 0 else math.pi
         nearest = nearest_in_cone(
             np.asarray(self.scan.ranges), self.scan_angles, direction, math.radians(p.safety_cone)
         )
-        margin = stopping_margin(linear, time.monotonic() - self.scan_time, self.scan_period)
-        return nearest - margin < min(p.safety_distance, distance_to_goal)
+        if nearest >= distance_to_goal:  # nothing before the goal
+            return math.inf
+        clearance = nearest - stopping_margin(linear, time.monotonic() - self.scan_time, self.scan_period)
+        if clearance <= p.safety_distance:
+            return 0.0
+        return clearance_speed(clearance, p.safety_distance, p.obstacle_decel)
 
     def finish(self, success: bool, reason: str) -> None:
         """End the running goal (if any): stop the turtle and answer its caller."""

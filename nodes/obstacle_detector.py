@@ -1,18 +1,23 @@
 """The obstacle detector process: a mock laser scanner at 5 Hz.
 
 Casts rays from the turtle's pose (``turtle1/pose``) against the world's
-circles and walls (nodes.scan, numpy) and publishes ``obstacles`` (LaserScan).
+circles and walls, plus short-lived phantom detections if asked for
+(nodes.scan, numpy), and publishes ``obstacles`` (LaserScan).
 """
 
 from __future__ import annotations
 
 import math
+import time
+
+import numpy as np
 
 from messages import LaserScan, Pose
 from messages.keys import OBSTACLES, POSE
 from nodes.params import ObstacleDetectorParams
 from nodes.runtime import Node, run
-from nodes.scan import beam_angles, cast_rays
+from nodes.scan import beam_angles, cast_rays, new_phantoms
+from sim.world import Obstacle, World
 
 
 class ObstacleDetector:
@@ -22,6 +27,8 @@ class ObstacleDetector:
         self.angles = beam_angles(math.radians(p.angle_min), math.radians(p.angle_max), p.beams)
         self.increment = float(self.angles[1] - self.angles[0]) if p.beams > 1 else 0.0
         self.pose: Pose | None = None
+        self.rng = np.random.default_rng(p.phantom_seed)
+        self.phantoms: list[tuple[float, Obstacle]] = []  # (expiry, monotonic s), obstacle
         self.pub = node.publisher(OBSTACLES, LaserScan)
         node.subscribe(POSE, Pose, self.on_pose)
         node.timer(1.0 / p.rate, self.tick)
@@ -29,11 +36,23 @@ class ObstacleDetector:
     def on_pose(self, pose: Pose) -> None:
         self.pose = pose
 
+    def world(self) -> World:
+        """The declared world plus the phantoms alive now (new ones spawned for this tick)."""
+        p = self.node.params
+        if p.phantom_rate <= 0 or self.pose is None:
+            return self.node.world
+        now = time.monotonic()
+        born = new_phantoms(
+            self.rng, self.pose.x, self.pose.y, p.phantom_rate, 1.0 / p.rate, p.phantom_distance, p.phantom_radius
+        )
+        self.phantoms = [(t, o) for t, o in self.phantoms if t > now] + [(now + p.phantom_lifetime, o) for o in born]
+        return World(size=self.node.world.size, obstacles=self.node.world.obstacles + [o for _, o in self.phantoms])
+
     def tick(self) -> None:
         if self.pose is None:
             return
         p = self.node.params
-        ranges = cast_rays(self.pose.x, self.pose.y, self.pose.theta, self.angles, self.node.world, p.range_max)
+        ranges = cast_rays(self.pose.x, self.pose.y, self.pose.theta, self.angles, self.world(), p.range_max)
         self.pub.publish(
             LaserScan(
                 angle_min=float(self.angles[0]),

@@ -20,19 +20,25 @@ Degrees = Annotated[float, msgspec.Meta(ge=-360.0, le=360.0)]
 class NavigatorParams(msgspec.Struct, forbid_unknown_fields=True, kw_only=True):
     """position_tolerance: m.  heading_tolerance: degrees.
     safety_distance: m; the turtle stops while an obstacle is this close in its
-    direction of travel (within safety_cone degrees either side).
+    direction of travel (within safety_cone degrees either side), and slows
+    down before, braking at obstacle_decel m/s^2.
     blocked_timeout: s blocked before the goal fails with reason "blocked".
     goal_timeout: s before a goal fails with reason "timeout".
     pose_timeout: s without a pose before a running goal fails with reason "no pose".
+    min_battery: %; below it goals are refused with reason "battery low".
+    feedback_rate: Hz of NavigateToFeedback replies to the caller of a goal.
     """
 
     position_tolerance: Positive = 0.01
-    heading_tolerance: Positive = 1.0
+    heading_tolerance: Positive = 0.5
     safety_distance: Positive = 0.4
     safety_cone: Positive = 30.0
+    obstacle_decel: Positive = 2.0
     blocked_timeout: Positive = 10.0
     goal_timeout: Positive = 30.0
     pose_timeout: Positive = 0.5
+    min_battery: Percent = 5.0
+    feedback_rate: Positive = 10.0
     gains: Gains = msgspec.field(default_factory=Gains)
 
 
@@ -50,6 +56,10 @@ class StatusMonitorParams(msgspec.Struct, forbid_unknown_fields=True, kw_only=Tr
 class ObstacleDetectorParams(msgspec.Struct, forbid_unknown_fields=True, kw_only=True):
     """rate: Hz of the scan.  beams: number of rays.  angle_min, angle_max: degrees
     relative to the heading (at most 360 apart).  range_min, range_max: m.
+    Phantom detections, to stress the navigator (the capstone's mock sensor):
+    phantom_rate: new phantoms per s on average (0: none); each is a circle of
+    phantom_radius m, phantom_distance m away in a random direction, seen for
+    phantom_lifetime s; phantom_seed makes the sequence repeatable.
     """
 
     rate: Positive = 5.0
@@ -58,6 +68,11 @@ class ObstacleDetectorParams(msgspec.Struct, forbid_unknown_fields=True, kw_only
     angle_max: Degrees = 180.0
     range_min: NonNegative = 0.0
     range_max: Positive = 10.0
+    phantom_rate: NonNegative = 0.0
+    phantom_lifetime: Positive = 1.0
+    phantom_radius: Positive = 0.2
+    phantom_distance: Positive = 1.5
+    phantom_seed: int = 0
 
     def __post_init__(self) -> None:
         if not self.angle_min < self.angle_max <= self.angle_min + 360.0:

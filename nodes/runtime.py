@@ -49,6 +49,7 @@ EXIT_CONFIG = 2  # the node's configuration could not be used
 EXIT_SESSION = 3  # could not open a Zenoh session
 
 _PR_SET_PDEATHSIG = 1
+_ERROR_ENCODING = zenoh.Encoding(encoding_for(ErrorReply))
 _PARENT_CHECK_PERIOD = 0.5  # s
 
 
@@ -87,6 +88,14 @@ class Request(Generic[M]):
         if final:
             self.done = True
             self._query.drop()
+
+    def fail(self, error: str) -> None:
+        """End the call with an error reply (the client reports it as bad input)."""
+        if self.done:
+            return
+        self.done = True
+        self._query.reply_err(encode(ErrorReply(error=error)), encoding=_ERROR_ENCODING)
+        self._query.drop()
 
 
 class _Timer:
@@ -151,6 +160,14 @@ class Node(Generic[P]):
 
         self._entities.append(self.session.declare_queryable(key, on_query))
 
+    def watch_liveliness(self, key_expr: str, callback: Callable[[str, bool], None]) -> None:
+        """Call ``callback(key, alive)`` on the node thread when a matching token appears or vanishes."""
+
+        def on_sample(sample: zenoh.Sample) -> None:  # Zenoh thread: queue only
+            self._queue.put((callback, (str(sample.key_expr), sample.kind == zenoh.SampleKind.PUT)))
+
+        self._entities.append(self.session.liveliness().declare_subscriber(key_expr, on_sample))
+
     def timer(self, period: float, callback: Callable[[], None]) -> None:
         """Call ``callback()`` every ``period`` s on an absolute schedule."""
         self._timers.append(_Timer(period, callback, time.monotonic()))
@@ -188,8 +205,7 @@ class Node(Generic[P]):
             body = decode(payload, request_type)
         except ValueError as exc:
             self._rejected(key, str(exc))
-            query.reply_err(encode(ErrorReply(error=str(exc))), encoding=zenoh.Encoding(encoding_for(ErrorReply)))
-            query.drop()
+            Request(key, query, None, response_type).fail(str(exc))
             return
         handler(Request(key, query, body, response_type))
 

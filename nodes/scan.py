@@ -10,7 +10,7 @@ import math
 
 import numpy as np
 
-from sim.world import World
+from sim.world import Obstacle, World
 
 
 def beam_angles(angle_min: float, angle_max: float, count: int) -> np.ndarray:
@@ -68,3 +68,15 @@ def obstacles_in_view(ranges: np.ndarray, angles: np.ndarray) -> int:
     # count rising edges, treating the scan as circular only if it is a full circle
     edges = np.count_nonzero(finite & ~np.roll(finite, 1))
     return int(edges) if edges else 1
+
+
+def new_phantoms(
+    rng: np.random.Generator, x: float, y: float, rate: float, dt: float, distance: float, radius: float
+) -> list[Obstacle]:
+    """Phantom obstacles appearing in ``dt`` s at ``rate`` per s (Poisson), each a circle of
+    ``radius`` m whose centre is ``distance`` m from (x, y) m in a uniformly random direction."""
+    count = int(rng.poisson(rate * dt)) if rate > 0 else 0
+    angles = rng.uniform(-math.pi, math.pi, count)
+    return [
+        Obstacle(x=x + distance * math.cos(a), y=y + distance * math.sin(a), radius=radius) for a in angles
+    ]

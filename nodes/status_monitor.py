@@ -10,11 +10,13 @@ from __future__ import annotations
 import math
 import time
 
-from messages import Pose, TurtleStatus
-from messages.keys import POSE, STATUS
+from messages import Ack, Pose, Reset, TurtleStatus
+from messages.keys import POSE, RESET, STATUS
 from nodes.battery import drain, make_status
 from nodes.params import StatusMonitorParams
-from nodes.runtime import Node, run
+from nodes.runtime import Node, Request, run
+
+FULL = 100.0  # %
 
 
 class StatusMonitor:
@@ -26,7 +28,13 @@ class StatusMonitor:
         self.last_tick = time.monotonic()
         self.pub = node.publisher(STATUS, TurtleStatus)
         node.subscribe(POSE, Pose, self.on_pose)
+        node.serve(RESET, Reset, Ack, self.on_reset)
         node.timer(1.0 / node.params.rate, self.tick)
+
+    def on_reset(self, request: Request[Reset]) -> None:
+        self.battery, self.travelled = FULL, 0.0
+        self.pose = None  # the turtle jumps back to its spawn pose: that is not travel
+        request.respond(Ack(detail="battery full"))
 
     def on_pose(self, pose: Pose) -> None:
         if self.pose is not None:

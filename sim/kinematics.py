@@ -52,6 +52,17 @@ def effective_command(
     return v, w
 
 
+def accelerate(state: TurtleState, v: float, w: float, dt: float, limits: Limits) -> tuple[float, float]:
+    """Speeds (m/s, rad/s) reached after ``dt`` s of pursuing (v, w) from the state's
+    current speeds, changing by at most the acceleration limits."""
+    dv = limits.max_linear_accel * dt
+    dw = limits.max_angular_accel * dt
+    return (
+        state.v + min(max(v - state.v, -dv), dv),
+        state.w + min(max(w - state.w, -dw), dw),
+    )
+
+
 def step(state: TurtleState, v: float, w: float, dt: float, world_size: float) -> TurtleState:
     """Advance the turtle by ``dt`` s at speeds (v m/s, w rad/s), as turtlesim does.
 

@@ -1,18 +1,34 @@
 """The simulator process: turtlesim's world around sim.kinematics.
 
-Subscribes ``turtle1/cmd_vel`` (Twist), steps the turtle every 16 ms and
-publishes ``turtle1/pose`` (Pose) after each step, as turtlesim does.
+Subscribes ``turtle1/cmd_vel`` (Twist), steps the turtle every 16 ms within
+the robot's limits and publishes ``turtle1/pose`` (Pose) after each step, as
+turtlesim does.  Serves turtlesim's ``turtle1/teleport_absolute`` and ``reset``.
 """
 
 from __future__ import annotations
 
+import math
 import time
 
-from messages import Pose, Twist
-from messages.keys import CMD_VEL, POSE
-from nodes.runtime import Node, run
-from sim.kinematics import STEP, TurtleState, effective_command, step, wrap_angle
+from messages import Ack, Pose, Reset, TeleportAbsolute, Twist
+from messages.keys import CMD_VEL, POSE, RESET, TELEPORT
+from nodes.runtime import Node, Request, run
+from sim.kinematics import STEP, TurtleState, accelerate, effective_command, step, wrap_angle
 from sim.params import SimParams
+from sim.world import World
+
+
+def placement_problem(world: World, x: float, y: float, theta: float) -> str | None:
+    """Why the turtle cannot be put at (x m, y m, theta rad), or None."""
+    for name, value in (("x", x), ("y", y), ("theta", theta)):
+        if not math.isfinite(value):
+            return f"{name} is {value}"
+    if not world.contains(x, y):
+        return f"({x:g}, {y:g}) is outside the world [0, {world.size:g}] m"
+    for o in world.obstacles:
+        if math.hypot(x - o.x, y - o.y) <= o.radius:
+            return f"({x:g}, {y:g}) is inside an obstacle"
+    return None
 
 
 class Simulator:
@@ -22,20 +38,40 @@ class Simulator:
         if not node.world.contains(p.x, p.y):
             node.log.warning("spawn (%.3f, %.3f) is outside the world; clamping to the walls", p.x, p.y)
         size = node.world.size
-        self.state = TurtleState(x=min(max(p.x, 0.0), size), y=min(max(p.y, 0.0), size), theta=wrap_angle(p.theta))
+        self.spawn = TurtleState(x=min(max(p.x, 0.0), size), y=min(max(p.y, 0.0), size), theta=wrap_angle(p.theta))
+        self.state = self.spawn
         self.cmd = Twist()
         self.cmd_time: float | None = None
         self.pose_pub = node.publisher(POSE, Pose)
         node.subscribe(CMD_VEL, Twist, self.on_cmd_vel)
+        node.serve(TELEPORT, TeleportAbsolute, Ack, self.on_teleport)
+        node.serve(RESET, Reset, Ack, self.on_reset)
         node.timer(STEP, self.tick)
 
     def on_cmd_vel(self, msg: Twist) -> None:
         self.cmd = msg
         self.cmd_time = time.monotonic()
 
+    def on_teleport(self, request: Request[TeleportAbsolute]) -> None:
+        body = request.body
+        problem = placement_problem(self.node.world, body.x, body.y, body.theta)
+        if problem is not None:
+            request.fail(f"cannot teleport: {problem}")
+            return
+        self.state = TurtleState(x=body.x, y=body.y, theta=wrap_angle(body.theta))
+        self.cmd_time = None  # a teleported turtle stands still until told otherwise
+        request.respond(Ack(detail=f"teleported to ({body.x:g}, {body.y:g}, {body.theta:g} rad)"))
+
+    def on_reset(self, request: Request[Reset]) -> None:
+        self.state = self.spawn
+        self.cmd_time = None
+        request.respond(Ack(detail="turtle back at its spawn pose"))
+
     def tick(self) -> None:
         age = None if self.cmd_time is None else time.monotonic() - self.cmd_time
-        v, w = effective_command(self.cmd.linear, self.cmd.angular, age, self.node.limits, self.node.params.cmd_timeout)
+        limits = self.node.limits
+        v, w = effective_command(self.cmd.linear, self.cmd.angular, age, limits, self.node.params.cmd_timeout)
+        v, w = accelerate(self.state, v, w, STEP, limits)
         self.state = step(self.state, v, w, STEP, self.node.world.size)
         s = self.state
         self.pose_pub.publish(Pose(x=s.x, y=s.y, theta=s.theta, linear_velocity=s.v, angular_velocity=s.w))

@@ -44,7 +44,10 @@ class Limits(msgspec.Struct, forbid_unknown_fields=True, kw_only=True):
     """The robot's motion limits; the simulator enforces them, the navigator plans within them.
 
     max_linear_speed: m/s (either direction).  max_angular_speed: rad/s.
+    max_linear_accel: m/s^2 (speeding up and braking).  max_angular_accel: rad/s^2.
     """
 
     max_linear_speed: Positive = 4.0
-    max_angular_speed: Positive = 9.0
+    max_angular_speed: Positive = 6.2832
+    max_linear_accel: Positive = 10.0
+    max_angular_accel: Positive = 40.0

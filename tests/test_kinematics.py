@@ -4,10 +4,10 @@ import math
 
 import pytest
 
-from sim.kinematics import STEP, TurtleState, effective_command, step, wrap_angle
+from sim.kinematics import STEP, TurtleState, accelerate, effective_command, step, wrap_angle
 from sim.world import TURTLESIM_SIZE, Limits
 
-LIMITS = Limits(max_linear_speed=4.0, max_angular_speed=9.0)
+LIMITS = Limits(max_linear_speed=4.0, max_angular_speed=9.0, max_linear_accel=10.0, max_angular_accel=40.0)
 
 
 def test_straight_line_one_second():
@@ -63,3 +63,19 @@ def test_non_finite_command_is_ignored():
 @pytest.mark.parametrize("angle, wrapped", [(0.0, 0.0), (math.pi, -math.pi), (3 * math.pi / 2, -math.pi / 2), (-3 * math.pi, -math.pi)])
 def test_wrap_angle(angle, wrapped):
     assert wrap_angle(angle) == pytest.approx(wrapped)
+
+
+def test_acceleration_is_limited_both_ways():
+    s = TurtleState(x=0, y=0, theta=0, v=1.0, w=-1.0)
+    assert accelerate(s, 4.0, 9.0, 0.1, LIMITS) == pytest.approx((2.0, 3.0))
+    assert accelerate(s, -4.0, -9.0, 0.1, LIMITS) == pytest.approx((0.0, -5.0))
+    assert accelerate(s, 1.05, -1.0, 0.1, LIMITS) == pytest.approx((1.05, -1.0))
+
+
+def test_reaching_full_speed_takes_speed_over_accel():
+    s = TurtleState(x=0, y=5, theta=0)
+    steps = 0
+    while s.v < 4.0:
+        s = step(s, *accelerate(s, 4.0, 0.0, STEP, LIMITS), STEP, 100.0)
+        steps += 1
+    assert steps * STEP == pytest.approx(0.4, abs=STEP)

@@ -7,12 +7,17 @@ import pytest
 
 from messages import (
     ALL_TYPES,
+    Ack,
+    Cancel,
     DecodeError,
     ErrorReply,
     LaserScan,
+    NavigateToFeedback,
     NavigateToRequest,
     NavigateToResponse,
     Pose,
+    Reset,
+    TeleportAbsolute,
     TurtleStatus,
     Twist,
     decode,
@@ -37,7 +42,14 @@ SAMPLES = [
         stamp=9,
         seq=10,
     ),
-    NavigateToRequest(x=1.0, y=2.0, theta=90.0),
+    NavigateToRequest(x=1.0, y=2.0, theta=90.0, client="42-abcd"),
+    NavigateToFeedback(
+        state="driving", distance_remaining=1.5, heading_remaining=10.0, eta=0.8, elapsed=0.2, x=1, y=2, theta=3
+    ),
+    Cancel(),
+    TeleportAbsolute(x=1.0, y=2.0, theta=0.5),
+    Reset(),
+    Ack(ok=False, detail="no goal is running"),
     NavigateToResponse(success=True, time_taken=1.25, position_error=0.004, heading_error=0.3, x=1, y=2, theta=90),
     ErrorReply(error="bad"),
 ]
@@ -74,6 +86,11 @@ def test_malformed_payload_is_rejected_with_a_reason(payload, expected):
     with pytest.raises(DecodeError) as err:
         decode(payload, Twist)
     assert expected in str(err.value)
+
+
+def test_new_fields_have_defaults_so_old_senders_stay_valid():
+    old = msgspec.msgpack.encode({"type": "NavigateToRequest", "x": 1.0, "y": 2.0, "theta": 0.0})
+    assert decode(old, NavigateToRequest).client == ""
 
 
 def test_missing_required_field_is_named():

@@ -7,6 +7,7 @@ under a deadline, and checks that the supervisor is still alive while waiting.
 
 from __future__ import annotations
 
+import math
 import os
 import queue
 import re
@@ -23,8 +24,20 @@ from typing import TypeVar
 
 import zenoh
 
-from messages import Message, TurtleStatus, decode, encode, encoding_for
-from messages.keys import NODE_TOKEN_PREFIX, STATUS, parse_node_token
+from messages import (
+    Message,
+    NavigateToFeedback,
+    NavigateToRequest,
+    NavigateToResponse,
+    Pose,
+    TeleportAbsolute,
+    TurtleStatus,
+    decode,
+    decode_any,
+    encode,
+    encoding_for,
+)
+from messages.keys import NAVIGATE_TO, NODE_TOKEN_PREFIX, POSE, STATUS, TELEPORT, parse_node_token
 from nodes.session import client_config, close_session
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -189,13 +202,46 @@ class System:
             sub.undeclare()
         return out
 
-    def call(self, key: str, request: Message, timeout: float = 10.0) -> list[zenoh.Reply]:
+    def call(self, key: str, request: Message, timeout: float = 10.0, everyone: bool = False) -> list[zenoh.Reply]:
+        """Every reply to ``request`` (no consolidation: feedback and answers)."""
         assert self.session is not None
         return list(
             self.session.get(
-                key, payload=encode(request), encoding=zenoh.Encoding(encoding_for(type(request))), timeout=timeout
+                key,
+                payload=encode(request),
+                encoding=zenoh.Encoding(encoding_for(type(request))),
+                consolidation=zenoh.ConsolidationMode.NONE,
+                target=zenoh.QueryTarget.ALL if everyone else zenoh.QueryTarget.BEST_MATCHING,
+                timeout=timeout,
             )
         )
+
+    def navigate(
+        self, x: float, y: float, theta: float, timeout: float = 20.0
+    ) -> tuple[NavigateToResponse, float, list[NavigateToFeedback]]:
+        """Run a goal to its end: (response, seconds measured here, feedback received)."""
+        started = time.monotonic()
+        replies = self.call(NAVIGATE_TO, NavigateToRequest(x=x, y=y, theta=theta), timeout)
+        elapsed = time.monotonic() - started
+        assert replies and all(r.ok is not None for r in replies), replies
+        messages = [decode_any(r.ok.payload.to_bytes()) for r in replies]
+        final = [m for m in messages if isinstance(m, NavigateToResponse)]
+        assert len(final) == 1 and messages[-1] is final[0], messages
+        return final[0], elapsed, [m for m in messages if isinstance(m, NavigateToFeedback)]
+
+    def latest_pose(self) -> Pose:
+        return self.collect(POSE, Pose, 1, timeout=5.0)[0][1]
+
+    def teleport(self, x: float, y: float, theta: float) -> None:
+        """Put the turtle at (x, y) m facing theta rad, and wait until the pose says so."""
+        replies = self.call(TELEPORT, TeleportAbsolute(x=x, y=y, theta=theta))
+        assert len(replies) == 1 and replies[0].ok is not None, replies
+        deadline = time.monotonic() + 5.0
+        while True:
+            pose = self.latest_pose()
+            if math.hypot(pose.x - x, pose.y - y) < 1e-6 and pose.linear_velocity == 0.0:
+                return
+            assert time.monotonic() < deadline, f"pose {pose} never showed the teleport to {(x, y, theta)}"
 
     def run_cli(self, *args: str, timeout: float = 30.0) -> subprocess.CompletedProcess[str]:
         return subprocess.run(

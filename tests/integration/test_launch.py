@@ -13,8 +13,8 @@ import pytest
 import zenoh
 
 from cli.launchfile import parse_launch
-from messages import LaserScan, NavigateToRequest, NavigateToResponse, TurtleStatus, decode
-from messages.keys import NAVIGATE_TO, OBSTACLES, STATUS
+from messages import LaserScan, NavigateToResponse, TurtleStatus
+from messages.keys import OBSTACLES, STATUS
 from nodes.scan import obstacles_in_view
 from tests.integration.harness import NODES, pid_alive, running_system
 
@@ -75,9 +75,7 @@ def custom(tmp_path_factory):
 
 
 def navigate(system, x, y, theta) -> NavigateToResponse:
-    replies = system.call(NAVIGATE_TO, NavigateToRequest(x=x, y=y, theta=theta), timeout=20.0)
-    assert len(replies) == 1 and replies[0].ok is not None, replies
-    return decode(replies[0].ok.payload.to_bytes(), NavigateToResponse)
+    return system.navigate(x, y, theta)[0]
 
 
 def test_5_every_node_runs_with_the_parameters_of_the_launch_file(custom):
