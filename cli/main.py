@@ -102,6 +102,8 @@ def goto(
     show = (lambda fb: typer.echo("\r\033[K" + format.progress_line(fb), nl=False)) if live else None
     try:
         response, elapsed = client.navigate(connect, request, timeout, show)
+    except KeyboardInterrupt:
+        raise CliError(ExitCode.INTERRUPTED, "interrupted: the navigator cancels the goal") from None
     finally:
         if live:
             typer.echo("\r\033[K", nl=False)

@@ -17,8 +17,8 @@ Positive = Annotated[float, msgspec.Meta(gt=0.0, le=1e9)]
 NonNegative = Annotated[float, msgspec.Meta(ge=0.0, le=1e9)]
 Percent = Annotated[float, msgspec.Meta(ge=0.0, le=100.0)]
 
-#: turtlesim's canvas: 500 px at 45 px/m.
-TURTLESIM_SIZE = 500.0 / 45.0
+#: turtlesim's world: its 500 px canvas is (500 - 1) / 45 m wide; the turtle spawns at the centre.
+TURTLESIM_SIZE = (500.0 - 1.0) / 45.0
 
 
 class Obstacle(msgspec.Struct, forbid_unknown_fields=True, kw_only=True):

@@ -5,7 +5,7 @@ import math
 import numpy as np
 import pytest
 
-from nodes.scan import beam_angles, cast_rays, nearest_in_cone, obstacles_in_view
+from nodes.scan import beam_angles, cast_rays, nearest_in_cone, new_phantoms, obstacles_in_view
 from sim.world import Obstacle, World
 
 EMPTY = World(size=10.0)
@@ -73,3 +73,11 @@ def test_three_obstacles_in_view():
     ranges = cast_rays(5.5, 5.5, 0.0, angles, world, 3.0)
     assert obstacles_in_view(ranges, angles) == 3
     assert obstacles_in_view(np.full(4, np.inf), angles[:4]) == 0
+
+
+def test_phantoms_appear_at_the_given_distance_and_rate():
+    rng = np.random.default_rng(3)
+    born = [p for _ in range(1000) for p in new_phantoms(rng, 5.0, 5.0, 2.0, 0.2, 1.5, 0.2)]
+    assert 320 < len(born) < 480  # Poisson, mean 400
+    assert all(math.hypot(p.x - 5.0, p.y - 5.0) == pytest.approx(1.5) and p.radius == 0.2 for p in born)
+    assert new_phantoms(rng, 5.0, 5.0, 0.0, 0.2, 1.5, 0.2) == []

@@ -13,8 +13,8 @@ import pytest
 import zenoh
 
 from cli.launchfile import parse_launch
-from messages import LaserScan, NavigateToResponse, TurtleStatus
-from messages.keys import OBSTACLES, STATUS
+from messages import LaserScan, NavigateToResponse, Pose, TurtleStatus, decode
+from messages.keys import OBSTACLES, POSE, STATUS
 from nodes.scan import obstacles_in_view
 from tests.integration.harness import NODES, pid_alive, running_system
 
@@ -74,6 +74,37 @@ def custom(tmp_path_factory):
         yield system
 
 
+def _xy(sample: zenoh.Sample) -> tuple[float, float]:
+    pose = decode(sample.payload.to_bytes(), Pose)
+    return pose.x, pose.y
+
+
+PHANTOMS = """
+[[node]]
+name = "sim"
+run = "sim"
+[[node]]
+name = "obstacle_detector"
+run = "obstacle_detector"
+[node.params]
+range_max = 3.0
+phantom_rate = 20.0
+phantom_lifetime = 0.4
+phantom_distance = 1.5
+phantom_radius = 0.2
+"""
+
+
+def test_phantom_detections_come_and_go(tmp_path):
+    path = tmp_path / "phantoms.toml"
+    path.write_text(PHANTOMS)
+    with running_system(path, ready=("sim", "obstacle_detector")) as system:
+        scans = [s for _, s in system.collect(OBSTACLES, LaserScan, 10, timeout=10.0)]
+    nearest = [min(s.ranges) for s in scans]  # walls are 5.5 m away: beyond range_max
+    assert any(abs(r - 1.3) < 0.05 for r in nearest), nearest
+    assert all(r == math.inf or r >= 1.3 - 0.05 for r in nearest)
+
+
 def navigate(system, x, y, theta) -> NavigateToResponse:
     return system.navigate(x, y, theta)[0]
 
@@ -98,10 +129,19 @@ def test_4_ten_scans_with_three_obstacles_in_view_and_the_system_keeps_working(c
     for _, scan in scans:
         angles = scan.angle_min + scan.angle_increment * np.arange(len(scan.ranges))
         assert obstacles_in_view(np.asarray(scan.ranges), angles) >= 3
-    # an obstacle straight ahead: the navigator stops short of it and gives up as "blocked"
-    blocked = navigate(custom, 7.0, 4.5, 0.0)
+    # an obstacle straight ahead: the navigator stops short of it and gives up as "blocked";
+    # every pose on the way stays clear of every declared obstacle
+    poses: list[tuple[float, float]] = []
+    sub = custom.session.declare_subscriber(POSE, lambda s: poses.append(_xy(s)))
+    try:
+        blocked = navigate(custom, 7.0, 4.5, 0.0)
+    finally:
+        sub.undeclare()
     assert not blocked.success and blocked.reason == "blocked", blocked
-    assert blocked.x < 5.0 - 0.3, "the turtle touched the obstacle"
+    assert len(poses) > 50
+    for o in parse_launch(CUSTOM).launch.world.obstacles:
+        closest = min(math.hypot(x - o.x, y - o.y) for x, y in poses)
+        assert closest > o.radius + 0.1, f"came within {closest - o.radius:.3f} m of {o}"
     # and still reaches a free goal afterwards
     free = navigate(custom, 3.0, 5.5, 90.0)
     assert free.success, free

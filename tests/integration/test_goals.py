@@ -1,0 +1,274 @@
+"""The goal lifecycle against the real processes: feedback, preemption, cancel, a caller
+that vanishes, obstacles that block and clear, battery low, teleport and reset.
+
+The lifecycle system runs without the obstacle detector: the test itself is the
+sensor, publishing LaserScans on ``obstacles`` over Zenoh like the detector would.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import pty
+import queue
+import signal
+import subprocess
+import threading
+import time
+
+import pytest
+
+from messages import Ack, Cancel, LaserScan, Pose, Reset, TeleportAbsolute, TurtleStatus, Twist, decode, encode
+from messages.keys import CANCEL, CMD_VEL, OBSTACLES, RESET, STATUS, TELEPORT
+from tests.integration.harness import running_system, turtlectl
+
+pytestmark = pytest.mark.integration
+
+LIFECYCLE = """
+[world]
+size = 11.088889
+
+[[node]]
+name = "sim"
+run = "sim"
+[[node]]
+name = "navigator"
+run = "navigator"
+[node.params]
+blocked_timeout = 3.0
+[[node]]
+name = "status_monitor"
+run = "status_monitor"
+"""
+
+LOW_BATTERY = """
+[[node]]
+name = "sim"
+run = "sim"
+[[node]]
+name = "navigator"
+run = "navigator"
+[node.params]
+min_battery = 5.0
+[[node]]
+name = "status_monitor"
+run = "status_monitor"
+[node.params]
+battery = 3.0
+drain_per_second = 10.0
+"""
+
+
+@pytest.fixture(scope="module")
+def lifecycle(tmp_path_factory):
+    path = tmp_path_factory.mktemp("goals") / "lifecycle.toml"
+    path.write_text(LIFECYCLE)
+    with running_system(path, ready=("sim", "navigator", "status_monitor")) as system:
+        yield system
+
+
+class Background:
+    """A goal running on a thread, so the test can act while it runs."""
+
+    def __init__(self, system, x, y, theta):
+        self.result: queue.SimpleQueue = queue.SimpleQueue()
+        self.thread = threading.Thread(target=lambda: self.result.put(system.navigate(x, y, theta)), daemon=True)
+        self.thread.start()
+
+    def outcome(self, timeout=20.0):
+        return self.result.get(timeout=timeout)
+
+
+def wait_moving(system, timeout=5.0) -> Pose:
+    """The first pose showing the turtle under way (an event, not a sleep)."""
+    deadline = time.monotonic() + timeout
+    while time.monotonic() < deadline:
+        pose = system.latest_pose()
+        if abs(pose.linear_velocity) > 0.5:
+            return pose
+    raise AssertionError("the turtle never started moving")
+
+
+def wait_stopped(system, timeout=3.0) -> Pose:
+    deadline = time.monotonic() + timeout
+    while time.monotonic() < deadline:
+        pose = system.latest_pose()
+        if pose.linear_velocity == 0.0 and pose.angular_velocity == 0.0:
+            return pose
+    raise AssertionError(f"the turtle did not stop within {timeout} s: {pose}")
+
+
+def scan(blocking: bool) -> LaserScan:
+    """A full-circle scan; with ``blocking``, something 0.3 m in every direction."""
+    n = 72
+    return LaserScan(
+        angle_min=-math.pi,
+        angle_max=math.pi - 2 * math.pi / n,
+        angle_increment=2 * math.pi / n,
+        range_min=0.0,
+        range_max=10.0,
+        ranges=[0.3 if blocking else math.inf] * n,
+    )
+
+
+def test_feedback_streams_while_a_goal_runs(lifecycle):
+    lifecycle.teleport(2.0, 2.0, 0.0)
+    response, elapsed, feedback = lifecycle.navigate(9.0, 8.0, 90.0)
+    assert response.success, response
+    assert len(feedback) >= int(elapsed * 10) - 2  # about 10 per second
+    distances = [f.distance_remaining for f in feedback]
+    assert distances[0] > 8.0 and distances[-1] < distances[0]
+    assert {"turning", "driving"} & {f.state for f in feedback}
+    assert all(f.eta >= 0 for f in feedback)
+
+
+def test_a_new_goal_preempts_the_running_one(lifecycle):
+    lifecycle.teleport(2.0, 5.0, 0.0)
+    first = Background(lifecycle, 10.0, 5.0, 0.0)
+    wait_moving(lifecycle)
+    second, _, _ = lifecycle.navigate(3.0, 3.0, 180.0)
+    old, _, _ = first.outcome()
+    assert not old.success and old.reason == "preempted"
+    assert second.success, second
+
+
+def test_cancel_stops_the_turtle_and_tells_the_caller(lifecycle):
+    lifecycle.teleport(1.0, 1.0, 0.0)
+    cmds: queue.SimpleQueue = queue.SimpleQueue()
+    sub = lifecycle.session.declare_subscriber(CMD_VEL, lambda s: cmds.put(decode(s.payload.to_bytes(), Twist)))
+    try:
+        goal = Background(lifecycle, 10.0, 1.0, 0.0)
+        wait_moving(lifecycle)
+        replies = lifecycle.call(CANCEL, Cancel())
+        ack = decode(replies[0].ok.payload.to_bytes(), Ack)
+        assert ack.ok and "canceled the goal (10, 1, 0 deg)" in ack.detail
+        response, _, _ = goal.outcome()
+        assert not response.success and response.reason == "canceled"
+        # the navigator's last word on cmd_vel is a stop, and the turtle brakes to rest
+        last = None
+        while not cmds.empty():
+            last = cmds.get()
+        assert last == Twist(linear=0.0, angular=0.0, stamp=last.stamp, seq=last.seq)
+        stopped = wait_stopped(lifecycle)
+        assert stopped.x < 10.0 - 0.01
+    finally:
+        sub.undeclare()
+    again = decode(lifecycle.call(CANCEL, Cancel())[0].ok.payload.to_bytes(), Ack)
+    assert not again.ok and again.detail == "no goal is running"
+
+
+@pytest.mark.parametrize("sig", [signal.SIGINT, signal.SIGKILL])
+def test_a_caller_that_goes_away_does_not_leave_the_turtle_driving(lifecycle, sig):
+    lifecycle.teleport(1.0, 9.0, 0.0)
+    start = len(lifecycle.lines)
+    goto = subprocess.Popen(
+        [*turtlectl(), "goto", "10", "2", "0", "--connect", lifecycle.endpoint],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
+    try:
+        wait_moving(lifecycle)
+        goto.send_signal(sig)
+        goto.wait(5)
+        lifecycle.wait_line(r"navigator .*goal failed .*: caller gone", 5.0, start)
+        pose = wait_stopped(lifecycle)
+        assert math.hypot(pose.x - 10.0, pose.y - 2.0) > 0.5  # stopped on the way, not at the goal
+        if sig == signal.SIGINT:
+            assert goto.returncode == 130 and "interrupted" in goto.stderr.read()
+    finally:
+        goto.kill()
+
+
+def test_blocked_then_cleared_resumes_by_itself(lifecycle):
+    lifecycle.teleport(2.0, 5.0, 0.0)
+    pub = lifecycle.session.declare_publisher(OBSTACLES)
+    goal = Background(lifecycle, 8.0, 5.0, 0.0)
+    wait_moving(lifecycle)
+    for _ in range(5):  # 1 s of "something 0.3 m ahead" at 5 Hz
+        pub.put(encode(scan(True)))
+        time.sleep(0.2)  # pacing: the sensor's 5 Hz
+    stopped = wait_stopped(lifecycle)
+    for _ in range(3):
+        pub.put(encode(scan(False)))
+        time.sleep(0.2)  # pacing: the sensor's 5 Hz
+    response, _, feedback = goal.outcome()
+    pub.undeclare()
+    assert response.success, response
+    states = [f.state for f in feedback]
+    assert "blocked" in states and states.index("blocked") < len(states) - 1
+    assert stopped.x < 8.0 - 1.0
+
+
+def test_blocked_too_long_gives_up(lifecycle):
+    lifecycle.teleport(2.0, 5.0, 0.0)
+    pub = lifecycle.session.declare_publisher(OBSTACLES)
+    goal = Background(lifecycle, 8.0, 5.0, 0.0)
+    try:
+        deadline = time.monotonic() + 15
+        while goal.result.empty() and time.monotonic() < deadline:
+            pub.put(encode(scan(True)))
+            time.sleep(0.2)  # pacing: the sensor's 5 Hz
+        response, _, _ = goal.outcome()
+        assert not response.success and response.reason == "blocked"
+        assert 3.0 <= response.time_taken < 5.0
+    finally:
+        pub.put(encode(scan(False)))
+        pub.undeclare()
+
+
+def test_teleport_and_reset_like_turtlesim(lifecycle):
+    lifecycle.teleport(3.0, 7.0, math.pi / 2)
+    bad = lifecycle.call(TELEPORT, TeleportAbsolute(x=-1.0, y=2.0, theta=0.0))
+    assert bad[0].err is not None and b"outside the world" in bad[0].err.payload.to_bytes()
+    result = lifecycle.run_cli("teleport", "4", "6", "-90")
+    assert result.returncode == 0 and "teleported to (4, 6" in result.stdout
+    pose = lifecycle.latest_pose()
+    assert (pose.x, pose.y) == pytest.approx((4.0, 6.0)) and pose.theta == pytest.approx(-math.pi / 2)
+    result = lifecycle.run_cli("teleport", "40", "6", "0")
+    assert result.returncode == 2 and "cannot teleport: (40, 6) is outside the world" in result.stderr
+    replies = lifecycle.call(RESET, Reset(), everyone=True)
+    details = sorted(decode(r.ok.payload.to_bytes(), Ack).detail for r in replies)
+    assert details == ["battery full", "turtle back at its spawn pose"]
+    pose = lifecycle.latest_pose()
+    assert (pose.x, pose.y, pose.theta) == pytest.approx((5.544445, 5.544445, 0.0), abs=1e-6)
+    result = lifecycle.run_cli("reset")
+    assert result.returncode == 0 and "battery full" in result.stdout
+    status = lifecycle.collect(STATUS, TurtleStatus, 2, timeout=5.0)[-1][1]
+    assert status.battery > 99.9
+
+
+def test_goto_shows_live_progress_on_a_terminal_only(lifecycle):
+    lifecycle.teleport(2.0, 2.0, 0.0)
+    master, slave = pty.openpty()
+    goto = subprocess.Popen(
+        [*turtlectl(), "goto", "9", "9", "0", "--connect", lifecycle.endpoint], stdout=slave, stderr=slave
+    )
+    os.close(slave)
+    out = b""
+    while True:
+        try:
+            chunk = os.read(master, 4096)
+        except OSError:  # the terminal closed: goto exited
+            break
+        if not chunk:
+            break
+        out += chunk
+    os.close(master)
+    assert goto.wait(10) == 0
+    text = out.decode()
+    assert "\r\x1b[K" in text and "driving" in text and "reached at (9.0" in text
+    piped = lifecycle.run_cli("goto", "2", "2", "0")
+    assert piped.returncode == 0 and "\r" not in piped.stdout and piped.stdout.count("\n") == 1
+
+
+def test_battery_low_refuses_goals_and_never_goes_below_zero(tmp_path):
+    path = tmp_path / "low.toml"
+    path.write_text(LOW_BATTERY)
+    with running_system(path, ready=("sim", "navigator", "status_monitor")) as system:
+        statuses = system.collect(STATUS, TurtleStatus, 5, timeout=5.0)
+        assert all(s.battery >= 0.0 for _, s in statuses) and statuses[-1][1].battery == 0.0
+        response, _, _ = system.navigate(3.0, 3.0, 0.0)
+        assert not response.success and response.reason == "battery low"
+        result = system.run_cli("goto", "3", "3", "0")
+        assert result.returncode == 1 and "battery low" in result.stdout
