@@ -9,6 +9,7 @@ import contextlib
 import math
 import os
 import queue
+import re
 import secrets
 import time
 from collections.abc import Callable, Iterator
@@ -39,9 +40,32 @@ M = TypeVar("M", bound=Message)
 OPEN_TIMEOUT = 2.5  # s to reach the router before reporting "nothing to talk to"
 
 
+ENDPOINT_RE = re.compile(r"^(tcp|udp|tls|quic|ws|unixsock-stream)/\S+$")
+
+
+def check_endpoint(connect: str) -> str:
+    """``connect`` if it looks like a Zenoh endpoint (``tcp/HOST:PORT``), else CliError(BAD_INPUT)."""
+    if not ENDPOINT_RE.match(connect):
+        raise CliError(ExitCode.BAD_INPUT, f"{connect!r} is not an endpoint: write it as tcp/HOST:PORT")
+    return connect
+
+
+def check_key(text: str) -> str:
+    """A topic as typed by a user as a Zenoh key expression: a ROS-style leading '/' is
+    dropped; anything Zenoh would refuse is CliError(BAD_INPUT)."""
+    key = text[1:] if text.startswith("/") and len(text) > 1 else text
+    try:
+        return str(zenoh.KeyExpr(key))
+    except zenoh.ZError:
+        raise CliError(
+            ExitCode.BAD_INPUT, f"{text!r} is not a valid key expression (like robot/status or turtle1/*)"
+        ) from None
+
+
 @contextlib.contextmanager
 def client_session(connect: str) -> Iterator[zenoh.Session]:
     """A Zenoh client session to the router at ``connect``, closed (bounded) on exit."""
+    check_endpoint(connect)
     try:
         session = zenoh.open(client_config(connect, OPEN_TIMEOUT))
     except zenoh.ZError:
@@ -92,7 +116,7 @@ def replies(
         if reply is None:
             break
         answered = True
-        yield _read_reply(reply, key)
+        yield _read_reply(reply, key, timeout)
     if not answered:
         if time.monotonic() - started < 0.9 * timeout:
             raise CliError(ExitCode.UNREACHABLE, f"nothing serves {key} (is the node running?)")
@@ -107,7 +131,7 @@ def call(session: zenoh.Session, key: str, request: Message, response_type: type
     raise CliError(ExitCode.FAILED, f"{key} ended the call without an answer")
 
 
-def _read_reply(reply: zenoh.Reply, key: str) -> Message:
+def _read_reply(reply: zenoh.Reply, key: str, timeout: float) -> Message:
     if reply.ok is not None:
         try:
             return decode_any(reply.ok.payload.to_bytes())
@@ -115,11 +139,12 @@ def _read_reply(reply: zenoh.Reply, key: str) -> Message:
             raise CliError(ExitCode.FAILED, f"{key} sent an unreadable answer: {exc}") from None
     err = reply.err
     payload = err.payload.to_bytes() if err is not None else b""
-    try:
-        message = decode(payload, ErrorReply).error
-    except DecodeError:
-        message = payload.decode("utf-8", "replace") or "unknown error"
-    raise CliError(ExitCode.BAD_INPUT, f"{key} rejected the request: {message}")
+    if err is not None and type_from_encoding(str(err.encoding)) is ErrorReply:
+        raise CliError(ExitCode.BAD_INPUT, f"{key} rejected the request: {decode(payload, ErrorReply).error}")
+    # not the service's word but Zenoh's: the query timed out or the route broke
+    if payload == b"Timeout":
+        raise CliError(ExitCode.FAILED, f"{key} did not answer within {timeout:g} s")
+    raise CliError(ExitCode.FAILED, f"{key} failed: {payload.decode('utf-8', 'replace') or 'unknown error'}")
 
 
 def navigate(
@@ -145,7 +170,7 @@ def navigate(
                 elapsed = time.monotonic() - started
                 token.undeclare()
                 return message, elapsed
-    raise CliError(ExitCode.FAILED, f"{NAVIGATE_TO} ended the call without an answer")
+    raise CliError(ExitCode.FAILED, "the navigator stopped answering before the goal ended (did it exit?)")
 
 
 def simple_call(connect: str, key: str, request: Message, everyone: bool = False, timeout: float = 5.0) -> list[Ack]:
@@ -195,12 +220,13 @@ class Silence:
     """Yielded by ``stream`` once when nothing has arrived for SILENCE seconds."""
 
 
-def stream(connect: str, key: str, count: int | None, timeout: float | None) -> Iterator[Received | Silence]:
+def stream(connect: str, topic: str, count: int | None, timeout: float | None) -> Iterator[Received | Silence]:
     """Decoded samples on ``key`` until ``count`` valid messages or ``timeout`` s.
 
     Yields a ``Silence`` once if nothing at all arrives for SILENCE s.  Raises
     CliError(UNREACHABLE) if ``timeout`` passes without any message.
     """
+    key = check_key(topic)
     with client_session(connect) as session, subscription(session, key) as samples:
         started = time.monotonic()
         deadline = None if timeout is None else started + timeout

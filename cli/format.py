@@ -31,12 +31,14 @@ def message_json(msg: Message) -> str:
     return to_json(msg).decode()
 
 
-def outcome_line(response: NavigateToResponse, client_time: float) -> str:
+def outcome_line(response: NavigateToResponse) -> str:
     """One line for people: what happened to a goal."""
     where = f"at ({response.x:.3f}, {response.y:.3f}, {response.theta:.1f} deg)"
     errors = f"error {response.position_error:.4f} m, {response.heading_error:.2f} deg"
     if response.success:
         return f"reached {where} in {response.time_taken:.3f} s ({errors})"
+    if response.refused:
+        return f"refused: {response.reason}"
     return f"not reached: {response.reason} after {response.time_taken:.3f} s; {where}, {errors}"
 
 

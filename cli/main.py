@@ -101,13 +101,13 @@ def goto(
     live = sys.stdout.isatty() and not json
     show = (lambda fb: typer.echo("\r\033[K" + format.progress_line(fb), nl=False)) if live else None
     try:
-        response, elapsed = client.navigate(connect, request, timeout, show)
+        response, _ = client.navigate(connect, request, timeout, show)
     except KeyboardInterrupt:
         raise CliError(ExitCode.INTERRUPTED, "interrupted: the navigator cancels the goal") from None
     finally:
         if live:
             typer.echo("\r\033[K", nl=False)
-    typer.echo(format.message_json(response) if json else format.outcome_line(response, elapsed))
+    typer.echo(format.message_json(response) if json else format.outcome_line(response))
     raise typer.Exit(ExitCode.OK if response.success else ExitCode.FAILED)
 
 

@@ -15,6 +15,8 @@ since the Unix epoch, ``seq`` a per-publisher counter starting at 0.
 
 from __future__ import annotations
 
+import math
+
 import msgspec
 
 
@@ -75,7 +77,11 @@ class LaserScan(Message):
 
     Angles are rad in the turtle's frame (0 = straight ahead, CCW positive);
     beam i points at ``angle_min + i * angle_increment``.  ranges are m;
-    a beam that hits nothing within ``range_max`` reads ``inf`` (REP 117).
+    a beam that hits nothing within ``range_max`` reads ``inf`` (REP 117;
+    ``null`` in JSON, which has no infinity).
+    origin_x, origin_y, origin_theta: the sensor's pose in the world when the
+    scan was taken (m, m, rad), NaN if unknown; a moving reader needs it to
+    place the hits (ROS would use tf for this).
     """
 
     angle_min: float
@@ -84,6 +90,9 @@ class LaserScan(Message):
     range_min: float
     range_max: float
     ranges: list[float]
+    origin_x: float = math.nan
+    origin_y: float = math.nan
+    origin_theta: float = math.nan
     stamp: int = 0
     seq: int = 0
 
@@ -131,11 +140,13 @@ class NavigateToResponse(Message):
     position_error: final distance to the goal position, m.
     heading_error: final absolute heading error, degrees.
     x, y, theta: final pose (m, m, degrees [0, 360)).
+    refused: the goal never started (invalid, battery low); the pose is where the turtle is.
     """
 
     success: bool
     time_taken: float
     reason: str = ""
+    refused: bool = False
     position_error: float = 0.0
     heading_error: float = 0.0
     x: float = 0.0

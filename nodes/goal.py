@@ -34,9 +34,3 @@ def clearance_speed(clearance: float, safety_distance: float, decel: float) -> f
     """Fastest speed (m/s) from which braking at ``decel`` m/s^2 still stops
     ``safety_distance`` m short of an obstacle ``clearance`` m away."""
     return math.sqrt(2.0 * decel * max(0.0, clearance - safety_distance))
-
-
-def stopping_margin(speed: float, scan_age: float, scan_period: float) -> float:
-    """Distance (m) the turtle may travel at ``speed`` m/s before the next scan shows it
-    anything new: since the last scan (``scan_age`` s) plus one scan period (s)."""
-    return abs(speed) * (max(scan_age, 0.0) + scan_period)

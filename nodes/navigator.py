@@ -37,10 +37,10 @@ from messages import (
 )
 from messages.keys import CANCEL, CLIENT_TOKEN_PREFIX, CMD_VEL, NAVIGATE_TO, OBSTACLES, POSE, STATUS
 from nodes.control import Phase, choose_direction, control_step, remaining_time
-from nodes.goal import clearance_speed, goal_problem, heading_error_deg, stopping_margin
+from nodes.goal import clearance_speed, goal_problem, heading_error_deg
 from nodes.params import NavigatorParams
 from nodes.runtime import Node, Request, run
-from nodes.scan import nearest_in_cone
+from nodes.scan import corridor_clearance, hit_points, off_walls
 
 WATCHDOG_PERIOD = 0.05  # s
 
@@ -64,10 +64,8 @@ class Navigator:
         self.pose: Pose | None = None
         self.pose_time = 0.0
         self.battery: float | None = None
-        self.scan: LaserScan | None = None
-        self.scan_angles = np.zeros(0)
+        self.scan_points = np.zeros((0, 2))  # world coordinates of the latest scan's hits, walls left out
         self.scan_time = 0.0
-        self.scan_period = 0.2  # s, refined from arrivals
         self.goal: Goal | None = None
         self.cmd_pub = node.publisher(CMD_VEL, Twist)
         node.subscribe(POSE, Pose, self.on_pose)
@@ -88,7 +86,11 @@ class Navigator:
             problem = "battery low"
         if problem is not None:
             self.node.log.info("refused goal (%g, %g, %g deg): %s", body.x, body.y, body.theta, problem)
-            request.respond(NavigateToResponse(success=False, time_taken=0.0, reason=problem))
+            refusal = NavigateToResponse(success=False, time_taken=0.0, reason=problem, refused=True)
+            if self.pose is not None:
+                refusal.x, refusal.y = self.pose.x, self.pose.y
+                refusal.theta = math.degrees(self.pose.theta) % 360.0
+            request.respond(refusal)
             return
         self.finish(False, "preempted")
         self.goal = Goal(request)
@@ -115,12 +117,15 @@ class Navigator:
         self.battery = status.battery
 
     def on_scan(self, scan: LaserScan) -> None:
-        now = time.monotonic()
-        if self.scan is not None:
-            self.scan_period = 0.8 * self.scan_period + 0.2 * min(now - self.scan_time, 1.0)
-        if self.scan is None or len(scan.ranges) != len(self.scan.ranges) or scan.angle_min != self.scan.angle_min:
-            self.scan_angles = scan.angle_min + scan.angle_increment * np.arange(len(scan.ranges))
-        self.scan, self.scan_time = scan, now
+        origin = (scan.origin_x, scan.origin_y, scan.origin_theta)
+        if not all(math.isfinite(v) for v in origin):  # a sensor that does not say where it was
+            if self.pose is None:
+                return
+            origin = (self.pose.x, self.pose.y, self.pose.theta)
+        angles = scan.angle_min + scan.angle_increment * np.arange(len(scan.ranges))
+        points = hit_points(*origin, np.asarray(scan.ranges, dtype=float), angles)
+        self.scan_points = off_walls(points, self.node.world.size)
+        self.scan_time = time.monotonic()
 
     def watchdog(self) -> None:
         goal = self.goal
@@ -182,7 +187,7 @@ class Navigator:
             return
         linear = cmd.linear
         if linear != 0.0:
-            allowed = self.obstacle_speed(linear, math.hypot(goal.x - pose.x, goal.y - pose.y))
+            allowed = self.obstacle_speed(pose, linear, math.hypot(goal.x - pose.x, goal.y - pose.y))
             linear = math.copysign(min(abs(linear), allowed), linear)
             if allowed == 0.0:
                 self.blocked(goal)
@@ -204,22 +209,20 @@ class Navigator:
         if now - goal.blocked_since > p.blocked_timeout:
             self.finish(False, "blocked")
 
-    def obstacle_speed(self, linear: float, distance_to_goal: float) -> float:
-        """Fastest speed (m/s) allowed by the latest scan in the direction of travel;
-        0 while an obstacle between the turtle and its goal is within the safety distance."""
-        if self.scan is None:
-            return math.inf
+    def obstacle_speed(self, pose: Pose, linear: float, distance_to_goal: float) -> float:
+        """Fastest speed (m/s) allowed by the latest scan for travel in the direction of
+        ``linear``; 0 while something between the turtle and its goal, inside the corridor
+        along its path, is within the safety distance."""
         p = self.node.params
-        direction = 0.0 if linear > 0 else math.pi
-        nearest = nearest_in_cone(
-            np.asarray(self.scan.ranges), self.scan_angles, direction, math.radians(p.safety_cone)
-        )
+        if time.monotonic() - self.scan_time > p.scan_timeout:  # no recent scan: nothing known in the way
+            return math.inf
+        heading = pose.theta if linear > 0 else pose.theta + math.pi
+        nearest = corridor_clearance(self.scan_points, pose.x, pose.y, heading, 0.5 * p.corridor_width)
         if nearest >= distance_to_goal:  # nothing before the goal
             return math.inf
-        clearance = nearest - stopping_margin(linear, time.monotonic() - self.scan_time, self.scan_period)
-        if clearance <= p.safety_distance:
+        if nearest <= p.safety_distance:
             return 0.0
-        return clearance_speed(clearance, p.safety_distance, p.obstacle_decel)
+        return clearance_speed(nearest, p.safety_distance, p.obstacle_decel)
 
     def finish(self, success: bool, reason: str) -> None:
         """End the running goal (if any): stop the turtle and answer its caller."""

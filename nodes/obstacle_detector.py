@@ -61,6 +61,9 @@ class ObstacleDetector:
                 range_min=p.range_min,
                 range_max=p.range_max,
                 ranges=ranges.tolist(),
+                origin_x=self.pose.x,
+                origin_y=self.pose.y,
+                origin_theta=self.pose.theta,
             )
         )
 

@@ -20,8 +20,9 @@ Degrees = Annotated[float, msgspec.Meta(ge=-360.0, le=360.0)]
 class NavigatorParams(msgspec.Struct, forbid_unknown_fields=True, kw_only=True):
     """position_tolerance: m.  heading_tolerance: degrees.
     safety_distance: m; the turtle stops while an obstacle is this close in its
-    direction of travel (within safety_cone degrees either side), and slows
-    down before, braking at obstacle_decel m/s^2.
+    direction of travel (inside a corridor of corridor_width m, centred on its
+    path), and slows down before, braking at obstacle_decel m/s^2; a scan older
+    than scan_timeout s is forgotten.
     blocked_timeout: s blocked before the goal fails with reason "blocked".
     goal_timeout: s before a goal fails with reason "timeout".
     pose_timeout: s without a pose before a running goal fails with reason "no pose".
@@ -32,8 +33,9 @@ class NavigatorParams(msgspec.Struct, forbid_unknown_fields=True, kw_only=True):
     position_tolerance: Positive = 0.01
     heading_tolerance: Positive = 0.5
     safety_distance: Positive = 0.4
-    safety_cone: Positive = 30.0
+    corridor_width: Positive = 0.6
     obstacle_decel: Positive = 2.0
+    scan_timeout: Positive = 1.0
     blocked_timeout: Positive = 10.0
     goal_timeout: Positive = 30.0
     pose_timeout: Positive = 0.5

@@ -60,6 +60,36 @@ def nearest_in_cone(ranges: np.ndarray, angles: np.ndarray, direction: float, ha
     return float(selected.min()) if selected.size else math.inf
 
 
+def hit_points(x: float, y: float, theta: float, ranges: np.ndarray, angles: np.ndarray) -> np.ndarray:
+    """World coordinates (m), shape (n, 2), of the finite hits of a scan taken at (x, y, theta)."""
+    r = np.asarray(ranges, dtype=float)
+    a = np.asarray(angles, dtype=float) + theta
+    finite = np.isfinite(r)
+    return np.column_stack((x + r[finite] * np.cos(a[finite]), y + r[finite] * np.sin(a[finite])))
+
+
+def off_walls(points: np.ndarray, size: float, tolerance: float = 0.02) -> np.ndarray:
+    """The points (m) that are not on the world's walls: a straight path between two
+    points of the (convex) world never crosses a wall, so wall hits never block it."""
+    p = np.asarray(points, dtype=float).reshape(-1, 2)
+    inner = (p > tolerance) & (p < size - tolerance)
+    return p[inner.all(axis=1)]
+
+
+def corridor_clearance(points: np.ndarray, x: float, y: float, heading: float, half_width: float) -> float:
+    """Distance (m) along ``heading`` (rad, world frame) from (x, y) to the nearest point inside
+    the straight corridor of ``half_width`` m either side of that line; inf if it is clear.
+
+    Points beside the path (something the turtle drives along) do not count, unlike a cone's.
+    """
+    p = np.asarray(points, dtype=float).reshape(-1, 2)
+    dx, dy = p[:, 0] - x, p[:, 1] - y
+    along = dx * math.cos(heading) + dy * math.sin(heading)
+    across = np.abs(-dx * math.sin(heading) + dy * math.cos(heading))
+    ahead = along[(along > 0.0) & (across <= half_width)]
+    return float(ahead.min()) if ahead.size else math.inf
+
+
 def obstacles_in_view(ranges: np.ndarray, angles: np.ndarray) -> int:
     """Number of separate objects the scan sees: runs of consecutive finite beams."""
     finite = np.isfinite(np.asarray(ranges, dtype=float))

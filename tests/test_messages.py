@@ -39,6 +39,9 @@ SAMPLES = [
         range_min=0.0,
         range_max=10.0,
         ranges=[1.0, math.inf, 2.5],
+        origin_x=5.0,
+        origin_y=4.0,
+        origin_theta=0.5,
         stamp=9,
         seq=10,
     ),
@@ -65,6 +68,11 @@ def test_round_trip(msg):
     assert decode(payload, type(msg)) == msg
     assert decode_any(payload) == msg
     assert type_from_encoding(encoding_for(type(msg))) is type(msg)
+
+
+def test_scan_origin_defaults_to_unknown():
+    scan = LaserScan(angle_min=0, angle_max=0, angle_increment=0, range_min=0, range_max=1, ranges=[])
+    assert math.isnan(decode(encode(scan), LaserScan).origin_x)
 
 
 def test_type_name_travels_on_the_wire():

@@ -6,7 +6,7 @@ import pytest
 
 from messages import NavigateToRequest
 from nodes.battery import drain, make_status
-from nodes.goal import goal_problem, heading_error_deg, stopping_margin
+from nodes.goal import clearance_speed, goal_problem, heading_error_deg
 from nodes.runtime import _Timer
 from sim.world import Obstacle, World
 
@@ -49,9 +49,10 @@ def test_heading_error():
     assert heading_error_deg(math.radians(179), math.radians(-179)) == pytest.approx(2.0)
 
 
-def test_stopping_margin_grows_with_speed_and_scan_age():
-    assert stopping_margin(-2.0, 0.1, 0.2) == pytest.approx(0.6)
-    assert stopping_margin(0.0, 5.0, 0.2) == 0.0
+def test_clearance_speed_brakes_to_the_safety_distance():
+    assert clearance_speed(1.4, 0.4, 2.0) == pytest.approx(2.0)
+    assert clearance_speed(0.4, 0.4, 2.0) == 0.0
+    assert clearance_speed(0.1, 0.4, 2.0) == 0.0
 
 
 def test_timer_keeps_an_absolute_grid_and_skips_missed_ticks():

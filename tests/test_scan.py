@@ -5,7 +5,16 @@ import math
 import numpy as np
 import pytest
 
-from nodes.scan import beam_angles, cast_rays, nearest_in_cone, new_phantoms, obstacles_in_view
+from nodes.scan import (
+    beam_angles,
+    cast_rays,
+    corridor_clearance,
+    hit_points,
+    nearest_in_cone,
+    new_phantoms,
+    obstacles_in_view,
+    off_walls,
+)
 from sim.world import Obstacle, World
 
 EMPTY = World(size=10.0)
@@ -81,3 +90,32 @@ def test_phantoms_appear_at_the_given_distance_and_rate():
     assert 320 < len(born) < 480  # Poisson, mean 400
     assert all(math.hypot(p.x - 5.0, p.y - 5.0) == pytest.approx(1.5) and p.radius == 0.2 for p in born)
     assert new_phantoms(rng, 5.0, 5.0, 0.0, 0.2, 1.5, 0.2) == []
+
+
+def test_hit_points_and_walls():
+    angles = np.array([0.0, math.pi / 2, math.pi])
+    ranges = cast_rays(2.0, 0.3, 0.0, angles, EMPTY, 1.0)  # only the wall behind... is 2 m: inf
+    points = hit_points(2.0, 0.3, 0.0, np.array([1.0, 9.7, math.inf]), angles)
+    assert points == pytest.approx(np.array([[3.0, 0.3], [2.0, 10.0]]))
+    assert off_walls(points, 10.0) == pytest.approx(np.array([[3.0, 0.3]]))
+    assert math.isinf(ranges[0]) and math.isinf(ranges[2])
+
+
+def test_corridor_ignores_what_is_beside_the_path():
+    points = np.array([[4.0, 5.5], [6.0, 5.1], [3.0, 5.0]])  # 0.5 m aside, 0.1 m aside, behind
+    assert corridor_clearance(points, 5.0, 5.0, 0.0, 0.3) == pytest.approx(1.0)
+    assert corridor_clearance(points, 5.0, 5.0, math.pi, 0.3) == pytest.approx(2.0)
+    assert corridor_clearance(points, 5.0, 5.0, math.pi / 2, 0.3) == math.inf
+    assert corridor_clearance(np.zeros((0, 2)), 5.0, 5.0, 0.0, 0.3) == math.inf
+
+
+def test_a_wall_never_blocks_a_goal_next_to_it():
+    # driving along a wall towards a goal on it: the scan sees the wall, the corridor ignores it
+    angles = beam_angles(-math.pi, math.pi, 360)
+    ranges = cast_rays(2.0, 0.2, 0.3, angles, EMPTY, 10.0)
+    points = off_walls(hit_points(2.0, 0.2, 0.3, ranges, angles), EMPTY.size)
+    assert points.shape == (0, 2)
+    world = World(size=10.0, obstacles=[Obstacle(x=4.0, y=0.9, radius=0.2)])
+    ranges = cast_rays(2.0, 0.2, 0.3, angles, world, 10.0)
+    points = off_walls(hit_points(2.0, 0.2, 0.3, ranges, angles), world.size)
+    assert 1.6 < corridor_clearance(points, 2.0, 0.2, math.atan2(0.7, 2.0), 0.3) < 2.0

@@ -223,7 +223,8 @@ class System:
         started = time.monotonic()
         replies = self.call(NAVIGATE_TO, NavigateToRequest(x=x, y=y, theta=theta), timeout)
         elapsed = time.monotonic() - started
-        assert replies and all(r.ok is not None for r in replies), replies
+        errors = [r.err.payload.to_bytes() for r in replies if r.err is not None]
+        assert replies and not errors, f"navigate_to ({x}, {y}, {theta}): error replies {errors}"
         messages = [decode_any(r.ok.payload.to_bytes()) for r in replies]
         final = [m for m in messages if isinstance(m, NavigateToResponse)]
         assert len(final) == 1 and messages[-1] is final[0], messages
