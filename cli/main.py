@@ -35,6 +35,7 @@ app = typer.Typer(
     no_args_is_help=True,
     add_completion=True,
     pretty_exceptions_enable=False,
+    rich_markup_mode=None,  # plain click output: usage errors stay short, help is greppable
     context_settings={"help_option_names": ["-h", "--help"]},
 )
 
@@ -53,7 +54,7 @@ def default_launch_file() -> Path:
 
 @app.command()
 def launch(
-    file: Optional[Path] = typer.Argument(None, help="Launch file (default: ./launch.toml, else the packaged one)."),
+    file: Optional[Path] = typer.Argument(None, metavar="[FILE]", help="Launch file (default: ./launch.toml, else the packaged one)."),
     port: int = typer.Option(DEFAULT_PORT, "--port", min=1, max=65535, help="Router port on 127.0.0.1."),
 ) -> None:
     """Start the router and every node of a launch file; Ctrl-C stops them all.
@@ -83,9 +84,9 @@ def _number(text: str, name: str) -> float:
 
 @app.command(context_settings={"ignore_unknown_options": True})
 def goto(
-    x: str = typer.Argument(..., help="Goal x, m."),
-    y: str = typer.Argument(..., help="Goal y, m."),
-    theta: str = typer.Argument(..., help="Goal heading, degrees (negative values are fine)."),
+    x: str = typer.Argument(..., metavar="X", help="Goal x, m."),
+    y: str = typer.Argument(..., metavar="Y", help="Goal y, m."),
+    theta: str = typer.Argument(..., metavar="THETA", help="Goal heading, degrees (negative values are fine)."),
     timeout: float = typer.Option(60.0, "--timeout", min=0.1, help="Give up after this many seconds."),
     json: bool = typer.Option(False, "--json", help="Print the response as one JSON object."),
     connect: str = ConnectOption,
@@ -126,9 +127,9 @@ def cancel(connect: str = ConnectOption) -> None:
 
 @app.command(context_settings={"ignore_unknown_options": True})
 def teleport(
-    x: str = typer.Argument(..., help="x, m."),
-    y: str = typer.Argument(..., help="y, m."),
-    theta: str = typer.Argument(..., help="Heading, degrees (as for goto)."),
+    x: str = typer.Argument(..., metavar="X", help="x, m."),
+    y: str = typer.Argument(..., metavar="Y", help="y, m."),
+    theta: str = typer.Argument(..., metavar="THETA", help="Heading, degrees (as for goto)."),
     connect: str = ConnectOption,
 ) -> None:
     """Put the turtle at (X, Y) facing THETA degrees, at rest (turtlesim's teleport_absolute).
@@ -150,7 +151,7 @@ def reset(connect: str = ConnectOption) -> None:
 
 @app.command()
 def echo(
-    topic: str = typer.Argument(..., help="Key expression, e.g. robot/status or turtle1/*."),
+    topic: str = typer.Argument(..., metavar="TOPIC", help="Key expression, e.g. robot/status or turtle1/*."),
     once: bool = typer.Option(False, "--once", help="Print one message and exit."),
     count: Optional[int] = typer.Option(None, "--count", min=1, help="Exit after N messages."),
     json: bool = typer.Option(False, "--json", help="One JSON object per line."),

@@ -61,7 +61,8 @@ class Supervisor:
         previous = {sig: signal.signal(sig, self._on_signal) for sig in (signal.SIGINT, signal.SIGTERM)}
         try:
             watcher = session.liveliness().declare_subscriber(f"{NODE_TOKEN_PREFIX}/**", self._on_token, history=True)
-            self.printer.system(f"router listening on {self.endpoint}; starting {len(self.entries)} nodes")
+            count = len(self.entries)
+            self.printer.system(f"router listening on {self.endpoint}; starting {count} node{'s' * (count != 1)}")
             for name in self.entries:
                 self._start(name)
             self._watch()
@@ -152,7 +153,8 @@ class Supervisor:
             if not self._ready_reported and set(self.entries) <= set(self._alive):
                 self._ready_reported = True
                 elapsed = time.monotonic() - self._t0
-                self.printer.system(f"all {len(self.entries)} nodes ready in {elapsed:.2f} s")
+                count = len(self.entries)
+                self.printer.system(f"{'all ' * (count > 1)}{count} node{'s' * (count != 1)} ready in {elapsed:.2f} s")
 
     def _shutdown(self) -> None:
         """SIGINT, wait, SIGTERM, wait, SIGKILL: each child gets each signal once."""
