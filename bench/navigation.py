@@ -60,8 +60,8 @@ def main() -> None:
     times = [r.time_taken for r, _, _ in rows]
     ratios = [r.time_taken / b for r, _, b in rows if b > 0]
     print(f"limits: {limits}")
-    print(f"| goals | success | max position error | max heading error | mean time | p95 time |"
-          f" mean ratio | p95 ratio | max ratio |")
+    print("| goals | success | max position error | max heading error | mean time | p95 time |"
+          " mean ratio | p95 ratio | max ratio |")
     print("|---|---|---|---|---|---|---|---|---|")
     print(
         f"| {len(rows)} | {100.0 * len(ok) / len(rows):.0f} % | "

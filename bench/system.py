@@ -29,14 +29,14 @@ import zenoh
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
-from messages import NavigateToRequest, NavigateToResponse, TurtleStatus, decode  # noqa: E402
-from messages.keys import NAVIGATE_TO, STATUS  # noqa: E402
+from messages import NavigateToResponse, TurtleStatus, decode  # noqa: E402
+from messages.keys import STATUS  # noqa: E402
 from nodes.session import close_session, peer_config  # noqa: E402
 from tests.integration.harness import NODES, System  # noqa: E402  (the same launcher as the tests)
 
 
 def pct(values: list[float], q: float) -> float:
-    ordered = sorted(values)
+    ordered = sorted(values) or [math.nan]
     return ordered[min(len(ordered) - 1, int(round(q / 100 * (len(ordered) - 1))))]
 
 
@@ -95,12 +95,12 @@ class Stamped:
 
 
 def goal(system: System, x: float, y: float, theta: float) -> tuple[NavigateToResponse | None, float]:
-    started = time.monotonic()
-    replies = system.call(NAVIGATE_TO, NavigateToRequest(x=x, y=y, theta=theta), timeout=40.0)
-    elapsed = time.monotonic() - started
-    if len(replies) != 1 or replies[0].ok is None:
-        return None, elapsed
-    return decode(replies[0].ok.payload.to_bytes(), NavigateToResponse), elapsed
+    try:
+        response, elapsed, _ = system.navigate(x, y, theta, timeout=40.0)
+    except AssertionError as exc:  # an error reply: counted as a failure
+        print(f"goal ({x:.2f}, {y:.2f}, {theta:.0f}) failed: {exc}")
+        return None, 0.0
+    return response, elapsed
 
 
 def random_goal(rng: random.Random) -> tuple[float, float, float]:

@@ -5,6 +5,7 @@ Nothing here prints; functions return data or raise CliError.
 
 from __future__ import annotations
 
+import collections
 import contextlib
 import math
 import os
@@ -19,6 +20,8 @@ import msgspec
 import zenoh
 
 from cli.errors import CliError, ExitCode
+from cli.graph import Graph, build_graph
+from cli.rates import RateStats, rate_stats
 from messages import (
     Ack,
     DecodeError,
@@ -33,8 +36,10 @@ from messages import (
     encoding_for,
     type_from_encoding,
 )
-from messages.keys import CLIENT_TOKEN_PREFIX, NAVIGATE_TO
+from messages.codec import MEDIA_TYPE
+from messages.keys import CLIENT_TOKEN_PREFIX, GRAPH, NAVIGATE_TO, WORLD_KEY
 from nodes.session import client_config, close_session
+from sim.world import World
 
 M = TypeVar("M", bound=Message)
 OPEN_TIMEOUT = 2.5  # s to reach the router before reporting "nothing to talk to"
@@ -86,9 +91,17 @@ def check_goal_input(x: float, y: float, theta: float) -> NavigateToRequest:
     return NavigateToRequest(x=x, y=y, theta=theta)
 
 
+class Raw(msgspec.Struct):
+    """A reply that is not a turtlectl message (e.g. a node's parameters as JSON)."""
+
+    key: str
+    encoding: str
+    payload: bytes
+
+
 def replies(
-    session: zenoh.Session, key: str, request: Message, timeout: float, everyone: bool = False
-) -> Iterator[Message]:
+    session: zenoh.Session, key: str, request: Message | bytes, timeout: float, everyone: bool = False
+) -> Iterator[Message | Raw]:
     """Send ``request`` to the queryable(s) at ``key``; yield each reply, decoded, as it arrives.
 
     All replies are kept (no consolidation), so a service can stream feedback
@@ -98,11 +111,15 @@ def replies(
     """
     inbox: queue.SimpleQueue[zenoh.Reply | None] = queue.SimpleQueue()
     started = time.monotonic()
+    if isinstance(request, bytes):
+        payload, encoding = request, zenoh.Encoding.APPLICATION_JSON
+    else:
+        payload, encoding = encode(request), zenoh.Encoding(encoding_for(type(request)))
     session.get(
         key,
         zenoh.handlers.Callback(inbox.put, lambda: inbox.put(None)),
-        payload=encode(request),
-        encoding=zenoh.Encoding(encoding_for(type(request))),
+        payload=payload,
+        encoding=encoding,
         consolidation=zenoh.ConsolidationMode.NONE,
         target=zenoh.QueryTarget.ALL if everyone else zenoh.QueryTarget.BEST_MATCHING,
         timeout=timeout,
@@ -131,10 +148,14 @@ def call(session: zenoh.Session, key: str, request: Message, response_type: type
     raise CliError(ExitCode.FAILED, f"{key} ended the call without an answer")
 
 
-def _read_reply(reply: zenoh.Reply, key: str, timeout: float) -> Message:
+def _read_reply(reply: zenoh.Reply, key: str, timeout: float) -> Message | Raw:
     if reply.ok is not None:
+        sample = reply.ok
+        payload, encoding = sample.payload.to_bytes(), str(sample.encoding)
+        if not encoding.startswith(MEDIA_TYPE):
+            return Raw(key=str(sample.key_expr), encoding=encoding, payload=payload)
         try:
-            return decode_any(reply.ok.payload.to_bytes())
+            return decode_any(payload)
         except DecodeError as exc:
             raise CliError(ExitCode.FAILED, f"{key} sent an unreadable answer: {exc}") from None
     err = reply.err
@@ -249,3 +270,84 @@ def stream(connect: str, topic: str, count: int | None, timeout: float | None) -
             if item.message is not None:
                 received += 1
             yield item
+
+
+def graph(connect: str) -> Graph:
+    """The live graph: asked of the router's liveliness table now, never cached."""
+    with client_session(connect) as session:
+        keys = [str(r.ok.key_expr) for r in session.liveliness().get(GRAPH, timeout=2.0) if r.ok is not None]
+    return build_graph(keys, time.time_ns())
+
+
+def measure_rates(
+    connect: str, topics: list[str], window: int, duration: float | None
+) -> Iterator[list[RateStats]]:
+    """Every second, the rate statistics of each topic over its last ``window`` messages;
+    ends after ``duration`` s (None: until Ctrl-C)."""
+    keys = [check_key(t) for t in topics]
+    arrivals = {k: collections.deque(maxlen=window) for k in keys}
+    stamps = {k: collections.deque(maxlen=window) for k in keys}
+    inbox: queue.SimpleQueue[tuple[str, float, bytes]] = queue.SimpleQueue()
+    with client_session(connect) as session:
+        subs = [
+            session.declare_subscriber(k, lambda s, k=k: inbox.put((k, time.monotonic(), s.payload.to_bytes())))
+            for k in keys
+        ]
+        started = time.monotonic()
+        next_report = started + 1.0
+        while duration is None or time.monotonic() - started < duration:
+            try:
+                key, arrived, payload = inbox.get(timeout=0.05)
+                arrivals[key].append(arrived)
+                try:
+                    stamps[key].append(getattr(decode_any(payload), "stamp", 0))
+                except DecodeError:
+                    pass
+            except queue.Empty:
+                pass
+            if time.monotonic() >= next_report:
+                next_report += 1.0
+                yield [st for k in keys if (st := rate_stats(k, list(arrivals[k]), list(stamps[k]))) is not None]
+        for sub in subs:
+            sub.undeclare()
+        yield [st for k in keys if (st := rate_stats(k, list(arrivals[k]), list(stamps[k]))) is not None]
+
+
+def publish(connect: str, topic: str, message: Message, rate: float | None, times: int | None) -> int:
+    """Publish ``message`` on ``topic`` ``times`` times (None: until Ctrl-C) at ``rate`` Hz,
+    stamping each copy; returns how many were sent."""
+    key = check_key(topic)
+    sent = 0
+    with client_session(connect) as session:
+        pub = session.declare_publisher(key, encoding=zenoh.Encoding(encoding_for(type(message))))
+        period = 1.0 / rate if rate else 0.0
+        start = time.monotonic()
+        try:
+            while times is None or sent < times:
+                if sent:
+                    time.sleep(max(0.0, start + sent * period - time.monotonic()))  # absolute schedule
+                stamped = message
+                if "stamp" in type(message).__struct_fields__:
+                    stamped = msgspec.structs.replace(message, stamp=time.time_ns(), seq=sent)
+                pub.put(encode(stamped))
+                sent += 1
+        finally:
+            pub.undeclare()
+    return sent
+
+
+def call_service(connect: str, key: str, request: Message | bytes, timeout: float) -> list[Message | Raw]:
+    """Every reply of a generic service call (known services typed, others as JSON)."""
+    with client_session(connect) as session:
+        return list(replies(session, check_key(key), request, timeout))
+
+
+def world(session: zenoh.Session) -> World:
+    """The world as the simulator declares it (the default world if no simulator answers)."""
+    for reply in session.get(WORLD_KEY, timeout=2.0):
+        if reply.ok is not None:
+            try:
+                return msgspec.json.decode(reply.ok.payload.to_bytes(), type=World)
+            except msgspec.DecodeError:
+                break
+    return World()

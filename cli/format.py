@@ -2,33 +2,80 @@
 
 from __future__ import annotations
 
+import csv
+import io
 import math
+from typing import Any
 
+import msgspec
+
+from cli.errors import CliError, ExitCode
 from messages import Ack, Message, NavigateToFeedback, NavigateToResponse, to_builtins, to_json
 
+SHORT = 8  # array items shown before "..." unless --full
 
-def _value(value: object, indent: str) -> str:
+
+def _value(value: object, full: bool) -> str:
     if isinstance(value, float):
-        return "inf" if math.isinf(value) and value > 0 else f"{value:.6g}"
+        if math.isinf(value):
+            return "inf" if value > 0 else "-inf"
+        return f"{value:.6g}".replace("-0", "0") if value == 0 else f"{value:.6g}"
     if isinstance(value, list):
-        if all(isinstance(v, (int, float)) for v in value):
-            return "[" + ", ".join(_value(v, indent) for v in value) + "]"
-        return "\n" + "\n".join(f"{indent}- {_value(v, indent + '  ')}" for v in value)
-    if isinstance(value, dict):
-        return "\n" + "\n".join(f"{indent}  {k}: {_value(v, indent + '  ')}" for k, v in value.items())
+        items = value if full or len(value) <= SHORT else value[:SHORT]
+        more = "" if len(items) == len(value) else f", ... ({len(value)} values)"
+        return "[" + ", ".join(_value(v, full) for v in items) + more + "]"
     return str(value)
 
 
-def message_block(msg: Message) -> str:
-    """A readable block, as ``ros2 topic echo`` prints: one ``field: value`` per line, then ``---``."""
+def _fields(msg: Message) -> dict[str, Any]:
+    """The message's fields as plain data, without the type tag."""
     data = to_builtins(msg)
-    lines = [f"{key}: {_value(value, '')}" for key, value in data.items()]
+    data.pop("type", None)
+    return data
+
+
+def select_field(msg: Message, path: str) -> Any:
+    """The value at a dotted ``path`` (``ranges.0`` indexes a list); CliError if there is none."""
+    value: Any = _fields(msg)
+    for part in path.split("."):
+        if isinstance(value, dict) and part in value:
+            value = value[part]
+        elif isinstance(value, list) and part.lstrip("-").isdigit() and -len(value) <= int(part) < len(value):
+            value = value[int(part)]
+        else:
+            raise CliError(ExitCode.BAD_INPUT, f"{type(msg).__name__} has no field {path!r}")
+    return value
+
+
+def message_block(msg: Message, full: bool = False) -> str:
+    """A readable block, as ``ros2 topic echo`` prints: the type, one ``field: value`` per line, then ``---``."""
+    lines = [f"# {type(msg).__name__}"] + [f"{key}: {_value(value, full)}" for key, value in _fields(msg).items()]
     return "\n".join(lines) + "\n---"
+
+
+def value_text(value: Any, full: bool = False) -> str:
+    return _value(value, full)
 
 
 def message_json(msg: Message) -> str:
     """One JSON object on one line (its ``type`` names the message type)."""
     return to_json(msg).decode()
+
+
+def json_value(value: Any) -> str:
+    return msgspec.json.encode(value).decode()
+
+
+def csv_header(msg: Message) -> str:
+    return ",".join(_fields(msg))
+
+
+def csv_row(msg: Message) -> str:
+    """One CSV line of the message's fields; arrays as one quoted JSON cell."""
+    out = io.StringIO()
+    cells = [json_value(v) if isinstance(v, list) else v for v in _fields(msg).values()]
+    csv.writer(out, lineterminator="").writerow(cells)
+    return out.getvalue()
 
 
 def outcome_line(response: NavigateToResponse) -> str:

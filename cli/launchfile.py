@@ -15,6 +15,7 @@ from typing import Any
 
 import msgspec
 
+from nodes.config import NodeConfig
 from nodes.kinds import KINDS
 from sim.world import Limits, NonNegative, World
 
@@ -105,6 +106,29 @@ def parse_launch(text: str, source: str = "launch.toml") -> LaunchPlan:
             raise _error(source, exc, prefix=f"{where}.params") from None
         params[entry.name] = msgspec.to_builtins(typed)
     return LaunchPlan(source=source, launch=launch, params=params)
+
+
+def node_config(plan: LaunchPlan, name: str, connect: str, overrides: dict[str, Any] | None = None) -> NodeConfig:
+    """What node ``name`` of ``plan`` is started with; ``overrides`` replace its params and
+    are validated as the file's are (LaunchFileError naming ``--param``)."""
+    entry = next((e for e in plan.launch.node if e.name == name), None)
+    if entry is None:
+        known = ", ".join(e.name for e in plan.launch.node)
+        raise LaunchFileError(f"{plan.source}: no node named {name!r} (nodes: {known})")
+    params = plan.params[name]
+    if overrides is not None:
+        try:
+            params = msgspec.to_builtins(msgspec.convert(overrides, KINDS[entry.run].params, strict=True))
+        except msgspec.ValidationError as exc:
+            raise _error("--param", exc) from None
+    return NodeConfig(
+        name=name,
+        kind=entry.run,
+        connect=connect,
+        params=params,
+        world=plan.launch.world,
+        limits=plan.launch.limits,
+    )
 
 
 def load_launch(path: Path) -> LaunchPlan:

@@ -14,11 +14,15 @@ from typing import Optional
 
 import typer
 
-from cli import client, format
+from cli import build, client, format
 from cli.errors import CliError, ExitCode
-from cli.launchfile import LaunchFileError, load_launch
+from cli.graph import graph_text
+from cli.launchfile import LaunchFileError, load_launch, node_config
+from cli.rates import rate_line
 from cli.supervisor.manager import Supervisor
 from cli.supervisor.printer import Printer
+from cli.supervisor.process import exec_node
+from cli.view import run_view
 from messages import Cancel, Reset, TeleportAbsolute, keys
 from nodes.session import CONNECT_ENV, DEFAULT_ENDPOINT, DEFAULT_PORT
 
@@ -31,7 +35,7 @@ router, no navigator, no message); 4 launch could not start (port in use);
 
 app = typer.Typer(
     name="turtlectl",
-    help="A turtle robot over Zenoh, the ROS 2 way: launch, goto, cancel, teleport, reset, echo." + EXIT_CODES,
+    help="A turtle robot over Zenoh, the ROS 2 way." + EXIT_CODES,
     no_args_is_help=True,
     add_completion=True,
     pretty_exceptions_enable=False,
@@ -155,26 +159,163 @@ def echo(
     once: bool = typer.Option(False, "--once", help="Print one message and exit."),
     count: Optional[int] = typer.Option(None, "--count", min=1, help="Exit after N messages."),
     json: bool = typer.Option(False, "--json", help="One JSON object per line."),
-    timeout: Optional[float] = typer.Option(None, "--timeout", min=0.0, help="Exit after S seconds."),
+    csv: bool = typer.Option(False, "--csv", help="CSV: a header line, then one line per message."),
+    field: Optional[str] = typer.Option(None, "--field", help="Print only this field (dotted path, e.g. ranges.0)."),
+    full: bool = typer.Option(False, "--full", help="Print long arrays whole."),
+    timeout: Optional[float] = typer.Option(None, "--timeout", min=0.1, help="Exit after S seconds."),
     connect: str = ConnectOption,
 ) -> None:
     """Print the messages published on TOPIC, decoded whatever their type.
 
-    Example: turtlectl echo robot/status --count 5
+    Keeps printing across a publisher's restart.  Example: turtlectl echo robot/status --field battery
     """
+    if json and csv:
+        raise CliError(ExitCode.BAD_INPUT, "--json and --csv do not go together")
     limit = 1 if once else count
-    printed = 0
+    header = False
     try:
         for item in client.stream(connect, topic, limit, timeout):
             if isinstance(item, client.Silence):
                 typer.echo(f"nothing published on {topic} yet (is `turtlectl launch` running?)", err=True)
-            elif item.message is None:
+                continue
+            if item.message is None:
                 typer.echo(f"skipped a message on {item.key}: {item.problem}", err=True)
+                continue
+            msg = item.message
+            if field is not None:
+                value = format.select_field(msg, field)
+                typer.echo(format.json_value(value) if json or csv else format.value_text(value, full))
+            elif json:
+                typer.echo(format.message_json(msg))
+            elif csv:
+                if not header:
+                    typer.echo(format.csv_header(msg))
+                    header = True
+                typer.echo(format.csv_row(msg))
             else:
-                printed += 1
-                typer.echo(format.message_json(item.message) if json else format.message_block(item.message))
+                typer.echo(format.message_block(msg, full))
     except KeyboardInterrupt:
         pass
+    except BrokenPipeError:  # `| head`: the reader has what it wanted
+        sys.stderr.close()
+
+
+@app.command("list")
+def list_graph(
+    json: bool = typer.Option(False, "--json", help="The graph as one JSON object."),
+    connect: str = ConnectOption,
+) -> None:
+    """The live graph: nodes (name, pid, host, uptime), topics with their publishers and
+    subscribers, and services; read from liveliness tokens now, never from a cache.
+
+    Example: turtlectl list
+    """
+    current = client.graph(connect)
+    typer.echo(format.json_value(current) if json else graph_text(current))
+
+
+@app.command()
+def hz(
+    topics: list[str] = typer.Argument(..., metavar="TOPIC...", help="One or more key expressions."),
+    window: int = typer.Option(100, "--window", min=2, help="Messages per statistic."),
+    duration: Optional[float] = typer.Option(None, "--duration", min=0.5, help="Stop after S seconds."),
+    json: bool = typer.Option(False, "--json", help="JSON lines."),
+    connect: str = ConnectOption,
+) -> None:
+    """Rate of each TOPIC from arrival times (with jitter), and the publisher's own rate from stamps.
+
+    Example: turtlectl hz robot/status obstacles --duration 10
+    """
+    last: list = []
+    try:
+        for stats in client.measure_rates(connect, topics, window, duration):
+            last = stats
+            for st in stats:
+                typer.echo(format.json_value(st) if json else rate_line(st))
+    except KeyboardInterrupt:
+        pass
+    if duration is not None and not last:
+        raise CliError(ExitCode.UNREACHABLE, f"no messages on {', '.join(topics)} within {duration:g} s")
+
+
+@app.command()
+def pub(
+    topic: str = typer.Argument(..., metavar="TOPIC", help="Key to publish on."),
+    message: str = typer.Argument(..., metavar="JSON", help="The message's fields as JSON."),
+    rate: Optional[float] = typer.Option(None, "--rate", min=0.01, help="Publish at HZ until Ctrl-C (or --times)."),
+    once: bool = typer.Option(False, "--once", help="Publish once (the default without --rate)."),
+    times: Optional[int] = typer.Option(None, "--times", min=1, help="Publish N times."),
+    type_name: Optional[str] = typer.Option(None, "--type", help="Message type, for keys without a known one."),
+    connect: str = ConnectOption,
+) -> None:
+    """Publish a message built from JSON, validated for the topic's type before anything is sent.
+
+    Example: turtlectl pub turtle1/cmd_vel '{"linear": 1.0, "angular": 0.5}' --rate 10
+    """
+    msg = build.topic_message(client.check_key(topic), message, type_name)
+    if once and (rate is not None or times is not None):
+        raise CliError(ExitCode.BAD_INPUT, "--once does not go with --rate or --times")
+    count = times if times is not None else (None if rate is not None else 1)
+    try:
+        sent = client.publish(connect, topic, msg, rate if rate is not None else 10.0, count)
+    except KeyboardInterrupt:
+        return
+    typer.echo(f"published {sent} {type(msg).__name__} on {topic}", err=True)
+
+
+@app.command()
+def call(
+    service: str = typer.Argument(..., metavar="SERVICE", help="Key of the queryable."),
+    request: str = typer.Argument("{}", metavar="[JSON]", help="The request's fields as JSON."),
+    timeout: float = typer.Option(5.0, "--timeout", min=0.1, help="Give up after S seconds."),
+    type_name: Optional[str] = typer.Option(None, "--type", help="Request type, for keys without a known one."),
+    json: bool = typer.Option(False, "--json", help="JSON lines."),
+    connect: str = ConnectOption,
+) -> None:
+    """Call any queryable: known services get a typed request, others the JSON as is.
+    A missing service is reported within 3 s.
+
+    Example: turtlectl call turtle1/teleport_absolute '{"x": 2, "y": 2, "theta": 0}'
+    """
+    body = build.service_request(client.check_key(service), request, type_name)
+    for reply in client.call_service(connect, service, body, timeout):
+        if isinstance(reply, client.Raw):
+            typer.echo(reply.payload.decode("utf-8", "replace"))
+        else:
+            typer.echo(format.message_json(reply) if json else format.message_block(reply))
+
+
+@app.command()
+def run(
+    node: str = typer.Argument(..., metavar="NODE", help="Name of a node in the launch file."),
+    param: list[str] = typer.Option([], "--param", "-p", help="KEY=VALUE override (repeatable; a.b=1 for tables)."),
+    file: Optional[Path] = typer.Option(None, "--file", help="Launch file (default as for launch)."),
+    connect: str = ConnectOption,
+) -> None:
+    """Run one node in the foreground with the parameters the launch file gives it (and
+    overrides), joining the system at --connect: for debugging, or on another machine.
+
+    Example: turtlectl run navigator -p goal_timeout=60
+    """
+    path = file or default_launch_file()
+    try:
+        plan = load_launch(path)
+        entry_params = plan.params.get(node, {})
+        config = node_config(plan, node, client.check_endpoint(connect), build.apply_overrides(entry_params, param))
+    except LaunchFileError as exc:
+        raise CliError(ExitCode.BAD_INPUT, str(exc)) from None
+    exec_node(config)
+
+
+@app.command()
+def view(connect: str = ConnectOption) -> None:
+    """Draw the world live in this terminal: walls, obstacles, the turtle and its trail,
+    the goal, the laser hits and a status line.  q or Ctrl-C quits.
+
+    Example: turtlectl view
+    """
+    with client.client_session(connect) as session:
+        run_view(session, client.world(session))
 
 
 def main() -> None:

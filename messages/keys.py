@@ -7,11 +7,16 @@ never matches them.
 
 from __future__ import annotations
 
+import re
+
+import msgspec
+
 from messages.types import (
     Ack,
     Cancel,
     LaserScan,
     Message,
+    NavigateToFeedback,
     NavigateToRequest,
     NavigateToResponse,
     Pose,
@@ -27,6 +32,7 @@ STATUS = "robot/status"
 OBSTACLES = "obstacles"
 NAVIGATE_TO = "navigate_to"
 CANCEL = "navigate_to/cancel"
+FEEDBACK = "navigate_to/feedback"
 TELEPORT = "turtle1/teleport_absolute"
 RESET = "reset"
 
@@ -35,6 +41,7 @@ TOPICS: dict[str, type[Message]] = {
     POSE: Pose,
     STATUS: TurtleStatus,
     OBSTACLES: LaserScan,
+    FEEDBACK: NavigateToFeedback,
 }
 
 SERVICES: dict[str, tuple[type[Message], type[Message]]] = {
@@ -45,23 +52,74 @@ SERVICES: dict[str, tuple[type[Message], type[Message]]] = {
 }
 
 NODE_TOKEN_PREFIX = "@turtlectl/node"
+ENTITY_TOKEN_PREFIX = "@turtlectl/entity"
 CLIENT_TOKEN_PREFIX = "@turtlectl/client"
+GRAPH = "@turtlectl/**"  # every node and entity token
 
 
-def node_token(name: str, pid: int) -> str:
-    """Liveliness key announcing node ``name`` running as process ``pid``."""
-    return f"{NODE_TOKEN_PREFIX}/{name}/{pid}"
+class NodeInfo(msgspec.Struct, frozen=True):
+    """A running node as its liveliness token announces it.
+
+    start_ns: wall-clock start time, ns since the epoch.
+    """
+
+    name: str
+    pid: int
+    host: str = ""
+    start_ns: int = 0
 
 
-def parse_node_token(key: str) -> tuple[str, int] | None:
-    """(name, pid) from a liveliness key made by node_token, else None."""
+class EntityInfo(msgspec.Struct, frozen=True):
+    """A publisher ("pub"), subscriber ("sub") or service ("srv") of a node, by its token."""
+
+    node: str
+    pid: int
+    role: str
+    type_name: str
+    key: str
+
+
+def _chunk(text: str) -> str:
+    """``text`` made safe as one key chunk (no '/', '*', '$', '#', '?', '@' at the start)."""
+    safe = re.sub(r"[/*$#?\s]", "_", text) or "_"
+    return "_" + safe[1:] if safe.startswith("@") else safe
+
+
+def node_token(info: NodeInfo) -> str:
+    """Liveliness key announcing a node: ``@turtlectl/node/<name>/<pid>/<host>/<start_ns>``."""
+    return f"{NODE_TOKEN_PREFIX}/{info.name}/{info.pid}/{_chunk(info.host)}/{info.start_ns}"
+
+
+def parse_node_token(key: str) -> NodeInfo | None:
+    """The NodeInfo in a key made by node_token (host and start may be absent), else None."""
     prefix = NODE_TOKEN_PREFIX + "/"
     if not key.startswith(prefix):
         return None
-    name, _, pid = key[len(prefix):].partition("/")
-    if not name or not pid.isdigit():
+    parts = key[len(prefix):].split("/")
+    if len(parts) not in (2, 4) or not parts[0] or not parts[1].isdigit():
         return None
-    return name, int(pid)
+    if len(parts) == 4 and not parts[3].isdigit():
+        return None
+    host, start = (parts[2], int(parts[3])) if len(parts) == 4 else ("", 0)
+    return NodeInfo(name=parts[0], pid=int(parts[1]), host=host, start_ns=start)
+
+
+def entity_token(entity: EntityInfo) -> str:
+    """Liveliness key announcing an entity: ``@turtlectl/entity/<node>/<pid>/<role>/<Type>/<key...>``."""
+    return f"{ENTITY_TOKEN_PREFIX}/{entity.node}/{entity.pid}/{entity.role}/{entity.type_name}/{entity.key}"
+
+
+def parse_entity_token(key: str) -> EntityInfo | None:
+    prefix = ENTITY_TOKEN_PREFIX + "/"
+    if not key.startswith(prefix):
+        return None
+    parts = key[len(prefix):].split("/", 4)
+    if len(parts) != 5 or not parts[1].isdigit() or parts[2] not in ("pub", "sub", "srv"):
+        return None
+    return EntityInfo(node=parts[0], pid=int(parts[1]), role=parts[2], type_name=parts[3], key=parts[4])
+
+
+WORLD_KEY = "turtlectl/world"  # the sim answers with the world (size, obstacles) as JSON
 
 
 def params_key(name: str) -> str:

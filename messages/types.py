@@ -115,9 +115,11 @@ class NavigateToRequest(Message):
 class NavigateToFeedback(Message):
     """Progress of a running goal, replied to its caller about 10 times a second.
 
+    Also published on ``navigate_to/feedback`` for observers (``turtlectl view``).
     state: "turning", "driving" or "blocked".  distance_remaining: m.
     heading_remaining: degrees.  eta: estimated s to arrival.  elapsed: s.
     x, y, theta: current pose (m, m, degrees [0, 360)).
+    goal_x, goal_y, goal_theta: the goal (m, m, degrees).
     """
 
     state: str
@@ -128,6 +130,11 @@ class NavigateToFeedback(Message):
     x: float
     y: float
     theta: float
+    goal_x: float = 0.0
+    goal_y: float = 0.0
+    goal_theta: float = 0.0
+    stamp: int = 0
+    seq: int = 0
 
 
 class NavigateToResponse(Message):

@@ -35,7 +35,7 @@ from messages import (
     TurtleStatus,
     Twist,
 )
-from messages.keys import CANCEL, CLIENT_TOKEN_PREFIX, CMD_VEL, NAVIGATE_TO, OBSTACLES, POSE, STATUS
+from messages.keys import CANCEL, CLIENT_TOKEN_PREFIX, CMD_VEL, FEEDBACK, NAVIGATE_TO, OBSTACLES, POSE, STATUS
 from nodes.control import Phase, choose_direction, control_step, remaining_time
 from nodes.goal import clearance_speed, goal_problem, heading_error_deg
 from nodes.params import NavigatorParams
@@ -68,6 +68,7 @@ class Navigator:
         self.scan_time = 0.0
         self.goal: Goal | None = None
         self.cmd_pub = node.publisher(CMD_VEL, Twist)
+        self.feedback_pub = node.publisher(FEEDBACK, NavigateToFeedback)
         node.subscribe(POSE, Pose, self.on_pose)
         node.subscribe(OBSTACLES, LaserScan, self.on_scan)
         node.subscribe(STATUS, TurtleStatus, self.on_status)
@@ -144,7 +145,7 @@ class Navigator:
             return
         limits = self.node.limits
         eta = remaining_time(pose.x, pose.y, pose.theta, goal.x, goal.y, goal.theta, goal.direction or 1, limits)
-        goal.request.respond(
+        progress = self.feedback_pub.publish(  # for observers; the same, stamped, to the caller
             NavigateToFeedback(
                 state=goal.state,
                 distance_remaining=math.hypot(goal.x - pose.x, goal.y - pose.y),
@@ -154,9 +155,12 @@ class Navigator:
                 x=pose.x,
                 y=pose.y,
                 theta=math.degrees(pose.theta) % 360.0,
-            ),
-            final=False,
+                goal_x=goal.x,
+                goal_y=goal.y,
+                goal_theta=math.degrees(goal.theta),
+            )
         )
+        goal.request.respond(progress, final=False)
 
     # -- control ------------------------------------------------------------
     def drive(self) -> None:

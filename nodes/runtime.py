@@ -27,6 +27,7 @@ import logging
 import os
 import queue
 import signal
+import socket
 import sys
 import time
 from collections.abc import Callable
@@ -36,7 +37,7 @@ import msgspec
 import zenoh
 
 from messages import ErrorReply, Message, decode, encode, encoding_for
-from messages.keys import node_token, params_key
+from messages.keys import EntityInfo, NodeInfo, entity_token, node_token, params_key
 from nodes.config import ENV_VAR, SUPERVISOR_PID_VAR, NodeConfig, decode_config
 from nodes.session import close_session, peer_config
 from sim.world import Limits, World
@@ -128,14 +129,18 @@ class Node(Generic[P]):
         self._bad_payloads: dict[str, int] = {}
         self._running = True
         self._on_shutdown: list[Callable[[], None]] = []
-        self._params_json = msgspec.json.encode(params)
-        self._params_key = params_key(self.name)
-        self._entities.append(session.declare_queryable(self._params_key, self._on_params_query))
+        self.answer_json(params_key(self.name), msgspec.json.encode(params))
 
     # -- declarations -------------------------------------------------------
+    def _announce(self, role: str, msg_type: type[Message], key: str) -> None:
+        """A liveliness token for the graph (``turtlectl list``): this node's role on ``key``."""
+        entity = EntityInfo(node=self.name, pid=os.getpid(), role=role, type_name=msg_type.__name__, key=key)
+        self._entities.append(self.session.liveliness().declare_token(entity_token(entity)))
+
     def publisher(self, key: str, msg_type: type[M]) -> Publisher[M]:
         pub = Publisher(self.session, key, msg_type)
         self._entities.append(pub)
+        self._announce("pub", msg_type, key)
         return pub
 
     def subscribe(self, key: str, msg_type: type[M], callback: Callable[[M], None]) -> None:
@@ -145,6 +150,7 @@ class Node(Generic[P]):
             self._queue.put((self._deliver, (key, msg_type, sample.payload.to_bytes(), callback)))
 
         self._entities.append(self.session.declare_subscriber(key, on_sample))
+        self._announce("sub", msg_type, key)
 
     def serve(
         self,
@@ -157,6 +163,16 @@ class Node(Generic[P]):
 
         def on_query(query: zenoh.Query) -> None:  # Zenoh thread: queue only
             self._queue.put((self._handle_query, (key, request_type, response_type, query, handler)))
+
+        self._entities.append(self.session.declare_queryable(key, on_query))
+        self._announce("srv", request_type, key)
+
+    def answer_json(self, key: str, document: bytes) -> None:
+        """Answer every query on ``key`` with a fixed JSON ``document`` (read-only, so it is
+        answered right on the Zenoh thread)."""
+
+        def on_query(query: zenoh.Query) -> None:
+            query.reply(key, document, encoding=zenoh.Encoding.APPLICATION_JSON)
 
         self._entities.append(self.session.declare_queryable(key, on_query))
 
@@ -209,8 +225,6 @@ class Node(Generic[P]):
             return
         handler(Request(key, query, body, response_type))
 
-    def _on_params_query(self, query: zenoh.Query) -> None:  # Zenoh thread, read-only data
-        query.reply(self._params_key, self._params_json, encoding=zenoh.Encoding.APPLICATION_JSON)
 
     def stop(self, *_: Any) -> None:
         """Ask the node to stop (safe from signal handlers and other threads)."""
@@ -252,6 +266,7 @@ def _watch_parent() -> Callable[[], bool]:
 
 def run(node_class: Callable[[Node[P]], Any], params_type: type[P]) -> None:
     """Entry point of a node process: read the config, open the session, spin, close; exits."""
+    started = time.time_ns()
     logging.basicConfig(level=logging.INFO, format="%(levelname)s %(message)s", stream=sys.stderr)
     log = logging.getLogger("runtime")
     early_stop: list[int] = []  # a stop asked for before the node exists is kept, not lost
@@ -284,7 +299,8 @@ def run(node_class: Callable[[Node[P]], Any], params_type: type[P]) -> None:
         if early_stop:
             node.stop()
         node_class(node)
-        token = session.liveliness().declare_token(node_token(config.name, os.getpid()))
+        me = NodeInfo(name=config.name, pid=os.getpid(), host=socket.gethostname(), start_ns=started)
+        token = session.liveliness().declare_token(node_token(me))
         node.log.info("ready (pid %d)", os.getpid())
         node.spin()
         token.undeclare()

@@ -10,8 +10,10 @@ from __future__ import annotations
 import math
 import time
 
+import msgspec
+
 from messages import Ack, Pose, Reset, TeleportAbsolute, Twist
-from messages.keys import CMD_VEL, POSE, RESET, TELEPORT
+from messages.keys import CMD_VEL, POSE, RESET, TELEPORT, WORLD_KEY
 from nodes.runtime import Node, Request, run
 from sim.kinematics import STEP, TurtleState, accelerate, effective_command, step, wrap_angle
 from sim.params import SimParams
@@ -46,6 +48,8 @@ class Simulator:
         node.subscribe(CMD_VEL, Twist, self.on_cmd_vel)
         node.serve(TELEPORT, TeleportAbsolute, Ack, self.on_teleport)
         node.serve(RESET, Reset, Ack, self.on_reset)
+        world_json = msgspec.json.encode(node.world)
+        node.answer_json(WORLD_KEY, world_json)
         node.timer(STEP, self.tick)
 
     def on_cmd_vel(self, msg: Twist) -> None:

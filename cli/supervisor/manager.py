@@ -17,11 +17,11 @@ from typing import Any
 import zenoh
 
 from cli.errors import CliError, ExitCode
-from cli.launchfile import LaunchPlan
+from cli.launchfile import LaunchPlan, node_config
 from cli.supervisor.printer import Printer
 from cli.supervisor.process import Child, child_env, python_module_argv
 from messages.keys import NODE_TOKEN_PREFIX, parse_node_token
-from nodes.config import ENV_VAR, SUPERVISOR_PID_VAR, NodeConfig, encode_config
+from nodes.config import ENV_VAR, SUPERVISOR_PID_VAR, encode_config
 from nodes.kinds import KINDS
 from nodes.session import close_session, router_config
 
@@ -85,24 +85,16 @@ class Supervisor:
         self.stop(f"received {signal.Signals(signum).name}")
 
     def _on_token(self, sample: zenoh.Sample) -> None:  # Zenoh thread: queue only
-        parsed = parse_node_token(str(sample.key_expr))
-        if parsed is not None:
-            self._events.put((sample.kind == zenoh.SampleKind.PUT, parsed[0], parsed[1]))
+        info = parse_node_token(str(sample.key_expr))
+        if info is not None:
+            self._events.put((sample.kind == zenoh.SampleKind.PUT, info.name, info.pid))
 
     # -- children -----------------------------------------------------------
     def _child(self, name: str) -> Child:
         """The Child for node ``name``: its command and environment, made once."""
-        entry = self.entries[name]
-        config = NodeConfig(
-            name=name,
-            kind=entry.run,
-            connect=self.endpoint,
-            params=self.plan.params[name],
-            world=self.plan.launch.world,
-            limits=self.plan.launch.limits,
-        )
+        config = node_config(self.plan, name, self.endpoint)
         env = child_env({ENV_VAR: encode_config(config), SUPERVISOR_PID_VAR: str(os.getpid())})
-        return Child(name, python_module_argv(KINDS[entry.run].module), env, self.printer)
+        return Child(name, python_module_argv(KINDS[config.kind].module), env, self.printer)
 
     def _start(self, name: str) -> None:
         child = self.children.get(name) or self.children.setdefault(name, self._child(name))

@@ -13,8 +13,11 @@ import subprocess
 import sys
 import threading
 import time
+from typing import NoReturn
 
 from cli.supervisor.printer import Printer
+from nodes.config import ENV_VAR, SUPERVISOR_PID_VAR, NodeConfig, encode_config
+from nodes.kinds import KINDS
 
 
 class Child:
@@ -85,3 +88,11 @@ def child_env(extra: dict[str, str]) -> dict[str, str]:
     env.update(extra)
     env["PYTHONUNBUFFERED"] = "1"
     return env
+
+
+def exec_node(config: NodeConfig) -> NoReturn:
+    """Become node ``config`` (``turtlectl run``): exec its module in this process, in the foreground."""
+    env = child_env({ENV_VAR: encode_config(config)})
+    env.pop(SUPERVISOR_PID_VAR, None)
+    argv = python_module_argv(KINDS[config.kind].module)
+    os.execve(argv[0], argv, env)

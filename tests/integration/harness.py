@@ -144,9 +144,9 @@ class System:
         return self.session
 
     def _on_token(self, sample: zenoh.Sample) -> None:
-        parsed = parse_node_token(str(sample.key_expr))
-        if parsed:
-            self._token_events.put((sample.kind == zenoh.SampleKind.PUT, *parsed))
+        info = parse_node_token(str(sample.key_expr))
+        if info:
+            self._token_events.put((sample.kind == zenoh.SampleKind.PUT, info.name, info.pid))
 
     def _drain_tokens(self, wait: float) -> None:
         try:

@@ -86,7 +86,7 @@ def test_goto_cli_reports_an_unreachable_goal_with_exit_1(system):
 def test_echo_decodes_status_as_blocks_and_json(system):
     blocks = system.run_cli("echo", "robot/status", "--once")
     assert blocks.returncode == 0, blocks.stderr
-    assert "type: TurtleStatus" in blocks.stdout and "battery:" in blocks.stdout and blocks.stdout.strip().endswith("---")
+    assert blocks.stdout.startswith("# TurtleStatus\n") and "battery:" in blocks.stdout and blocks.stdout.strip().endswith("---")
     lines = system.run_cli("echo", "turtle1/pose", "--count", "3", "--json")
     assert lines.returncode == 0, lines.stderr
     decoded = [json.loads(line) for line in lines.stdout.splitlines()]

@@ -1,0 +1,87 @@
+"""Messages and parameters built from what a user types (pure: no zenoh).
+
+Everything is validated before anything is sent or started; errors are
+CliError(BAD_INPUT) naming the field.
+"""
+
+from __future__ import annotations
+
+import re
+import tomllib
+from typing import Any
+
+import msgspec
+
+from cli.errors import CliError, ExitCode
+from messages import Message
+from messages.codec import TYPES_BY_NAME
+from messages.keys import SERVICES, TOPICS
+
+_AT = re.compile(r" - at `\$\.?(?P<path>[^`]*)`$")
+
+
+def _problem(exc: msgspec.ValidationError) -> str:
+    text = str(exc)
+    match = _AT.search(text)
+    return f"{match['path']}: {text[: match.start()]}" if match and match["path"] else text
+
+
+def message_type(key: str, type_name: str | None, table: dict[str, Any]) -> type[Message]:
+    """The message type for ``key``: ``type_name`` if given, else the one ``table`` declares."""
+    if type_name is not None:
+        found = TYPES_BY_NAME.get(type_name)
+        if found is None:
+            known = ", ".join(sorted(TYPES_BY_NAME))
+            raise CliError(ExitCode.BAD_INPUT, f"unknown message type {type_name!r} (known: {known})")
+        return found
+    entry = table.get(key)
+    if entry is None:
+        raise CliError(ExitCode.BAD_INPUT, f"no known message type for {key!r}: give one with --type")
+    return entry[0] if isinstance(entry, tuple) else entry
+
+
+def message_from_json(text: str, msg_type: type[Message]) -> Message:
+    """``msg_type`` from JSON text (the ``type`` tag may be left out)."""
+    try:
+        return msgspec.json.decode(text.encode(), type=msg_type)
+    except msgspec.ValidationError as exc:
+        raise CliError(ExitCode.BAD_INPUT, f"not a valid {msg_type.__name__}: {_problem(exc)}") from None
+    except msgspec.DecodeError as exc:
+        raise CliError(ExitCode.BAD_INPUT, f"not valid JSON: {exc}") from None
+
+
+def topic_message(key: str, text: str, type_name: str | None = None) -> Message:
+    return message_from_json(text, message_type(key, type_name, TOPICS))
+
+
+def service_request(key: str, text: str, type_name: str | None = None) -> Message | bytes:
+    """The request for ``key``: a typed message for a known service, else the JSON text as bytes."""
+    if type_name is None and key not in SERVICES:
+        try:
+            msgspec.json.decode(text.encode())
+        except msgspec.DecodeError as exc:
+            raise CliError(ExitCode.BAD_INPUT, f"not valid JSON: {exc}") from None
+        return text.encode()
+    return message_from_json(text, message_type(key, type_name, SERVICES))
+
+
+def apply_overrides(params: dict[str, Any], overrides: list[str]) -> dict[str, Any]:
+    """``params`` with each ``KEY=VALUE`` applied (dotted keys reach into tables; VALUE is a
+    TOML value such as 2.5, true, "text", [1, 2], or else taken as a string)."""
+    merged: dict[str, Any] = {k: (dict(v) if isinstance(v, dict) else v) for k, v in params.items()}
+    for item in overrides:
+        key, sep, raw = item.partition("=")
+        if not sep or not key:
+            raise CliError(ExitCode.BAD_INPUT, f"--param {item!r}: write it as KEY=VALUE")
+        try:
+            value = tomllib.loads(f"v = {raw}")["v"]
+        except tomllib.TOMLDecodeError:
+            value = raw
+        *path, last = key.split(".")
+        table = merged
+        for part in path:
+            table = table.setdefault(part, {})
+            if not isinstance(table, dict):
+                raise CliError(ExitCode.BAD_INPUT, f"--param {key}: {part} is not a table")
+        table[last] = value
+    return merged

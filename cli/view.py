@@ -1,0 +1,164 @@
+"""``turtlectl view``: the world drawn live in a terminal, like turtlesim's window over SSH.
+
+``render`` is pure (text lines from the latest messages); ``run_view`` is the
+curses shell around it: it subscribes over Zenoh, queues what arrives, and
+redraws at 20 frames a second (curses sends only what changed: no flicker).
+"""
+
+from __future__ import annotations
+
+import collections
+import curses
+import locale
+import math
+import queue
+import time
+
+import msgspec
+import zenoh
+
+from messages import LaserScan, NavigateToFeedback, Pose, TurtleStatus, decode_any
+from messages.keys import FEEDBACK, OBSTACLES, POSE, STATUS
+from nodes.scan import hit_points
+from sim.world import World
+
+FRAME = 0.05  # s between frames: 20 frames a second
+TRAIL = 400  # poses kept for the trail
+ARROWS = "→↗↑↖←↙↓↘"
+ASCII_ARROWS = ">/^\\</v\\"
+
+
+class Scene(msgspec.Struct, kw_only=True):
+    """What the view knows: the latest of each message (None until one arrives)."""
+
+    world: World
+    pose: Pose | None = None
+    status: TurtleStatus | None = None
+    scan: LaserScan | None = None
+    feedback: NavigateToFeedback | None = None
+    trail: list[tuple[float, float]] = msgspec.field(default_factory=list)
+
+
+def render(scene: Scene, cols: int, rows: int, unicode: bool = True) -> list[str]:
+    """The screen as ``rows`` lines of at most ``cols`` characters: the world in a frame
+    (walls), obstacles ``o``, trail ``.``, laser hits ``*``, goal ``X``, the turtle as an
+    arrow along its heading, and a status line at the bottom."""
+    if cols < 20 or rows < 6:
+        return ["terminal too small"][:rows]
+    size = scene.world.size
+    map_rows = rows - 2
+    # terminal cells are about twice as tall as wide: two columns per row's height
+    scale_y = min((map_rows - 2) / size, (cols - 2) / (2.0 * size))
+    scale_x = 2.0 * scale_y
+    width, height = max(1, int(size * scale_x)), max(1, int(size * scale_y))
+    grid = [[" "] * width for _ in range(height)]
+
+    def cell(x: float, y: float) -> tuple[int, int] | None:
+        c, r = int(x * scale_x), height - 1 - int(y * scale_y)
+        return (r, min(c, width - 1)) if 0 <= x <= size and 0 <= y <= size and 0 <= r < height else None
+
+    for r in range(height):
+        wy = (height - 1 - r + 0.5) / scale_y
+        for c in range(width):
+            wx = (c + 0.5) / scale_x
+            if any(math.hypot(wx - o.x, wy - o.y) <= o.radius for o in scene.world.obstacles):
+                grid[r][c] = "o"
+    for x, y in scene.trail:
+        if (rc := cell(x, y)) is not None and grid[rc[0]][rc[1]] == " ":
+            grid[rc[0]][rc[1]] = "."
+    scan = scene.scan
+    if scan is not None and all(math.isfinite(v) for v in (scan.origin_x, scan.origin_y, scan.origin_theta)):
+        angles = [scan.angle_min + i * scan.angle_increment for i in range(len(scan.ranges))]
+        for x, y in hit_points(scan.origin_x, scan.origin_y, scan.origin_theta, scan.ranges, angles):
+            if (rc := cell(float(x), float(y))) is not None:
+                grid[rc[0]][rc[1]] = "*"
+    fb = scene.feedback
+    if fb is not None and (rc := cell(fb.goal_x, fb.goal_y)) is not None:
+        grid[rc[0]][rc[1]] = "X"
+    if scene.pose is not None and (rc := cell(scene.pose.x, scene.pose.y)) is not None:
+        arrows = ARROWS if unicode else ASCII_ARROWS
+        grid[rc[0]][rc[1]] = arrows[int(round(scene.pose.theta / (math.pi / 4))) % 8]
+
+    lines = ["+" + "-" * width + "+"] + ["|" + "".join(row) + "|" for row in grid] + ["+" + "-" * width + "+"]
+    lines += [""] * (map_rows - len(lines))
+    lines.append(status_line(scene)[:cols])
+    lines.append("q quits"[:cols])
+    return [line[:cols] for line in lines[:rows]]
+
+
+def status_line(scene: Scene) -> str:
+    parts = []
+    if scene.pose is None:
+        parts.append("waiting for turtle1/pose")
+    else:
+        p = scene.pose
+        parts.append(f"x {p.x:5.2f} y {p.y:5.2f} heading {math.degrees(p.theta) % 360:5.1f} deg")
+        parts.append(f"speed {p.linear_velocity:5.2f} m/s")
+    if scene.status is not None:
+        parts.append(f"battery {scene.status.battery:5.1f} %")
+    fb = scene.feedback
+    if fb is not None:
+        parts.append(f"goal ({fb.goal_x:.2f}, {fb.goal_y:.2f}) {fb.state} {fb.distance_remaining:.2f} m")
+    else:
+        parts.append("no goal")
+    return " | ".join(parts)
+
+
+def run_view(session: zenoh.Session, world: World) -> None:
+    """Draw until q or Ctrl-C; the terminal is restored whatever happens."""
+    locale.setlocale(locale.LC_ALL, "")
+    unicode = locale.getpreferredencoding(False).lower().replace("-", "") == "utf8"
+    inbox: queue.SimpleQueue[tuple[float, bytes]] = queue.SimpleQueue()
+    subs = [
+        session.declare_subscriber(key, lambda s: inbox.put((time.monotonic(), s.payload.to_bytes())))
+        for key in (POSE, STATUS, OBSTACLES, FEEDBACK)
+    ]
+    scene = Scene(world=world)
+    trail: collections.deque[tuple[float, float]] = collections.deque(maxlen=TRAIL)
+    feedback_time = 0.0
+
+    def loop(screen: curses.window) -> None:
+        nonlocal feedback_time
+        curses.curs_set(0)
+        screen.timeout(int(FRAME * 1000))
+        while True:
+            while not inbox.empty():
+                arrived, payload = inbox.get_nowait()
+                try:
+                    msg = decode_any(payload)
+                except ValueError:
+                    continue
+                if isinstance(msg, Pose):
+                    scene.pose = msg
+                    if not trail or math.hypot(trail[-1][0] - msg.x, trail[-1][1] - msg.y) > 0.05:
+                        trail.append((msg.x, msg.y))
+                elif isinstance(msg, TurtleStatus):
+                    scene.status = msg
+                elif isinstance(msg, LaserScan):
+                    scene.scan = msg
+                elif isinstance(msg, NavigateToFeedback):
+                    scene.feedback, feedback_time = msg, arrived
+            if scene.feedback is not None and time.monotonic() - feedback_time > 0.5:
+                scene.feedback = None  # the goal ended
+            scene.trail = list(trail)
+            rows, cols = screen.getmaxyx()
+            screen.erase()
+            for i, line in enumerate(render(scene, cols, rows, unicode)):
+                try:
+                    screen.addstr(i, 0, line)
+                except curses.error:  # writing the bottom-right cell raises; the text is drawn
+                    pass
+            screen.refresh()
+            key = screen.getch()  # waits up to one frame
+            if key in (ord("q"), ord("Q")):
+                return
+            if key == curses.KEY_RESIZE:
+                screen.clear()  # repaint the whole terminal on the next frame
+
+    try:
+        curses.wrapper(loop)
+    except KeyboardInterrupt:
+        pass
+    finally:
+        for sub in subs:
+            sub.undeclare()
