@@ -16,8 +16,7 @@ import time
 import pyte
 import pytest
 
-from messages import Pose, TurtleStatus
-from messages.keys import GRAPH, POSE, STATUS
+from messages.keys import GRAPH
 from tests.integration.harness import NODES, running_system, turtlectl
 
 pytestmark = pytest.mark.integration
