@@ -38,7 +38,7 @@ from messages import (
 )
 from messages.codec import MEDIA_TYPE
 from messages.keys import CLIENT_TOKEN_PREFIX, GRAPH, NAVIGATE_TO, WORLD_KEY
-from nodes.session import client_config, close_session
+from nodes.session import client_config, close_session, default_domain
 from sim.world import World
 
 M = TypeVar("M", bound=Message)
@@ -72,7 +72,7 @@ def client_session(connect: str) -> Iterator[zenoh.Session]:
     """A Zenoh client session to the router at ``connect``, closed (bounded) on exit."""
     check_endpoint(connect)
     try:
-        session = zenoh.open(client_config(connect, OPEN_TIMEOUT))
+        session = zenoh.open(client_config(connect, OPEN_TIMEOUT, default_domain()))
     except zenoh.ZError:
         raise CliError(
             ExitCode.UNREACHABLE, f"no turtlectl system at {connect} (is `turtlectl launch` running?)"

@@ -11,13 +11,13 @@ from __future__ import annotations
 import re
 import tomllib
 from pathlib import Path
-from typing import Any
+from typing import Annotated, Any
 
 import msgspec
 
 from nodes.config import NodeConfig
 from nodes.kinds import KINDS
-from sim.world import Limits, NonNegative, World
+from sim.world import Limits, NonNegative, Positive, World
 
 NAME_RE = re.compile(r"^[A-Za-z_][A-Za-z0-9_\-]*$")
 
@@ -30,8 +30,11 @@ class NodeEntry(msgspec.Struct, forbid_unknown_fields=True, kw_only=True):
     """One process to run.
 
     name: unique, letters/digits/_/-.  run: the node kind (see nodes.kinds).
-    params: the kind's parameters.  required: its exit stops the system.
-    respawn: restart it when it exits, after respawn_delay s.
+    params: the kind's parameters.
+    required: when it exits for good (no respawn, or respawns used up) the system stops, exit code 1.
+    respawn: restart it when it exits, first after respawn_delay s, then twice as long each
+    time up to respawn_delay_max s; at most respawn_max times in a row (0: no limit).  A
+    run longer than STABLE_RUN s counts as healthy and starts the count again.
     """
 
     name: str
@@ -40,12 +43,23 @@ class NodeEntry(msgspec.Struct, forbid_unknown_fields=True, kw_only=True):
     required: bool = False
     respawn: bool = False
     respawn_delay: NonNegative = 1.0
+    respawn_delay_max: NonNegative = 30.0
+    respawn_max: Annotated[int, msgspec.Meta(ge=0, le=1_000_000)] = 5
+
+
+class SupervisorSettings(msgspec.Struct, forbid_unknown_fields=True, kw_only=True):
+    """How the supervisor stops the system: SIGINT, wait sigint_timeout s, SIGTERM,
+    wait sigterm_timeout s, SIGKILL."""
+
+    sigint_timeout: Positive = 2.0
+    sigterm_timeout: Positive = 1.0
 
 
 class LaunchFile(msgspec.Struct, forbid_unknown_fields=True, kw_only=True):
     node: list[NodeEntry]
     world: World = msgspec.field(default_factory=World)
     limits: Limits = msgspec.field(default_factory=Limits)
+    supervisor: SupervisorSettings = msgspec.field(default_factory=SupervisorSettings)
 
 
 class LaunchPlan(msgspec.Struct, kw_only=True):
@@ -108,6 +122,34 @@ def parse_launch(text: str, source: str = "launch.toml") -> LaunchPlan:
     return LaunchPlan(source=source, launch=launch, params=params)
 
 
+def select_nodes(plan: LaunchPlan, only: list[str], exclude: list[str]) -> LaunchPlan:
+    """The plan with just the ``only`` nodes (all if empty), less the ``exclude`` ones."""
+    names = [e.name for e in plan.launch.node]
+    for option, asked in (("--only", only), ("--exclude", exclude)):
+        unknown = [n for n in asked if n not in names]
+        if unknown:
+            raise LaunchFileError(f"{option}: no node named {', '.join(unknown)} in {plan.source} (nodes: {', '.join(names)})")
+    kept = [e for e in plan.launch.node if (not only or e.name in only) and e.name not in exclude]
+    if not kept:
+        raise LaunchFileError("--only/--exclude leave no node to run")
+    launch = msgspec.structs.replace(plan.launch, node=kept)
+    return LaunchPlan(source=plan.source, launch=launch, params={e.name: plan.params[e.name] for e in kept})
+
+
+def with_params(plan: LaunchPlan, name: str, params: dict[str, Any], option: str) -> LaunchPlan:
+    """The plan with node ``name``'s params replaced by ``params``, validated as the file's are
+    (errors name ``option``, e.g. ``--set navigator``)."""
+    entry = next((e for e in plan.launch.node if e.name == name), None)
+    if entry is None:
+        known = ", ".join(e.name for e in plan.launch.node)
+        raise LaunchFileError(f"{option}: no node named {name!r} (nodes: {known})")
+    try:
+        typed = msgspec.convert(params, KINDS[entry.run].params, strict=True)
+    except msgspec.ValidationError as exc:
+        raise _error(option, exc) from None
+    return LaunchPlan(source=plan.source, launch=plan.launch, params={**plan.params, name: msgspec.to_builtins(typed)})
+
+
 def node_config(plan: LaunchPlan, name: str, connect: str, overrides: dict[str, Any] | None = None) -> NodeConfig:
     """What node ``name`` of ``plan`` is started with; ``overrides`` replace its params and
     are validated as the file's are (LaunchFileError naming ``--param``)."""
@@ -115,12 +157,9 @@ def node_config(plan: LaunchPlan, name: str, connect: str, overrides: dict[str, 
     if entry is None:
         known = ", ".join(e.name for e in plan.launch.node)
         raise LaunchFileError(f"{plan.source}: no node named {name!r} (nodes: {known})")
-    params = plan.params[name]
     if overrides is not None:
-        try:
-            params = msgspec.to_builtins(msgspec.convert(overrides, KINDS[entry.run].params, strict=True))
-        except msgspec.ValidationError as exc:
-            raise _error("--param", exc) from None
+        plan = with_params(plan, name, overrides, "--param")
+    params = plan.params[name]
     return NodeConfig(
         name=name,
         kind=entry.run,

@@ -8,7 +8,9 @@ into a message on stderr and an exit code.
 from __future__ import annotations
 
 import math
+import os
 import sys
+import time
 from pathlib import Path
 from typing import Optional
 
@@ -17,14 +19,15 @@ import typer
 from cli import build, client, format
 from cli.errors import CliError, ExitCode
 from cli.graph import graph_text
-from cli.launchfile import LaunchFileError, load_launch, node_config
+from cli.launchfile import NAME_RE, LaunchFileError, load_launch, node_config, select_nodes, with_params
 from cli.rates import rate_line
 from cli.supervisor.manager import Supervisor
 from cli.supervisor.printer import Printer
 from cli.supervisor.process import exec_node
+from cli.supervisor.router import run_router
 from cli.view import run_view
 from messages import Cancel, Reset, TeleportAbsolute, keys
-from nodes.session import CONNECT_ENV, DEFAULT_ENDPOINT, DEFAULT_PORT
+from nodes.session import CONNECT_ENV, DEFAULT_ENDPOINT, DEFAULT_PORT, DOMAIN_ENV, default_domain
 
 EXIT_CODES = """
 Exit codes: 0 success; 1 ran but did not succeed (goal not reached, a required
@@ -56,24 +59,76 @@ def default_launch_file() -> Path:
     return local if local.is_file() else PACKAGED_LAUNCH
 
 
+@app.callback()
+def root(
+    domain: str = typer.Option(
+        "", "--domain", envvar=DOMAIN_ENV, help="Keys of the system live under this prefix (two systems never mix)."
+    ),
+) -> None:
+    """A turtle robot over Zenoh, the ROS 2 way."""
+    if domain:
+        if not NAME_RE.match(domain):
+            raise CliError(ExitCode.BAD_INPUT, f"--domain {domain!r}: use letters, digits, _ and -")
+        os.environ[DOMAIN_ENV] = domain  # read by every session this process opens
+
+
 @app.command()
 def launch(
     file: Optional[Path] = typer.Argument(None, metavar="[FILE]", help="Launch file (default: ./launch.toml, else the packaged one)."),
     port: int = typer.Option(DEFAULT_PORT, "--port", min=1, max=65535, help="Router port on 127.0.0.1."),
+    join: Optional[str] = typer.Option(None, "--connect", help="Run no router: join the one at this endpoint."),
+    only: list[str] = typer.Option([], "--only", help="Run only this node (repeatable)."),
+    exclude: list[str] = typer.Option([], "--exclude", help="Do not run this node (repeatable)."),
+    set_: list[str] = typer.Option([], "--set", help="NODE.PARAM=VALUE override (repeatable), validated like the file."),
+    check: bool = typer.Option(False, "--check", help="Validate the file (and overrides), print the plan, and exit."),
+    log_dir: Optional[Path] = typer.Option(None, "--log-dir", envvar="TURTLECTL_LOG_DIR", help="Parent folder of run folders (default ~/.turtlectl/log)."),
 ) -> None:
     """Start the router and every node of a launch file; Ctrl-C stops them all.
 
-    Example: turtlectl launch --port 7448
+    Each node's output is prefixed with its name and also written to <log-dir>/<run>/<node>.log.
+
+    Example: turtlectl launch --port 7448 --set navigator.goal_timeout=60
     """
     path = file or default_launch_file()
     try:
-        plan = load_launch(path)
+        plan = select_nodes(load_launch(path), only, exclude)
+        for item in set_:
+            target, dot, assignment = item.partition(".")
+            if not dot or target not in plan.params:
+                raise LaunchFileError(f"--set {item!r}: write it as NODE.PARAM=VALUE with a node of the plan")
+            plan = with_params(plan, target, build.apply_overrides(plan.params[target], [assignment]), f"--set {target}")
     except LaunchFileError as exc:
         raise CliError(ExitCode.BAD_INPUT, str(exc)) from None
-    printer = Printer([e.name for e in plan.launch.node])
-    printer.system(f"launch file {path}")
-    code = Supervisor(plan, port, printer).run()
+    if check:
+        typer.echo(f"{path}: valid; nodes: " + ", ".join(plan.params))
+        for name, params in plan.params.items():
+            typer.echo(f"  {name}: {format.json_value(params)}")
+        return
+    names = [e.name for e in plan.launch.node]
+    printer = Printer(names)
+    run_folder = (log_dir or Path.home() / ".turtlectl" / "log") / time.strftime(f"%Y-%m-%d-%H-%M-%S-{os.getpid()}")
+    try:
+        printer.log_to(run_folder, names)
+    except OSError as exc:
+        raise CliError(ExitCode.CANNOT_START, f"cannot write logs to {run_folder}: {exc.strerror or exc}") from None
+    printer.system(f"launch file {path}; logs in {run_folder}")
+    connect = client.check_endpoint(join) if join is not None else ""
+    try:
+        code = Supervisor(plan, printer, None if join else port, connect, default_domain()).run()
+    finally:
+        printer.close()
     raise typer.Exit(code)
+
+
+@app.command()
+def router(
+    port: int = typer.Option(DEFAULT_PORT, "--port", min=1, max=65535, help="Port on 127.0.0.1."),
+) -> None:
+    """Run a Zenoh router alone, for nodes started with `launch --connect` (as rmw_zenohd).
+
+    Example: turtlectl router --port 7447
+    """
+    run_router(port, lambda: typer.echo(f"router listening on tcp/127.0.0.1:{port}; Ctrl-C stops it"))
 
 
 def _number(text: str, name: str) -> float:

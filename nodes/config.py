@@ -21,6 +21,7 @@ class NodeConfig(msgspec.Struct, forbid_unknown_fields=True, kw_only=True):
     name: str
     kind: str
     connect: str
+    domain: str = ""  # a Zenoh namespace that prefixes every key of the system (isolation)
     params: dict[str, Any] = msgspec.field(default_factory=dict)
     world: World = msgspec.field(default_factory=World)
     limits: Limits = msgspec.field(default_factory=Limits)

@@ -52,6 +52,7 @@ EXIT_SESSION = 3  # could not open a Zenoh session
 _PR_SET_PDEATHSIG = 1
 _ERROR_ENCODING = zenoh.Encoding(encoding_for(ErrorReply))
 _PARENT_CHECK_PERIOD = 0.5  # s
+_ROUTER_CHECK_PERIOD = 1.0  # s
 
 
 class Publisher(Generic[M]):
@@ -249,6 +250,23 @@ class Node(Generic[P]):
             callback()
 
 
+def _router_watch(node: Node[Any], endpoint: str) -> Callable[[], None]:
+    """A check that reports, once each way, losing and finding again the router: the node
+    keeps running meanwhile (Zenoh reconnects by itself) and says so."""
+    connected = [True]
+
+    def check() -> None:
+        now = bool(node.session.info.routers_zid())
+        if now != connected[0]:
+            connected[0] = now
+            if now:
+                node.log.info("router at %s is back", endpoint)
+            else:
+                node.log.warning("lost the router at %s; still running, reconnecting", endpoint)
+
+    return check
+
+
 def _watch_parent() -> Callable[[], bool]:
     """Die with the supervisor: ask Linux for SIGTERM when the parent dies, and
     return a check that reports a changed parent (the fallback on other systems)."""
@@ -286,7 +304,7 @@ def run(node_class: Callable[[Node[P]], Any], params_type: type[P]) -> None:
         sys.exit(EXIT_CONFIG)
 
     try:
-        session = zenoh.open(peer_config(config.connect))
+        session = zenoh.open(peer_config(config.connect, config.domain))
     except zenoh.ZError as exc:
         log.error("cannot open a Zenoh session to %s: %s", config.connect, exc)
         sys.exit(EXIT_SESSION)
@@ -296,6 +314,7 @@ def run(node_class: Callable[[Node[P]], Any], params_type: type[P]) -> None:
         signal.signal(signal.SIGINT, node.stop)
         signal.signal(signal.SIGTERM, node.stop)
         node.timer(_PARENT_CHECK_PERIOD, lambda: parent_gone() and node.stop())
+        node.timer(_ROUTER_CHECK_PERIOD, _router_watch(node, config.connect))
         if early_stop:
             node.stop()
         node_class(node)

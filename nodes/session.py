@@ -21,16 +21,23 @@ import zenoh
 DEFAULT_PORT = 7447
 DEFAULT_ENDPOINT = f"tcp/127.0.0.1:{DEFAULT_PORT}"
 CONNECT_ENV = "TURTLECTL_CONNECT"
+DOMAIN_ENV = "TURTLECTL_DOMAIN"
 
 
 def default_endpoint() -> str:
     return os.environ.get(CONNECT_ENV) or DEFAULT_ENDPOINT
 
 
-def _base(mode: str) -> zenoh.Config:
+def default_domain() -> str:
+    return os.environ.get(DOMAIN_ENV, "")
+
+
+def _base(mode: str, domain: str = "") -> zenoh.Config:
     conf = zenoh.Config()
     conf.insert_json5("mode", json.dumps(mode))
     conf.insert_json5("scouting/multicast/enabled", "false")
+    if domain:  # every key this session uses is put under "<domain>/": systems on one router never mix
+        conf.insert_json5("namespace", json.dumps(domain))
     return conf
 
 
@@ -41,17 +48,17 @@ def router_config(port: int) -> zenoh.Config:
     return conf
 
 
-def peer_config(connect: str) -> zenoh.Config:
+def peer_config(connect: str, domain: str = "") -> zenoh.Config:
     """A node: a peer that joins through the router at ``connect`` and listens on loopback."""
-    conf = _base("peer")
+    conf = _base("peer", domain)
     conf.insert_json5("connect/endpoints", json.dumps([connect]))
     conf.insert_json5("listen/endpoints", json.dumps(["tcp/127.0.0.1:0"]))
     return conf
 
 
-def client_config(connect: str, timeout: float) -> zenoh.Config:
+def client_config(connect: str, timeout: float, domain: str = "") -> zenoh.Config:
     """A command-line client of the router at ``connect``; opening fails after ``timeout`` s."""
-    conf = _base("client")
+    conf = _base("client", domain)
     conf.insert_json5("connect/endpoints", json.dumps([connect]))
     conf.insert_json5("connect/timeout_ms", str(int(timeout * 1000)))
     conf.insert_json5("connect/exit_on_failure", "true")

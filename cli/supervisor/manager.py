@@ -1,9 +1,10 @@
-"""The supervisor: runs a router, starts every node of a launch plan, watches them,
-and stops them all, in order, on request or when a required node dies.
+"""The supervisor: runs a router (or joins one), starts every node of a launch plan,
+watches them, respawns them with backoff, and stops them all, in order, on
+request or when a required node is gone for good.
 
-Shutdown escalates SIGINT -> SIGTERM -> SIGKILL with bounded waits, so the
-whole system is down within ``SHUTDOWN_BUDGET`` seconds and no child outlives
-the supervisor.  Never prints directly: everything goes through the Printer.
+Shutdown escalates SIGINT -> SIGTERM -> SIGKILL with the launch file's waits,
+each child getting each signal once, and no child outlives the supervisor.
+Never prints directly: everything goes through the Printer.
 """
 
 from __future__ import annotations
@@ -23,23 +24,31 @@ from cli.supervisor.process import Child, child_env, python_module_argv
 from messages.keys import NODE_TOKEN_PREFIX, parse_node_token
 from nodes.config import ENV_VAR, SUPERVISOR_PID_VAR, encode_config
 from nodes.kinds import KINDS
-from nodes.session import close_session, router_config
+from nodes.session import client_config, close_session, router_config
 
 POLL = 0.05  # s between checks of the children
-SIGINT_WAIT = 2.0  # s for children to stop after SIGINT
-SIGTERM_WAIT = 1.0  # s after SIGTERM, before SIGKILL
-SHUTDOWN_BUDGET = 5.0  # s: the most a shutdown may take
+STABLE_RUN = 10.0  # s: a child that ran this long has its respawn count reset
+KILL_WAIT = 1.0  # s for the kernel to reap SIGKILLed children
+
+
+def respawn_delay(first: float, cap: float, attempt: int) -> float:
+    """Delay (s) before respawn number ``attempt`` (1, 2, …): doubling from ``first``, at most ``cap``."""
+    return min(cap, first * 2.0 ** (attempt - 1)) if first > 0 else 0.0
 
 
 class Supervisor:
-    def __init__(self, plan: LaunchPlan, port: int, printer: Printer):
+    """``port`` given: run a router on 127.0.0.1:port.  ``port`` None: join the router at ``connect``."""
+
+    def __init__(self, plan: LaunchPlan, printer: Printer, port: int | None, connect: str, domain: str = ""):
         self.plan = plan
         self.port = port
-        self.endpoint = f"tcp/127.0.0.1:{port}"
+        self.endpoint = f"tcp/127.0.0.1:{port}" if port is not None else connect
+        self.domain = domain
         self.printer = printer
         self.children: dict[str, Child] = {}
         self.entries = {e.name: e for e in plan.launch.node}
         self._respawn_at: dict[str, float] = {}
+        self._crashes: dict[str, int] = {}  # respawns in a row, per node
         self._stop_reason: str | None = None
         self._exit_code = ExitCode.OK
         self._events: queue.SimpleQueue[tuple[bool, str, int]] = queue.SimpleQueue()
@@ -48,21 +57,34 @@ class Supervisor:
         self._t0 = time.monotonic()
 
     # -- lifecycle ----------------------------------------------------------
-    def run(self) -> int:
-        """Run until stopped; returns the exit code. Raises CliError if it cannot start."""
+    def _open(self) -> zenoh.Session:
+        if self.port is None:
+            try:
+                return zenoh.open(client_config(self.endpoint, 3.0))
+            except zenoh.ZError:
+                raise CliError(ExitCode.UNREACHABLE, f"no router at {self.endpoint} to join") from None
         try:
-            session = zenoh.open(router_config(self.port))
+            return zenoh.open(router_config(self.port))
         except zenoh.ZError as exc:
             reason = "the port is already in use" if "in use" in str(exc) else str(exc)
             raise CliError(
                 ExitCode.CANNOT_START,
                 f"cannot listen on {self.endpoint}: {reason} (another `turtlectl launch`? try --port)",
             ) from None
+
+    def run(self) -> int:
+        """Run until stopped; returns the exit code. Raises CliError if it cannot start."""
+        session = self._open()
         previous = {sig: signal.signal(sig, self._on_signal) for sig in (signal.SIGINT, signal.SIGTERM)}
         try:
-            watcher = session.liveliness().declare_subscriber(f"{NODE_TOKEN_PREFIX}/**", self._on_token, history=True)
+            prefix = f"{self.domain}/" if self.domain else ""
+            watcher = session.liveliness().declare_subscriber(
+                f"{prefix}{NODE_TOKEN_PREFIX}/**", self._on_token, history=True
+            )
             count = len(self.entries)
-            self.printer.system(f"router listening on {self.endpoint}; starting {count} node{'s' * (count != 1)}")
+            where = f"router listening on {self.endpoint}" if self.port is not None else f"joining {self.endpoint}"
+            domain = f" in domain {self.domain!r}" if self.domain else ""
+            self.printer.system(f"{where}{domain}; starting {count} node{'s' * (count != 1)}")
             for name in self.entries:
                 self._start(name)
             self._watch()
@@ -85,7 +107,10 @@ class Supervisor:
         self.stop(f"received {signal.Signals(signum).name}")
 
     def _on_token(self, sample: zenoh.Sample) -> None:  # Zenoh thread: queue only
-        info = parse_node_token(str(sample.key_expr))
+        key = str(sample.key_expr)
+        if self.domain:
+            key = key.removeprefix(f"{self.domain}/")
+        info = parse_node_token(key)
         if info is not None:
             self._events.put((sample.kind == zenoh.SampleKind.PUT, info.name, info.pid))
 
@@ -93,6 +118,7 @@ class Supervisor:
     def _child(self, name: str) -> Child:
         """The Child for node ``name``: its command and environment, made once."""
         config = node_config(self.plan, name, self.endpoint)
+        config.domain = self.domain
         env = child_env({ENV_VAR: encode_config(config), SUPERVISOR_PID_VAR: str(os.getpid())})
         return Child(name, python_module_argv(KINDS[config.kind].module), env, self.printer)
 
@@ -112,25 +138,37 @@ class Supervisor:
                         self._start(name)
                     continue
                 code = child.poll()
-                if code is None:
-                    continue
-                child.flush_output()
-                entry = self.entries[name]
-                how = f"exited with code {code}" if code >= 0 else f"was killed by {signal.Signals(-code).name}"
-                if entry.required:
-                    self.printer.system(f"{name} {how}; it is required, stopping the system")
-                    self.stop(f"required node {name} {how}", ExitCode.FAILED)
-                    break
-                if entry.respawn:
-                    self.printer.system(f"{name} {how}; respawning in {entry.respawn_delay:g} s")
-                    self._respawn_at[name] = now + entry.respawn_delay
-                else:
-                    self.printer.system(f"{name} {how}")
+                if code is not None:
+                    self._exited(name, child, code, now)
+                    if self._stop_reason is not None:
+                        break
             if self._stop_reason is None and not self._respawn_at and not any(
                 c.running() for c in self.children.values()
             ):
                 self.stop("every node has exited", ExitCode.FAILED)
             time.sleep(POLL)  # pacing: the supervisor's poll period
+
+    def _exited(self, name: str, child: Child, code: int, now: float) -> None:
+        """Decide what a child's exit means: respawn it (with backoff), or give up on it."""
+        child.flush_output()
+        entry = self.entries[name]
+        how = f"exited with code {code}" if code >= 0 else f"was killed by {signal.Signals(-code).name}"
+        if now - child.started_at >= STABLE_RUN:
+            self._crashes[name] = 0
+        crashes = self._crashes.get(name, 0)
+        if entry.respawn and (entry.respawn_max == 0 or crashes < entry.respawn_max):
+            self._crashes[name] = crashes + 1
+            delay = respawn_delay(entry.respawn_delay, entry.respawn_delay_max, crashes + 1)
+            self.printer.system(f"{name} {how}; respawning in {delay:g} s (respawn {crashes + 1})")
+            self._respawn_at[name] = now + delay
+            return
+        if entry.respawn:
+            how += f", after {crashes} respawns in a row; giving up on it"
+        if entry.required:
+            self.printer.system(f"{name} {how}; it is required, stopping the system")
+            self.stop(f"required node {name} {how}", ExitCode.FAILED)
+        else:
+            self.printer.system(f"{name} {how}")
 
     def _drain_events(self) -> None:
         while True:
@@ -150,8 +188,12 @@ class Supervisor:
 
     def _shutdown(self) -> None:
         """SIGINT, wait, SIGTERM, wait, SIGKILL: each child gets each signal once."""
-        deadline = time.monotonic() + SHUTDOWN_BUDGET
-        steps = ((signal.SIGINT, SIGINT_WAIT), (signal.SIGTERM, SIGTERM_WAIT), (signal.SIGKILL, 1.0))
+        settings = self.plan.launch.supervisor
+        steps = (
+            (signal.SIGINT, settings.sigint_timeout),
+            (signal.SIGTERM, settings.sigterm_timeout),
+            (signal.SIGKILL, KILL_WAIT),
+        )
         for sig, wait in steps:
             targets = [c for c in self.children.values() if c.running()]
             if not targets:
@@ -160,7 +202,7 @@ class Supervisor:
                 self.printer.system(f"sending {sig.name} to {', '.join(c.name for c in targets)}")
             for child in targets:
                 child.send(sig)
-            until = min(time.monotonic() + wait, deadline)
+            until = time.monotonic() + wait
             while time.monotonic() < until and any(c.running() for c in targets):
                 time.sleep(0.02)  # pacing: reaping children
         for child in self.children.values():

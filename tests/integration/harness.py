@@ -11,16 +11,18 @@ import math
 import os
 import queue
 import re
+import shutil
 import signal
 import socket
 import subprocess
 import sys
+import tempfile
 import threading
 import time
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from pathlib import Path
-from typing import TypeVar
+from typing import Any, TypeVar
 
 import zenoh
 
@@ -77,19 +79,29 @@ class SupervisorDied(AssertionError):
 class System:
     """A running `turtlectl launch` with a client session to its router."""
 
-    def __init__(self, launch_file: Path = DEFAULT_LAUNCH, extra_args: tuple[str, ...] = ()):
+    def __init__(
+        self,
+        launch_file: Path = DEFAULT_LAUNCH,
+        extra_args: tuple[str, ...] = (),
+        join: str | None = None,
+        domain: str = "",
+    ):
+        """``join``: run no router, join the one at that endpoint.  ``domain``: the system's key prefix."""
         self.port = free_port()
-        self.endpoint = f"tcp/127.0.0.1:{self.port}"
+        self.endpoint = join or f"tcp/127.0.0.1:{self.port}"
+        self.domain = domain
+        self.log_dir = Path(tempfile.mkdtemp(prefix="turtlectl-logs-"))
         self.lines: list[str] = []
         self._line_event = threading.Condition()
+        where = ("--connect", join) if join else ("--port", str(self.port))
         self.proc = subprocess.Popen(
-            [*turtlectl(), "launch", str(launch_file), "--port", str(self.port), *extra_args],
+            [*turtlectl(), *(("--domain", domain) if domain else ()), "launch", str(launch_file), *where, *extra_args],
             stdout=subprocess.PIPE,
             stderr=subprocess.STDOUT,
             stdin=subprocess.DEVNULL,
             start_new_session=True,
             text=True,
-            env={**os.environ, "PYTHONUNBUFFERED": "1"},
+            env={**os.environ, "PYTHONUNBUFFERED": "1", "TURTLECTL_LOG_DIR": str(self.log_dir)},
         )
         self.child_pids: set[int] = set()
         self.session: zenoh.Session | None = None
@@ -138,8 +150,8 @@ class System:
 
     # -- readiness -------------------------------------------------------------
     def connect(self, timeout: float = 20.0) -> zenoh.Session:
-        self.wait_line(r"router listening", timeout)
-        self.session = zenoh.open(client_config(self.endpoint, 3.0))
+        self.wait_line(r"router listening|joining", timeout)
+        self.session = zenoh.open(client_config(self.endpoint, 3.0, self.domain))
         self.session.liveliness().declare_subscriber(f"{NODE_TOKEN_PREFIX}/**", self._on_token, history=True)
         return self.session
 
@@ -246,7 +258,7 @@ class System:
 
     def run_cli(self, *args: str, timeout: float = 30.0) -> subprocess.CompletedProcess[str]:
         return subprocess.run(
-            [*turtlectl(), *args, "--connect", self.endpoint],
+            [*turtlectl(), *(("--domain", self.domain) if self.domain else ()), *args, "--connect", self.endpoint],
             capture_output=True,
             text=True,
             timeout=timeout,
@@ -280,11 +292,14 @@ class System:
             self.proc.wait(5)
         except subprocess.TimeoutExpired:
             pass
+        shutil.rmtree(self.log_dir, ignore_errors=True)
 
 
 @contextmanager
-def running_system(launch_file: Path = DEFAULT_LAUNCH, ready: tuple[str, ...] = NODES) -> Iterator[System]:
-    system = System(launch_file)
+def running_system(
+    launch_file: Path = DEFAULT_LAUNCH, ready: tuple[str, ...] = NODES, **options: Any
+) -> Iterator[System]:
+    system = System(launch_file, **options)
     try:
         if ready:
             system.wait_ready(ready)
