@@ -1,0 +1,220 @@
+"""Supervision that survives faults, against the real processes: respawn with backoff,
+required nodes, logs, partial systems, a router restart, domains, kill -9 mid-goal, garbage."""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+import re
+import signal
+import subprocess
+import time
+from pathlib import Path
+
+import msgspec
+import pytest
+
+from messages import Pose, TurtleStatus
+from messages.keys import STATUS
+from tests.integration.harness import NODES, free_port, running_system, turtlectl
+
+pytestmark = pytest.mark.integration
+
+FLAKY_MONITOR = """
+[[node]]
+name = "sim"
+run = "sim"
+[[node]]
+name = "status_monitor"
+run = "status_monitor"
+required = true
+respawn = true
+respawn_delay = 0.2
+respawn_max = 2
+"""
+
+
+def test_respawn_backs_off_then_a_required_node_that_keeps_dying_stops_the_system(tmp_path):
+    path = tmp_path / "flaky.toml"
+    path.write_text(FLAKY_MONITOR)
+    with running_system(path, ready=("sim", "status_monitor")) as system:
+        for attempt in (1, 2):
+            pid = system.alive["status_monitor"]
+            os.kill(pid, signal.SIGKILL)
+            system.wait_until(lambda p=pid: system.alive.get("status_monitor", p) != p, 10.0, "respawned monitor")
+        os.kill(system.alive["status_monitor"], signal.SIGKILL)
+        assert system.proc.wait(10) == 1
+        out = system.output()
+        assert "respawning in 0.2 s (respawn 1)" in out and "respawning in 0.4 s (respawn 2)" in out
+        assert "status_monitor was killed by SIGKILL, after 2 respawns in a row; giving up on it; it is required" in out
+        assert "stopped (required node status_monitor" in out
+
+
+def test_each_node_logs_to_its_own_file_in_the_run_folder(system):
+    folder = re.search(r"logs in (\S+)", system.output())
+    assert folder, system.output()
+    files = {p.name for p in Path(folder.group(1)).iterdir()}
+    assert files == {f"{n}.log" for n in NODES} | {"launch.log"}
+    sim_log = (Path(folder.group(1)) / "sim.log").read_text()
+    assert f"ready (pid {system.alive['sim']})" in sim_log
+    assert "|" not in sim_log.splitlines()[0]  # no prefix, no colour in the files
+
+
+def test_check_only_exclude_and_set():
+    check = subprocess.run(
+        [*turtlectl(), "launch", "--check", "--exclude", "obstacle_detector", "--set", "navigator.goal_timeout=42"],
+        capture_output=True, text=True, timeout=20,
+    )
+    assert check.returncode == 0, check.stderr
+    assert "nodes: sim, navigator, status_monitor" in check.stdout and '"goal_timeout":42.0' in check.stdout
+    bad = subprocess.run([*turtlectl(), "launch", "--check", "--set", "navigator.speed=3"], capture_output=True, text=True, timeout=20)
+    assert bad.returncode == 2 and "--set navigator: speed: unknown key" in bad.stderr
+    with running_system(ready=("sim", "navigator"), extra_args=("--only", "sim", "--only", "navigator", "--set", "navigator.goal_timeout=42")) as system:
+        graph = json.loads(system.run_cli("list", "--json").stdout)
+        assert {n["name"] for n in graph["nodes"]} == {"sim", "navigator"}
+        params = json.loads(system.run_cli("call", "turtlectl/params/navigator").stdout)
+        assert params["goal_timeout"] == 42.0
+
+
+class Router:
+    """`turtlectl router` on a free port, restartable."""
+
+    def __init__(self):
+        self.port = free_port()
+        self.endpoint = f"tcp/127.0.0.1:{self.port}"
+        self.proc: subprocess.Popen | None = None
+
+    def start(self) -> None:
+        self.proc = subprocess.Popen(
+            [*turtlectl(), "router", "--port", str(self.port)], stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True
+        )
+        assert self.proc.stdout is not None
+        line = self.proc.stdout.readline()  # an event: the router says it listens
+        assert "router listening" in line, line
+
+    def kill(self) -> None:
+        if self.proc is not None and self.proc.poll() is None:
+            self.proc.kill()
+            self.proc.wait(5)
+
+
+@pytest.fixture()
+def router():
+    r = Router()
+    r.start()
+    yield r
+    r.kill()
+
+
+def test_nodes_come_back_by_themselves_after_the_router_restarts(router):
+    with running_system(join=router.endpoint) as system:
+        pids = dict(system.alive)
+        router.kill()
+        system.wait_line(r"navigator .*lost the router", 10.0)
+        router.start()
+        system.wait_line(r"navigator .*router at .* is back", 15.0)
+        # a fresh client sees the same processes and the system works
+        deadline = time.monotonic() + 15
+        while True:
+            result = system.run_cli("list", "--json")
+            nodes = {n["name"]: n["pid"] for n in json.loads(result.stdout)["nodes"]} if result.returncode == 0 else {}
+            if nodes == pids:
+                break
+            assert time.monotonic() < deadline, f"graph after the restart: {nodes}"
+        goal = system.run_cli("goto", "3", "3", "0")
+        assert goal.returncode == 0, goal.stdout + goal.stderr
+
+
+def test_two_domains_on_one_router_never_mix(router):
+    with running_system(join=router.endpoint, domain="alpha") as a, running_system(join=router.endpoint, domain="beta") as b:
+        graph_a = json.loads(a.run_cli("list", "--json").stdout)
+        assert {n["pid"] for n in graph_a["nodes"]} == set(a.alive.values())
+        assert not set(a.alive.values()) & set(b.alive.values())
+        before_b = b.latest_pose()
+        assert a.run_cli("goto", "3", "7.5", "90").returncode == 0
+        after_a, after_b = a.latest_pose(), b.latest_pose()
+        assert math.hypot(after_a.x - 3, after_a.y - 7.5) < 0.01
+        assert (after_b.x, after_b.y) == (before_b.x, before_b.y)
+        plain = subprocess.run(
+            [*turtlectl(), "echo", "robot/status", "--timeout", "3.5", "--connect", router.endpoint],
+            capture_output=True, text=True, timeout=20,
+        )
+        assert plain.returncode == 3  # outside any domain there is nothing
+
+
+def wait_stopped(system, timeout: float) -> Pose:
+    deadline = time.monotonic() + timeout
+    while True:
+        pose = system.latest_pose()
+        if pose.linear_velocity == 0.0 and pose.angular_velocity == 0.0:
+            return pose
+        assert time.monotonic() < deadline, f"still moving: {pose}"
+
+
+def test_kill_9_the_navigator_mid_goal(system):
+    system.teleport(1.0, 5.5, 0.0)
+    goto = subprocess.Popen(
+        [*turtlectl(), "goto", "10", "5.5", "0", "--connect", system.endpoint],
+        stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+    )
+    deadline = time.monotonic() + 10
+    while abs(system.latest_pose().linear_velocity) < 1.0:
+        assert time.monotonic() < deadline
+    old = system.alive["navigator"]
+    os.kill(old, signal.SIGKILL)
+    killed = time.monotonic()
+    out, err = goto.communicate(timeout=10)
+    assert goto.returncode == 1 and "navigator stopped answering" in err, (out, err)
+    stopped = wait_stopped(system, 5.0)  # the sim's 1 s cmd_vel timeout, then braking
+    assert stopped.x < 10.0 - 0.5
+    system.wait_until(lambda: system.alive.get("navigator", old) != old, 10.0, "navigator respawned")
+    recovered = time.monotonic() - killed
+    goal = system.run_cli("goto", "3", "5.5", "0")
+    assert goal.returncode == 0, goal.stdout + goal.stderr
+    print(f"navigator back {recovered:.2f} s after kill -9")
+
+
+@pytest.mark.parametrize("victim", ["status_monitor", "obstacle_detector"])
+def test_kill_9_a_helper_mid_goal_does_not_fail_the_goal(system, victim):
+    system.teleport(2.0, 2.0, 0.0)
+    old = system.alive[victim]
+    goto = subprocess.Popen(
+        [*turtlectl(), "goto", "7", "4", "90", "--connect", system.endpoint], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True
+    )
+    deadline = time.monotonic() + 10
+    while abs(system.latest_pose().linear_velocity) < 0.5:
+        assert time.monotonic() < deadline
+    os.kill(old, signal.SIGKILL)
+    out, err = goto.communicate(timeout=20)
+    assert goto.returncode == 0, out + err
+    system.wait_until(lambda: system.alive.get(victim, old) != old, 10.0, f"{victim} respawned")
+
+
+GARBAGE = [b"", b"\xc1", b"not msgpack", msgspec.msgpack.encode({"type": "Twist", "linear": "x"}), b"\x00" * 4096]
+
+
+def test_garbage_on_every_key_is_dropped_and_logged_once_per_key(system):
+    pids = dict(system.wait_ready())
+    start = len(system.lines)
+    topics = ["turtle1/cmd_vel", "turtle1/pose", "robot/status", "obstacles", "navigate_to/feedback"]
+    services = ["navigate_to", "navigate_to/cancel", "turtle1/teleport_absolute", "reset"]
+    for _ in range(3):
+        for key in topics:
+            for payload in GARBAGE:
+                system.session.put(key, payload)
+        for key in services:
+            for payload in GARBAGE:
+                replies = list(system.session.get(key, payload=payload, timeout=5.0))
+                assert replies and all(r.err is not None for r in replies), key
+    goal = system.run_cli("goto", "5", "5", "0")
+    assert goal.returncode == 0, goal.stdout + goal.stderr
+    system.collect(STATUS, TurtleStatus, 2, timeout=5.0)
+    assert system.alive == pids
+    for node, key in [("sim", "turtle1/cmd_vel"), ("navigator", "turtle1/pose"), ("navigator", "navigate_to"),
+                      ("status_monitor", "turtle1/pose"), ("sim", "reset"), ("status_monitor", "reset")]:
+        system.wait_line(rf"{node} .*dropped malformed payload #1 on {re.escape(key)}:", 5.0, start)
+    logged = [line for line in system.lines[start:] if "dropped malformed payload" in line]
+    # 15 payloads per topic key (3 rounds x 5): logged once per key and node, not once per message
+    assert len(logged) <= len({(line.split("|")[0].strip(), line.split(" on ")[1].split(":")[0]) for line in logged})
+    assert not any("Traceback" in line for line in system.lines)
