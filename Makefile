@@ -24,6 +24,7 @@ unit: install  ## unit tests only
 bench: install  ## benchmark figures (see README, Performance)
 	$(BIN)/python bench/system.py
 	$(BIN)/python bench/navigation.py
+	$(BIN)/python bench/faults.py
 
 soak: install  ## goals back to back for 5 minutes
 	$(BIN)/python bench/system.py --minutes 5

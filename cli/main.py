@@ -7,6 +7,7 @@ into a message on stderr and an exit code.
 
 from __future__ import annotations
 
+import ipaddress
 import math
 import os
 import sys
@@ -75,7 +76,8 @@ def root(
 @app.command()
 def launch(
     file: Optional[Path] = typer.Argument(None, metavar="[FILE]", help="Launch file (default: ./launch.toml, else the packaged one)."),
-    port: int = typer.Option(DEFAULT_PORT, "--port", min=1, max=65535, help="Router port on 127.0.0.1."),
+    port: int = typer.Option(DEFAULT_PORT, "--port", min=1, max=65535, help="Router port."),
+    listen: str = typer.Option("127.0.0.1", "--listen", help="Address the router listens on (other hosts: theirs)."),
     join: Optional[str] = typer.Option(None, "--connect", help="Run no router: join the one at this endpoint."),
     only: list[str] = typer.Option([], "--only", help="Run only this node (repeatable)."),
     exclude: list[str] = typer.Option([], "--exclude", help="Do not run this node (repeatable)."),
@@ -114,7 +116,7 @@ def launch(
     printer.system(f"launch file {path}; logs in {run_folder}")
     connect = client.check_endpoint(join) if join is not None else ""
     try:
-        code = Supervisor(plan, printer, None if join else port, connect, default_domain()).run()
+        code = Supervisor(plan, printer, None if join else port, connect, default_domain(), check_host(listen)).run()
     finally:
         printer.close()
     raise typer.Exit(code)
@@ -122,13 +124,24 @@ def launch(
 
 @app.command()
 def router(
-    port: int = typer.Option(DEFAULT_PORT, "--port", min=1, max=65535, help="Port on 127.0.0.1."),
+    port: int = typer.Option(DEFAULT_PORT, "--port", min=1, max=65535, help="Port to listen on."),
+    listen: str = typer.Option("127.0.0.1", "--listen", help="Address to listen on (loopback by default)."),
 ) -> None:
     """Run a Zenoh router alone, for nodes started with `launch --connect` (as rmw_zenohd).
 
     Example: turtlectl router --port 7447
     """
-    run_router(port, lambda: typer.echo(f"router listening on tcp/127.0.0.1:{port}; Ctrl-C stops it"))
+    host = check_host(listen)
+    run_router(port, host, lambda: typer.echo(f"router listening on tcp/{host}:{port}; Ctrl-C stops it", err=False))
+
+
+def check_host(text: str) -> str:
+    """An IP address to listen on, as an endpoint writes it ([..] around IPv6), or CliError(BAD_INPUT)."""
+    try:
+        address = ipaddress.ip_address(text)
+        return f"[{address}]" if address.version == 6 else str(address)
+    except ValueError:
+        raise CliError(ExitCode.BAD_INPUT, f"--listen {text!r} is not an IP address") from None
 
 
 def _number(text: str, name: str) -> float:

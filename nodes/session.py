@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import json
 import os
+import socket
 import threading
 
 import zenoh
@@ -41,18 +42,37 @@ def _base(mode: str, domain: str = "") -> zenoh.Config:
     return conf
 
 
-def router_config(port: int) -> zenoh.Config:
-    """A router listening on loopback only."""
+def router_config(port: int, host: str = "127.0.0.1") -> zenoh.Config:
+    """A router listening on ``host`` (loopback unless told otherwise) at ``port``."""
     conf = _base("router")
-    conf.insert_json5("listen/endpoints", json.dumps([f"tcp/127.0.0.1:{port}"]))
+    conf.insert_json5("listen/endpoints", json.dumps([f"tcp/{host}:{port}"]))
     return conf
 
 
+def local_address_towards(endpoint: str) -> str:
+    """This machine's address on the route to ``endpoint`` (``tcp/HOST:PORT``), written for an
+    endpoint: 127.0.0.1 for a router on loopback.  Asks the kernel's routing table (a UDP
+    socket's connect sends nothing); falls back to 127.0.0.1."""
+    _, _, address = endpoint.partition("/")
+    host, _, port = address.rpartition(":")
+    host = host.strip("[]")
+    try:
+        infos = socket.getaddrinfo(host, int(port), type=socket.SOCK_DGRAM)
+        family, _, _, _, target = infos[0]
+        with socket.socket(family, socket.SOCK_DGRAM) as probe:
+            probe.connect(target)
+            local = probe.getsockname()[0]
+    except (OSError, ValueError, IndexError):
+        return "127.0.0.1"
+    return f"[{local}]" if ":" in local else local
+
+
 def peer_config(connect: str, domain: str = "") -> zenoh.Config:
-    """A node: a peer that joins through the router at ``connect`` and listens on loopback."""
+    """A node: a peer that joins through the router at ``connect`` and listens, for the other
+    peers, on the address it reaches the router from (loopback when the router is local)."""
     conf = _base("peer", domain)
     conf.insert_json5("connect/endpoints", json.dumps([connect]))
-    conf.insert_json5("listen/endpoints", json.dumps(["tcp/127.0.0.1:0"]))
+    conf.insert_json5("listen/endpoints", json.dumps([f"tcp/{local_address_towards(connect)}:0"]))
     return conf
 
 

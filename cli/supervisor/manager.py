@@ -37,12 +37,15 @@ def respawn_delay(first: float, cap: float, attempt: int) -> float:
 
 
 class Supervisor:
-    """``port`` given: run a router on 127.0.0.1:port.  ``port`` None: join the router at ``connect``."""
+    """``port`` given: run a router on ``host``:port.  ``port`` None: join the router at ``connect``."""
 
-    def __init__(self, plan: LaunchPlan, printer: Printer, port: int | None, connect: str, domain: str = ""):
+    def __init__(
+        self, plan: LaunchPlan, printer: Printer, port: int | None, connect: str, domain: str = "", host: str = "127.0.0.1"
+    ):
         self.plan = plan
         self.port = port
-        self.endpoint = f"tcp/127.0.0.1:{port}" if port is not None else connect
+        self.host = host
+        self.endpoint = f"tcp/{host}:{port}" if port is not None else connect
         self.domain = domain
         self.printer = printer
         self.children: dict[str, Child] = {}
@@ -64,7 +67,7 @@ class Supervisor:
             except zenoh.ZError:
                 raise CliError(ExitCode.UNREACHABLE, f"no router at {self.endpoint} to join") from None
         try:
-            return zenoh.open(router_config(self.port))
+            return zenoh.open(router_config(self.port, self.host))
         except zenoh.ZError as exc:
             reason = "the port is already in use" if "in use" in str(exc) else str(exc)
             raise CliError(

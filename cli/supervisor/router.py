@@ -13,11 +13,11 @@ from cli.errors import CliError, ExitCode
 from nodes.session import close_session, router_config
 
 
-def run_router(port: int, on_ready: Callable[[], None]) -> None:
-    """Serve as a router on tcp/127.0.0.1:``port`` until SIGINT/SIGTERM; ``on_ready()`` once listening."""
+def run_router(port: int, host: str, on_ready: Callable[[], None]) -> None:
+    """Serve as a router on tcp/``host``:``port`` until SIGINT/SIGTERM; ``on_ready()`` once listening."""
     stop = threading.Event()
     try:
-        session = zenoh.open(router_config(port))
+        session = zenoh.open(router_config(port, host))
     except zenoh.ZError as exc:
         reason = "the port is already in use" if "in use" in str(exc) else str(exc)
         raise CliError(ExitCode.CANNOT_START, f"cannot listen on port {port}: {reason}") from None

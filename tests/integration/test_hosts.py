@@ -1,0 +1,112 @@
+"""Nodes on another host: two network namespaces joined by a veth pair, made and removed
+by the test itself (only their own addresses are used), stand for two machines.
+
+Host A runs the system without its navigator, its router listening on A's veth
+address; host B runs only the navigator, joining A's router, and sends a goal.
+"""
+
+from __future__ import annotations
+
+import os
+import re
+import secrets
+import signal
+import subprocess
+import threading
+import time
+
+import pytest
+
+from tests.integration.harness import free_port, turtlectl
+
+pytestmark = pytest.mark.integration
+
+
+def sh(*argv: str) -> subprocess.CompletedProcess[str]:
+    return subprocess.run(list(argv), capture_output=True, text=True, timeout=20)
+
+
+@pytest.fixture()
+def hosts():
+    tag = secrets.token_hex(3)
+    a, b = f"tc-a-{tag}", f"tc-b-{tag}"
+    made = sh("ip", "netns", "add", a)
+    if made.returncode != 0:
+        pytest.skip(f"network namespaces are not available here: {made.stderr.strip()}")
+    try:
+        steps = [
+            ("ip", "netns", "add", b),
+            ("ip", "link", "add", f"va{tag}", "type", "veth", "peer", "name", f"vb{tag}"),
+            ("ip", "link", "set", f"va{tag}", "netns", a),
+            ("ip", "link", "set", f"vb{tag}", "netns", b),
+            ("ip", "-n", a, "addr", "add", "10.231.7.1/30", "dev", f"va{tag}"),
+            ("ip", "-n", b, "addr", "add", "10.231.7.2/30", "dev", f"vb{tag}"),
+            ("ip", "-n", a, "link", "set", f"va{tag}", "up"),
+            ("ip", "-n", b, "link", "set", f"vb{tag}", "up"),
+            ("ip", "-n", a, "link", "set", "lo", "up"),
+            ("ip", "-n", b, "link", "set", "lo", "up"),
+        ]
+        for step in steps:
+            done = sh(*step)
+            if done.returncode != 0:
+                pytest.skip(f"cannot build the test network ({' '.join(step)}): {done.stderr.strip()}")
+        yield a, b
+    finally:
+        sh("ip", "netns", "del", a)
+        sh("ip", "netns", "del", b)
+
+
+class Launch:
+    """`turtlectl launch` inside a namespace, its output collected."""
+
+    def __init__(self, netns: str, *args: str):
+        self.lines: list[str] = []
+        self.proc = subprocess.Popen(
+            ["ip", "netns", "exec", netns, *turtlectl(), "launch", *args],
+            stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, start_new_session=True,
+            env={**os.environ, "PYTHONUNBUFFERED": "1", "TURTLECTL_LOG_DIR": "/tmp/turtlectl-test-logs"},
+        )
+        threading.Thread(target=self._read, daemon=True).start()
+
+    def _read(self) -> None:
+        assert self.proc.stdout is not None
+        for line in self.proc.stdout:
+            self.lines.append(line.rstrip())
+
+    def wait_for(self, pattern: str, timeout: float) -> None:
+        deadline = time.monotonic() + timeout
+        while not any(re.search(pattern, line) for line in self.lines):
+            assert self.proc.poll() is None or any(re.search(pattern, line) for line in self.lines), "\n".join(self.lines)
+            assert time.monotonic() < deadline, f"no {pattern!r}:\n" + "\n".join(self.lines)
+            time.sleep(0.05)  # pacing: polling collected output under a deadline
+
+    def stop(self) -> None:
+        if self.proc.poll() is None:
+            os.killpg(self.proc.pid, signal.SIGINT)
+            try:
+                self.proc.wait(8)
+            except subprocess.TimeoutExpired:
+                os.killpg(self.proc.pid, signal.SIGKILL)
+
+
+def test_a_navigator_on_another_host_joins_the_system(hosts):
+    a, b = hosts
+    port = free_port()
+    endpoint = f"tcp/10.231.7.1:{port}"
+    host_a = Launch(a, "--exclude", "navigator", "--listen", "10.231.7.1", "--port", str(port))
+    host_b = None
+    try:
+        host_a.wait_for(r"all 3 nodes ready", 30)
+        host_b = Launch(b, "--only", "navigator", "--connect", endpoint)
+        host_b.wait_for(r"1 node ready", 30)
+        goal = sh("ip", "netns", "exec", b, *turtlectl(), "goto", "3", "3", "45", "--connect", endpoint)
+        assert goal.returncode == 0, goal.stdout + goal.stderr
+        assert "reached at (3.0" in goal.stdout
+        listed = sh("ip", "netns", "exec", a, *turtlectl(), "list", "--connect", endpoint)
+        assert "navigator" in listed.stdout and "obstacle_detector" in listed.stdout
+        # and nothing of the system is reachable from the root namespace on loopback
+        assert sh(*turtlectl(), "list", "--connect", f"tcp/127.0.0.1:{port}").returncode == 3
+    finally:
+        if host_b is not None:
+            host_b.stop()
+        host_a.stop()
