@@ -17,7 +17,7 @@ import pytest
 
 from messages import Pose, TurtleStatus
 from messages.keys import STATUS
-from tests.integration.harness import NODES, free_port, running_system, turtlectl
+from tests.integration.harness import NODES, free_port, pid_alive, running_system, turtlectl
 
 pytestmark = pytest.mark.integration
 
@@ -218,3 +218,33 @@ def test_garbage_on_every_key_is_dropped_and_logged_once_per_key(system):
     # 15 payloads per topic key (3 rounds x 5): logged once per key and node, not once per message
     assert len(logged) <= len({(line.split("|")[0].strip(), line.split(" on ")[1].split(":")[0]) for line in logged})
     assert not any("Traceback" in line for line in system.lines)
+
+
+STUBBORN = """
+[supervisor]
+sigint_timeout = 0.5
+sigterm_timeout = 0.5
+
+[[node]]
+name = "sim"
+run = "sim"
+[[node]]
+name = "navigator"
+run = "navigator"
+"""
+
+
+def test_shutdown_escalates_to_sigkill_for_a_child_that_does_not_stop(tmp_path):
+    path = tmp_path / "stubborn.toml"
+    path.write_text(STUBBORN)
+    with running_system(path, ready=("sim", "navigator")) as system:
+        pids = dict(system.alive)
+        os.kill(pids["navigator"], signal.SIGSTOP)  # a stopped process handles neither SIGINT nor SIGTERM
+        started = time.monotonic()
+        assert system.stop(signal.SIGINT) == 0
+        took = time.monotonic() - started
+        out = system.output()
+        assert "sending SIGTERM to navigator" in out and "sending SIGKILL to navigator" in out
+        assert "sending SIGTERM to sim" not in out  # sim stopped on its SIGINT
+        assert 1.0 <= took < 3.0, took  # the two 0.5 s waits, then the kill
+        assert not [p for p in pids.values() if pid_alive(p)]
