@@ -59,7 +59,7 @@ def main() -> None:
                 assert response.success, response
                 whole.append(time.monotonic() - killed)
             show(f"kill -9 {node}: new token (backoff 1, 2, 4 s)", token)
-            show(f"kill -9 {node}: a goal succeeds again", whole)
+            show(f"kill -9 {node}: a ~1 s goal has completed again", whole)
 
         at_rest = []
         for _ in range(args.rounds):
