@@ -26,7 +26,7 @@ def placement_problem(world: World, x: float, y: float, theta: float) -> str | N
         if not math.isfinite(value):
             return f"{name} is {value}"
     if not world.contains(x, y):
-        return f"({x:g}, {y:g}) is outside the world [0, {world.size:g}] m"
+        return f"({x:g}, {y:g}) is outside the world [0, {world.size:.10g}] m"
     for o in world.obstacles:
         if math.hypot(x - o.x, y - o.y) <= o.radius:
             return f"({x:g}, {y:g}) is inside an obstacle"

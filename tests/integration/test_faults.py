@@ -248,3 +248,39 @@ def test_shutdown_escalates_to_sigkill_for_a_child_that_does_not_stop(tmp_path):
         assert "sending SIGTERM to sim" not in out  # sim stopped on its SIGINT
         assert 1.0 <= took < 3.0, took  # the two 0.5 s waits, then the kill
         assert not [p for p in pids.values() if pid_alive(p)]
+
+
+def test_a_goal_fails_cleanly_when_poses_stop(system):
+    system.teleport(2.0, 5.0, 0.0)
+    goto = subprocess.Popen(
+        [*turtlectl(), "goto", "9", "5", "0", "--connect", system.endpoint], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True
+    )
+    sim = system.alive["sim"]
+    try:
+        deadline = time.monotonic() + 10
+        while abs(system.latest_pose().linear_velocity) < 0.5:
+            assert time.monotonic() < deadline
+        os.kill(sim, signal.SIGSTOP)  # the simulator freezes: no more poses
+        out, err = goto.communicate(timeout=10)
+        assert goto.returncode == 1 and "not reached: no pose after" in out, out + err
+    finally:
+        os.kill(sim, signal.SIGCONT)
+    system.latest_pose()  # poses flow again
+
+
+def test_kill_9_the_required_sim_mid_goal_stops_everything_and_tells_the_caller():
+    with running_system() as system:
+        pids = dict(system.alive)
+        goto = subprocess.Popen(
+            [*turtlectl(), "goto", "9", "2.5", "0", "--connect", system.endpoint],
+            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+        )
+        deadline = time.monotonic() + 10
+        while abs(system.latest_pose().linear_velocity) < 0.5:
+            assert time.monotonic() < deadline
+        os.kill(pids["sim"], signal.SIGKILL)
+        out, err = goto.communicate(timeout=10)
+        assert goto.returncode == 1, out + err
+        assert "no pose" in out or "navigator shut down" in out or "stopped answering" in err, out + err
+        assert system.proc.wait(10) == 1
+        assert not [p for p in pids.values() if pid_alive(p)]
