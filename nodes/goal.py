@@ -18,7 +18,7 @@ def goal_problem(request: NavigateToRequest, world: World) -> str | None:
         if not math.isfinite(value):
             return f"invalid goal: {name} is {value}"
     if not world.contains(request.x, request.y):
-        return f"invalid goal: ({request.x:g}, {request.y:g}) is outside the world [0, {world.size:g}] m"
+        return f"invalid goal: ({request.x:g}, {request.y:g}) is outside the world [0, {world.size:.10g}] m"
     for obstacle in world.obstacles:
         if math.hypot(request.x - obstacle.x, request.y - obstacle.y) <= obstacle.radius:
             return f"invalid goal: ({request.x:g}, {request.y:g}) is inside an obstacle"
