@@ -17,7 +17,7 @@ from typing import Optional
 
 import typer
 
-from cli import build, client, format
+from cli import build, client, format, services, topics
 from cli.errors import CliError, ExitCode
 from cli.graph import graph_text
 from cli.launchfile import NAME_RE, LaunchFileError, load_launch, node_config, select_nodes, with_params
@@ -27,14 +27,14 @@ from cli.supervisor.printer import Printer
 from cli.supervisor.process import exec_node
 from cli.supervisor.router import run_router
 from cli.view import run_view
-from messages import Cancel, Reset, TeleportAbsolute, keys
+from messages import Cancel, NavigateToRequest, Reset, TeleportAbsolute, keys
 from nodes.session import CONNECT_ENV, DEFAULT_ENDPOINT, DEFAULT_PORT, DOMAIN_ENV, default_domain
 
 EXIT_CODES = """
-Exit codes: 0 success; 1 ran but did not succeed (goal not reached, a required
-node died); 2 bad input (arguments, launch file); 3 nothing to talk to (no
-router, no navigator, no message); 4 launch could not start (port in use);
-130 interrupted (goto).
+Exit codes: 0 success; 1 ran but did not succeed (goal refused or not reached,
+a required node died); 2 bad input (arguments, launch file); 3 nothing to talk
+to (no router, no navigator, no message); 4 launch or router could not start
+(port in use, log folder); 130 interrupted (goto).
 """
 
 app = typer.Typer(
@@ -146,7 +146,7 @@ def check_host(text: str) -> str:
 
 def _number(text: str, name: str) -> float:
     try:
-        value = float(text)
+        value = float(text.replace("_", "?"))  # Python reads 1_0 as 10; a user did not mean that
     except ValueError:
         raise CliError(ExitCode.BAD_INPUT, f"{name} must be a number, got {text!r}") from None
     if not math.isfinite(value):
@@ -170,11 +170,11 @@ def goto(
 
     Example: turtlectl goto 8 5 90
     """
-    request = client.check_goal_input(_number(x, "x"), _number(y, "y"), _number(theta, "theta"))
+    request = NavigateToRequest(x=_number(x, "x"), y=_number(y, "y"), theta=_number(theta, "theta"))
     live = sys.stdout.isatty() and not json
     show = (lambda fb: typer.echo("\r\033[K" + format.progress_line(fb), nl=False)) if live else None
     try:
-        response, _ = client.navigate(connect, request, timeout, show)
+        response, _ = services.navigate(connect, request, timeout, show)
     except KeyboardInterrupt:
         raise CliError(ExitCode.INTERRUPTED, "interrupted: the navigator cancels the goal") from None
     finally:
@@ -192,7 +192,7 @@ def cancel(connect: str = ConnectOption) -> None:
 
     Example: turtlectl cancel
     """
-    (ack,) = client.simple_call(connect, keys.CANCEL, Cancel())
+    (ack,) = services.simple_call(connect, keys.CANCEL, Cancel())
     typer.echo(ack.detail)
     raise typer.Exit(ExitCode.OK if ack.ok else ExitCode.FAILED)
 
@@ -209,7 +209,7 @@ def teleport(
     Example: turtlectl teleport 2 2 45
     """
     request = TeleportAbsolute(x=_number(x, "x"), y=_number(y, "y"), theta=math.radians(_number(theta, "theta")))
-    typer.echo(format.ack_lines(client.simple_call(connect, keys.TELEPORT, request)))
+    typer.echo(format.ack_lines(services.simple_call(connect, keys.TELEPORT, request)))
 
 
 @app.command()
@@ -218,7 +218,7 @@ def reset(connect: str = ConnectOption) -> None:
 
     Example: turtlectl reset
     """
-    typer.echo(format.ack_lines(client.simple_call(connect, keys.RESET, Reset(), everyone=True)))
+    typer.echo(format.ack_lines(services.simple_call(connect, keys.RESET, Reset(), everyone=True)))
 
 
 @app.command()
@@ -242,8 +242,8 @@ def echo(
     limit = 1 if once else count
     header = False
     try:
-        for item in client.stream(connect, topic, limit, timeout):
-            if isinstance(item, client.Silence):
+        for item in topics.stream(connect, topic, limit, timeout):
+            if isinstance(item, topics.Silence):
                 typer.echo(f"nothing published on {topic} yet (is `turtlectl launch` running?)", err=True)
                 continue
             if item.message is None:
@@ -278,13 +278,13 @@ def list_graph(
 
     Example: turtlectl list
     """
-    current = client.graph(connect)
+    current = topics.graph(connect)
     typer.echo(format.json_value(current) if json else graph_text(current))
 
 
 @app.command()
 def hz(
-    topics: list[str] = typer.Argument(..., metavar="TOPIC...", help="One or more key expressions."),
+    names: list[str] = typer.Argument(..., metavar="TOPIC...", help="One or more key expressions."),
     window: int = typer.Option(100, "--window", min=2, help="Messages per statistic."),
     duration: Optional[float] = typer.Option(None, "--duration", min=0.5, help="Stop after S seconds."),
     json: bool = typer.Option(False, "--json", help="JSON lines."),
@@ -296,14 +296,14 @@ def hz(
     """
     last: list = []
     try:
-        for stats in client.measure_rates(connect, topics, window, duration):
+        for stats in topics.measure_rates(connect, names, window, duration):
             last = stats
             for st in stats:
                 typer.echo(format.json_value(st) if json else rate_line(st))
     except KeyboardInterrupt:
         pass
     if duration is not None and not last:
-        raise CliError(ExitCode.UNREACHABLE, f"no messages on {', '.join(topics)} within {duration:g} s")
+        raise CliError(ExitCode.UNREACHABLE, f"no messages on {', '.join(names)} within {duration:g} s")
 
 
 @app.command()
@@ -325,7 +325,7 @@ def pub(
         raise CliError(ExitCode.BAD_INPUT, "--once does not go with --rate or --times")
     count = times if times is not None else (None if rate is not None else 1)
     try:
-        sent = client.publish(connect, topic, msg, rate if rate is not None else 10.0, count)
+        sent = topics.publish(connect, topic, msg, rate if rate is not None else 10.0, count)
     except KeyboardInterrupt:
         return
     typer.echo(f"published {sent} {type(msg).__name__} on {topic}", err=True)
@@ -346,8 +346,8 @@ def call(
     Example: turtlectl call turtle1/teleport_absolute '{"x": 2, "y": 2, "theta": 0}'
     """
     body = build.service_request(client.check_key(service), request, type_name)
-    for reply in client.call_service(connect, service, body, timeout):
-        if isinstance(reply, client.Raw):
+    for reply in services.call_service(connect, service, body, timeout):
+        if isinstance(reply, services.Raw):
             typer.echo(reply.payload.decode("utf-8", "replace"))
         else:
             typer.echo(format.message_json(reply) if json else format.message_block(reply))
@@ -383,7 +383,7 @@ def view(connect: str = ConnectOption) -> None:
     Example: turtlectl view
     """
     with client.client_session(connect) as session:
-        run_view(session, client.world(session))
+        run_view(session, services.world(session))
 
 
 def main() -> None:

@@ -81,27 +81,27 @@ def render(scene: Scene, cols: int, rows: int, unicode: bool = True) -> list[str
 
     lines = ["+" + "-" * width + "+"] + ["|" + "".join(row) + "|" for row in grid] + ["+" + "-" * width + "+"]
     lines += [""] * (map_rows - len(lines))
-    lines.append(status_line(scene)[:cols])
-    lines.append("q quits"[:cols])
+    lines += status_lines(scene)
     return [line[:cols] for line in lines[:rows]]
 
 
-def status_line(scene: Scene) -> str:
-    parts = []
+def status_lines(scene: Scene) -> list[str]:
+    """Two lines: where the turtle is and how fast; battery, goal and the key to quit."""
     if scene.pose is None:
-        parts.append("waiting for turtle1/pose")
+        where = "waiting for turtle1/pose"
     else:
         p = scene.pose
-        parts.append(f"x {p.x:5.2f} y {p.y:5.2f} heading {math.degrees(p.theta) % 360:5.1f} deg")
-        parts.append(f"speed {p.linear_velocity:5.2f} m/s")
+        where = (
+            f"x {p.x:5.2f} y {p.y:5.2f} heading {math.degrees(p.theta) % 360:5.1f} deg | "
+            f"speed {p.linear_velocity:5.2f} m/s"
+        )
+    parts = []
     if scene.status is not None:
-        parts.append(f"battery {scene.status.battery:5.1f} %")
+        parts.append(f"battery {scene.status.battery:.1f} %")
     fb = scene.feedback
-    if fb is not None:
-        parts.append(f"goal ({fb.goal_x:.2f}, {fb.goal_y:.2f}) {fb.state} {fb.distance_remaining:.2f} m")
-    else:
-        parts.append("no goal")
-    return " | ".join(parts)
+    parts.append(f"goal ({fb.goal_x:.2f}, {fb.goal_y:.2f}) {fb.state} {fb.distance_remaining:.2f} m" if fb else "no goal")
+    parts.append("q quits")
+    return [where, " | ".join(parts)]
 
 
 def run_view(session: zenoh.Session, world: World) -> None:

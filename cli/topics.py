@@ -1,0 +1,158 @@
+"""Topics for the command-line tools: echo's stream, hz's rates, pub, and the live graph.
+
+Nothing here prints; functions return data or raise CliError.
+"""
+
+from __future__ import annotations
+
+import collections
+import contextlib
+import queue
+import time
+from collections.abc import Iterator
+
+import msgspec
+import zenoh
+
+from cli.client import check_key, client_session
+from cli.errors import CliError, ExitCode
+from cli.graph import Graph, build_graph
+from cli.rates import RateStats, rate_stats
+from messages import DecodeError, Message, decode, decode_any, encode, encoding_for, type_from_encoding
+from messages.keys import GRAPH
+
+
+class Received:
+    """One sample as echo sees it: the key, the decoded message or why it is not one."""
+
+    def __init__(self, key: str, message: Message | None, problem: str = ""):
+        self.key = key
+        self.message = message
+        self.problem = problem
+
+
+def decode_sample(key: str, payload: bytes, encoding: str) -> Received:
+    """Decode by the type named in the sample's encoding (any tagged message otherwise)."""
+    msg_type = type_from_encoding(encoding)
+    try:
+        message = decode(payload, msg_type) if msg_type is not None else decode_any(payload)
+    except DecodeError as exc:
+        return Received(key, None, f"{exc} (encoding {encoding!r}, {len(payload)} bytes)")
+    return Received(key, message)
+
+
+@contextlib.contextmanager
+def subscription(session: zenoh.Session, key: str) -> Iterator[queue.SimpleQueue[Received]]:
+    """Queue of decoded samples on ``key`` (a key expression) for the caller's thread."""
+    samples: queue.SimpleQueue[Received] = queue.SimpleQueue()
+
+    def on_sample(sample: zenoh.Sample) -> None:  # Zenoh thread: decode and queue
+        samples.put(decode_sample(str(sample.key_expr), sample.payload.to_bytes(), str(sample.encoding)))
+
+    sub = session.declare_subscriber(key, on_sample)
+    try:
+        yield samples
+    finally:
+        sub.undeclare()
+
+
+SILENCE = 3.0  # s without any message before echo tells the user
+
+
+class Silence:
+    """Yielded by ``stream`` once when nothing has arrived for SILENCE seconds."""
+
+
+def stream(connect: str, topic: str, count: int | None, timeout: float | None) -> Iterator[Received | Silence]:
+    """Decoded samples on ``key`` until ``count`` valid messages or ``timeout`` s.
+
+    Yields a ``Silence`` once if nothing at all arrives for SILENCE s.  Raises
+    CliError(UNREACHABLE) if ``timeout`` passes without any message.
+    """
+    key = check_key(topic)
+    with client_session(connect) as session, subscription(session, key) as samples:
+        started = time.monotonic()
+        deadline = None if timeout is None else started + timeout
+        received = 0
+        warned = False
+        while count is None or received < count:
+            now = time.monotonic()
+            if deadline is not None and now >= deadline:
+                if received == 0:
+                    raise CliError(ExitCode.UNREACHABLE, f"no message on {key} within {timeout:g} s")
+                return
+            if not warned and received == 0 and now - started >= SILENCE:
+                warned = True
+                yield Silence()
+            wait = 0.1 if deadline is None else min(0.1, max(0.0, deadline - now))
+            try:
+                item = samples.get(timeout=wait)  # short waits keep Ctrl-C responsive
+            except queue.Empty:
+                continue
+            if item.message is not None:
+                received += 1
+            yield item
+
+
+def measure_rates(
+    connect: str, topics: list[str], window: int, duration: float | None
+) -> Iterator[list[RateStats]]:
+    """Every second, the rate statistics of each topic over its last ``window`` messages;
+    ends after ``duration`` s (None: until Ctrl-C)."""
+    keys = [check_key(t) for t in topics]
+    arrivals = {k: collections.deque(maxlen=window) for k in keys}
+    stamps = {k: collections.deque(maxlen=window) for k in keys}
+    inbox: queue.SimpleQueue[tuple[str, float, bytes]] = queue.SimpleQueue()
+    with client_session(connect) as session:
+        subs = [
+            session.declare_subscriber(k, lambda s, k=k: inbox.put((k, time.monotonic(), s.payload.to_bytes())))
+            for k in keys
+        ]
+        started = time.monotonic()
+        next_report = started + 1.0
+        while duration is None or time.monotonic() - started < duration:
+            try:
+                key, arrived, payload = inbox.get(timeout=0.05)
+                arrivals[key].append(arrived)
+                try:
+                    stamps[key].append(getattr(decode_any(payload), "stamp", 0))
+                except DecodeError:
+                    pass
+            except queue.Empty:
+                pass
+            if time.monotonic() >= next_report:
+                next_report += 1.0
+                yield [st for k in keys if (st := rate_stats(k, list(arrivals[k]), list(stamps[k]))) is not None]
+        for sub in subs:
+            sub.undeclare()
+        yield [st for k in keys if (st := rate_stats(k, list(arrivals[k]), list(stamps[k]))) is not None]
+
+
+def publish(connect: str, topic: str, message: Message, rate: float | None, times: int | None) -> int:
+    """Publish ``message`` on ``topic`` ``times`` times (None: until Ctrl-C) at ``rate`` Hz,
+    stamping each copy; returns how many were sent."""
+    key = check_key(topic)
+    sent = 0
+    with client_session(connect) as session:
+        pub = session.declare_publisher(key, encoding=zenoh.Encoding(encoding_for(type(message))))
+        period = 1.0 / rate if rate else 0.0
+        start = time.monotonic()
+        try:
+            while times is None or sent < times:
+                if sent:
+                    time.sleep(max(0.0, start + sent * period - time.monotonic()))  # absolute schedule
+                stamped = message
+                if "stamp" in type(message).__struct_fields__:
+                    stamped = msgspec.structs.replace(message, stamp=time.time_ns(), seq=sent)
+                pub.put(encode(stamped))
+                sent += 1
+        finally:
+            pub.undeclare()
+    return sent
+
+
+def graph(connect: str) -> Graph:
+    """The live graph: asked of the router's liveliness table now, never cached."""
+    with client_session(connect) as session:
+        keys = [str(r.ok.key_expr) for r in session.liveliness().get(GRAPH, timeout=2.0) if r.ok is not None]
+    return build_graph(keys, time.time_ns())
