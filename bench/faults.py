@@ -68,11 +68,11 @@ def main() -> None:
                 [sys.executable, "-m", "cli", "goto", "10", "5.5", "0", "--connect", system.endpoint],
                 stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
             )
-            wait(lambda: abs(system.latest_pose().linear_velocity) > 1.0, 10.0, "the turtle moving")
+            system.wait_moving(1.0)
             old = system.alive["navigator"]
             os.kill(old, signal.SIGKILL)
             killed = time.monotonic()
-            wait(lambda: system.latest_pose().linear_velocity == 0.0, 10.0, "the turtle at rest")
+            system.wait_stopped(10.0)
             at_rest.append(time.monotonic() - killed)
             goal.wait(10)
             system.wait_until(lambda o=old: system.alive.get("navigator", o) != o, 20.0, "navigator back")

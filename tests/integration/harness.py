@@ -245,6 +245,24 @@ class System:
     def latest_pose(self) -> Pose:
         return self.collect(POSE, Pose, 1, timeout=5.0)[0][1]
 
+    def wait_moving(self, speed: float = 0.5, timeout: float = 10.0) -> Pose:
+        """The first pose showing the turtle faster than ``speed`` m/s (an event, not a sleep)."""
+        deadline = time.monotonic() + timeout
+        while True:
+            pose = self.latest_pose()
+            if abs(pose.linear_velocity) > speed:
+                return pose
+            assert time.monotonic() < deadline, f"the turtle never reached {speed} m/s: {pose}"
+
+    def wait_stopped(self, timeout: float = 3.0) -> Pose:
+        """The first pose showing the turtle at rest."""
+        deadline = time.monotonic() + timeout
+        while True:
+            pose = self.latest_pose()
+            if pose.linear_velocity == 0.0 and pose.angular_velocity == 0.0:
+                return pose
+            assert time.monotonic() < deadline, f"the turtle did not stop within {timeout} s: {pose}"
+
     def teleport(self, x: float, y: float, theta: float) -> None:
         """Put the turtle at (x, y) m facing theta rad, and wait until the pose says so."""
         replies = self.call(TELEPORT, TeleportAbsolute(x=x, y=y, theta=theta))

@@ -15,7 +15,7 @@ from pathlib import Path
 import msgspec
 import pytest
 
-from messages import Pose, TurtleStatus
+from messages import TurtleStatus
 from messages.keys import STATUS
 from tests.integration.harness import NODES, free_port, pid_alive, running_system, turtlectl
 
@@ -143,30 +143,19 @@ def test_two_domains_on_one_router_never_mix(router):
         assert plain.returncode == 3  # outside any domain there is nothing
 
 
-def wait_stopped(system, timeout: float) -> Pose:
-    deadline = time.monotonic() + timeout
-    while True:
-        pose = system.latest_pose()
-        if pose.linear_velocity == 0.0 and pose.angular_velocity == 0.0:
-            return pose
-        assert time.monotonic() < deadline, f"still moving: {pose}"
-
-
 def test_kill_9_the_navigator_mid_goal(system):
     system.teleport(1.0, 5.5, 0.0)
     goto = subprocess.Popen(
         [*turtlectl(), "goto", "10", "5.5", "0", "--connect", system.endpoint],
         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
     )
-    deadline = time.monotonic() + 10
-    while abs(system.latest_pose().linear_velocity) < 1.0:
-        assert time.monotonic() < deadline
+    system.wait_moving(1.0)
     old = system.alive["navigator"]
     os.kill(old, signal.SIGKILL)
     killed = time.monotonic()
     out, err = goto.communicate(timeout=10)
     assert goto.returncode == 1 and "navigator stopped answering" in err, (out, err)
-    stopped = wait_stopped(system, 5.0)  # the sim's 1 s cmd_vel timeout, then braking
+    stopped = system.wait_stopped(5.0)  # the sim's 1 s cmd_vel timeout, then braking
     assert stopped.x < 10.0 - 0.5
     system.wait_until(lambda: system.alive.get("navigator", old) != old, 10.0, "navigator respawned")
     recovered = time.monotonic() - killed
@@ -182,9 +171,7 @@ def test_kill_9_a_helper_mid_goal_does_not_fail_the_goal(system, victim):
     goto = subprocess.Popen(
         [*turtlectl(), "goto", "7", "4", "90", "--connect", system.endpoint], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True
     )
-    deadline = time.monotonic() + 10
-    while abs(system.latest_pose().linear_velocity) < 0.5:
-        assert time.monotonic() < deadline
+    system.wait_moving(0.5)
     os.kill(old, signal.SIGKILL)
     out, err = goto.communicate(timeout=20)
     assert goto.returncode == 0, out + err
@@ -257,9 +244,7 @@ def test_a_goal_fails_cleanly_when_poses_stop(system):
     )
     sim = system.alive["sim"]
     try:
-        deadline = time.monotonic() + 10
-        while abs(system.latest_pose().linear_velocity) < 0.5:
-            assert time.monotonic() < deadline
+        system.wait_moving(0.5)
         os.kill(sim, signal.SIGSTOP)  # the simulator freezes: no more poses
         out, err = goto.communicate(timeout=10)
         assert goto.returncode == 1 and "not reached: no pose after" in out, out + err
@@ -275,9 +260,7 @@ def test_kill_9_the_required_sim_mid_goal_stops_everything_and_tells_the_caller(
             [*turtlectl(), "goto", "9", "2.5", "0", "--connect", system.endpoint],
             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
         )
-        deadline = time.monotonic() + 10
-        while abs(system.latest_pose().linear_velocity) < 0.5:
-            assert time.monotonic() < deadline
+        system.wait_moving(0.5)
         os.kill(pids["sim"], signal.SIGKILL)
         out, err = goto.communicate(timeout=10)
         assert goto.returncode == 1, out + err

@@ -18,7 +18,7 @@ import time
 
 import pytest
 
-from messages import Ack, Cancel, LaserScan, Pose, Reset, TeleportAbsolute, TurtleStatus, Twist, decode, encode
+from messages import Ack, Cancel, LaserScan, Reset, TeleportAbsolute, TurtleStatus, Twist, decode, encode
 from messages.keys import CANCEL, CMD_VEL, OBSTACLES, RESET, STATUS, TELEPORT
 from tests.integration.harness import running_system, turtlectl
 
@@ -79,25 +79,6 @@ class Background:
         return self.result.get(timeout=timeout)
 
 
-def wait_moving(system, timeout=5.0) -> Pose:
-    """The first pose showing the turtle under way (an event, not a sleep)."""
-    deadline = time.monotonic() + timeout
-    while time.monotonic() < deadline:
-        pose = system.latest_pose()
-        if abs(pose.linear_velocity) > 0.5:
-            return pose
-    raise AssertionError("the turtle never started moving")
-
-
-def wait_stopped(system, timeout=3.0) -> Pose:
-    deadline = time.monotonic() + timeout
-    while time.monotonic() < deadline:
-        pose = system.latest_pose()
-        if pose.linear_velocity == 0.0 and pose.angular_velocity == 0.0:
-            return pose
-    raise AssertionError(f"the turtle did not stop within {timeout} s: {pose}")
-
-
 def scan(blocking: bool) -> LaserScan:
     """A full-circle scan; with ``blocking``, something 0.3 m in every direction."""
     n = 72
@@ -125,7 +106,7 @@ def test_feedback_streams_while_a_goal_runs(lifecycle):
 def test_a_new_goal_preempts_the_running_one(lifecycle):
     lifecycle.teleport(2.0, 5.0, 0.0)
     first = Background(lifecycle, 10.0, 5.0, 0.0)
-    wait_moving(lifecycle)
+    lifecycle.wait_moving()
     second, _, _ = lifecycle.navigate(3.0, 3.0, 180.0)
     old, _, _ = first.outcome()
     assert not old.success and old.reason == "preempted"
@@ -138,7 +119,7 @@ def test_cancel_stops_the_turtle_and_tells_the_caller(lifecycle):
     sub = lifecycle.session.declare_subscriber(CMD_VEL, lambda s: cmds.put(decode(s.payload.to_bytes(), Twist)))
     try:
         goal = Background(lifecycle, 10.0, 1.0, 0.0)
-        wait_moving(lifecycle)
+        lifecycle.wait_moving()
         replies = lifecycle.call(CANCEL, Cancel())
         ack = decode(replies[0].ok.payload.to_bytes(), Ack)
         assert ack.ok and "canceled the goal (10, 1, 0 deg)" in ack.detail
@@ -149,7 +130,7 @@ def test_cancel_stops_the_turtle_and_tells_the_caller(lifecycle):
         while not cmds.empty():
             last = cmds.get()
         assert last == Twist(linear=0.0, angular=0.0, stamp=last.stamp, seq=last.seq)
-        stopped = wait_stopped(lifecycle)
+        stopped = lifecycle.wait_stopped()
         assert stopped.x < 10.0 - 0.01
     finally:
         sub.undeclare()
@@ -168,11 +149,11 @@ def test_a_caller_that_goes_away_does_not_leave_the_turtle_driving(lifecycle, si
         text=True,
     )
     try:
-        wait_moving(lifecycle)
+        lifecycle.wait_moving()
         goto.send_signal(sig)
         goto.wait(5)
         lifecycle.wait_line(r"navigator .*goal failed .*: caller gone", 5.0, start)
-        pose = wait_stopped(lifecycle)
+        pose = lifecycle.wait_stopped()
         assert math.hypot(pose.x - 10.0, pose.y - 2.0) > 0.5  # stopped on the way, not at the goal
         if sig == signal.SIGINT:
             assert goto.returncode == 130 and "interrupted" in goto.stderr.read()
@@ -184,11 +165,11 @@ def test_blocked_then_cleared_resumes_by_itself(lifecycle):
     lifecycle.teleport(2.0, 5.0, 0.0)
     pub = lifecycle.session.declare_publisher(OBSTACLES)
     goal = Background(lifecycle, 8.0, 5.0, 0.0)
-    wait_moving(lifecycle)
+    lifecycle.wait_moving()
     for _ in range(5):  # 1 s of "something 0.3 m ahead" at 5 Hz
         pub.put(encode(scan(True)))
         time.sleep(0.2)  # pacing: the sensor's 5 Hz
-    stopped = wait_stopped(lifecycle)
+    stopped = lifecycle.wait_stopped()
     for _ in range(3):
         pub.put(encode(scan(False)))
         time.sleep(0.2)  # pacing: the sensor's 5 Hz
