@@ -40,7 +40,9 @@ def select_field(msg: Message, path: str) -> Any:
     for part in path.split("."):
         if isinstance(value, dict) and part in value:
             value = value[part]
-        elif isinstance(value, list) and part.lstrip("-").isdigit() and -len(value) <= int(part) < len(value):
+        elif isinstance(value, list) and part.lstrip("-").isdigit():
+            if not -len(value) <= int(part) < len(value):
+                raise CliError(ExitCode.BAD_INPUT, f"{path!r}: index {part} is out of range ({len(value)} values)")
             value = value[int(part)]
         else:
             raise CliError(ExitCode.BAD_INPUT, f"{type(msg).__name__} has no field {path!r}")

@@ -70,7 +70,7 @@ def graph_text(graph: Graph) -> str:
     lines += [f"  {n.name:20s} pid {n.pid:<8d} host {n.host:16s} up {n.uptime:8.1f} s" for n in graph.nodes] or ["  (none)"]
     lines.append("TOPICS")
     for t in graph.topics:
-        lines.append(f"  {t.key:22s} {t.type:14s} pub: {', '.join(t.publishers) or '-':30s} sub: {', '.join(t.subscribers) or '-'}")
+        lines.append(f"  {t.key:22s} {t.type:20s} pub: {', '.join(t.publishers) or '-':20s} sub: {', '.join(t.subscribers) or '-'}")
     if not graph.topics:
         lines.append("  (none)")
     lines.append("SERVICES")

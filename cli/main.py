@@ -10,6 +10,7 @@ from __future__ import annotations
 import ipaddress
 import math
 import os
+import re
 import sys
 import time
 from pathlib import Path
@@ -20,7 +21,7 @@ import typer
 from cli import build, client, format, services, topics
 from cli.errors import CliError, ExitCode
 from cli.graph import graph_text
-from cli.launchfile import NAME_RE, LaunchFileError, load_launch, node_config, select_nodes, with_params
+from cli.launchfile import LaunchFileError, load_launch, node_config, select_nodes, with_params
 from cli.rates import rate_line
 from cli.supervisor.manager import Supervisor
 from cli.supervisor.printer import Printer
@@ -48,6 +49,7 @@ app = typer.Typer(
 )
 
 PACKAGED_LAUNCH = Path(__file__).resolve().parent / "launch.toml"
+DOMAIN_RE = re.compile(r"^[A-Za-z0-9_\-]+$")  # one key chunk; a number like ROS_DOMAIN_ID is fine
 
 ConnectOption = typer.Option(
     DEFAULT_ENDPOINT, "--connect", envvar=CONNECT_ENV, help="Router endpoint of the system to talk to."
@@ -68,8 +70,8 @@ def root(
 ) -> None:
     """A turtle robot over Zenoh, the ROS 2 way."""
     if domain:
-        if not NAME_RE.match(domain):
-            raise CliError(ExitCode.BAD_INPUT, f"--domain {domain!r}: use letters, digits, _ and -")
+        if not DOMAIN_RE.match(domain):
+            raise CliError(ExitCode.BAD_INPUT, f"--domain {domain!r}: use letters, digits, _ and - (like lab1 or 42)")
         os.environ[DOMAIN_ENV] = domain  # read by every session this process opens
 
 
@@ -98,7 +100,8 @@ def launch(
             target, dot, assignment = item.partition(".")
             if not dot or target not in plan.params:
                 raise LaunchFileError(f"--set {item!r}: write it as NODE.PARAM=VALUE with a node of the plan")
-            plan = with_params(plan, target, build.apply_overrides(plan.params[target], [assignment]), f"--set {target}")
+            params = build.apply_overrides(plan.params[target], [assignment], option="--set")
+            plan = with_params(plan, target, params, f"--set {target}")
     except LaunchFileError as exc:
         raise CliError(ExitCode.BAD_INPUT, str(exc)) from None
     if check:
@@ -159,7 +162,9 @@ def goto(
     x: str = typer.Argument(..., metavar="X", help="Goal x, m."),
     y: str = typer.Argument(..., metavar="Y", help="Goal y, m."),
     theta: str = typer.Argument(..., metavar="THETA", help="Goal heading, degrees (negative values are fine)."),
-    timeout: float = typer.Option(60.0, "--timeout", min=0.1, help="Give up after this many seconds."),
+    timeout: Optional[float] = typer.Option(
+        None, "--timeout", min=0.1, help="Stop waiting (and cancel the goal) after S seconds; default: the navigator's goal_timeout."
+    ),
     json: bool = typer.Option(False, "--json", help="Print the response as one JSON object."),
     connect: str = ConnectOption,
 ) -> None:
@@ -174,7 +179,7 @@ def goto(
     live = sys.stdout.isatty() and not json
     show = (lambda fb: typer.echo("\r\033[K" + format.progress_line(fb), nl=False)) if live else None
     try:
-        response, _ = services.navigate(connect, request, timeout, show)
+        response, _ = services.navigate(connect, request, timeout if timeout is not None else services.NO_LIMIT, show)
     except KeyboardInterrupt:
         raise CliError(ExitCode.INTERRUPTED, "interrupted: the navigator cancels the goal") from None
     finally:
@@ -239,6 +244,8 @@ def echo(
     """
     if json and csv:
         raise CliError(ExitCode.BAD_INPUT, "--json and --csv do not go together")
+    if once and count is not None:
+        raise CliError(ExitCode.BAD_INPUT, "--once and --count do not go together")
     limit = 1 if once else count
     header = False
     try:
@@ -320,7 +327,7 @@ def pub(
 
     Example: turtlectl pub turtle1/cmd_vel '{"linear": 1.0, "angular": 0.5}' --rate 10
     """
-    msg = build.topic_message(client.check_key(topic), message, type_name)
+    msg = build.topic_message(client.check_key(topic, publish=True), message, type_name)
     if once and (rate is not None or times is not None):
         raise CliError(ExitCode.BAD_INPUT, "--once does not go with --rate or --times")
     count = times if times is not None else (None if rate is not None else 1)

@@ -35,6 +35,10 @@ from messages.keys import CLIENT_TOKEN_PREFIX, NAVIGATE_TO, WORLD_KEY
 from sim.world import World
 
 
+class NoAnswer(CliError):
+    """The call's time ran out (the service may have been answering: feedback)."""
+
+
 class Raw(msgspec.Struct):
     """A reply that is not a turtlectl message (e.g. a node's parameters as JSON)."""
 
@@ -81,7 +85,7 @@ def replies(
     if not answered:
         if time.monotonic() - started < 0.9 * timeout:
             raise CliError(ExitCode.UNREACHABLE, f"nothing serves {key} (is the node running?)")
-        raise CliError(ExitCode.FAILED, f"{key} did not answer within {timeout:g} s")
+        raise NoAnswer(ExitCode.FAILED, f"{key} did not answer within {timeout:g} s")
 
 
 def _read_reply(reply: zenoh.Reply, key: str, timeout: float) -> Message | Raw:
@@ -100,8 +104,11 @@ def _read_reply(reply: zenoh.Reply, key: str, timeout: float) -> Message | Raw:
         raise CliError(ExitCode.BAD_INPUT, f"{key} rejected the request: {decode(payload, ErrorReply).error}")
     # not the service's word but Zenoh's: the query timed out or the route broke
     if payload == b"Timeout":
-        raise CliError(ExitCode.FAILED, f"{key} did not answer within {timeout:g} s")
+        raise NoAnswer(ExitCode.FAILED, f"{key} did not answer within {timeout:g} s")
     raise CliError(ExitCode.FAILED, f"{key} failed: {payload.decode('utf-8', 'replace') or 'unknown error'}")
+
+
+NO_LIMIT = 24 * 3600.0  # s: wait for the navigator's own goal_timeout
 
 
 def navigate(
@@ -120,14 +127,20 @@ def navigate(
         token = session.liveliness().declare_token(f"{CLIENT_TOKEN_PREFIX}/{client_id}")
         started = time.monotonic()
         request = msgspec.structs.replace(goal, client=client_id)
-        for message in replies(session, NAVIGATE_TO, request, timeout):
-            if isinstance(message, NavigateToFeedback) and on_feedback is not None:
-                on_feedback(message)
-            elif isinstance(message, NavigateToResponse):
-                elapsed = time.monotonic() - started
-                token.undeclare()
-                return message, elapsed
+        try:
+            for message in replies(session, NAVIGATE_TO, request, timeout):
+                if isinstance(message, NavigateToFeedback) and on_feedback is not None:
+                    on_feedback(message)
+                elif isinstance(message, NavigateToResponse):
+                    elapsed = time.monotonic() - started
+                    token.undeclare()
+                    return message, elapsed
+        except NoAnswer:
+            raise CliError(
+                ExitCode.FAILED, f"the goal did not end within --timeout {timeout:g} s; the navigator cancels it"
+            ) from None
     raise CliError(ExitCode.FAILED, "the navigator stopped answering before the goal ended (did it exit?)")
+
 
 
 def simple_call(connect: str, key: str, request: Message, everyone: bool = False, timeout: float = 5.0) -> list[Ack]:

@@ -110,10 +110,12 @@ def measure_rates(
         ]
         started = time.monotonic()
         next_report = started + 1.0
+        fresh = False  # messages since the last report
         while duration is None or time.monotonic() - started < duration:
             try:
                 key, arrived, payload = inbox.get(timeout=0.05)
                 arrivals[key].append(arrived)
+                fresh = True
                 try:
                     stamps[key].append(getattr(decode_any(payload), "stamp", 0))
                 except DecodeError:
@@ -122,10 +124,12 @@ def measure_rates(
                 pass
             if time.monotonic() >= next_report:
                 next_report += 1.0
+                fresh = False
                 yield [st for k in keys if (st := rate_stats(k, list(arrivals[k]), list(stamps[k]))) is not None]
         for sub in subs:
             sub.undeclare()
-        yield [st for k in keys if (st := rate_stats(k, list(arrivals[k]), list(stamps[k]))) is not None]
+        if fresh:
+            yield [st for k in keys if (st := rate_stats(k, list(arrivals[k]), list(stamps[k]))) is not None]
 
 
 def publish(connect: str, topic: str, message: Message, rate: float | None, times: int | None) -> int:

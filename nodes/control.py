@@ -140,7 +140,7 @@ def control_step(
         speed = 0.0
         if abs(alpha) < gains.drive_cone:
             speed = profile(distance, limits.max_linear_speed, a_lin, gains.k_linear)
-            speed *= math.cos(alpha) * (1.0 - abs(alpha) / gains.drive_cone)
+            speed *= max(0.0, math.cos(alpha)) * (1.0 - abs(alpha) / gains.drive_cone)
         return Command(linear=direction * speed, angular=angular, phase=phase, direction=direction)
 
     error = wrap_angle(goal_theta - theta)

@@ -194,7 +194,7 @@ class Navigator:
             allowed = self.obstacle_speed(pose, linear, math.hypot(goal.x - pose.x, goal.y - pose.y))
             linear = math.copysign(min(abs(linear), allowed), linear)
             if allowed == 0.0:
-                self.blocked(goal)
+                self.blocked(goal, cmd.angular)
                 return
         if goal.blocked_since is not None:
             goal.blocked_since = None
@@ -202,14 +202,16 @@ class Navigator:
         goal.state = "driving" if linear != 0.0 else "turning"
         self.cmd_pub.publish(Twist(linear=linear, angular=cmd.angular))
 
-    def blocked(self, goal: Goal) -> None:
+    def blocked(self, goal: Goal, angular: float) -> None:
+        """Something is too close in the direction of travel: do not drive, but keep turning
+        (towards the goal, which may well lead away from it)."""
         now = time.monotonic()
         p = self.node.params
         if goal.blocked_since is None:
             goal.blocked_since = now
             self.node.log.info("obstacle within %.2f m in the direction of travel: stopped", p.safety_distance)
         goal.state = "blocked"
-        self.cmd_pub.publish(Twist())
+        self.cmd_pub.publish(Twist(linear=0.0, angular=angular))
         if now - goal.blocked_since > p.blocked_timeout:
             self.finish(False, "blocked")
 

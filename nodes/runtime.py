@@ -176,6 +176,8 @@ class Node(Generic[P]):
             query.reply(key, document, encoding=zenoh.Encoding.APPLICATION_JSON)
 
         self._entities.append(self.session.declare_queryable(key, on_query))
+        entity = EntityInfo(node=self.name, pid=os.getpid(), role="srv", type_name="JSON", key=key)
+        self._entities.append(self.session.liveliness().declare_token(entity_token(entity)))
 
     def watch_liveliness(self, key_expr: str, callback: Callable[[str, bool], None]) -> None:
         """Call ``callback(key, alive)`` on the node thread when a matching token appears or vanishes."""
@@ -253,14 +255,16 @@ class Node(Generic[P]):
 def _router_watch(node: Node[Any], endpoint: str) -> Callable[[], None]:
     """A check that reports, once each way, losing and finding again the router: the node
     keeps running meanwhile (Zenoh reconnects by itself) and says so."""
-    connected = [True]
+    connected = [bool(node.session.info.routers_zid())]  # as the session opened
+    if not connected[0]:
+        node.log.warning("no router at %s yet; running, and trying to reach it", endpoint)
 
     def check() -> None:
         now = bool(node.session.info.routers_zid())
         if now != connected[0]:
             connected[0] = now
             if now:
-                node.log.info("router at %s is back", endpoint)
+                node.log.info("router at %s is reached", endpoint)
             else:
                 node.log.warning("lost the router at %s; still running, reconnecting", endpoint)
 

@@ -91,3 +91,10 @@ def close_session(session: zenoh.Session, timeout: float = 2.0) -> bool:
     closer.start()
     closer.join(timeout)
     return not closer.is_alive()
+
+
+def zenoh_reason(exc: Exception) -> str:
+    """Zenoh's error without the Rust source locations it appends (`` at /root/.cargo/...``)."""
+    text = str(exc)
+    cut = text.find(" at /")
+    return (text[:cut] if cut > 0 else text).strip(" [].")

@@ -24,7 +24,7 @@ from cli.supervisor.process import Child, child_env, python_module_argv
 from messages.keys import NODE_TOKEN_PREFIX, parse_node_token
 from nodes.config import ENV_VAR, SUPERVISOR_PID_VAR, encode_config
 from nodes.kinds import KINDS
-from nodes.session import client_config, close_session, router_config
+from nodes.session import client_config, close_session, router_config, zenoh_reason
 
 POLL = 0.05  # s between checks of the children
 STABLE_RUN = 10.0  # s: a child that ran this long has its respawn count reset
@@ -52,6 +52,7 @@ class Supervisor:
         self.entries = {e.name: e for e in plan.launch.node}
         self._respawn_at: dict[str, float] = {}
         self._crashes: dict[str, int] = {}  # respawns in a row, per node
+        self._given_up: set[str] = set()  # nodes that exited for good: no longer watched
         self._stop_reason: str | None = None
         self._exit_code = ExitCode.OK
         self._events: queue.SimpleQueue[tuple[bool, str, int]] = queue.SimpleQueue()
@@ -69,11 +70,11 @@ class Supervisor:
         try:
             return zenoh.open(router_config(self.port, self.host))
         except zenoh.ZError as exc:
-            reason = "the port is already in use" if "in use" in str(exc) else str(exc)
-            raise CliError(
-                ExitCode.CANNOT_START,
-                f"cannot listen on {self.endpoint}: {reason} (another `turtlectl launch`? try --port)",
-            ) from None
+            if "in use" in str(exc):
+                reason = "the port is already in use (another `turtlectl launch`? try --port)"
+            else:
+                reason = zenoh_reason(exc)
+            raise CliError(ExitCode.CANNOT_START, f"cannot listen on {self.endpoint}: {reason}") from None
 
     def run(self) -> int:
         """Run until stopped; returns the exit code. Raises CliError if it cannot start."""
@@ -135,6 +136,8 @@ class Supervisor:
             self._drain_events()
             now = time.monotonic()
             for name, child in self.children.items():
+                if name in self._given_up:
+                    continue
                 if name in self._respawn_at:
                     if now >= self._respawn_at[name]:
                         del self._respawn_at[name]
@@ -165,6 +168,7 @@ class Supervisor:
             self.printer.system(f"{name} {how}; respawning in {delay:g} s (respawn {crashes + 1})")
             self._respawn_at[name] = now + delay
             return
+        self._given_up.add(name)
         if entry.respawn:
             how += f", after {crashes} respawns in a row; giving up on it"
         if entry.required:

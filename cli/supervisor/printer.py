@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import sys
 import threading
+import time
 from pathlib import Path
 from typing import TextIO
 
@@ -14,7 +15,7 @@ SYSTEM = "launch"
 
 class Printer:
     """Writes ``name | line`` to ``stream`` (names padded and, on a terminal, coloured) and,
-    once ``log_to`` is called, each line to ``<folder>/<name>.log``."""
+    once ``log_to`` is called, each line with its local time (ms) to ``<folder>/<name>.log``."""
 
     def __init__(self, names: list[str], stream: TextIO | None = None, colour: bool | None = None):
         self.stream = stream or sys.stdout
@@ -46,7 +47,9 @@ class Printer:
                 pass
             log = self._logs.get(name)
             if log is not None:
-                log.write(text + "\n")
+                now = time.time()
+                stamp = time.strftime("%Y-%m-%d %H:%M:%S", time.localtime(now)) + f".{int(now % 1 * 1000):03d}"
+                log.write(f"{stamp} {text}\n")
 
     def system(self, text: str) -> None:
         """A line from the supervisor itself."""

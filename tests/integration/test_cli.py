@@ -77,3 +77,23 @@ def test_goto_with_no_navigator_exits_3_within_3_seconds(tmp_path):
         assert result.returncode == 3, result.stdout + result.stderr
         assert time.monotonic() - started < 3.0
         assert "nothing serves navigate_to" in result.stderr
+
+
+@pytest.mark.parametrize("endpoint", ["tcp/127.0.0.1", "tcp/127.0.0.1:abc", "tcp/127.0.0.1:99999", "127.0.0.1:7447", "garbage"])
+def test_a_malformed_endpoint_is_bad_input_at_once(endpoint):
+    started = time.monotonic()
+    result = run("list", "--connect", endpoint)
+    assert result.returncode == 2 and "write it as tcp/HOST:PORT" in result.stderr, result.stderr
+    assert time.monotonic() - started < 2.0
+
+
+def test_domain_names_may_be_numbers_but_not_paths():
+    assert run("--domain", "42", "list", "--connect", f"tcp/127.0.0.1:{free_port()}").returncode == 3
+    bad = run("--domain", "a/b", "list")
+    assert bad.returncode == 2 and "--domain 'a/b'" in bad.stderr
+
+
+def test_pub_refuses_wildcards_and_internal_keys():
+    for key in ("turtle1/*", "@turtlectl/node/sim/1", "**"):
+        result = run("pub", key, '{"linear": 1}', "--type", "Twist", "--connect", f"tcp/127.0.0.1:{free_port()}")
+        assert result.returncode == 2 and "one plain key" in result.stderr, (key, result.stderr)

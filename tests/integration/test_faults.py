@@ -39,7 +39,7 @@ def test_respawn_backs_off_then_a_required_node_that_keeps_dying_stops_the_syste
     path = tmp_path / "flaky.toml"
     path.write_text(FLAKY_MONITOR)
     with running_system(path, ready=("sim", "status_monitor")) as system:
-        for attempt in (1, 2):
+        for _ in range(2):
             pid = system.alive["status_monitor"]
             os.kill(pid, signal.SIGKILL)
             system.wait_until(lambda p=pid: system.alive.get("status_monitor", p) != p, 10.0, "respawned monitor")
@@ -113,7 +113,7 @@ def test_nodes_come_back_by_themselves_after_the_router_restarts(router):
         router.kill()
         system.wait_line(r"navigator .*lost the router", 10.0)
         router.start()
-        system.wait_line(r"navigator .*router at .* is back", 15.0)
+        system.wait_line(r"navigator .*router at .* is reached", 15.0)
         # a fresh client sees the same processes and the system works
         deadline = time.monotonic() + 15
         while True:
@@ -267,3 +267,35 @@ def test_kill_9_the_required_sim_mid_goal_stops_everything_and_tells_the_caller(
         assert "no pose" in out or "navigator shut down" in out or "stopped answering" in err, out + err
         assert system.proc.wait(10) == 1
         assert not [p for p in pids.values() if pid_alive(p)]
+
+
+@pytest.mark.parametrize("goal", [(10.0, 6.0, 0.0), (10.5, 7.0, 0.0), (7.0, 10.0, 0.0)])
+def test_turning_away_from_an_obstacle_is_never_blocked(system, goal):
+    system.teleport(8.3, 8.3, math.radians(45))  # facing the obstacle at (9, 9), r 0.6, 0.39 m away
+    result = system.run_cli("goto", *(f"{v:g}" for v in goal))
+    assert result.returncode == 0, result.stdout + result.stderr
+
+
+NO_RESPAWN = """
+[[node]]
+name = "sim"
+run = "sim"
+[[node]]
+name = "status_monitor"
+run = "status_monitor"
+[[node]]
+name = "obstacle_detector"
+run = "obstacle_detector"
+"""
+
+
+def test_a_node_that_is_gone_for_good_is_reported_once(tmp_path):
+    path = tmp_path / "no_respawn.toml"
+    path.write_text(NO_RESPAWN)
+    with running_system(path, ready=("sim", "status_monitor", "obstacle_detector")) as system:
+        os.kill(system.alive["obstacle_detector"], signal.SIGKILL)
+        system.wait_line(r"obstacle_detector was killed by SIGKILL", 5.0)
+        system.collect(STATUS, TurtleStatus, 15, timeout=5.0)  # 1.5 s of the system going on
+        reports = [line for line in system.lines if "obstacle_detector was killed" in line]
+        assert len(reports) == 1, reports
+        assert system.proc.poll() is None  # not required: the rest runs on
