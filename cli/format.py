@@ -10,6 +10,7 @@ from typing import Any
 import msgspec
 
 from cli.errors import CliError, ExitCode
+from cli.launchfile import LaunchPlan
 from messages import Ack, Message, NavigateToFeedback, NavigateToResponse, to_builtins, to_json
 
 SHORT = 8  # array items shown before "..." unless --full
@@ -49,9 +50,11 @@ def select_field(msg: Message, path: str) -> Any:
     return value
 
 
-def message_block(msg: Message, full: bool = False) -> str:
-    """A readable block, as ``ros2 topic echo`` prints: the type, one ``field: value`` per line, then ``---``."""
-    lines = [f"# {type(msg).__name__}"] + [f"{key}: {_value(value, full)}" for key, value in _fields(msg).items()]
+def message_block(msg: Message, full: bool = False, key: str | None = None) -> str:
+    """A readable block, as ``ros2 topic echo`` prints: the type (and the key, when given),
+    one ``field: value`` per line, then ``---``."""
+    header = f"# {type(msg).__name__}" + (f" on {key}" if key else "")
+    lines = [header] + [f"{name}: {_value(value, full)}" for name, value in _fields(msg).items()]
     return "\n".join(lines) + "\n---"
 
 
@@ -101,3 +104,25 @@ def progress_line(fb: NavigateToFeedback) -> str:
 
 def ack_lines(acks: list[Ack]) -> str:
     return "\n".join(a.detail for a in acks)
+
+
+def plan_text(plan: LaunchPlan) -> str:
+    """What ``launch --check`` prints: the validated plan, nodes with their parameters."""
+    launch = plan.launch
+    w, lim, sup = launch.world, launch.limits, launch.supervisor
+    lines = [
+        f"{plan.source}: valid",
+        f"world: {w.size:g} m square, {len(w.obstacles)} obstacles"
+        + "".join(f"; ({o.x:g}, {o.y:g}) r {o.radius:g}" for o in w.obstacles),
+        f"limits: {lim.max_linear_speed:g} m/s, {lim.max_linear_accel:g} m/s^2, "
+        f"{lim.max_angular_speed:g} rad/s, {lim.max_angular_accel:g} rad/s^2",
+        f"shutdown: SIGINT, {sup.sigint_timeout:g} s, SIGTERM, {sup.sigterm_timeout:g} s, SIGKILL",
+        "nodes:",
+    ]
+    for e in launch.node:
+        how = ["required" if e.required else "optional"]
+        if e.respawn:
+            limit = "no limit" if e.respawn_max == 0 else f"at most {e.respawn_max} in a row"
+            how.append(f"respawn after {e.respawn_delay:g} s doubling to {e.respawn_delay_max:g} s, {limit}")
+        lines.append(f"  {e.name} (run {e.run}; {'; '.join(how)}): {json_value(plan.params[e.name])}")
+    return "\n".join(lines)

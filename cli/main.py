@@ -105,9 +105,7 @@ def launch(
     except LaunchFileError as exc:
         raise CliError(ExitCode.BAD_INPUT, str(exc)) from None
     if check:
-        typer.echo(f"{path}: valid; nodes: " + ", ".join(plan.params))
-        for name, params in plan.params.items():
-            typer.echo(f"  {name}: {format.json_value(params)}")
+        typer.echo(format.plan_text(plan))
         return
     names = [e.name for e in plan.launch.node]
     printer = Printer(names)
@@ -268,7 +266,7 @@ def echo(
                     header = True
                 typer.echo(format.csv_row(msg))
             else:
-                typer.echo(format.message_block(msg, full))
+                typer.echo(format.message_block(msg, full, item.key if "*" in topic else None))
     except KeyboardInterrupt:
         pass
     except BrokenPipeError:  # `| head`: the reader has what it wanted

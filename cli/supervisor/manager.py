@@ -183,6 +183,11 @@ class Supervisor:
                 alive, name, pid = self._events.get_nowait()
             except queue.Empty:
                 return
+            child = self.children.get(name)
+            if alive and child is not None and child.pid != pid and child.running():
+                self.printer.system(
+                    f"warning: another process (pid {pid}) also calls itself {name}; `turtlectl list` shows both"
+                )
             if alive:
                 self._alive[name] = pid
             elif self._alive.get(name) == pid:

@@ -67,7 +67,8 @@ def test_check_only_exclude_and_set():
         capture_output=True, text=True, timeout=20,
     )
     assert check.returncode == 0, check.stderr
-    assert "nodes: sim, navigator, status_monitor" in check.stdout and '"goal_timeout":42.0' in check.stdout
+    assert "  sim (run sim; required)" in check.stdout and "obstacle_detector" not in check.stdout
+    assert "navigator (run navigator; optional; respawn after 1 s" in check.stdout and '"goal_timeout":42.0' in check.stdout
     bad = subprocess.run([*turtlectl(), "launch", "--check", "--set", "navigator.speed=3"], capture_output=True, text=True, timeout=20)
     assert bad.returncode == 2 and "--set navigator: speed: unknown key" in bad.stderr
     with running_system(ready=("sim", "navigator"), extra_args=("--only", "sim", "--only", "navigator", "--set", "navigator.goal_timeout=42")) as system:

@@ -244,3 +244,21 @@ def test_view_draws_the_world_in_a_real_terminal(system):
         except ProcessLookupError:
             pass
         os.close(fd)
+
+
+def test_echo_with_a_wildcard_says_which_key(system):
+    result = system.run_cli("echo", "turtle1/*", "--count", "3")
+    assert result.returncode == 0 and "# Pose on turtle1/pose" in result.stdout
+
+
+def test_a_second_process_with_a_node_s_name_is_reported(system):
+    node = subprocess.Popen(
+        [*turtlectl(), "run", "status_monitor", "--connect", system.endpoint],
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.DEVNULL,
+    )
+    try:
+        system.wait_line(rf"another process \(pid {node.pid}\) also calls itself status_monitor", 20.0)
+    finally:
+        node.send_signal(signal.SIGINT)
+        node.wait(10)
