@@ -6,24 +6,22 @@ CliError(BAD_INPUT) naming the field.
 
 from __future__ import annotations
 
-import re
 import tomllib
 from typing import Any
 
 import msgspec
 
 from cli.errors import CliError, ExitCode
+from cli.launchfile import validation_parts
 from messages import Message
 from messages.codec import TYPES_BY_NAME
 from messages.keys import SERVICES, TOPICS
 
-_AT = re.compile(r" - at `\$\.?(?P<path>[^`]*)`$")
-
 
 def _problem(exc: msgspec.ValidationError) -> str:
-    text = str(exc)
-    match = _AT.search(text)
-    return f"{match['path']}: {text[: match.start()]}" if match and match["path"] else text
+    what, path = validation_parts(exc)
+    path = path.lstrip(".")
+    return f"{path}: {what}" if path else what
 
 
 def message_type(key: str, type_name: str | None, table: dict[str, Any]) -> type[Message]:

@@ -74,10 +74,15 @@ _AT = re.compile(r"^(?P<what>.*?)(?: - at `\$(?P<path>[^`]*)`)?$", re.S)
 _FIELD = re.compile(r"^Object (?P<problem>contains unknown|missing required) field `(?P<key>[^`]*)`$")
 
 
+def validation_parts(exc: msgspec.ValidationError) -> tuple[str, str]:
+    """msgspec's message split into what is wrong and where (``.a.b[0]``, empty at the top)."""
+    match = _AT.match(str(exc))
+    return (match["what"], match["path"] or "") if match else (str(exc), "")
+
+
 def _error(source: str, exc: msgspec.ValidationError, prefix: str = "") -> LaunchFileError:
     """One line naming the file and the key path, from msgspec's message."""
-    match = _AT.match(str(exc))
-    what, path = (match["what"], match["path"] or "") if match else (str(exc), "")
+    what, path = validation_parts(exc)
     field = _FIELD.match(what)
     if field:
         path += "." + field["key"]
@@ -150,7 +155,9 @@ def with_params(plan: LaunchPlan, name: str, params: dict[str, Any], option: str
     return LaunchPlan(source=plan.source, launch=plan.launch, params={**plan.params, name: msgspec.to_builtins(typed)})
 
 
-def node_config(plan: LaunchPlan, name: str, connect: str, overrides: dict[str, Any] | None = None) -> NodeConfig:
+def node_config(
+    plan: LaunchPlan, name: str, connect: str, overrides: dict[str, Any] | None = None, domain: str = ""
+) -> NodeConfig:
     """What node ``name`` of ``plan`` is started with; ``overrides`` replace its params and
     are validated as the file's are (LaunchFileError naming ``--param``)."""
     entry = next((e for e in plan.launch.node if e.name == name), None)
@@ -164,6 +171,7 @@ def node_config(plan: LaunchPlan, name: str, connect: str, overrides: dict[str, 
         name=name,
         kind=entry.run,
         connect=connect,
+        domain=domain,
         params=params,
         world=plan.launch.world,
         limits=plan.launch.limits,

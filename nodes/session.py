@@ -25,10 +25,6 @@ CONNECT_ENV = "TURTLECTL_CONNECT"
 DOMAIN_ENV = "TURTLECTL_DOMAIN"
 
 
-def default_endpoint() -> str:
-    return os.environ.get(CONNECT_ENV) or DEFAULT_ENDPOINT
-
-
 def default_domain() -> str:
     return os.environ.get(DOMAIN_ENV, "")
 

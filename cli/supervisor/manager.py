@@ -121,8 +121,7 @@ class Supervisor:
     # -- children -----------------------------------------------------------
     def _child(self, name: str) -> Child:
         """The Child for node ``name``: its command and environment, made once."""
-        config = node_config(self.plan, name, self.endpoint)
-        config.domain = self.domain
+        config = node_config(self.plan, name, self.endpoint, domain=self.domain)
         env = child_env({ENV_VAR: encode_config(config), SUPERVISOR_PID_VAR: str(os.getpid())})
         return Child(name, python_module_argv(KINDS[config.kind].module), env, self.printer)
 

@@ -27,7 +27,6 @@ class Child:
         self.env = env
         self.printer = printer
         self.proc: subprocess.Popen[bytes] | None = None
-        self.starts = 0
         self.started_at = 0.0
         self._reader: threading.Thread | None = None
 
@@ -46,7 +45,6 @@ class Child:
             process_group=0,
             close_fds=True,
         )
-        self.starts += 1
         self.started_at = time.monotonic()
         self._reader = threading.Thread(target=self._pump, args=(self.proc,), name=f"out-{self.name}", daemon=True)
         self._reader.start()
