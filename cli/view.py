@@ -18,6 +18,7 @@ import msgspec
 import zenoh
 
 from messages import LaserScan, NavigateToFeedback, Pose, TurtleStatus, decode_any
+from messages.angles import heading_degrees
 from messages.keys import FEEDBACK, OBSTACLES, POSE, STATUS
 from nodes.scan import hit_points
 from sim.world import World
@@ -92,7 +93,7 @@ def status_lines(scene: Scene) -> list[str]:
     else:
         p = scene.pose
         where = (
-            f"x {p.x:5.2f} y {p.y:5.2f} heading {math.degrees(p.theta) % 360:5.1f} deg | "
+            f"x {p.x:5.2f} y {p.y:5.2f} heading {heading_degrees(p.theta):5.1f} deg | "
             f"speed {p.linear_velocity:5.2f} m/s"
         )
     parts = []

@@ -43,6 +43,7 @@ class Pose(Message):
     x, y: position in the world frame, m (origin at the lower-left corner).
     theta: heading, rad, in [-pi, pi), 0 along +x, counter-clockwise positive.
     linear_velocity: m/s along the heading; angular_velocity: rad/s.
+    contact: the turtle touches a declared obstacle (it stops there, as at a wall).
     """
 
     x: float
@@ -50,6 +51,7 @@ class Pose(Message):
     theta: float
     linear_velocity: float = 0.0
     angular_velocity: float = 0.0
+    contact: bool = False
     stamp: int = 0
     seq: int = 0
 
@@ -119,7 +121,9 @@ class NavigateToFeedback(Message):
     state: "turning", "driving" or "blocked".  distance_remaining: m.
     heading_remaining: degrees.  eta: estimated s to arrival.  elapsed: s.
     x, y, theta: current pose (m, m, degrees [0, 360)).
-    goal_x, goal_y, goal_theta: the goal (m, m, degrees).
+    goal_x, goal_y, goal_theta: the goal (m, m, degrees [0, 360)).
+    scan_stale: no scan newer than the navigator's scan_timeout: it avoids only the
+        declared obstacles of the world.
     """
 
     state: str
@@ -133,6 +137,7 @@ class NavigateToFeedback(Message):
     goal_x: float = 0.0
     goal_y: float = 0.0
     goal_theta: float = 0.0
+    scan_stale: bool = False
     stamp: int = 0
     seq: int = 0
 
@@ -162,7 +167,13 @@ class NavigateToResponse(Message):
 
 
 class Cancel(Message):
-    """Request to ``navigate_to/cancel``: stop the running goal (its caller gets reason "canceled")."""
+    """Request to ``navigate_to/cancel``: stop the running goal.
+
+    reason: what its caller is told (default "canceled"; the simulator sends
+    "teleported" or "reset" when it moves the turtle under a running goal).
+    """
+
+    reason: str = ""
 
 
 class TeleportAbsolute(Message):

@@ -8,6 +8,7 @@ from __future__ import annotations
 import math
 
 from messages import TurtleStatus
+from messages.angles import heading_degrees
 
 
 def drain(battery: float, dt: float, distance: float, per_second: float, per_metre: float) -> float:
@@ -17,13 +18,10 @@ def drain(battery: float, dt: float, distance: float, per_second: float, per_met
 
 def make_status(x: float, y: float, theta: float, linear_velocity: float, battery: float) -> TurtleStatus:
     """TurtleStatus from a pose (m, m, rad, m/s): heading in degrees [0, 360), world-frame velocity."""
-    degrees = math.degrees(theta) % 360.0
-    if degrees >= 360.0:  # -1e-17 % 360 rounds to 360.0
-        degrees = 0.0
     return TurtleStatus(
         x=x,
         y=y,
-        theta=degrees,
+        theta=heading_degrees(theta),
         vel_x=linear_velocity * math.cos(theta),
         vel_y=linear_velocity * math.sin(theta),
         battery=battery,

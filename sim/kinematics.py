@@ -10,6 +10,7 @@ import math
 
 import msgspec
 
+from messages.angles import wrap_radians
 from sim.world import Limits
 
 #: turtlesim updates its turtles every 16 ms (62.5 Hz).
@@ -31,9 +32,8 @@ class TurtleState(msgspec.Struct, kw_only=True):
     w: float = 0.0
 
 
-def wrap_angle(angle: float) -> float:
-    """``angle`` (rad) wrapped into [-pi, pi)."""
-    return (angle + math.pi) % (2.0 * math.pi) - math.pi
+#: ``angle`` (rad) wrapped into [-pi, pi), exactly: the one wrap of messages.angles.
+wrap_angle = wrap_radians
 
 
 def effective_command(
