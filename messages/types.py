@@ -103,7 +103,7 @@ class NavigateToRequest(Message):
     """Goal for the ``navigate_to`` service.
 
     x, y: goal position in the world frame, m.  theta: goal heading, degrees
-    (any finite value; it is taken modulo 360).
+    (any finite value; it is reduced modulo 360 exactly, in degrees).
     client: optional liveliness key of the caller (``@turtlectl/client/...``);
         if that token disappears while the goal runs, the goal is canceled.
     """
@@ -147,12 +147,15 @@ class NavigateToResponse(Message):
 
     success: the goal was reached within tolerance.
     time_taken: seconds from the navigator receiving the request to the reply.
-    reason: empty on success, otherwise why the goal was not reached
-        (for example ``"invalid goal: x is NaN"``, ``"blocked"``, ``"timeout"``).
+    reason: empty on success, otherwise why the goal was not reached: one of
+        ``"blocked"``, ``"timeout"``, ``"canceled"``, ``"preempted"``, ``"caller gone"``,
+        ``"no pose"``, ``"teleported"``, ``"reset"``, ``"navigator shut down"``,
+        ``"battery low"``, or a refusal that starts ``"invalid goal: "`` or ``"unreachable: "``.
     position_error: final distance to the goal position, m.
     heading_error: final absolute heading error, degrees.
     x, y, theta: final pose (m, m, degrees [0, 360)).
-    refused: the goal never started (invalid, battery low); the pose is where the turtle is.
+    refused: the goal never started (invalid, unreachable, battery low); the pose is where the turtle is.
+    detail: a sentence for people saying why, and what to do next (empty on success).
     """
 
     success: bool
@@ -164,6 +167,7 @@ class NavigateToResponse(Message):
     x: float = 0.0
     y: float = 0.0
     theta: float = 0.0
+    detail: str = ""
 
 
 class Cancel(Message):

@@ -7,13 +7,27 @@ from __future__ import annotations
 
 import math
 
-from messages import TurtleStatus
+from messages import Pose, TurtleStatus
 from messages.angles import heading_degrees
 
 
 def drain(battery: float, dt: float, distance: float, per_second: float, per_metre: float) -> float:
     """Battery (%) after ``dt`` s in which the turtle travelled ``distance`` m; never below 0."""
     return max(0.0, battery - per_second * dt - per_metre * distance)
+
+
+#: a move between two poses longer than this many times what the speed limit allows in the
+#: time between their stamps is a jump (teleport, reset), not travel
+JUMP_FACTOR = 1.5
+
+
+def travelled(before: Pose, after: Pose, max_speed: float) -> float:
+    """Distance (m) driven between two consecutive poses; 0 for a jump that no drive at
+    ``max_speed`` m/s could make in the time between their stamps (ns), such as a teleport
+    or a reset, which are not travel.  Poses without stamps are taken 0.1 s apart."""
+    distance = math.hypot(after.x - before.x, after.y - before.y)
+    dt = (after.stamp - before.stamp) / 1e9 if after.stamp > before.stamp > 0 else 0.1
+    return 0.0 if distance > JUMP_FACTOR * max_speed * dt + 1e-6 else distance
 
 
 def make_status(x: float, y: float, theta: float, linear_velocity: float, battery: float) -> TurtleStatus:

@@ -12,9 +12,13 @@ A goal's lifecycle, as Nav2's NavigateToPose:
   ``goal_timeout`` ("timeout") or ``blocked_timeout`` blocked ("blocked").
 
 On each pose the control law (nodes.control) gives a velocity; the navigator
-slows it for obstacles the latest scan shows in the direction of travel and
-stops while one is within the safety distance.  It publishes
-``turtle1/cmd_vel`` only while a goal runs.
+slows it for obstacles in the direction of travel, the world's declared ones
+always and the latest scan's hits while it is recent, and stops while one is
+within the safety distance.  Goals it could never reach (a declared obstacle
+on the straight way) are refused at once.  Teleport and reset cancel the goal
+(the simulator asks, with reason "teleported" / "reset").  It publishes
+``turtle1/cmd_vel`` only while a goal runs, and refuses to start while another
+navigator serves ``navigate_to``.
 """
 
 from __future__ import annotations
@@ -35,12 +39,13 @@ from messages import (
     TurtleStatus,
     Twist,
 )
+from messages.angles import degrees_0_360, heading_degrees, heading_radians
 from messages.keys import CANCEL, CLIENT_TOKEN_PREFIX, CMD_VEL, FEEDBACK, NAVIGATE_TO, OBSTACLES, POSE, STATUS
 from nodes.control import Phase, choose_direction, control_step, remaining_time
-from nodes.goal import clearance_speed, goal_problem, heading_error_deg
+from nodes.goal import allowed_speed, goal_problem, heading_error_deg, path_problem
 from nodes.params import NavigatorParams
 from nodes.runtime import Node, Request, run
-from nodes.scan import corridor_clearance, hit_points, off_walls
+from nodes.scan import circles_corridor_clearance, corridor_clearance, hit_points, off_walls
 
 WATCHDOG_PERIOD = 0.05  # s
 
@@ -49,13 +54,16 @@ class Goal:
     def __init__(self, request: Request[NavigateToRequest]):
         self.request = request
         body = request.body
-        self.x, self.y, self.theta = body.x, body.y, math.radians(body.theta)
+        self.x, self.y = body.x, body.y
+        self.theta_deg = degrees_0_360(body.theta)  # reduced in degrees, exactly, before anything else
+        self.theta = heading_radians(self.theta_deg)
         self.client = f"{CLIENT_TOKEN_PREFIX}/{body.client}" if body.client else ""
         self.start = time.monotonic()
         self.phase = Phase.DRIVE
         self.direction = 0  # chosen with the first pose
         self.state = "turning"
         self.blocked_since: float | None = None
+        self.blocked_by = ""  # what stops it, for the log and the caller
 
 
 class Navigator:
@@ -65,8 +73,10 @@ class Navigator:
         self.pose_time = 0.0
         self.battery: float | None = None
         self.scan_points = np.zeros((0, 2))  # world coordinates of the latest scan's hits, walls left out
-        self.scan_time = 0.0
+        self.scan_time = -math.inf
+        self.scans_stale = True  # as said last in the log
         self.goal: Goal | None = None
+        node.claim("srv", NAVIGATE_TO, "serves navigate_to and drives the turtle")
         self.cmd_pub = node.publisher(CMD_VEL, Twist)
         self.feedback_pub = node.publisher(FEEDBACK, NavigateToFeedback)
         node.subscribe(POSE, Pose, self.on_pose)
@@ -77,25 +87,36 @@ class Navigator:
         node.watch_liveliness(f"{CLIENT_TOKEN_PREFIX}/**", self.on_client)
         node.timer(WATCHDOG_PERIOD, self.watchdog)
         node.timer(1.0 / node.params.feedback_rate, self.feedback)
-        node.on_shutdown(lambda: self.finish(False, "navigator shut down"))
+        node.on_shutdown(lambda: self.finish(False, "navigator shut down", "the navigator was stopped"))
 
     # -- inputs -------------------------------------------------------------
     def on_goal(self, request: Request[NavigateToRequest]) -> None:
         body = request.body
-        problem = goal_problem(body, self.node.world)
-        if problem is None and self.battery is not None and self.battery < self.node.params.min_battery:
+        p = self.node.params
+        problem, detail = goal_problem(body, self.node.world), ""
+        if problem is None and self.pose is not None:
+            problem = path_problem(self.pose.x, self.pose.y, body.x, body.y, self.node.world, 0.5 * p.corridor_width)
+        if problem is None and self.battery is not None and self.battery < p.min_battery:
             problem = "battery low"
+            detail = (
+                f"battery at {self.battery:.1f} %, below the navigator's min_battery {p.min_battery:g} %: "
+                "`turtlectl reset` recharges it"
+            )
         if problem is not None:
-            self.node.log.info("refused goal (%g, %g, %g deg): %s", body.x, body.y, body.theta, problem)
-            refusal = NavigateToResponse(success=False, time_taken=0.0, reason=problem, refused=True)
+            self.node.log.info(
+                "refused goal (%g, %g, %.1f deg): %s", body.x, body.y, degrees_0_360(body.theta), problem
+            )
+            refusal = NavigateToResponse(success=False, time_taken=0.0, reason=problem, refused=True, detail=detail)
             if self.pose is not None:
                 refusal.x, refusal.y = self.pose.x, self.pose.y
-                refusal.theta = math.degrees(self.pose.theta) % 360.0
+                refusal.theta = heading_degrees(self.pose.theta)
             request.respond(refusal)
             return
-        self.finish(False, "preempted")
+        self.finish(False, "preempted", "a new goal replaced it")
         self.goal = Goal(request)
-        self.node.log.info("goal (%.3f, %.3f, %.1f deg)", body.x, body.y, body.theta)
+        self.node.log.info("goal (%.3f, %.3f, %.1f deg)", body.x, body.y, self.goal.theta_deg)
+        if not self.scans_fresh():
+            self.node.log.warning("no recent scan: avoiding only the declared obstacles of the world")
         self.drive()
 
     def on_cancel(self, request: Request[Cancel]) -> None:
@@ -103,12 +124,13 @@ class Navigator:
             request.respond(Ack(ok=False, detail="no goal is running"))
             return
         goal = self.goal
-        self.finish(False, "canceled")
-        request.respond(Ack(detail=f"canceled the goal ({goal.x:g}, {goal.y:g}, {math.degrees(goal.theta):g} deg)"))
+        reason = request.body.reason or "canceled"
+        self.finish(False, reason, "" if reason == "canceled" else f"the turtle was {reason} while it drove")
+        request.respond(Ack(detail=f"canceled the goal ({goal.x:g}, {goal.y:g}, {goal.theta_deg:g} deg)"))
 
     def on_client(self, key: str, alive: bool) -> None:
         if not alive and self.goal is not None and key == self.goal.client:
-            self.finish(False, "caller gone")
+            self.finish(False, "caller gone", "its caller went away (Ctrl-C, or killed)")
 
     def on_pose(self, pose: Pose) -> None:
         self.pose, self.pose_time = pose, time.monotonic()
@@ -135,9 +157,19 @@ class Navigator:
         now = time.monotonic()
         p = self.node.params
         if now - goal.start > p.goal_timeout:
-            self.finish(False, "timeout")
+            self.finish(False, "timeout", f"not there after the navigator's goal_timeout of {p.goal_timeout:g} s")
         elif now - max(self.pose_time, goal.start) > p.pose_timeout:
-            self.finish(False, "no pose")
+            self.finish(False, "no pose", f"no {POSE} for {p.pose_timeout:g} s: is the simulator running?")
+        stale = not self.scans_fresh()
+        if stale != self.scans_stale:
+            self.scans_stale = stale
+            if stale:
+                self.node.log.warning("scans stopped: avoiding only the declared obstacles of the world")
+            else:
+                self.node.log.info("scans are back")
+
+    def scans_fresh(self) -> bool:
+        return time.monotonic() - self.scan_time <= self.node.params.scan_timeout
 
     def feedback(self) -> None:
         goal, pose = self.goal, self.pose
@@ -154,10 +186,11 @@ class Navigator:
                 elapsed=time.monotonic() - goal.start,
                 x=pose.x,
                 y=pose.y,
-                theta=math.degrees(pose.theta) % 360.0,
+                theta=heading_degrees(pose.theta),
                 goal_x=goal.x,
                 goal_y=goal.y,
-                goal_theta=math.degrees(goal.theta),
+                goal_theta=goal.theta_deg,
+                scan_stale=not self.scans_fresh(),
             )
         )
         goal.request.respond(progress, final=False)
@@ -191,10 +224,10 @@ class Navigator:
             return
         linear = cmd.linear
         if linear != 0.0:
-            allowed = self.obstacle_speed(pose, linear, math.hypot(goal.x - pose.x, goal.y - pose.y))
+            allowed, what = self.obstacle_speed(pose, linear, math.hypot(goal.x - pose.x, goal.y - pose.y))
             linear = math.copysign(min(abs(linear), allowed), linear)
             if allowed == 0.0:
-                self.blocked(goal, cmd.angular)
+                self.blocked(goal, cmd.angular, what)
                 return
         if goal.blocked_since is not None:
             goal.blocked_since = None
@@ -202,46 +235,55 @@ class Navigator:
         goal.state = "driving" if linear != 0.0 else "turning"
         self.cmd_pub.publish(Twist(linear=linear, angular=cmd.angular))
 
-    def blocked(self, goal: Goal, angular: float) -> None:
+    def blocked(self, goal: Goal, angular: float, what: str) -> None:
         """Something is too close in the direction of travel: do not drive, but keep turning
         (towards the goal, which may well lead away from it)."""
         now = time.monotonic()
         p = self.node.params
         if goal.blocked_since is None:
             goal.blocked_since = now
-            self.node.log.info("obstacle within %.2f m in the direction of travel: stopped", p.safety_distance)
+            self.node.log.info("%s within %.2f m in the direction of travel: stopped", what, p.safety_distance)
         goal.state = "blocked"
+        goal.blocked_by = what
         self.cmd_pub.publish(Twist(linear=0.0, angular=angular))
         if now - goal.blocked_since > p.blocked_timeout:
-            self.finish(False, "blocked")
+            self.finish(
+                False,
+                "blocked",
+                f"{what} stayed within the safety distance ({p.safety_distance:g} m) ahead for the "
+                f"navigator's blocked_timeout of {p.blocked_timeout:g} s",
+            )
 
-    def obstacle_speed(self, pose: Pose, linear: float, distance_to_goal: float) -> float:
-        """Fastest speed (m/s) allowed by the latest scan for travel in the direction of
-        ``linear``; 0 while something between the turtle and its goal, inside the corridor
-        along its path, is within the safety distance."""
+    def obstacle_speed(self, pose: Pose, linear: float, distance_to_goal: float) -> tuple[float, str]:
+        """Fastest speed (m/s) allowed for travel in the direction of ``linear``, and what
+        limits it: the declared obstacles always, the latest scan's hits while it is recent;
+        0 while one between the turtle and its goal, inside the corridor along its path, is
+        within the safety distance."""
         p = self.node.params
-        if time.monotonic() - self.scan_time > p.scan_timeout:  # no recent scan: nothing known in the way
-            return math.inf
+        half_width = 0.5 * p.corridor_width
         heading = pose.theta if linear > 0 else pose.theta + math.pi
-        nearest = corridor_clearance(self.scan_points, pose.x, pose.y, heading, 0.5 * p.corridor_width)
-        if nearest >= distance_to_goal:  # nothing before the goal
-            return math.inf
-        if nearest <= p.safety_distance:
-            return 0.0
-        return clearance_speed(nearest, p.safety_distance, p.obstacle_decel)
+        nearest, obstacle = circles_corridor_clearance(self.node.world.obstacles, pose.x, pose.y, heading, half_width)
+        what = f"the obstacle at ({obstacle.x:g}, {obstacle.y:g})" if obstacle is not None else ""
+        if self.scans_fresh():
+            seen = corridor_clearance(self.scan_points, pose.x, pose.y, heading, half_width)
+            if seen < nearest:
+                nearest, what = seen, "something the scan sees"
+        return allowed_speed(nearest, distance_to_goal, p.safety_distance, p.obstacle_decel), what
 
-    def finish(self, success: bool, reason: str) -> None:
+    def finish(self, success: bool, reason: str, detail: str = "") -> None:
         """End the running goal (if any): stop the turtle and answer its caller."""
         goal, self.goal = self.goal, None
         if goal is None:
             return
         self.cmd_pub.publish(Twist())
         pose = self.pose
-        response = NavigateToResponse(success=success, time_taken=time.monotonic() - goal.start, reason=reason)
+        response = NavigateToResponse(
+            success=success, time_taken=time.monotonic() - goal.start, reason=reason, detail=detail
+        )
         if pose is not None:
             response.position_error = math.hypot(goal.x - pose.x, goal.y - pose.y)
             response.heading_error = heading_error_deg(goal.theta, pose.theta)
-            response.x, response.y, response.theta = pose.x, pose.y, math.degrees(pose.theta) % 360.0
+            response.x, response.y, response.theta = pose.x, pose.y, heading_degrees(pose.theta)
         level = self.node.log.info if success else self.node.log.warning
         level(
             "goal %s in %.3f s (error %.4f m, %.2f deg)%s",
@@ -249,7 +291,7 @@ class Navigator:
             response.time_taken,
             response.position_error,
             response.heading_error,
-            f": {reason}" if reason else "",
+            (f": {reason}" if reason else "") + (f" ({detail})" if detail else ""),
         )
         goal.request.respond(response)
 

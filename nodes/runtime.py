@@ -36,8 +36,8 @@ from typing import Any, Generic, TypeVar
 import msgspec
 import zenoh
 
-from messages import ErrorReply, Message, decode, encode, encoding_for
-from messages.keys import EntityInfo, NodeInfo, entity_token, node_token, params_key
+from messages import ErrorReply, Message, decode, decode_any, encode, encoding_for
+from messages.keys import ENTITY_TOKEN_PREFIX, EntityInfo, NodeInfo, entity_token, node_token, params_key, parse_entity_token
 from nodes.config import ENV_VAR, SUPERVISOR_PID_VAR, NodeConfig, decode_config
 from nodes.session import close_session, peer_config
 from sim.world import Limits, World
@@ -48,9 +48,23 @@ M = TypeVar("M", bound=Message)
 EXIT_OK = 0
 EXIT_CONFIG = 2  # the node's configuration could not be used
 EXIT_SESSION = 3  # could not open a Zenoh session
+EXIT_CONFLICT = 4  # another running node already holds what this one would claim
 
 _PR_SET_PDEATHSIG = 1
-_ERROR_ENCODING = zenoh.Encoding(encoding_for(ErrorReply))
+_ENCODINGS: dict[type[Message], zenoh.Encoding] = {}
+_CLAIM_TIMEOUT = 1.0  # s to hear from the router which tokens it knows
+
+
+def _encoding(msg_type: type[Message]) -> zenoh.Encoding:
+    """The sample encoding naming ``msg_type`` (made once per type)."""
+    encoding = _ENCODINGS.get(msg_type)
+    if encoding is None:
+        encoding = _ENCODINGS[msg_type] = zenoh.Encoding(encoding_for(msg_type))
+    return encoding
+
+
+class NodeConflict(Exception):
+    """Another running node already does what this one claims to do alone."""
 _PARENT_CHECK_PERIOD = 0.5  # s
 _ROUTER_CHECK_PERIOD = 1.0  # s
 
@@ -60,8 +74,7 @@ class Publisher(Generic[M]):
 
     def __init__(self, session: zenoh.Session, key: str, msg_type: type[M]):
         self.key = key
-        self._encoding = zenoh.Encoding(encoding_for(msg_type))
-        self._pub = session.declare_publisher(key, encoding=self._encoding)
+        self._pub = session.declare_publisher(key, encoding=_encoding(msg_type))
         self._seq = 0
 
     def publish(self, msg: M) -> M:
@@ -75,18 +88,18 @@ class Publisher(Generic[M]):
 class Request(Generic[M]):
     """A service request being handled; reply once, now or later, with ``respond``."""
 
-    def __init__(self, key: str, query: zenoh.Query, body: M, response_type: type[Message]):
+    def __init__(self, key: str, query: zenoh.Query, body: M):
         self.body = body
         self._key = key
         self._query = query
-        self._encoding = zenoh.Encoding(encoding_for(response_type))
         self.done = False
 
     def respond(self, response: Message, final: bool = True) -> None:
-        """Send ``response`` to the caller; with final=True the call ends."""
+        """Send ``response`` to the caller (its encoding names its own type, feedback
+        included); with final=True the call ends."""
         if self.done:
             return
-        self._query.reply(self._key, encode(response), encoding=self._encoding)
+        self._query.reply(self._key, encode(response), encoding=_encoding(type(response)))
         if final:
             self.done = True
             self._query.drop()
@@ -96,7 +109,7 @@ class Request(Generic[M]):
         if self.done:
             return
         self.done = True
-        self._query.reply_err(encode(ErrorReply(error=error)), encoding=_ERROR_ENCODING)
+        self._query.reply_err(encode(ErrorReply(error=error)), encoding=_encoding(ErrorReply))
         self._query.drop()
 
 
@@ -168,6 +181,45 @@ class Node(Generic[P]):
         self._entities.append(self.session.declare_queryable(key, on_query))
         self._announce("srv", request_type, key)
 
+    def claim(self, role: str, key: str, what: str) -> None:
+        """Make sure no other running node is the ``role`` ("pub", "srv") of ``key``: two
+        navigators would both drive the turtle, two simulators both publish its pose.
+        Raises NodeConflict naming the other node; call it before declaring the entity."""
+        # "**", not ".../*/*/{role}/*/{key}": a peer's liveliness get with single-chunk wildcards
+        # after the "@" chunk answers nothing (zenoh 1.10), so filter here
+        for reply in self.session.liveliness().get(f"{ENTITY_TOKEN_PREFIX}/**", timeout=_CLAIM_TIMEOUT):
+            other = parse_entity_token(str(reply.ok.key_expr)) if reply.ok is not None else None
+            if other is not None and other.role == role and other.key == key and other.pid != os.getpid():
+                raise NodeConflict(
+                    f"{other.node} (pid {other.pid}) already {what}; not starting a second one "
+                    f"(stop it first, or run this one in another --domain)"
+                )
+
+    def call(
+        self, key: str, request: Message, on_done: Callable[[list[Message]], None], timeout: float = 1.0
+    ) -> None:
+        """Query ``key`` with ``request`` without waiting: ``on_done(replies)`` runs on the node
+        thread once every server has answered (at once when nobody serves ``key``), with the
+        replies that decoded; bounded by ``timeout`` s."""
+        replies: list[Message] = []
+
+        def on_reply(reply: zenoh.Reply) -> None:  # Zenoh thread: collect only
+            if reply.ok is not None:
+                try:
+                    replies.append(decode_any(reply.ok.payload.to_bytes()))
+                except ValueError:
+                    pass
+
+        self.session.get(
+            key,
+            zenoh.handlers.Callback(on_reply, lambda: self._queue.put((on_done, (replies,)))),
+            payload=encode(request),
+            encoding=_encoding(type(request)),
+            target=zenoh.QueryTarget.ALL,
+            consolidation=zenoh.ConsolidationMode.NONE,
+            timeout=timeout,
+        )
+
     def answer_json(self, key: str, document: bytes) -> None:
         """Answer every query on ``key`` with a fixed JSON ``document`` (read-only, so it is
         answered right on the Zenoh thread)."""
@@ -224,9 +276,9 @@ class Node(Generic[P]):
             body = decode(payload, request_type)
         except ValueError as exc:
             self._rejected(key, str(exc))
-            Request(key, query, None, response_type).fail(str(exc))
+            Request(key, query, None).fail(str(exc))
             return
-        handler(Request(key, query, body, response_type))
+        handler(Request(key, query, body))
 
 
     def stop(self, *_: Any) -> None:
@@ -313,6 +365,7 @@ def run(node_class: Callable[[Node[P]], Any], params_type: type[P]) -> None:
         log.error("cannot open a Zenoh session to %s: %s", config.connect, exc)
         sys.exit(EXIT_SESSION)
 
+    exit_code = EXIT_OK
     try:
         node = Node(config, params, session)
         signal.signal(signal.SIGINT, node.stop)
@@ -321,16 +374,21 @@ def run(node_class: Callable[[Node[P]], Any], params_type: type[P]) -> None:
         node.timer(_ROUTER_CHECK_PERIOD, _router_watch(node, config.connect))
         if early_stop:
             node.stop()
-        node_class(node)
-        me = NodeInfo(name=config.name, pid=os.getpid(), host=socket.gethostname(), start_ns=started)
-        token = session.liveliness().declare_token(node_token(me))
-        node.log.info("ready (pid %d)", os.getpid())
-        node.spin()
-        token.undeclare()
+        try:
+            node_class(node)
+        except NodeConflict as exc:
+            log.error("%s", exc)
+            exit_code = EXIT_CONFLICT
+        else:
+            me = NodeInfo(name=config.name, pid=os.getpid(), host=socket.gethostname(), start_ns=started)
+            token = session.liveliness().declare_token(node_token(me))
+            node.log.info("ready (pid %d)", os.getpid())
+            node.spin()
+            token.undeclare()
+            node.log.info("stopped")
     finally:
         if not close_session(session):
             log.warning("Zenoh session did not close within 2 s; exiting anyway")
             logging.shutdown()
-            os._exit(EXIT_OK)
-    node.log.info("stopped")
-    sys.exit(EXIT_OK)
+            os._exit(exit_code)
+    sys.exit(exit_code)

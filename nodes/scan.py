@@ -90,6 +90,33 @@ def corridor_clearance(points: np.ndarray, x: float, y: float, heading: float, h
     return float(ahead.min()) if ahead.size else math.inf
 
 
+def circles_corridor_clearance(
+    obstacles: list[Obstacle], x: float, y: float, heading: float, half_width: float
+) -> tuple[float, Obstacle | None]:
+    """As ``corridor_clearance``, for the declared circles themselves instead of scan hits:
+    the distance (m) along ``heading`` (rad) from (x, y) to the nearest point of any circle
+    inside the corridor of ``half_width`` m, and that circle; (inf, None) if none is ahead.
+
+    A circle whose centre lies ``a`` m along and ``c`` m across the line meets the corridor
+    iff c - r <= half_width; its points there span a -/+ sqrt(r^2 - max(0, c - half_width)^2).
+    """
+    cos_h, sin_h = math.cos(heading), math.sin(heading)
+    nearest, which = math.inf, None
+    for o in obstacles:
+        dx, dy = o.x - x, o.y - y
+        along = dx * cos_h + dy * sin_h
+        outside = max(0.0, abs(-dx * sin_h + dy * cos_h) - half_width)
+        if outside > o.radius:
+            continue
+        half_chord = math.sqrt(o.radius * o.radius - outside * outside)
+        if along + half_chord <= 0.0:  # wholly behind
+            continue
+        start = max(0.0, along - half_chord)
+        if start < nearest:
+            nearest, which = start, o
+    return nearest, which
+
+
 def obstacles_in_view(ranges: np.ndarray, angles: np.ndarray) -> int:
     """Number of separate objects the scan sees: runs of consecutive finite beams."""
     finite = np.isfinite(np.asarray(ranges, dtype=float))

@@ -2,17 +2,16 @@
 
 Publishes on an absolute-deadline schedule (the runtime's timer), so the
 period stays 100 ms without drift.  The battery drains with time and with
-distance travelled (nodes.battery).
+distance travelled (nodes.battery); jumps (teleport, reset) are not travel.
 """
 
 from __future__ import annotations
 
-import math
 import time
 
 from messages import Ack, Pose, Reset, TurtleStatus
 from messages.keys import POSE, RESET, STATUS
-from nodes.battery import drain, make_status
+from nodes.battery import drain, make_status, travelled
 from nodes.params import StatusMonitorParams
 from nodes.runtime import Node, Request, run
 
@@ -33,12 +32,11 @@ class StatusMonitor:
 
     def on_reset(self, request: Request[Reset]) -> None:
         self.battery, self.travelled = FULL, 0.0
-        self.pose = None  # the turtle jumps back to its spawn pose: that is not travel
         request.respond(Ack(detail="battery full"))
 
     def on_pose(self, pose: Pose) -> None:
         if self.pose is not None:
-            self.travelled += math.hypot(pose.x - self.pose.x, pose.y - self.pose.y)
+            self.travelled += travelled(self.pose, pose, self.node.limits.max_linear_speed)
         self.pose = pose
 
     def tick(self) -> None:

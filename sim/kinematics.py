@@ -7,11 +7,12 @@ rad/s, times in s.
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 
 import msgspec
 
 from messages.angles import wrap_radians
-from sim.world import Limits
+from sim.world import Limits, Obstacle
 
 #: turtlesim updates its turtles every 16 ms (62.5 Hz).
 STEP = 0.016
@@ -77,3 +78,36 @@ def step(state: TurtleState, v: float, w: float, dt: float, world_size: float) -
     x = min(max(x, 0.0), world_size)
     y = min(max(y, 0.0), world_size)
     return TurtleState(x=x, y=y, theta=theta, v=v, w=w)
+
+
+def collide(before: TurtleState, after: TurtleState, obstacles: Sequence[Obstacle]) -> tuple[TurtleState, bool]:
+    """``after`` (the result of a step from ``before``) stopped at the first declared
+    obstacle its straight move would enter, as a wall stops turtlesim's turtle.
+
+    Obstacles are solid circles (m): a move into one ends on its surface with the
+    linear speed set to 0, and the second value is True (contact).  A move along
+    or away from a surface the turtle touches is free.
+    """
+    px, py = before.x, before.y
+    dx, dy = after.x - px, after.y - py
+    length2 = dx * dx + dy * dy
+    if length2 == 0.0:
+        return after, False
+    first = math.inf  # fraction of the move at which it enters an obstacle
+    for o in obstacles:
+        fx, fy = px - o.x, py - o.y
+        towards = fx * dx + fy * dy  # < 0: moving towards the centre
+        outside = fx * fx + fy * fy - o.radius * o.radius
+        if outside <= 0.0:  # on the surface (or inside by rounding)
+            if towards < 0.0:
+                first = 0.0
+            continue
+        disc = towards * towards - length2 * outside
+        if towards >= 0.0 or disc < 0.0:
+            continue
+        t = (-towards - math.sqrt(disc)) / length2
+        if t <= 1.0:
+            first = min(first, t)
+    if first is math.inf:
+        return after, False
+    return TurtleState(x=px + first * dx, y=py + first * dy, theta=after.theta, v=0.0, w=after.w), True

@@ -3,19 +3,27 @@
 Subscribes ``turtle1/cmd_vel`` (Twist), steps the turtle every 16 ms within
 the robot's limits and publishes ``turtle1/pose`` (Pose) after each step, as
 turtlesim does.  Serves turtlesim's ``turtle1/teleport_absolute`` and ``reset``.
+
+Declared obstacles are solid, as the walls are: a turtle driven into one stops
+on its surface and its pose says ``contact``.  A teleport or reset first cancels
+a running goal (reason "teleported" / "reset", so the navigator stops driving
+from a pose that no longer holds), then moves the turtle; its Ack is sent once
+the new pose has been published, so a goal sent after the Ack starts from it.
 """
 
 from __future__ import annotations
 
 import math
 import time
+from typing import Any
 
 import msgspec
 
-from messages import Ack, Pose, Reset, TeleportAbsolute, Twist
-from messages.keys import CMD_VEL, POSE, RESET, TELEPORT, WORLD_KEY
+from messages import Ack, Cancel, Message, Pose, Reset, TeleportAbsolute, Twist
+from messages.angles import heading_degrees
+from messages.keys import CANCEL, CMD_VEL, POSE, RESET, TELEPORT, WORLD_KEY
 from nodes.runtime import Node, Request, run
-from sim.kinematics import STEP, TurtleState, accelerate, effective_command, step, wrap_angle
+from sim.kinematics import STEP, TurtleState, accelerate, collide, effective_command, step, wrap_angle
 from sim.params import SimParams
 from sim.world import World
 
@@ -44,6 +52,9 @@ class Simulator:
         self.state = self.spawn
         self.cmd = Twist()
         self.cmd_time: float | None = None
+        self.contact = False
+        self.acks: list[tuple[Request[Any], Ack]] = []  # answered once the next pose is out
+        node.claim("pub", POSE, f"simulates the turtle (publishes {POSE})")
         self.pose_pub = node.publisher(POSE, Pose)
         node.subscribe(CMD_VEL, Twist, self.on_cmd_vel)
         node.serve(TELEPORT, TeleportAbsolute, Ack, self.on_teleport)
@@ -62,23 +73,41 @@ class Simulator:
         if problem is not None:
             request.fail(f"cannot teleport: {problem}")
             return
-        self.state = TurtleState(x=body.x, y=body.y, theta=wrap_angle(body.theta))
-        self.cmd_time = None  # a teleported turtle stands still until told otherwise
-        request.respond(Ack(detail=f"teleported to ({body.x:g}, {body.y:g}, {body.theta:g} rad)"))
+        place = TurtleState(x=body.x, y=body.y, theta=wrap_angle(body.theta))
+        detail = f"teleported to ({body.x:g}, {body.y:g}, {heading_degrees(place.theta):g} deg)"
+        self.move(request, place, "teleported", detail)
 
     def on_reset(self, request: Request[Reset]) -> None:
-        self.state = self.spawn
-        self.cmd_time = None
-        request.respond(Ack(detail="turtle back at its spawn pose"))
+        self.move(request, self.spawn, "reset", "turtle back at its spawn pose")
+
+    def move(self, request: Request[Any], place: TurtleState, reason: str, detail: str) -> None:
+        """Put the turtle at ``place`` once a running goal is canceled (with ``reason``);
+        the Ack follows the first pose published there."""
+
+        def apply(_: list[Message]) -> None:
+            self.state = place
+            self.cmd_time = None  # a moved turtle stands still until told otherwise
+            self.acks.append((request, Ack(detail=detail)))
+
+        self.node.call(CANCEL, Cancel(reason=reason), apply)
 
     def tick(self) -> None:
         age = None if self.cmd_time is None else time.monotonic() - self.cmd_time
         limits = self.node.limits
         v, w = effective_command(self.cmd.linear, self.cmd.angular, age, limits, self.node.params.cmd_timeout)
         v, w = accelerate(self.state, v, w, STEP, limits)
-        self.state = step(self.state, v, w, STEP, self.node.world.size)
+        moved = step(self.state, v, w, STEP, self.node.world.size)
+        self.state, contact = collide(self.state, moved, self.node.world.obstacles)
+        if contact and not self.contact:
+            self.node.log.info("contact with an obstacle at (%.3f, %.3f): stopped", self.state.x, self.state.y)
+        self.contact = contact
         s = self.state
-        self.pose_pub.publish(Pose(x=s.x, y=s.y, theta=s.theta, linear_velocity=s.v, angular_velocity=s.w))
+        self.pose_pub.publish(
+            Pose(x=s.x, y=s.y, theta=s.theta, linear_velocity=s.v, angular_velocity=s.w, contact=contact)
+        )
+        acks, self.acks = self.acks, []
+        for request, ack in acks:
+            request.respond(ack)
 
 
 def main() -> None:

@@ -4,8 +4,8 @@ import math
 
 import pytest
 
-from sim.kinematics import STEP, TurtleState, accelerate, effective_command, step, wrap_angle
-from sim.world import TURTLESIM_SIZE, Limits
+from sim.kinematics import STEP, TurtleState, accelerate, collide, effective_command, step, wrap_angle
+from sim.world import TURTLESIM_SIZE, Limits, Obstacle
 
 LIMITS = Limits(max_linear_speed=4.0, max_angular_speed=9.0, max_linear_accel=10.0, max_angular_accel=40.0)
 
@@ -79,3 +79,40 @@ def test_reaching_full_speed_takes_speed_over_accel():
         s = step(s, *accelerate(s, 4.0, 0.0, STEP, LIMITS), STEP, 100.0)
         steps += 1
     assert steps * STEP == pytest.approx(0.4, abs=STEP)
+
+
+def drive_into(obstacles, start, theta, speed, seconds):
+    """Poses of a turtle driven at ``speed`` m/s for ``seconds`` s, as the simulator steps it."""
+    s = TurtleState(x=start[0], y=start[1], theta=theta)
+    poses = []
+    for _ in range(int(round(seconds / STEP))):
+        s, contact = collide(s, step(s, speed, 0.0, STEP, TURTLESIM_SIZE), obstacles)
+        poses.append((s, contact))
+    return poses
+
+
+def test_a_declared_obstacle_is_solid_the_turtle_stops_at_its_surface():
+    # the issue's case: {"linear": 1.0} from (2, 7.5) facing the obstacle at (2, 9), r 0.5
+    obstacles = [Obstacle(x=2.0, y=9.0, radius=0.5)]
+    poses = drive_into(obstacles, (2.0, 7.5), math.pi / 2, 1.0, 3.0)
+    assert all(math.hypot(s.x - 2.0, s.y - 9.0) >= 0.5 - 1e-9 for s, _ in poses)
+    last, contact = poses[-1]
+    assert contact and last.y == pytest.approx(8.5) and last.v == 0.0
+    assert not poses[0][1]  # no contact before it gets there
+
+
+def test_a_turtle_touching_an_obstacle_can_turn_and_leave():
+    obstacles = [Obstacle(x=2.0, y=9.0, radius=0.5)]
+    touching = TurtleState(x=2.0, y=8.5, theta=math.pi / 2)
+    away, contact = collide(touching, step(touching, -1.0, 0.0, STEP, TURTLESIM_SIZE), obstacles)
+    assert not contact and away.y < 8.5
+    along = TurtleState(x=2.0, y=8.5, theta=0.0)  # tangent: sliding along the surface is free
+    moved, contact = collide(along, step(along, 1.0, 0.0, STEP, TURTLESIM_SIZE), obstacles)
+    assert not contact and moved.x > 2.0
+
+
+def test_a_fast_step_cannot_tunnel_through_a_small_obstacle():
+    obstacles = [Obstacle(x=5.0, y=5.0, radius=0.01)]
+    before = TurtleState(x=4.97, y=5.0, theta=0.0)
+    after, contact = collide(before, step(before, 4.0, 0.0, STEP, TURTLESIM_SIZE), obstacles)
+    assert contact and after.x == pytest.approx(4.99)

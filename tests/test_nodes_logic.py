@@ -4,9 +4,9 @@ import math
 
 import pytest
 
-from messages import NavigateToRequest
-from nodes.battery import drain, make_status
-from nodes.goal import clearance_speed, goal_problem, heading_error_deg
+from messages import NavigateToRequest, Pose
+from nodes.battery import drain, make_status, travelled
+from nodes.goal import allowed_speed, clearance_speed, goal_problem, heading_error_deg, path_problem
 from nodes.runtime import _Timer
 from sim.world import Obstacle, World
 
@@ -62,3 +62,39 @@ def test_timer_keeps_an_absolute_grid_and_skips_missed_ticks():
     assert t.deadline == pytest.approx(100.2)
     t.advance(100.4501)  # a 250 ms stall: next tick back on the grid, not bunched
     assert t.deadline == pytest.approx(100.5)
+
+
+# -- issue 8: goals the navigator could never reach, declared obstacles, jumps -------------
+
+DEFAULT_WORLD = World(
+    obstacles=[Obstacle(x=2.0, y=9.0, radius=0.5), Obstacle(x=9.0, y=9.0, radius=0.6), Obstacle(x=9.0, y=2.0, radius=0.4)]
+)
+SPAWN = (5.544445, 5.544445)
+
+
+@pytest.mark.parametrize("goal", [(2.0, 9.6), (10.5, 10.5), (9.93, 9.90)])
+def test_a_goal_behind_a_declared_obstacle_is_refused_with_the_reason(goal):
+    problem = path_problem(*SPAWN, *goal, DEFAULT_WORLD, 0.3)
+    assert problem is not None and problem.startswith("unreachable: ") and "obstacle at (" in problem
+
+
+@pytest.mark.parametrize("start, goal", [(SPAWN, (8.0, 5.0)), ((2.0, 10.5), (2.0, 9.6)), (SPAWN, SPAWN)])
+def test_a_goal_with_a_clear_straight_way_is_accepted(start, goal):
+    # (2, 9.6) is 0.1 m from the obstacle at (2, 9), r 0.5, yet reachable from above
+    assert path_problem(*start, *goal, DEFAULT_WORLD, 0.3) is None
+
+
+def test_allowed_speed_ignores_what_lies_beyond_the_goal_and_stops_within_the_safety_distance():
+    assert allowed_speed(2.0, 1.0, 0.4, 2.0) == math.inf
+    assert allowed_speed(0.4, 3.0, 0.4, 2.0) == 0.0
+    assert allowed_speed(1.4, 3.0, 0.4, 2.0) == pytest.approx(2.0)
+
+
+def test_teleports_and_resets_are_not_travel():
+    before = Pose(x=1.0, y=1.0, theta=0.0, stamp=1_000_000_000)
+    driven = Pose(x=1.06, y=1.0, theta=0.0, stamp=1_016_000_000)  # 0.06 m in 16 ms: 3.75 m/s
+    jumped = Pose(x=7.4, y=1.0, theta=0.0, stamp=1_016_000_000)  # 6.4 m in 16 ms
+    assert travelled(before, driven, 4.0) == pytest.approx(0.06)
+    assert travelled(before, jumped, 4.0) == 0.0
+    # a lost pose in between: twice the time, twice the distance, still travel
+    assert travelled(before, Pose(x=1.12, y=1.0, theta=0.0, stamp=1_032_000_000), 4.0) == pytest.approx(0.12)

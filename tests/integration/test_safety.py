@@ -1,0 +1,198 @@
+"""Issue 8, the node side, against the real processes: huge headings, declared obstacles known
+to the navigator without scans and solid in the simulator, goals it could never reach refused
+at once, one navigator at a time, reply encodings, teleport and reset under a running goal.
+
+The system runs the default world (three obstacles) without the obstacle detector, as
+``turtlectl launch --exclude obstacle_detector`` would: the navigator has no scans at all.
+"""
+
+from __future__ import annotations
+
+import math
+import queue
+import subprocess
+import time
+
+import pytest
+
+from messages import (
+    Ack,
+    NavigateToFeedback,
+    Pose,
+    Reset,
+    TeleportAbsolute,
+    TurtleStatus,
+    Twist,
+    decode,
+    decode_any,
+    encode,
+    encoding_for,
+)
+from messages.keys import CMD_VEL, NAVIGATE_TO, POSE, RESET, STATUS, TELEPORT
+from tests.integration.harness import running_system, turtlectl
+from tests.integration.test_goals import Background
+
+pytestmark = pytest.mark.integration
+
+NO_SCANS = """
+[world]
+obstacles = [
+  { x = 2.0, y = 9.0, radius = 0.5 },
+  { x = 9.0, y = 9.0, radius = 0.6 },
+  { x = 9.0, y = 2.0, radius = 0.4 },
+]
+[[node]]
+name = "sim"
+run = "sim"
+[[node]]
+name = "navigator"
+run = "navigator"
+[[node]]
+name = "status_monitor"
+run = "status_monitor"
+"""
+
+
+@pytest.fixture(scope="module")
+def no_scans(tmp_path_factory):
+    path = tmp_path_factory.mktemp("safety") / "no_scans.toml"
+    path.write_text(NO_SCANS)
+    with running_system(path, ready=("sim", "navigator", "status_monitor")) as system:
+        system.launch_file = path
+        yield system
+
+
+@pytest.mark.parametrize("theta, reduced", [(1e16, 280.0), (1e308, 296.0), (-1e16, 80.0)])
+def test_huge_headings_are_reduced_in_degrees_and_reached(no_scans, theta, reduced):
+    no_scans.teleport(5.0, 5.0, 0.0)
+    response, _, feedback = no_scans.navigate(5.0, 5.0, theta)
+    assert response.success, response
+    assert response.theta == pytest.approx(reduced, abs=0.5) and response.time_taken < 5.0
+    assert all(f.goal_theta == pytest.approx(reduced) for f in feedback)
+
+
+@pytest.mark.parametrize("goal", [(10.5, 10.5), (2.0, 9.6)])
+def test_a_goal_through_a_declared_obstacle_is_refused_at_once_without_scans(no_scans, goal):
+    no_scans.teleport(5.544445, 5.544445, 0.0)
+    response, elapsed, _ = no_scans.navigate(*goal, 0.0)
+    assert response.refused and not response.success and elapsed < 1.0, response
+    assert response.reason.startswith("unreachable: ") and "obstacle at (" in response.reason
+    assert no_scans.wait_stopped().x == pytest.approx(5.544445)
+
+
+def test_without_scans_the_navigator_says_so_and_still_reaches_free_goals(no_scans):
+    no_scans.teleport(2.0, 2.0, 0.0)
+    start = len(no_scans.lines)
+    response, _, feedback = no_scans.navigate(6.0, 3.0, 0.0)
+    assert response.success, response
+    assert feedback and all(f.scan_stale for f in feedback)
+    no_scans.wait_line(r"navigator .*no recent scan: avoiding only the declared obstacles", 2.0, start)
+
+
+def test_a_declared_obstacle_is_solid(no_scans):
+    no_scans.teleport(2.0, 7.5, math.pi / 2)  # 1 m below the obstacle at (2, 9), r 0.5, facing it
+    poses: queue.SimpleQueue = queue.SimpleQueue()
+    sub = no_scans.session.declare_subscriber(POSE, lambda s: poses.put(decode(s.payload.to_bytes(), Pose)))
+    pub = no_scans.session.declare_publisher(CMD_VEL, encoding=zenoh_encoding(Twist))
+    start = len(no_scans.lines)
+    try:
+        deadline = time.monotonic() + 5.0
+        seen: list[Pose] = []
+        while not any(p.contact for p in seen):
+            assert time.monotonic() < deadline, f"no contact within 5 s: {seen[-1:]}"
+            pub.put(encode(Twist(linear=1.0)))
+            time.sleep(0.1)  # pacing: a 10 Hz teleop
+            while not poses.empty():
+                seen.append(poses.get())
+        for _ in range(5):  # keep pushing for another half second
+            pub.put(encode(Twist(linear=1.0)))
+            time.sleep(0.1)  # pacing: a 10 Hz teleop
+        while not poses.empty():
+            seen.append(poses.get())
+    finally:
+        sub.undeclare()
+        pub.undeclare()
+    assert all(math.hypot(p.x - 2.0, p.y - 9.0) >= 0.5 - 1e-9 for p in seen)
+    assert seen[-1].y == pytest.approx(8.5, abs=1e-6) and seen[-1].contact
+    no_scans.wait_line(r"sim .*contact with an obstacle at \(2\.000, 8\.500\)", 2.0, start)
+
+
+def zenoh_encoding(msg_type):
+    import zenoh
+
+    return zenoh.Encoding(encoding_for(msg_type))
+
+
+def test_every_reply_names_its_own_type(no_scans):
+    no_scans.teleport(2.0, 2.0, 0.0)
+    replies = no_scans.call(NAVIGATE_TO, _request(6.0, 2.5, 0.0))
+    encodings = {type(decode_any(r.ok.payload.to_bytes())).__name__: str(r.ok.encoding) for r in replies}
+    assert encodings == {
+        "NavigateToFeedback": "application/msgpack;NavigateToFeedback",
+        "NavigateToResponse": "application/msgpack;NavigateToResponse",
+    }
+
+
+def _request(x, y, theta):
+    from messages import NavigateToRequest
+
+    return NavigateToRequest(x=x, y=y, theta=theta)
+
+
+def test_a_second_navigator_refuses_to_start(no_scans):
+    second = subprocess.run(
+        [*turtlectl(), "run", "navigator", "--file", str(no_scans.launch_file), "--connect", no_scans.endpoint],
+        capture_output=True,
+        text=True,
+        timeout=30,
+        stdin=subprocess.DEVNULL,
+    )
+    assert second.returncode == 4, second.stdout + second.stderr
+    assert "already serves navigate_to" in second.stderr and "not starting a second one" in second.stderr
+    # the first one still serves
+    no_scans.teleport(2.0, 2.0, 0.0)
+    assert no_scans.navigate(3.0, 2.0, 0.0)[0].success
+
+
+@pytest.mark.parametrize("how", ["teleported", "reset"])
+def test_teleport_or_reset_cancel_a_running_goal(no_scans, how):
+    no_scans.teleport(1.0, 5.0, 0.0)
+    goal = Background(no_scans, 7.0, 5.0, 0.0)
+    no_scans.wait_moving()
+    if how == "teleported":
+        replies = no_scans.call(TELEPORT, TeleportAbsolute(x=3.0, y=3.0, theta=0.0))
+    else:
+        replies = no_scans.call(RESET, Reset(), everyone=True)
+    assert replies and all(r.ok is not None for r in replies)
+    response, _, _ = goal.outcome()
+    assert not response.success and response.reason == how, response
+    pose = no_scans.wait_stopped()
+    expected = (3.0, 3.0) if how == "teleported" else (5.544445, 5.544445)
+    assert (pose.x, pose.y) == pytest.approx(expected, abs=1e-6)
+
+
+def test_the_teleport_ack_comes_after_the_pose_that_shows_it(no_scans):
+    for i in range(5):
+        target = (2.0 + i, 3.0 + 0.5 * i)
+        poses: queue.SimpleQueue = queue.SimpleQueue()
+        sub = no_scans.session.declare_subscriber(POSE, lambda s: poses.put(decode(s.payload.to_bytes(), Pose)))
+        try:
+            no_scans.wait_until(lambda: not poses.empty(), 2.0, "a pose")
+            replies = no_scans.call(TELEPORT, TeleportAbsolute(x=target[0], y=target[1], theta=0.0))
+            assert decode(replies[0].ok.payload.to_bytes(), Ack).ok
+            seen = []
+            while not poses.empty():
+                seen.append(poses.get_nowait())
+        finally:
+            sub.undeclare()
+        assert any((p.x, p.y) == pytest.approx(target) for p in seen), (target, seen[-3:])
+
+
+def test_teleports_are_not_charged_to_the_battery(no_scans):
+    no_scans.teleport(1.0, 1.0, 0.0)
+    for target in ((10.0, 1.0), (1.0, 10.0), (10.0, 6.0)):
+        before = no_scans.collect(STATUS, TurtleStatus, 1, timeout=2.0)[0][1].battery
+        no_scans.teleport(*target, 0.0)
+        after = no_scans.collect(STATUS, TurtleStatus, 3, timeout=2.0)[-1][1]
+        assert (after.x, after.y) == pytest.approx(target)
+        assert before - after.battery < 0.01, (before, after.battery)  # 9 m would cost 0.9 %
