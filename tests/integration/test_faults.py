@@ -258,7 +258,7 @@ def test_kill_9_the_required_sim_mid_goal_stops_everything_and_tells_the_caller(
     with running_system() as system:
         pids = dict(system.alive)
         goto = subprocess.Popen(
-            [*turtlectl(), "goto", "9", "2.5", "0", "--connect", system.endpoint],
+            [*turtlectl(), "goto", "9", "4", "0", "--connect", system.endpoint],
             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
         )
         system.wait_moving(0.5)
