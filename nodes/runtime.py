@@ -37,7 +37,15 @@ import msgspec
 import zenoh
 
 from messages import ErrorReply, Message, decode, decode_any, encode, encoding_for
-from messages.keys import ENTITY_TOKEN_PREFIX, EntityInfo, NodeInfo, entity_token, node_token, params_key, parse_entity_token
+from messages.keys import (
+    ENTITY_TOKEN_PREFIX,
+    EntityInfo,
+    NodeInfo,
+    entity_token,
+    node_token,
+    params_key,
+    parse_entity_token,
+)
 from nodes.config import ENV_VAR, SUPERVISOR_PID_VAR, NodeConfig, decode_config
 from nodes.session import close_session, peer_config
 from sim.world import Limits, World

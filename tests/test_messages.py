@@ -5,7 +5,6 @@ import math
 import msgspec
 import pytest
 
-from messages.angles import degrees_0_360, heading_degrees, heading_radians, wrap_radians
 from messages import (
     ALL_TYPES,
     Ack,
@@ -27,6 +26,7 @@ from messages import (
     encoding_for,
     type_from_encoding,
 )
+from messages.angles import degrees_0_360, heading_degrees, heading_radians, wrap_radians
 from messages.keys import (
     SERVICES,
     TOPICS,

@@ -67,7 +67,11 @@ def test_timer_keeps_an_absolute_grid_and_skips_missed_ticks():
 # -- issue 8: goals the navigator could never reach, declared obstacles, jumps -------------
 
 DEFAULT_WORLD = World(
-    obstacles=[Obstacle(x=2.0, y=9.0, radius=0.5), Obstacle(x=9.0, y=9.0, radius=0.6), Obstacle(x=9.0, y=2.0, radius=0.4)]
+    obstacles=[
+        Obstacle(x=2.0, y=9.0, radius=0.5),
+        Obstacle(x=9.0, y=9.0, radius=0.6),
+        Obstacle(x=9.0, y=2.0, radius=0.4),
+    ]
 )
 SPAWN = (5.544445, 5.544445)
 

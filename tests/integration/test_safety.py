@@ -14,10 +14,11 @@ import subprocess
 import time
 
 import pytest
+import zenoh
 
 from messages import (
     Ack,
-    NavigateToFeedback,
+    NavigateToRequest,
     Pose,
     Reset,
     TeleportAbsolute,
@@ -93,7 +94,7 @@ def test_a_declared_obstacle_is_solid(no_scans):
     no_scans.teleport(2.0, 7.5, math.pi / 2)  # 1 m below the obstacle at (2, 9), r 0.5, facing it
     poses: queue.SimpleQueue = queue.SimpleQueue()
     sub = no_scans.session.declare_subscriber(POSE, lambda s: poses.put(decode(s.payload.to_bytes(), Pose)))
-    pub = no_scans.session.declare_publisher(CMD_VEL, encoding=zenoh_encoding(Twist))
+    pub = no_scans.session.declare_publisher(CMD_VEL, encoding=zenoh.Encoding(encoding_for(Twist)))
     start = len(no_scans.lines)
     try:
         deadline = time.monotonic() + 5.0
@@ -117,26 +118,14 @@ def test_a_declared_obstacle_is_solid(no_scans):
     no_scans.wait_line(r"sim .*contact with an obstacle at \(2\.000, 8\.500\)", 2.0, start)
 
 
-def zenoh_encoding(msg_type):
-    import zenoh
-
-    return zenoh.Encoding(encoding_for(msg_type))
-
-
 def test_every_reply_names_its_own_type(no_scans):
     no_scans.teleport(2.0, 2.0, 0.0)
-    replies = no_scans.call(NAVIGATE_TO, _request(6.0, 2.5, 0.0))
+    replies = no_scans.call(NAVIGATE_TO, NavigateToRequest(x=6.0, y=2.5, theta=0.0))
     encodings = {type(decode_any(r.ok.payload.to_bytes())).__name__: str(r.ok.encoding) for r in replies}
     assert encodings == {
         "NavigateToFeedback": "application/msgpack;NavigateToFeedback",
         "NavigateToResponse": "application/msgpack;NavigateToResponse",
     }
-
-
-def _request(x, y, theta):
-    from messages import NavigateToRequest
-
-    return NavigateToRequest(x=x, y=y, theta=theta)
 
 
 def test_a_second_navigator_refuses_to_start(no_scans):
