@@ -47,7 +47,7 @@ from messages.keys import (
     parse_entity_token,
 )
 from nodes.config import ENV_VAR, SUPERVISOR_PID_VAR, NodeConfig, decode_config
-from nodes.session import close_session, peer_config
+from nodes.session import client_config, close_session, peer_config
 from sim.world import Limits, World
 
 P = TypeVar("P", bound=msgspec.Struct)
@@ -140,6 +140,7 @@ class Node(Generic[P]):
 
     def __init__(self, config: NodeConfig, params: P, session: zenoh.Session):
         self.name = config.name
+        self._connect, self._domain = config.connect, config.domain
         self.params: P = params
         self.world: World = config.world
         self.limits: Limits = config.limits
@@ -193,10 +194,23 @@ class Node(Generic[P]):
         """Make sure no other running node is the ``role`` ("pub", "srv") of ``key``: two
         navigators would both drive the turtle, two simulators both publish its pose.
         Raises NodeConflict naming the other node; call it before declaring the entity."""
-        # "**", not ".../*/*/{role}/*/{key}": a peer's liveliness get with single-chunk wildcards
-        # after the "@" chunk answers nothing (zenoh 1.10), so filter here
-        for reply in self.session.liveliness().get(f"{ENTITY_TOKEN_PREFIX}/**", timeout=_CLAIM_TIMEOUT):
-            other = parse_entity_token(str(reply.ok.key_expr)) if reply.ok is not None else None
+        # Asked through a short client session: the router knows every token and answers a client
+        # at once, while a peer's own liveliness get, just after opening, often answers only part
+        # of them (zenoh 1.10).  No router yet: nothing to ask, nothing known to conflict with.
+        try:
+            asker = zenoh.open(client_config(self._connect, _CLAIM_TIMEOUT, self._domain))
+        except zenoh.ZError:
+            return
+        try:
+            tokens = [
+                str(reply.ok.key_expr)
+                for reply in asker.liveliness().get(f"{ENTITY_TOKEN_PREFIX}/**", timeout=_CLAIM_TIMEOUT)
+                if reply.ok is not None
+            ]
+        finally:
+            close_session(asker)
+        for token in tokens:
+            other = parse_entity_token(token)
             if other is not None and other.role == role and other.key == key and other.pid != os.getpid():
                 raise NodeConflict(
                     f"{other.node} (pid {other.pid}) already {what}; not starting a second one "
