@@ -21,7 +21,7 @@ import typer
 from cli import build, client, format, services, topics
 from cli.errors import CliError, ExitCode
 from cli.graph import graph_text
-from cli.launchfile import LaunchFileError, load_launch, node_config, select_nodes, with_params
+from cli.launchfile import LaunchFileError, load_launch, node_config, parse_assignment, select_nodes, with_overrides
 from cli.rates import rate_line
 from cli.supervisor.manager import Supervisor
 from cli.supervisor.printer import Printer
@@ -83,7 +83,9 @@ def launch(
     join: Optional[str] = typer.Option(None, "--connect", help="Run no router: join the one at this endpoint."),
     only: list[str] = typer.Option([], "--only", help="Run only this node (repeatable)."),
     exclude: list[str] = typer.Option([], "--exclude", help="Do not run this node (repeatable)."),
-    set_: list[str] = typer.Option([], "--set", help="NODE.PARAM=VALUE override (repeatable), validated like the file."),
+    set_: list[str] = typer.Option(
+        [], "--set", help="NODE.PARAM=VALUE or world/limits/supervisor.KEY=VALUE override (repeatable), validated like the file."
+    ),
     check: bool = typer.Option(False, "--check", help="Validate the file (and overrides), print the plan, and exit."),
     log_dir: Optional[Path] = typer.Option(None, "--log-dir", envvar="TURTLECTL_LOG_DIR", help="Parent folder of run folders (default ~/.turtlectl/log)."),
 ) -> None:
@@ -96,12 +98,8 @@ def launch(
     path = file or default_launch_file()
     try:
         plan = select_nodes(load_launch(path), only, exclude)
-        for item in set_:
-            target, dot, assignment = item.partition(".")
-            if not dot or target not in plan.params:
-                raise LaunchFileError(f"--set {item!r}: write it as NODE.PARAM=VALUE with a node of the plan")
-            params = build.apply_overrides(plan.params[target], [assignment], option="--set")
-            plan = with_params(plan, target, params, f"--set {target}")
+        form = "NODE.PARAM=VALUE or TABLE.KEY=VALUE (world, limits, supervisor)"
+        plan = with_overrides(plan, [parse_assignment(item, "--set", form) for item in set_], "--set")
     except LaunchFileError as exc:
         raise CliError(ExitCode.BAD_INPUT, str(exc)) from None
     if check:
@@ -372,9 +370,7 @@ def run(
     """
     path = file or default_launch_file()
     try:
-        plan = load_launch(path)
-        entry_params = plan.params.get(node, {})
-        config = node_config(plan, node, client.check_endpoint(connect), build.apply_overrides(entry_params, param))
+        config = node_config(load_launch(path), node, client.check_endpoint(connect), param)
     except LaunchFileError as exc:
         raise CliError(ExitCode.BAD_INPUT, str(exc)) from None
     exec_node(config)
