@@ -7,10 +7,12 @@ into a message on stderr and an exit code.
 
 from __future__ import annotations
 
+import importlib.metadata
 import ipaddress
 import math
 import os
 import re
+import signal
 import sys
 import time
 from pathlib import Path
@@ -18,7 +20,7 @@ from typing import Optional
 
 import typer
 
-from cli import build, client, format, services, topics
+from cli import STOPPED_BY_CTRL_C, build, client, format, services, topics
 from cli.errors import CliError, ExitCode
 from cli.graph import graph_text
 from cli.launchfile import LaunchFileError, load_launch, node_config, parse_assignment, select_nodes, with_overrides
@@ -62,13 +64,35 @@ def default_launch_file() -> Path:
     return local if local.is_file() else PACKAGED_LAUNCH
 
 
+def version() -> str:
+    """This installation's version, from the package metadata (pyproject.toml)."""
+    try:
+        return importlib.metadata.version("turtlectl")
+    except importlib.metadata.PackageNotFoundError:
+        return "unknown (not installed: run `make install`)"
+
+
+def _print_version(value: bool) -> None:
+    if value:
+        typer.echo(f"turtlectl {version()}")
+        raise typer.Exit(0)
+
+
 @app.callback()
 def root(
+    ctx: typer.Context,
     domain: str = typer.Option(
         "", "--domain", envvar=DOMAIN_ENV, help="Keys of the system live under this prefix (two systems never mix)."
     ),
+    _version: bool = typer.Option(
+        False, "--version", is_eager=True, callback=_print_version, help="Print turtlectl's version and exit."
+    ),
 ) -> None:
     """A turtle robot over Zenoh, the ROS 2 way."""
+    if ctx.invoked_subcommand not in STOPPED_BY_CTRL_C:
+        # client commands handle Ctrl-C as KeyboardInterrupt (goto cancels, echo stops);
+        # launch and router keep cli.entry's quiet handler until they install their own
+        signal.signal(signal.SIGINT, signal.default_int_handler)
     if domain:
         if not DOMAIN_RE.match(domain):
             raise CliError(ExitCode.BAD_INPUT, f"--domain {domain!r}: use letters, digits, _ and - (like lab1 or 42)")

@@ -3,7 +3,9 @@ watches them, respawns them with backoff, and stops them all, in order, on
 request or when a required node is gone for good.
 
 Shutdown escalates SIGINT -> SIGTERM -> SIGKILL with the launch file's waits,
-each child getting each signal once, and no child outlives the supervisor.
+each child getting each signal once, and no child outlives the supervisor.  A
+child that has not announced itself yet is still importing and gets SIGTERM
+first: a SIGINT there raises KeyboardInterrupt inside an import (a traceback).
 Never prints directly: everything goes through the Printer.
 """
 
@@ -90,6 +92,8 @@ class Supervisor:
             domain = f" in domain {self.domain!r}" if self.domain else ""
             self.printer.system(f"{where}{domain}; starting {count} node{'s' * (count != 1)}")
             for name in self.entries:
+                if self._stop_reason is not None:  # stopped while starting: start no more
+                    break
                 self._start(name)
             self._watch()
             self._shutdown()
@@ -197,22 +201,41 @@ class Supervisor:
                 count = len(self.entries)
                 self.printer.system(f"{'all ' * (count > 1)}{count} node{'s' * (count != 1)} ready in {elapsed:.2f} s")
 
+    def _ready(self, child: Child) -> bool:
+        """True once this very process of the node has announced itself (liveliness token)."""
+        return child.pid is not None and self._alive.get(child.name) == child.pid
+
     def _shutdown(self) -> None:
-        """SIGINT, wait, SIGTERM, wait, SIGKILL: each child gets each signal once."""
+        """SIGINT, wait, SIGTERM, wait, SIGKILL: each child gets each signal at most once.
+
+        A child not ready yet is still starting (importing numpy and zenoh), where SIGINT
+        would raise KeyboardInterrupt and print a traceback: it gets SIGTERM at the first
+        step instead, which ends it silently (the default action) or, once the node runtime
+        has installed its handler, stops it as SIGINT does.
+        """
+        self._drain_events()
         settings = self.plan.launch.supervisor
         steps = (
             (signal.SIGINT, settings.sigint_timeout),
             (signal.SIGTERM, settings.sigterm_timeout),
             (signal.SIGKILL, KILL_WAIT),
         )
+        sent: dict[str, set[signal.Signals]] = {name: set() for name in self.children}
         for sig, wait in steps:
             targets = [c for c in self.children.values() if c.running()]
             if not targets:
                 break
-            if sig is not signal.SIGINT:
-                self.printer.system(f"sending {sig.name} to {', '.join(c.name for c in targets)}")
+            sends = []
             for child in targets:
-                child.send(sig)
+                first = signal.SIGTERM if sig is signal.SIGINT and not self._ready(child) else sig
+                if first not in sent[child.name]:
+                    sends.append((child, first))
+            escalated = [c.name for c, s in sends if sig is not signal.SIGINT]
+            if escalated:
+                self.printer.system(f"sending {sig.name} to {', '.join(escalated)}")
+            for child, first in sends:
+                child.send(first)
+                sent[child.name].add(first)
             until = time.monotonic() + wait
             while time.monotonic() < until and any(c.running() for c in targets):
                 time.sleep(0.02)  # pacing: reaping children

@@ -16,7 +16,7 @@ from cli.launchfile import parse_launch
 from messages import LaserScan, NavigateToResponse, Pose, TurtleStatus, decode
 from messages.keys import OBSTACLES, POSE, STATUS
 from nodes.scan import obstacles_in_view
-from tests.integration.harness import NODES, pid_alive, running_system
+from tests.integration.harness import NODES, System, pid_alive, running_system
 
 pytestmark = pytest.mark.integration
 
@@ -184,3 +184,40 @@ def test_children_do_not_outlive_a_killed_supervisor():
         while any(pid_alive(p) for p in pids.values()) and time.monotonic() < deadline:
             time.sleep(0.05)  # pacing: polling process state under a deadline
         assert not [p for p in pids.values() if pid_alive(p)]
+
+
+NOISE = ("Traceback", "Fatal Python error", "KeyboardInterrupt")
+
+
+def _stopped_quietly(system: System, code: int) -> str:
+    """A stop on request: exit 0 (or the process died of the SIGINT before Python ran a line,
+    saying nothing), no traceback from anyone, and no child left."""
+    out = system.all_output()
+    assert code == 0 or (code == -signal.SIGINT and not out), (code, out)
+    assert not [word for word in NOISE if word in out], out
+    assert not [p for p in system.child_pids if pid_alive(p)], out
+    return out
+
+
+@pytest.mark.parametrize("delay", [0.0, 0.2, 0.5])
+def test_ctrl_c_while_the_nodes_start_is_quiet(delay):
+    """Ctrl-C about a second after `make run`: every node is still importing (numpy, zenoh)."""
+    system = System()
+    try:
+        system.wait_line(r"started obstacle_detector", 30.0)  # the last one: all four are starting now
+        time.sleep(delay)  # pacing: into the nodes' imports (about a second), which announce nothing
+        out = _stopped_quietly(system, system.stop(signal.SIGINT))
+        assert len(system.child_pids) == 4 and "stopped (received SIGINT); exit code 0" in out, out
+    finally:
+        system.kill_everything()
+
+
+@pytest.mark.parametrize("delay", [0.1, 0.4, 0.8])
+def test_ctrl_c_while_the_supervisor_starts_is_quiet(delay):
+    """Ctrl-C while `turtlectl launch` itself imports typer and zenoh, or reads the launch file."""
+    system = System()
+    try:
+        time.sleep(delay)  # pacing: a point in the supervisor's own start-up, which announces nothing to wait on
+        _stopped_quietly(system, system.stop(signal.SIGINT))
+    finally:
+        system.kill_everything()
