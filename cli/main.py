@@ -14,7 +14,6 @@ import os
 import re
 import signal
 import sys
-import time
 from pathlib import Path
 from typing import Optional
 
@@ -25,6 +24,7 @@ from cli.errors import CliError, ExitCode
 from cli.graph import graph_text
 from cli.launchfile import LaunchFileError, load_launch, node_config, parse_assignment, select_nodes, with_overrides
 from cli.rates import rate_line
+from cli.supervisor import logs
 from cli.supervisor.manager import Supervisor
 from cli.supervisor.printer import Printer
 from cli.supervisor.process import exec_node
@@ -129,17 +129,14 @@ def launch(
     if check:
         typer.echo(format.plan_text(plan))
         return
-    names = [e.name for e in plan.launch.node]
-    printer = Printer(names)
-    run_folder = (log_dir or Path.home() / ".turtlectl" / "log") / time.strftime(f"%Y-%m-%d-%H-%M-%S-{os.getpid()}")
-    try:
-        printer.log_to(run_folder, names)
-    except OSError as exc:
-        raise CliError(ExitCode.CANNOT_START, f"cannot write logs to {run_folder}: {exc.strerror or exc}") from None
-    printer.system(f"launch file {path}; logs in {run_folder}")
     connect = client.check_endpoint(join) if join is not None else ""
+    host = check_host(listen)
+    printer = Printer([e.name for e in plan.launch.node])
+    supervisor = Supervisor(
+        plan, printer, None if join else port, connect, default_domain(), host, log_dir or logs.default_parent()
+    )
     try:
-        code = Supervisor(plan, printer, None if join else port, connect, default_domain(), check_host(listen)).run()
+        code = supervisor.run()
     finally:
         printer.close()
     raise typer.Exit(code)

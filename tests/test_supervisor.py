@@ -9,7 +9,8 @@ import pytest
 
 from cli import STOPPED_BY_CTRL_C, command_of
 from cli.launchfile import parse_launch
-from cli.supervisor.manager import Supervisor
+from cli.supervisor import logs
+from cli.supervisor.manager import Supervisor, port_in_use
 from cli.supervisor.printer import Printer
 
 TWO = '[supervisor]\nsigint_timeout = 0.05\nsigterm_timeout = 0.05\n[[node]]\nname = "sim"\nrun = "sim"\n[[node]]\nname = "navigator"\nrun = "navigator"\n'
@@ -87,3 +88,32 @@ def test_the_command_of_a_command_line(argv, command):
 
 def test_ctrl_c_is_a_normal_stop_only_for_the_long_running_servers():
     assert STOPPED_BY_CTRL_C == ("launch", "router")
+
+
+def test_run_folders_beyond_keep_logs_are_removed_oldest_first(tmp_path):
+    names = [f"2026-01-0{d}-10-00-00-{100 + d}" for d in range(1, 8)]  # pids 101..107
+    for name in names:
+        (tmp_path / name).mkdir()
+        (tmp_path / name / "sim.log").write_text("x")
+    (tmp_path / "notes").mkdir()  # not a run folder: never touched
+    (tmp_path / "2026-01-09-10-00-00-1.txt").write_text("")  # a file, not a folder
+    current = logs.run_folder(tmp_path, pid=999)
+    current.mkdir()
+    still_running = {102}  # a launch that is still writing: kept whatever its age
+    removed = logs.prune(tmp_path, 3, current, running=lambda pid: pid in still_running)
+    assert sorted(p.name for p in removed) == [names[0], names[2], names[3], names[4]]
+    left = sorted(p.name for p in tmp_path.iterdir())
+    assert left == sorted([names[1], names[5], names[6], current.name, "notes", "2026-01-09-10-00-00-1.txt"])
+    assert logs.prune(tmp_path, 0, current) == []  # 0: keep them all
+
+
+def test_run_folder_names_sort_by_time_then_pid():
+    assert logs.RUN_RE.match(logs.run_folder(logs.default_parent(), now=0.0, pid=42).name)
+    assert logs.default_parent().parts[-2:] == (".turtlectl", "log")
+
+
+def test_a_busy_port_names_the_commands_that_avoid_it():
+    text = port_in_use(7447, "launch")
+    assert 'the port is already in use' in text
+    assert '.venv/bin/turtlectl launch --port 7448 (or make run ARGS="--port 7448")' in text
+    assert port_in_use(65535, "router").endswith(".venv/bin/turtlectl router --port 65534")
