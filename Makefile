@@ -12,8 +12,10 @@ $(BIN)/.installed: pyproject.toml
 
 install: $(BIN)/.installed
 
-run: install  ## start the whole system (Ctrl-C stops it)
-	$(BIN)/turtlectl launch
+ARGS ?=
+
+run: install  ## start the whole system (Ctrl-C stops it); options with ARGS="--port 7448"
+	$(BIN)/turtlectl launch $(ARGS)
 
 test: install  ## unit and multi-process integration tests
 	$(BIN)/python -m pytest

@@ -1,1 +1,43 @@
-"""The ``turtlectl`` command line: launch supervisor and client tools."""
+"""The ``turtlectl`` command line: launch supervisor and client tools.
+
+``entry`` is the console script.  It is kept apart from ``cli.main`` so that a
+Ctrl-C during the half second of importing typer, zenoh and numpy ends the
+process with one line instead of a traceback from inside an import.
+"""
+
+from __future__ import annotations
+
+import os
+import signal
+import sys
+from types import FrameType
+
+#: commands for which Ctrl-C is the normal way to stop: exit 0, as README's exit codes say
+STOPPED_BY_CTRL_C = ("launch", "router")
+
+
+def command_of(argv: list[str]) -> str:
+    """The command word of a turtlectl command line (after root options), or ''."""
+    args = iter(argv)
+    for arg in args:
+        if arg == "--domain":  # the one root option that takes a separate value
+            next(args, None)
+        elif not arg.startswith("-"):
+            return arg
+    return ""
+
+
+def _interrupted_while_starting(_signum: int, _frame: FrameType | None) -> None:
+    command = command_of(sys.argv[1:])
+    os.write(2, b"turtlectl: interrupted while starting; nothing was started\n")
+    os._exit(0 if command in STOPPED_BY_CTRL_C else 130)
+
+
+def entry() -> None:
+    """Console entry point: quiet on Ctrl-C until a command takes SIGINT over (client
+    commands get KeyboardInterrupt back in cli.main's root callback, the supervisor and
+    the router install their own handlers)."""
+    signal.signal(signal.SIGINT, _interrupted_while_starting)
+    from cli.main import main
+
+    main()

@@ -1,3 +1,4 @@
-from cli.main import main
+"""``python -m cli``: the same as the ``turtlectl`` console script."""
+from cli import entry
 
-main()
+entry()

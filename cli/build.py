@@ -6,7 +6,6 @@ CliError(BAD_INPUT) naming the field.
 
 from __future__ import annotations
 
-import tomllib
 from typing import Any
 
 import msgspec
@@ -61,25 +60,3 @@ def service_request(key: str, text: str, type_name: str | None = None) -> Messag
             raise CliError(ExitCode.BAD_INPUT, f"not valid JSON: {exc}") from None
         return text.encode()
     return message_from_json(text, message_type(key, type_name, SERVICES))
-
-
-def apply_overrides(params: dict[str, Any], overrides: list[str], option: str = "--param") -> dict[str, Any]:
-    """``params`` with each ``KEY=VALUE`` applied (dotted keys reach into tables; VALUE is a
-    TOML value such as 2.5, true, "text", [1, 2], or else taken as a string)."""
-    merged: dict[str, Any] = {k: (dict(v) if isinstance(v, dict) else v) for k, v in params.items()}
-    for item in overrides:
-        key, sep, raw = item.partition("=")
-        if not sep or not key:
-            raise CliError(ExitCode.BAD_INPUT, f"{option} {item!r}: write it as KEY=VALUE")
-        try:
-            value = tomllib.loads(f"v = {raw}")["v"]
-        except tomllib.TOMLDecodeError:
-            value = raw
-        *path, last = key.split(".")
-        table = merged
-        for part in path:
-            table = table.setdefault(part, {})
-            if not isinstance(table, dict):
-                raise CliError(ExitCode.BAD_INPUT, f"{option} {key}: {part} is not a table")
-        table[last] = value
-    return merged

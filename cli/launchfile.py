@@ -1,25 +1,44 @@
 """Launch files: TOML, validated completely before anything starts (pure: no zenoh).
 
 A launch file has a ``[world]`` table (size, obstacles), a ``[limits]`` table
-(the robot's speed limits) and one ``[[node]]`` table per process.  Every
-mistake is reported as ``LaunchFileError`` naming the file and the exact key
-path, e.g. ``launch.toml: node[1].params.rate: Expected `float`, got `str```.
+(the robot's speed limits), a ``[supervisor]`` table and one ``[[node]]`` table
+per process.  Every mistake is reported as ``LaunchFileError`` naming the file
+and the exact key path, with the node's name when there is one, e.g.
+``launch.toml: node[1] (navigator).params.goal_timeot: unknown key; did you mean goal_timeout?``.
+
+Besides each value's own type and range (the Structs in nodes/params.py,
+sim/params.py and sim/world.py), the file is checked as a whole: the spawn lies
+in the world and outside every obstacle, no obstacle covers the world or lies
+outside it, at most one node of each kind (they use fixed keys), and the
+navigator's scan_timeout outlasts the scan period.
+
+Overrides (``launch --set NODE.PARAM=VALUE`` or ``--set world.size=20``,
+``run NODE -p PARAM=VALUE``) are applied to the plan and validated the same way.
 """
 
 from __future__ import annotations
 
+import copy
+import difflib
+import math
 import re
 import tomllib
 from pathlib import Path
 from typing import Annotated, Any
 
 import msgspec
+import msgspec.inspect as mi
 
 from nodes.config import NodeConfig
 from nodes.kinds import KINDS
-from sim.world import Limits, NonNegative, Positive, World
+from sim.world import Limits, World
 
 NAME_RE = re.compile(r"^[A-Za-z_][A-Za-z0-9_\-]*$")
+#: tables that ``--set TABLE.KEY=VALUE`` reaches; no node may be named like them
+TABLES = ("world", "limits", "supervisor")
+
+Delay = Annotated[float, msgspec.Meta(ge=0.0, le=3600.0)]
+StopWait = Annotated[float, msgspec.Meta(gt=0.0, le=60.0)]
 
 
 class LaunchFileError(ValueError):
@@ -33,8 +52,8 @@ class NodeEntry(msgspec.Struct, forbid_unknown_fields=True, kw_only=True):
     params: the kind's parameters.
     required: when it exits for good (no respawn, or respawns used up) the system stops, exit code 1.
     respawn: restart it when it exits, first after respawn_delay s, then twice as long each
-    time up to respawn_delay_max s; at most respawn_max times in a row (0: no limit).  A
-    run longer than STABLE_RUN s counts as healthy and starts the count again.
+    time up to respawn_delay_max s (both 0 to 3600); at most respawn_max times in a row (0: no
+    limit).  A run longer than STABLE_RUN s counts as healthy and starts the count again.
     """
 
     name: str
@@ -42,17 +61,20 @@ class NodeEntry(msgspec.Struct, forbid_unknown_fields=True, kw_only=True):
     params: dict[str, Any] = msgspec.field(default_factory=dict)
     required: bool = False
     respawn: bool = False
-    respawn_delay: NonNegative = 1.0
-    respawn_delay_max: NonNegative = 30.0
+    respawn_delay: Delay = 1.0
+    respawn_delay_max: Delay = 30.0
     respawn_max: Annotated[int, msgspec.Meta(ge=0, le=1_000_000)] = 5
 
 
 class SupervisorSettings(msgspec.Struct, forbid_unknown_fields=True, kw_only=True):
     """How the supervisor stops the system: SIGINT, wait sigint_timeout s, SIGTERM,
-    wait sigterm_timeout s, SIGKILL."""
+    wait sigterm_timeout s, SIGKILL (both waits above 0, at most 60 s).
+    keep_logs: run folders kept in the log folder, this run's included; older ones are
+    removed at launch (0: keep them all)."""
 
-    sigint_timeout: Positive = 2.0
-    sigterm_timeout: Positive = 1.0
+    sigint_timeout: StopWait = 2.0
+    sigterm_timeout: StopWait = 1.0
+    keep_logs: Annotated[int, msgspec.Meta(ge=0, le=10_000)] = 20
 
 
 class LaunchFile(msgspec.Struct, forbid_unknown_fields=True, kw_only=True):
@@ -70,8 +92,12 @@ class LaunchPlan(msgspec.Struct, kw_only=True):
     params: dict[str, dict[str, Any]]  # node name -> full parameters (defaults filled in)
 
 
+# -- messages ----------------------------------------------------------------
 _AT = re.compile(r"^(?P<what>.*?)(?: - at `\$(?P<path>[^`]*)`)?$", re.S)
 _FIELD = re.compile(r"^Object (?P<problem>contains unknown|missing required) field `(?P<key>[^`]*)`$")
+_PART = re.compile(r"\.([^.\[\]]+)|\[(\d+)\]")
+
+Parts = list[str | int]
 
 
 def validation_parts(exc: msgspec.ValidationError) -> tuple[str, str]:
@@ -80,15 +106,174 @@ def validation_parts(exc: msgspec.ValidationError) -> tuple[str, str]:
     return (match["what"], match["path"] or "") if match else (str(exc), "")
 
 
-def _error(source: str, exc: msgspec.ValidationError, prefix: str = "") -> LaunchFileError:
-    """One line naming the file and the key path, from msgspec's message."""
+def suggestion(word: str, candidates: list[str] | tuple[str, ...]) -> str:
+    """``; did you mean X?`` for the candidate nearest to ``word``, or nothing."""
+    close = difflib.get_close_matches(word, list(candidates), n=1, cutoff=0.6)
+    return f"; did you mean {close[0]}?" if close else ""
+
+
+def _keys_at(root: type, parts: Parts) -> list[str]:
+    """The keys allowed in the table at ``parts`` below ``root`` (empty if unknown)."""
+    info: Any = mi.type_info(root)
+    for part in parts:
+        while isinstance(info, mi.Metadata):
+            info = info.type
+        if isinstance(part, int) and isinstance(info, mi.ListType):
+            info = info.item_type
+        elif isinstance(part, str) and isinstance(info, mi.StructType):
+            info = next((f.type for f in info.fields if f.encode_name == part), None)
+        else:
+            return []
+    while isinstance(info, mi.Metadata):
+        info = info.type
+    return [f.encode_name for f in info.fields] if isinstance(info, mi.StructType) else []
+
+
+def _problem(exc: msgspec.ValidationError, root: type) -> tuple[Parts, str]:
+    """Key path (below ``root``) and what is wrong, from msgspec's message."""
     what, path = validation_parts(exc)
+    parts: Parts = [m[1] if m[1] else int(m[2]) for m in _PART.finditer(path)]
     field = _FIELD.match(what)
     if field:
-        path += "." + field["key"]
-        what = "unknown key" if field["problem"].startswith("contains") else "missing required key"
-    path = (prefix + path).lstrip(".")
-    return LaunchFileError(f"{source}: {path}: {what}" if path else f"{source}: {what}")
+        if field["problem"].startswith("contains"):
+            what = "unknown key" + suggestion(field["key"], _keys_at(root, parts))
+        else:
+            what = "missing required key"
+        parts.append(field["key"])
+    return parts, what
+
+
+class _Report:
+    """Turns a key path into the text users read: ``node[1] (navigator).params.rate`` in a
+    file, ``navigator.rate`` for an override of a node's parameter."""
+
+    def __init__(self, label: str, names: list[str | None], override: bool):
+        self.label = label  # the file, or the option (--set, --param)
+        self.names = names
+        self.override = override
+
+    def where(self, parts: Parts) -> str:
+        text = ""
+        if len(parts) >= 2 and parts[0] == "node" and isinstance(parts[1], int):
+            i, rest = parts[1], parts[2:]
+            name = self.names[i] if i < len(self.names) else None
+            if self.override and name and rest[:1] == ["params"]:
+                text, rest = name, rest[1:]
+            else:
+                text = f"node[{i}]" + (f" ({name})" if name else "")
+            parts = rest
+        for part in parts:
+            text += f"[{part}]" if isinstance(part, int) else f".{part}"
+        return text.lstrip(".")
+
+    def error(self, parts: Parts, what: str) -> LaunchFileError:
+        where = self.where(parts)
+        if self.override:
+            return LaunchFileError(f"{self.label} {where}: {what}" if where else f"{self.label}: {what}")
+        return LaunchFileError(f"{self.label}: {where}: {what}" if where else f"{self.label}: {what}")
+
+
+# -- validation ----------------------------------------------------------------
+def _raw_names(data: Any) -> list[str | None]:
+    """Each [[node]]'s name as written, to name nodes in errors before the file is valid."""
+    nodes = data.get("node") if isinstance(data, dict) else None
+    if not isinstance(nodes, list):
+        return []
+    return [n["name"] if isinstance(n, dict) and isinstance(n.get("name"), str) else None for n in nodes]
+
+
+def _validate(data: Any, source: str, report: _Report) -> LaunchPlan:
+    """The whole launch file, each value and then the file as a whole."""
+    try:
+        launch = msgspec.convert(data, LaunchFile, strict=True)
+    except msgspec.ValidationError as exc:
+        raise report.error(*_problem(exc, LaunchFile)) from None
+
+    if not launch.node:
+        raise report.error(["node"], "the launch file lists no node")
+    seen: dict[str, int] = {}
+    kinds: dict[str, int] = {}
+    params: dict[str, dict[str, Any]] = {}
+    for i, entry in enumerate(launch.node):
+        if not NAME_RE.match(entry.name):
+            raise report.error(["node", i, "name"], f"{entry.name!r} is not a valid name (letters, digits, _ and -)")
+        if entry.name in TABLES:
+            raise report.error(
+                ["node", i, "name"], f"{entry.name!r} is reserved (--set {entry.name}.KEY=VALUE sets the [{entry.name}] table)"
+            )
+        if entry.name in seen:
+            raise report.error(["node", i, "name"], f"duplicate node name {entry.name!r}")
+        seen[entry.name] = i
+        kind = KINDS.get(entry.run)
+        if kind is None:
+            known = ", ".join(sorted(KINDS))
+            raise report.error(
+                ["node", i, "run"], f"unknown node kind {entry.run!r}{suggestion(entry.run, tuple(KINDS))} (known: {known})"
+            )
+        if entry.run in kinds:
+            j = kinds[entry.run]
+            raise report.error(
+                ["node", i, "run"],
+                f"a second {entry.run!r} node (node[{j}] ({launch.node[j].name}) is one): both would {kind.owns}; "
+                "a system runs one of each kind",
+            )
+        kinds[entry.run] = i
+        try:
+            typed = msgspec.convert(entry.params, kind.params, strict=True)
+        except msgspec.ValidationError as exc:
+            parts, what = _problem(exc, kind.params)
+            raise report.error(["node", i, "params", *parts], what) from None
+        params[entry.name] = msgspec.to_builtins(typed)
+
+    _check_world(launch.world, report)
+    if "sim" in kinds:
+        _check_spawn(launch.world, kinds["sim"], params[launch.node[kinds["sim"]].name], report)
+    if "navigator" in kinds and "obstacle_detector" in kinds:
+        navigator = params[launch.node[kinds["navigator"]].name]
+        detector = launch.node[kinds["obstacle_detector"]]
+        rate = params[detector.name]["rate"]
+        if navigator["scan_timeout"] <= 1.0 / rate:
+            raise report.error(
+                ["node", kinds["navigator"], "params", "scan_timeout"],
+                f"{navigator['scan_timeout']:g} s is not longer than the scan period of {detector.name} "
+                f"({1.0 / rate:g} s at {rate:g} Hz): obstacles would be forgotten between scans",
+            )
+    return LaunchPlan(source=source, launch=launch, params=params)
+
+
+def _check_world(world: World, report: _Report) -> None:
+    """Obstacles that make no sense in this world: covering all of it, or entirely outside it."""
+    size = world.size
+    for j, o in enumerate(world.obstacles):
+        corners = ((0.0, 0.0), (size, 0.0), (0.0, size), (size, size))
+        if all(math.hypot(cx - o.x, cy - o.y) <= o.radius for cx, cy in corners):
+            raise report.error(
+                ["world", "obstacles", j],
+                f"covers the whole world (centre ({o.x:g}, {o.y:g}), radius {o.radius:g} m; the world is {size:g} m square)",
+            )
+        nearest_x, nearest_y = min(max(o.x, 0.0), size), min(max(o.y, 0.0), size)
+        if math.hypot(o.x - nearest_x, o.y - nearest_y) >= o.radius:
+            raise report.error(
+                ["world", "obstacles", j],
+                f"centre ({o.x:g}, {o.y:g}), radius {o.radius:g} m lies entirely outside the world (0 to {size:g} m)",
+            )
+
+
+def _check_spawn(world: World, i: int, sim: dict[str, Any], report: _Report) -> None:
+    """The simulator's spawn: inside the world and outside every obstacle (the node itself
+    would only clamp it to the walls, or leave the turtle stuck in an obstacle)."""
+    x, y = sim["x"], sim["y"]
+    for key, value in (("x", x), ("y", y)):
+        if not 0.0 <= value <= world.size:
+            raise report.error(
+                ["node", i, "params", key], f"spawn {key} = {value:g} m is outside the world (0 to {world.size:g} m)"
+            )
+    for j, o in enumerate(world.obstacles):
+        if math.hypot(x - o.x, y - o.y) <= o.radius:
+            raise report.error(
+                ["node", i, "params"],
+                f"spawn ({x:g}, {y:g}) is inside world.obstacles[{j}] (centre ({o.x:g}, {o.y:g}), radius {o.radius:g} m)",
+            )
 
 
 def parse_launch(text: str, source: str = "launch.toml") -> LaunchPlan:
@@ -97,85 +282,7 @@ def parse_launch(text: str, source: str = "launch.toml") -> LaunchPlan:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         raise LaunchFileError(f"{source}: not valid TOML: {exc}") from None
-    try:
-        launch = msgspec.convert(data, LaunchFile, strict=True)
-    except msgspec.ValidationError as exc:
-        raise _error(source, exc) from None
-
-    if not launch.node:
-        raise LaunchFileError(f"{source}: node: the launch file lists no node")
-    seen: set[str] = set()
-    params: dict[str, dict[str, Any]] = {}
-    for i, entry in enumerate(launch.node):
-        where = f"node[{i}]"
-        if not NAME_RE.match(entry.name):
-            raise LaunchFileError(
-                f"{source}: {where}.name: {entry.name!r} is not a valid name (letters, digits, _ and -)"
-            )
-        if entry.name in seen:
-            raise LaunchFileError(f"{source}: {where}.name: duplicate node name {entry.name!r}")
-        seen.add(entry.name)
-        kind = KINDS.get(entry.run)
-        if kind is None:
-            known = ", ".join(sorted(KINDS))
-            raise LaunchFileError(f"{source}: {where}.run: unknown node kind {entry.run!r} (known: {known})")
-        try:
-            typed = msgspec.convert(entry.params, kind.params, strict=True)
-        except msgspec.ValidationError as exc:
-            raise _error(source, exc, prefix=f"{where}.params") from None
-        params[entry.name] = msgspec.to_builtins(typed)
-    return LaunchPlan(source=source, launch=launch, params=params)
-
-
-def select_nodes(plan: LaunchPlan, only: list[str], exclude: list[str]) -> LaunchPlan:
-    """The plan with just the ``only`` nodes (all if empty), less the ``exclude`` ones."""
-    names = [e.name for e in plan.launch.node]
-    for option, asked in (("--only", only), ("--exclude", exclude)):
-        unknown = [n for n in asked if n not in names]
-        if unknown:
-            raise LaunchFileError(f"{option}: no node named {', '.join(unknown)} in {plan.source} (nodes: {', '.join(names)})")
-    kept = [e for e in plan.launch.node if (not only or e.name in only) and e.name not in exclude]
-    if not kept:
-        raise LaunchFileError("--only/--exclude leave no node to run")
-    launch = msgspec.structs.replace(plan.launch, node=kept)
-    return LaunchPlan(source=plan.source, launch=launch, params={e.name: plan.params[e.name] for e in kept})
-
-
-def with_params(plan: LaunchPlan, name: str, params: dict[str, Any], option: str) -> LaunchPlan:
-    """The plan with node ``name``'s params replaced by ``params``, validated as the file's are
-    (errors name ``option``, e.g. ``--set navigator``)."""
-    entry = next((e for e in plan.launch.node if e.name == name), None)
-    if entry is None:
-        known = ", ".join(e.name for e in plan.launch.node)
-        raise LaunchFileError(f"{option}: no node named {name!r} (nodes: {known})")
-    try:
-        typed = msgspec.convert(params, KINDS[entry.run].params, strict=True)
-    except msgspec.ValidationError as exc:
-        raise _error(option, exc) from None
-    return LaunchPlan(source=plan.source, launch=plan.launch, params={**plan.params, name: msgspec.to_builtins(typed)})
-
-
-def node_config(
-    plan: LaunchPlan, name: str, connect: str, overrides: dict[str, Any] | None = None, domain: str = ""
-) -> NodeConfig:
-    """What node ``name`` of ``plan`` is started with; ``overrides`` replace its params and
-    are validated as the file's are (LaunchFileError naming ``--param``)."""
-    entry = next((e for e in plan.launch.node if e.name == name), None)
-    if entry is None:
-        known = ", ".join(e.name for e in plan.launch.node)
-        raise LaunchFileError(f"{plan.source}: no node named {name!r} (nodes: {known})")
-    if overrides is not None:
-        plan = with_params(plan, name, overrides, "--param")
-    params = plan.params[name]
-    return NodeConfig(
-        name=name,
-        kind=entry.run,
-        connect=connect,
-        domain=domain,
-        params=params,
-        world=plan.launch.world,
-        limits=plan.launch.limits,
-    )
+    return _validate(data, source, _Report(source, _raw_names(data), override=False))
 
 
 def load_launch(path: Path) -> LaunchPlan:
@@ -187,3 +294,113 @@ def load_launch(path: Path) -> LaunchPlan:
     except UnicodeDecodeError:
         raise LaunchFileError(f"{path}: not UTF-8 text") from None
     return parse_launch(text, source=str(path))
+
+
+def _no_node(name: str, names: list[str], where: str) -> LaunchFileError:
+    return LaunchFileError(f"{where}: no node named {name!r}{suggestion(name, names)} (nodes: {', '.join(names)})")
+
+
+def select_nodes(plan: LaunchPlan, only: list[str], exclude: list[str]) -> LaunchPlan:
+    """The plan with just the ``only`` nodes (all if empty), less the ``exclude`` ones."""
+    names = [e.name for e in plan.launch.node]
+    for option, asked in (("--only", only), ("--exclude", exclude)):
+        for name in asked:
+            if name not in names:
+                raise _no_node(name, names, f"{option} {name}")
+    kept = [e for e in plan.launch.node if (not only or e.name in only) and e.name not in exclude]
+    if not kept:
+        raise LaunchFileError("--only/--exclude leave no node to run")
+    launch = msgspec.structs.replace(plan.launch, node=kept)
+    return LaunchPlan(source=plan.source, launch=launch, params={e.name: plan.params[e.name] for e in kept})
+
+
+# -- overrides -----------------------------------------------------------------
+class Assignment(msgspec.Struct, frozen=True):
+    """``a.b.c = value`` as typed: the dotted key's parts and the value (a TOML value, or
+    else the text itself)."""
+
+    text: str
+    keys: tuple[str, ...]
+    value: Any
+
+
+def parse_assignment(text: str, option: str, form: str) -> Assignment:
+    """``KEY=VALUE``, spaces allowed around both, dots in KEY reaching into tables; VALUE is a
+    TOML value (2.5, true, "text", [1, 2]) or else taken as text.  ``form`` is how to write it."""
+    key, sep, raw = text.partition("=")
+    keys = tuple(part.strip() for part in key.split("."))
+    if not sep or not all(keys):
+        raise LaunchFileError(f"{option} {text!r}: write it as {form}")
+    raw = raw.strip()
+    try:
+        document = tomllib.loads(f"v = {raw}")
+        value = document["v"] if len(document) == 1 else raw
+    except tomllib.TOMLDecodeError:
+        value = raw
+    return Assignment(text=text, keys=keys, value=value)
+
+
+def _plan_data(plan: LaunchPlan) -> dict[str, Any]:
+    """The plan as launch-file data again (every default filled in), to validate anew."""
+    data: dict[str, Any] = msgspec.to_builtins(plan.launch)
+    for entry in data["node"]:
+        entry["params"] = copy.deepcopy(plan.params[entry["name"]])
+    return data
+
+
+def with_overrides(plan: LaunchPlan, assignments: list[Assignment], option: str) -> LaunchPlan:
+    """The plan with each assignment applied and everything validated again, as a file is.
+
+    An assignment's first key names a node (then the rest is a key of its params) or one of
+    the tables world, limits, supervisor.  Errors name ``option`` and the node, e.g.
+    ``--set navigator.goal_timeot: unknown key; did you mean goal_timeout?``.
+    """
+    if not assignments:
+        return plan
+    data = _plan_data(plan)
+    names = [e["name"] for e in data["node"]]
+    for item in assignments:
+        target, *keys = item.keys
+        if target in TABLES:
+            table = data[target]
+        elif target in names:
+            table = data["node"][names.index(target)]["params"]
+        else:
+            tables = ", ".join(TABLES)
+            raise LaunchFileError(
+                f"{option} {item.text!r}: no node or table named {target!r}{suggestion(target, names + list(TABLES))} "
+                f"(nodes: {', '.join(names)}; tables: {tables})"
+            )
+        if not keys:
+            raise LaunchFileError(f"{option} {item.text!r}: name a key of {target}, as {target}.KEY=VALUE")
+        for depth, key in enumerate(keys[:-1]):
+            table = table.setdefault(key, {})
+            if not isinstance(table, dict):
+                raise LaunchFileError(f"{option} {'.'.join([target, *keys[: depth + 1]])}: is not a table")
+        table[keys[-1]] = item.value
+    return _validate(data, plan.source, _Report(option, list(names), override=True))
+
+
+def node_config(
+    plan: LaunchPlan, name: str, connect: str, overrides: list[str] | None = None, domain: str = ""
+) -> NodeConfig:
+    """What node ``name`` of ``plan`` is started with; ``overrides`` (``KEY=VALUE`` for its
+    params) are validated as the file is (LaunchFileError naming ``--param``)."""
+    names = [e.name for e in plan.launch.node]
+    if name not in names:
+        raise _no_node(name, names, plan.source)
+    if overrides:
+        assignments = [parse_assignment(text, "--param", "KEY=VALUE") for text in overrides]
+        plan = with_overrides(
+            plan, [msgspec.structs.replace(a, keys=(name, *a.keys)) for a in assignments], "--param"
+        )
+    entry = plan.launch.node[names.index(name)]
+    return NodeConfig(
+        name=name,
+        kind=entry.run,
+        connect=connect,
+        domain=domain,
+        params=plan.params[name],
+        world=plan.launch.world,
+        limits=plan.launch.limits,
+    )

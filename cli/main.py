@@ -7,22 +7,24 @@ into a message on stderr and an exit code.
 
 from __future__ import annotations
 
+import importlib.metadata
 import ipaddress
 import math
 import os
 import re
+import signal
 import sys
-import time
 from pathlib import Path
 from typing import Optional
 
 import typer
 
-from cli import build, client, format, services, topics
+from cli import STOPPED_BY_CTRL_C, build, client, format, services, topics
 from cli.errors import CliError, ExitCode
 from cli.graph import graph_text
-from cli.launchfile import LaunchFileError, load_launch, node_config, select_nodes, with_params
+from cli.launchfile import LaunchFileError, load_launch, node_config, parse_assignment, select_nodes, with_overrides
 from cli.rates import rate_line
+from cli.supervisor import logs
 from cli.supervisor.manager import Supervisor
 from cli.supervisor.printer import Printer
 from cli.supervisor.process import exec_node
@@ -62,13 +64,35 @@ def default_launch_file() -> Path:
     return local if local.is_file() else PACKAGED_LAUNCH
 
 
+def version() -> str:
+    """This installation's version, from the package metadata (pyproject.toml)."""
+    try:
+        return importlib.metadata.version("turtlectl")
+    except importlib.metadata.PackageNotFoundError:
+        return "unknown (not installed: run `make install`)"
+
+
+def _print_version(value: bool) -> None:
+    if value:
+        typer.echo(f"turtlectl {version()}")
+        raise typer.Exit(0)
+
+
 @app.callback()
 def root(
+    ctx: typer.Context,
     domain: str = typer.Option(
         "", "--domain", envvar=DOMAIN_ENV, help="Keys of the system live under this prefix (two systems never mix)."
     ),
+    _version: bool = typer.Option(
+        False, "--version", is_eager=True, callback=_print_version, help="Print turtlectl's version and exit."
+    ),
 ) -> None:
     """A turtle robot over Zenoh, the ROS 2 way."""
+    if ctx.invoked_subcommand not in STOPPED_BY_CTRL_C:
+        # client commands handle Ctrl-C as KeyboardInterrupt (goto cancels, echo stops);
+        # launch and router keep cli.entry's quiet handler until they install their own
+        signal.signal(signal.SIGINT, signal.default_int_handler)
     if domain:
         if not DOMAIN_RE.match(domain):
             raise CliError(ExitCode.BAD_INPUT, f"--domain {domain!r}: use letters, digits, _ and - (like lab1 or 42)")
@@ -83,7 +107,9 @@ def launch(
     join: Optional[str] = typer.Option(None, "--connect", help="Run no router: join the one at this endpoint."),
     only: list[str] = typer.Option([], "--only", help="Run only this node (repeatable)."),
     exclude: list[str] = typer.Option([], "--exclude", help="Do not run this node (repeatable)."),
-    set_: list[str] = typer.Option([], "--set", help="NODE.PARAM=VALUE override (repeatable), validated like the file."),
+    set_: list[str] = typer.Option(
+        [], "--set", help="NODE.PARAM=VALUE or world/limits/supervisor.KEY=VALUE override (repeatable), validated like the file."
+    ),
     check: bool = typer.Option(False, "--check", help="Validate the file (and overrides), print the plan, and exit."),
     log_dir: Optional[Path] = typer.Option(None, "--log-dir", envvar="TURTLECTL_LOG_DIR", help="Parent folder of run folders (default ~/.turtlectl/log)."),
 ) -> None:
@@ -96,28 +122,21 @@ def launch(
     path = file or default_launch_file()
     try:
         plan = select_nodes(load_launch(path), only, exclude)
-        for item in set_:
-            target, dot, assignment = item.partition(".")
-            if not dot or target not in plan.params:
-                raise LaunchFileError(f"--set {item!r}: write it as NODE.PARAM=VALUE with a node of the plan")
-            params = build.apply_overrides(plan.params[target], [assignment], option="--set")
-            plan = with_params(plan, target, params, f"--set {target}")
+        form = "NODE.PARAM=VALUE or TABLE.KEY=VALUE (world, limits, supervisor)"
+        plan = with_overrides(plan, [parse_assignment(item, "--set", form) for item in set_], "--set")
     except LaunchFileError as exc:
         raise CliError(ExitCode.BAD_INPUT, str(exc)) from None
     if check:
         typer.echo(format.plan_text(plan))
         return
-    names = [e.name for e in plan.launch.node]
-    printer = Printer(names)
-    run_folder = (log_dir or Path.home() / ".turtlectl" / "log") / time.strftime(f"%Y-%m-%d-%H-%M-%S-{os.getpid()}")
-    try:
-        printer.log_to(run_folder, names)
-    except OSError as exc:
-        raise CliError(ExitCode.CANNOT_START, f"cannot write logs to {run_folder}: {exc.strerror or exc}") from None
-    printer.system(f"launch file {path}; logs in {run_folder}")
     connect = client.check_endpoint(join) if join is not None else ""
+    host = check_host(listen)
+    printer = Printer([e.name for e in plan.launch.node])
+    supervisor = Supervisor(
+        plan, printer, None if join else port, connect, default_domain(), host, log_dir or logs.default_parent()
+    )
     try:
-        code = Supervisor(plan, printer, None if join else port, connect, default_domain(), check_host(listen)).run()
+        code = supervisor.run()
     finally:
         printer.close()
     raise typer.Exit(code)
@@ -372,9 +391,7 @@ def run(
     """
     path = file or default_launch_file()
     try:
-        plan = load_launch(path)
-        entry_params = plan.params.get(node, {})
-        config = node_config(plan, node, client.check_endpoint(connect), build.apply_overrides(entry_params, param))
+        config = node_config(load_launch(path), node, client.check_endpoint(connect), param)
     except LaunchFileError as exc:
         raise CliError(ExitCode.BAD_INPUT, str(exc)) from None
     exec_node(config)

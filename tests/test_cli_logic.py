@@ -4,7 +4,7 @@ import math
 
 import pytest
 
-from cli.build import apply_overrides, message_from_json, service_request, topic_message
+from cli.build import message_from_json, service_request, topic_message
 from cli.errors import CliError
 from cli.format import csv_header, csv_row, message_block, select_field
 from cli.graph import build_graph
@@ -54,15 +54,6 @@ def test_messages_from_json_name_the_bad_field():
     assert service_request("turtlectl/params/sim", "{}") == b"{}"
     with pytest.raises(CliError, match="not valid JSON"):
         service_request("any/key", "{")
-
-
-def test_overrides_reach_into_tables_and_parse_toml_values():
-    params = {"rate": 5.0, "gains": {"k": 1.0, "m": 2.0}}
-    out = apply_overrides(params, ["rate=20", "gains.k=3.5", "name=plain text"])
-    assert out == {"rate": 20, "gains": {"k": 3.5, "m": 2.0}, "name": "plain text"}
-    assert params["gains"]["k"] == 1.0  # the input is not changed
-    with pytest.raises(CliError, match="KEY=VALUE"):
-        apply_overrides(params, ["rate"])
 
 
 def test_formats():

@@ -4,7 +4,7 @@ from pathlib import Path
 
 import pytest
 
-from cli.launchfile import LaunchFileError, load_launch, parse_launch
+from cli.launchfile import LaunchFileError, load_launch, node_config, parse_assignment, parse_launch, select_nodes, with_overrides
 from cli.main import PACKAGED_LAUNCH
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -28,24 +28,24 @@ def test_defaults_are_filled_in():
 @pytest.mark.parametrize(
     "text, message",
     [
-        (MINIMAL + "colour = 1\n", "f.toml: node[0].colour: unknown key"),
-        (MINIMAL + "[node.params]\nx = 'left'\n", "f.toml: node[0].params.x: Expected `float`, got `str`"),
-        (MINIMAL + "[node.params]\ncmd_timeout = -1\n", "f.toml: node[0].params.cmd_timeout: Expected `float` > 0.0"),
-        (MINIMAL + "[node.params]\nspeed = 3\n", "f.toml: node[0].params.speed: unknown key"),
-        (MINIMAL + "respawn = 'yes'\n", "f.toml: node[0].respawn: Expected `bool`, got `str`"),
+        (MINIMAL + "colour = 1\n", "f.toml: node[0] (sim).colour: unknown key"),
+        (MINIMAL + "[node.params]\nx = 'left'\n", "f.toml: node[0] (sim).params.x: Expected `float`, got `str`"),
+        (MINIMAL + "[node.params]\ncmd_timeout = -1\n", "f.toml: node[0] (sim).params.cmd_timeout: Expected `float` >= 0.05"),
+        (MINIMAL + "[node.params]\nspeed = 3\n", "f.toml: node[0] (sim).params.speed: unknown key"),
+        (MINIMAL + "respawn = 'yes'\n", "f.toml: node[0] (sim).respawn: Expected `bool`, got `str`"),
         ("[world]\nsize = 0\n" + MINIMAL, "f.toml: world.size: Expected `float` > 0.0"),
         ("[world]\nobstacles = [{x = 1, y = 1}]\n" + MINIMAL, "f.toml: world.obstacles[0].radius: missing required key"),
         ("[limits]\nmax_linear_speed = 'fast'\n" + MINIMAL, "f.toml: limits.max_linear_speed: Expected `float`"),
-        ('[[node]]\nname = "a"\n', "f.toml: node[0].run: missing required key"),
-        ('[[node]]\nname = "a"\nrun = "turtle"\n', "f.toml: node[0].run: unknown node kind 'turtle'"),
-        (MINIMAL + MINIMAL, "f.toml: node[1].name: duplicate node name 'sim'"),
-        ('[[node]]\nname = "a/b"\nrun = "sim"\n', "f.toml: node[0].name: 'a/b' is not a valid name"),
+        ('[[node]]\nname = "a"\n', "f.toml: node[0] (a).run: missing required key"),
+        ('[[node]]\nname = "a"\nrun = "turtle"\n', "f.toml: node[0] (a).run: unknown node kind 'turtle'"),
+        (MINIMAL + MINIMAL, "f.toml: node[1] (sim).name: duplicate node name 'sim'"),
+        ('[[node]]\nname = "a/b"\nrun = "sim"\n', "f.toml: node[0] (a/b).name: 'a/b' is not a valid name"),
         ("", "f.toml: node: missing required key"),
         ("node = []\n", "f.toml: node: the launch file lists no node"),
         ("[[node]\n", "f.toml: not valid TOML"),
         (
             '[[node]]\nname = "n"\nrun = "navigator"\n[node.params.gains]\nk_linear = "x"\n',
-            "f.toml: node[0].params.gains.k_linear: Expected `float`, got `str`",
+            "f.toml: node[0] (n).params.gains.k_linear: Expected `float`, got `str`",
         ),
     ],
 )
@@ -58,3 +58,179 @@ def test_errors_name_the_key_path(text, message):
 def test_missing_file(tmp_path):
     with pytest.raises(LaunchFileError, match="cannot read"):
         load_launch(tmp_path / "nope.toml")
+
+
+NAV = '[[node]]\nname = "navigator"\nrun = "navigator"\n'
+STATUS = '[[node]]\nname = "status_monitor"\nrun = "status_monitor"\n'
+DETECTOR = '[[node]]\nname = "obstacle_detector"\nrun = "obstacle_detector"\n'
+
+
+@pytest.mark.parametrize(
+    "text, message",
+    [
+        # the spawn: the simulator itself would only clamp it to the walls, or leave the turtle stuck
+        (MINIMAL + "[node.params]\nx = 12.0\n", "f.toml: node[0] (sim).params.x: spawn x = 12 m is outside the world (0 to 11.0889 m)"),
+        (MINIMAL + "[node.params]\ny = -0.5\n", "f.toml: node[0] (sim).params.y: spawn y = -0.5 m is outside the world"),
+        ("[world]\nsize = 5\n" + MINIMAL, "f.toml: node[0] (sim).params.x: spawn x = 5.54444 m is outside the world (0 to 5 m)"),
+        (
+            "[world]\nobstacles = [{x = 1, y = 1, radius = 0.2}, {x = 5.5, y = 5.6, radius = 0.5}]\n" + MINIMAL,
+            "f.toml: node[0] (sim).params: spawn (5.54444, 5.54444) is inside world.obstacles[1] (centre (5.5, 5.6), radius 0.5 m)",
+        ),
+        # obstacles that cover the world, or are not in it
+        (
+            "[world]\nobstacles = [{x = 1, y = 1, radius = 0.2}, {x = 5, y = 5, radius = 9}]\n" + MINIMAL,
+            "f.toml: world.obstacles[1]: covers the whole world (centre (5, 5), radius 9 m; the world is 11.0889 m square)",
+        ),
+        (
+            "[world]\nobstacles = [{x = 20, y = 5, radius = 1}]\n" + MINIMAL,
+            "f.toml: world.obstacles[0]: centre (20, 5), radius 1 m lies entirely outside the world (0 to 11.0889 m)",
+        ),
+        # rates and times within sane ranges (a node at 1e9 Hz spins a CPU)
+        (STATUS + "[node.params]\nrate = 1e9\n", "f.toml: node[0] (status_monitor).params.rate: Expected `float` <= 100.0"),
+        (STATUS + "[node.params]\nrate = 0.0\n", "f.toml: node[0] (status_monitor).params.rate: Expected `float` >= 0.1"),
+        (NAV + "[node.params]\nfeedback_rate = 1e9\n", "f.toml: node[0] (navigator).params.feedback_rate: Expected `float` <= 100.0"),
+        (DETECTOR + "[node.params]\nrate = 1000\n", "f.toml: node[0] (obstacle_detector).params.rate: Expected `float` <= 100.0"),
+        (DETECTOR + "[node.params]\nbeams = 100000\n", "f.toml: node[0] (obstacle_detector).params.beams: Expected `int` <= 3600"),
+        (DETECTOR + "[node.params]\nphantom_rate = 1e6\n", "f.toml: node[0] (obstacle_detector).params.phantom_rate: Expected `float` <= 100.0"),
+        (NAV + "[node.params]\ngoal_timeout = 1e9\n", "f.toml: node[0] (navigator).params.goal_timeout: Expected `float` <= 3600.0"),
+        (NAV + "[node.params]\npose_timeout = 0.001\n", "f.toml: node[0] (navigator).params.pose_timeout: Expected `float` >= 0.05"),
+        (MINIMAL + "[node.params]\ncmd_timeout = 1e9\n", "f.toml: node[0] (sim).params.cmd_timeout: Expected `float` <= 60.0"),
+        ("[supervisor]\nsigint_timeout = 1e9\n" + MINIMAL, "f.toml: supervisor.sigint_timeout: Expected `float` <= 60.0"),
+        (MINIMAL + "respawn = true\nrespawn_delay = 1e9\n", "f.toml: node[0] (sim).respawn_delay: Expected `float` <= 3600.0"),
+        ("[supervisor]\nkeep_logs = -1\n" + MINIMAL, "f.toml: supervisor.keep_logs: Expected `int` >= 0"),
+        # one node of each kind: the keys are fixed
+        (
+            MINIMAL + '[[node]]\nname = "sim2"\nrun = "sim"\n',
+            "f.toml: node[1] (sim2).run: a second 'sim' node (node[0] (sim) is one): both would publish turtle1/pose",
+        ),
+        (NAV + NAV.replace('"navigator"\nrun', '"nav2"\nrun'), "f.toml: node[1] (nav2).run: a second 'navigator' node"),
+        # the navigator must not forget obstacles between two scans
+        (
+            NAV + "[node.params]\nscan_timeout = 0.1\n" + DETECTOR,
+            "f.toml: node[0] (navigator).params.scan_timeout: 0.1 s is not longer than the scan period of "
+            "obstacle_detector (0.2 s at 5 Hz)",
+        ),
+        # the nearest valid name
+        (NAV + "[node.params]\ngoal_timeot = 60\n", "f.toml: node[0] (navigator).params.goal_timeot: unknown key; did you mean goal_timeout?"),
+        (NAV + "[node.params.gains]\nk_linaer = 1\n", "f.toml: node[0] (navigator).params.gains.k_linaer: unknown key; did you mean k_linear?"),
+        ("[wrold]\nsize = 5\n" + MINIMAL, "f.toml: wrold: unknown key; did you mean world?"),
+        ("[world]\nsise = 5\n" + MINIMAL, "f.toml: world.sise: unknown key; did you mean size?"),
+        (MINIMAL + "respwn = true\n", "f.toml: node[0] (sim).respwn: unknown key; did you mean respawn?"),
+        ('[[node]]\nname = "a"\nrun = "navigatr"\n', "f.toml: node[0] (a).run: unknown node kind 'navigatr'; did you mean navigator?"),
+        ('[[node]]\nname = "world"\nrun = "sim"\n', "f.toml: node[0] (world).name: 'world' is reserved"),
+    ],
+)
+def test_files_that_cannot_work_are_refused_before_anything_starts(text, message):
+    with pytest.raises(LaunchFileError) as err:
+        parse_launch(text, source="f.toml")
+    assert str(err.value).startswith(message), str(err.value)
+
+
+def test_edge_cases_that_work_are_accepted():
+    # spawn on the wall, an obstacle partly outside the world, the highest rates
+    plan = parse_launch(
+        "[world]\nobstacles = [{x = -0.5, y = 5, radius = 1}]\n"
+        + MINIMAL
+        + "[node.params]\nx = 0.0\ny = 11.08\n"
+        + STATUS
+        + "[node.params]\nrate = 100.0\n"
+        + NAV
+        + "[node.params]\nscan_timeout = 0.25\nfeedback_rate = 100\n"
+        + DETECTOR
+        + "[node.params]\nrate = 5\nbeams = 3600\n"
+    )
+    assert plan.params["sim"]["x"] == 0.0 and plan.params["status_monitor"]["rate"] == 100.0
+    assert plan.launch.supervisor.keep_logs == 20
+
+
+def test_the_default_launch_file_documents_every_bound():
+    text = (ROOT / "launch.toml").read_text()
+    for words in ("0.1 to 100", "0.05 to 60", "0.1 to 3600", "1 to 3600", "keep_logs"):
+        assert words in text, words
+
+
+SET = "NODE.PARAM=VALUE"
+
+
+def override(*items: str, plan=None):
+    plan = plan or load_launch(ROOT / "launch.toml")
+    return with_overrides(plan, [parse_assignment(item, "--set", SET) for item in items], "--set")
+
+
+def test_set_takes_spaces_tables_and_nested_keys():
+    plan = load_launch(ROOT / "launch.toml")
+    out = override(
+        "navigator.goal_timeout = 60",
+        " navigator.gains.k_linear=25 ",
+        "world.size=20",
+        "limits.max_linear_speed = 2",
+        "supervisor.keep_logs=3",
+        plan=plan,
+    )
+    assert out.params["navigator"]["goal_timeout"] == 60.0 and out.params["navigator"]["gains"]["k_linear"] == 25.0
+    assert out.launch.world.size == 20.0 and len(out.launch.world.obstacles) == 3
+    assert out.launch.limits.max_linear_speed == 2.0 and out.launch.supervisor.keep_logs == 3
+    assert out.source == plan.source
+    assert plan.params["navigator"]["goal_timeout"] == 30.0 and plan.launch.world.size < 12  # unchanged
+    assert override("world.obstacles = []").launch.world.obstacles == []
+    assert override("world.obstacles = [{x = 1, y = 1, radius = 0.5}]").launch.world.obstacles[0].radius == 0.5
+
+
+@pytest.mark.parametrize(
+    "item, message",
+    [
+        ("navigator.goal_timeot=60", "--set navigator.goal_timeot: unknown key; did you mean goal_timeout?"),
+        ("navigator.goal_timeout=-1", "--set navigator.goal_timeout: Expected `float` >= 0.1"),
+        ("navigator.goal_timeout=soon", "--set navigator.goal_timeout: Expected `float`, got `str`"),
+        ("navigator.gains.k_linaer=1", "--set navigator.gains.k_linaer: unknown key; did you mean k_linear?"),
+        ("status_monitor.rate=1e9", "--set status_monitor.rate: Expected `float` <= 100.0"),
+        ("world.size=-3", "--set world.size: Expected `float` > 0.0"),
+        ("world.sise=3", "--set world.sise: unknown key; did you mean size?"),
+        ("world.size=5", "--set world.obstacles[0]: centre (2, 9), radius 0.5 m lies entirely outside the world (0 to 5 m)"),
+        ("limits.max_linear_sped=3", "--set limits.max_linear_sped: unknown key; did you mean max_linear_speed?"),
+        ("navigatr.goal_timeout=60", "--set 'navigatr.goal_timeout=60': no node or table named 'navigatr'; did you mean navigator?"),
+        ("navigator.goal_timeout", "--set 'navigator.goal_timeout': write it as NODE.PARAM=VALUE"),
+        ("navigator..x=1", "--set 'navigator..x=1': write it as"),
+        ("world=5", "--set 'world=5': name a key of world"),
+        ("navigator.goal_timeout.x=1", "--set navigator.goal_timeout: is not a table"),
+    ],
+)
+def test_set_errors_name_the_node_and_the_nearest_key(item, message):
+    with pytest.raises(LaunchFileError) as err:
+        override(item)
+    assert str(err.value).startswith(message), str(err.value)
+
+
+def test_set_world_size_checks_the_spawn_again():
+    with pytest.raises(LaunchFileError) as err:
+        override("world.obstacles = []", "world.size=5")
+    assert str(err.value) == "--set sim.x: spawn x = 5.54444 m is outside the world (0 to 5 m)"
+
+
+def test_set_values_are_toml_or_else_text():
+    assignment = parse_assignment("a.b = plain text", "--set", SET)
+    assert assignment.keys == ("a", "b") and assignment.value == "plain text"
+    assert parse_assignment("a.b=[1, 2]", "--set", SET).value == [1, 2]
+    assert parse_assignment("a.b='quoted'", "--set", SET).value == "quoted"
+    assert parse_assignment("a.b=true", "--set", SET).value is True
+
+
+def test_run_param_overrides_are_validated_as_the_file_is():
+    plan = load_launch(ROOT / "launch.toml")
+    config = node_config(plan, "navigator", "tcp/127.0.0.1:7447", ["goal_timeout = 60", "gains.k_linear=25"])
+    assert config.params["goal_timeout"] == 60.0 and config.params["gains"]["k_linear"] == 25.0
+    assert config.world == plan.launch.world
+    with pytest.raises(LaunchFileError) as err:
+        node_config(plan, "navigator", "tcp/127.0.0.1:7447", ["goal_timeot=60"])
+    assert str(err.value) == "--param navigator.goal_timeot: unknown key; did you mean goal_timeout?"
+    with pytest.raises(LaunchFileError, match=r"--param sim.x: spawn x = 20 m is outside the world"):
+        node_config(plan, "sim", "tcp/127.0.0.1:7447", ["x=20"])
+    with pytest.raises(LaunchFileError, match=r"no node named 'navigatr'; did you mean navigator\?"):
+        node_config(plan, "navigatr", "tcp/127.0.0.1:7447")
+
+
+def test_only_and_exclude_suggest_the_nearest_node():
+    plan = load_launch(ROOT / "launch.toml")
+    with pytest.raises(LaunchFileError, match=r"--only navigatr: no node named 'navigatr'; did you mean navigator\?"):
+        select_nodes(plan, ["navigatr"], [])
+    assert [e.name for e in select_nodes(plan, [], ["obstacle_detector"]).launch.node] == ["sim", "navigator", "status_monitor"]

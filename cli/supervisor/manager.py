@@ -3,7 +3,9 @@ watches them, respawns them with backoff, and stops them all, in order, on
 request or when a required node is gone for good.
 
 Shutdown escalates SIGINT -> SIGTERM -> SIGKILL with the launch file's waits,
-each child getting each signal once, and no child outlives the supervisor.
+each child getting each signal once, and no child outlives the supervisor.  A
+child that has not announced itself yet is still importing and gets SIGTERM
+first: a SIGINT there raises KeyboardInterrupt inside an import (a traceback).
 Never prints directly: everything goes through the Printer.
 """
 
@@ -13,12 +15,14 @@ import os
 import queue
 import signal
 import time
+from pathlib import Path
 from typing import Any
 
 import zenoh
 
 from cli.errors import CliError, ExitCode
 from cli.launchfile import LaunchPlan, node_config
+from cli.supervisor import logs
 from cli.supervisor.printer import Printer
 from cli.supervisor.process import Child, child_env, python_module_argv
 from messages.keys import NODE_TOKEN_PREFIX, parse_node_token
@@ -36,13 +40,32 @@ def respawn_delay(first: float, cap: float, attempt: int) -> float:
     return min(cap, first * 2.0 ** (attempt - 1)) if first > 0 else 0.0
 
 
+def port_in_use(port: int, command: str) -> str:
+    """Why a listen failed on a busy port, and the command that avoids it."""
+    other = port + 1 if port < 65535 else port - 1
+    if command == "launch":
+        how = f'.venv/bin/turtlectl launch --port {other} (or make run ARGS="--port {other}")'
+    else:
+        how = f".venv/bin/turtlectl {command} --port {other}"
+    return f"the port is already in use (another `turtlectl {command}`?); choose another: {how}"
+
+
 class Supervisor:
-    """``port`` given: run a router on ``host``:port.  ``port`` None: join the router at ``connect``."""
+    """``port`` given: run a router on ``host``:port.  ``port`` None: join the router at ``connect``.
+    ``log_parent``: where this run's log folder goes, made once the router is up (None: no files)."""
 
     def __init__(
-        self, plan: LaunchPlan, printer: Printer, port: int | None, connect: str, domain: str = "", host: str = "127.0.0.1"
+        self,
+        plan: LaunchPlan,
+        printer: Printer,
+        port: int | None,
+        connect: str,
+        domain: str = "",
+        host: str = "127.0.0.1",
+        log_parent: Path | None = None,
     ):
         self.plan = plan
+        self.log_parent = log_parent
         self.port = port
         self.host = host
         self.endpoint = f"tcp/{host}:{port}" if port is not None else connect
@@ -71,14 +94,37 @@ class Supervisor:
             return zenoh.open(router_config(self.port, self.host))
         except zenoh.ZError as exc:
             if "in use" in str(exc):
-                reason = "the port is already in use (another `turtlectl launch`? try --port)"
+                reason = port_in_use(self.port, "launch")
             else:
                 reason = zenoh_reason(exc)
             raise CliError(ExitCode.CANNOT_START, f"cannot listen on {self.endpoint}: {reason}") from None
 
+    def _open_logs(self) -> None:
+        """This run's log folder, made only now that the router is up (a launch that cannot
+        start leaves nothing behind), and the oldest run folders beyond keep_logs removed."""
+        if self.log_parent is None:
+            self.printer.system(f"launch file {self.plan.source}")
+            return
+        folder = logs.run_folder(self.log_parent)
+        names = [e.name for e in self.plan.launch.node]
+        try:
+            self.printer.log_to(folder, names)
+        except OSError as exc:
+            raise CliError(ExitCode.CANNOT_START, f"cannot write logs to {folder}: {exc.strerror or exc}") from None
+        self.printer.system(f"launch file {self.plan.source}; logs in {folder}")
+        try:
+            logs.prune(self.log_parent, self.plan.launch.supervisor.keep_logs, folder)
+        except OSError as exc:
+            self.printer.system(f"warning: could not remove old run folders in {self.log_parent}: {exc.strerror or exc}")
+
     def run(self) -> int:
         """Run until stopped; returns the exit code. Raises CliError if it cannot start."""
         session = self._open()
+        try:
+            self._open_logs()
+        except CliError:
+            close_session(session)
+            raise
         previous = {sig: signal.signal(sig, self._on_signal) for sig in (signal.SIGINT, signal.SIGTERM)}
         try:
             prefix = f"{self.domain}/" if self.domain else ""
@@ -90,6 +136,8 @@ class Supervisor:
             domain = f" in domain {self.domain!r}" if self.domain else ""
             self.printer.system(f"{where}{domain}; starting {count} node{'s' * (count != 1)}")
             for name in self.entries:
+                if self._stop_reason is not None:  # stopped while starting: start no more
+                    break
                 self._start(name)
             self._watch()
             self._shutdown()
@@ -197,22 +245,41 @@ class Supervisor:
                 count = len(self.entries)
                 self.printer.system(f"{'all ' * (count > 1)}{count} node{'s' * (count != 1)} ready in {elapsed:.2f} s")
 
+    def _ready(self, child: Child) -> bool:
+        """True once this very process of the node has announced itself (liveliness token)."""
+        return child.pid is not None and self._alive.get(child.name) == child.pid
+
     def _shutdown(self) -> None:
-        """SIGINT, wait, SIGTERM, wait, SIGKILL: each child gets each signal once."""
+        """SIGINT, wait, SIGTERM, wait, SIGKILL: each child gets each signal at most once.
+
+        A child not ready yet is still starting (importing numpy and zenoh), where SIGINT
+        would raise KeyboardInterrupt and print a traceback: it gets SIGTERM at the first
+        step instead, which ends it silently (the default action) or, once the node runtime
+        has installed its handler, stops it as SIGINT does.
+        """
+        self._drain_events()
         settings = self.plan.launch.supervisor
         steps = (
             (signal.SIGINT, settings.sigint_timeout),
             (signal.SIGTERM, settings.sigterm_timeout),
             (signal.SIGKILL, KILL_WAIT),
         )
+        sent: dict[str, set[signal.Signals]] = {name: set() for name in self.children}
         for sig, wait in steps:
             targets = [c for c in self.children.values() if c.running()]
             if not targets:
                 break
-            if sig is not signal.SIGINT:
-                self.printer.system(f"sending {sig.name} to {', '.join(c.name for c in targets)}")
+            sends = []
             for child in targets:
-                child.send(sig)
+                first = signal.SIGTERM if sig is signal.SIGINT and not self._ready(child) else sig
+                if first not in sent[child.name]:
+                    sends.append((child, first))
+            escalated = [c.name for c, s in sends if sig is not signal.SIGINT]
+            if escalated:
+                self.printer.system(f"sending {sig.name} to {', '.join(escalated)}")
+            for child, first in sends:
+                child.send(first)
+                sent[child.name].add(first)
             until = time.monotonic() + wait
             while time.monotonic() < until and any(c.running() for c in targets):
                 time.sleep(0.02)  # pacing: reaping children

@@ -93,6 +93,7 @@ class System:
         self.log_dir = Path(tempfile.mkdtemp(prefix="turtlectl-logs-"))
         self.lines: list[str] = []
         self._line_event = threading.Condition()
+        self._eof = False
         where = ("--connect", join) if join else ("--port", str(self.port))
         self.proc = subprocess.Popen(
             [*turtlectl(), *(("--domain", domain) if domain else ()), "launch", str(launch_file), *where, *extra_args],
@@ -120,10 +121,22 @@ class System:
                 self.lines.append(line.rstrip("\n"))
                 self._line_event.notify_all()
         with self._line_event:
+            self._eof = True
             self._line_event.notify_all()
 
     def output(self) -> str:
         return "\n".join(self.lines)
+
+    def all_output(self, timeout: float = 5.0) -> str:
+        """Everything the supervisor wrote, once it has exited and its output is read to the end."""
+        deadline = time.monotonic() + timeout
+        with self._line_event:
+            while not self._eof:
+                remaining = deadline - time.monotonic()
+                if remaining <= 0:
+                    raise AssertionError(f"output not closed within {timeout} s:\n{self.output()}")
+                self._line_event.wait(min(remaining, 0.1))
+        return self.output()
 
     def check_alive(self) -> None:
         if self.proc.poll() is not None:

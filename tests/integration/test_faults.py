@@ -70,7 +70,7 @@ def test_check_only_exclude_and_set():
     assert "  sim (run sim; required)" in check.stdout and "obstacle_detector" not in check.stdout
     assert "navigator (run navigator; optional; respawn after 1 s" in check.stdout and '"goal_timeout":42.0' in check.stdout
     bad = subprocess.run([*turtlectl(), "launch", "--check", "--set", "navigator.speed=3"], capture_output=True, text=True, timeout=20)
-    assert bad.returncode == 2 and "--set navigator: speed: unknown key" in bad.stderr
+    assert bad.returncode == 2 and "--set navigator.speed: unknown key" in bad.stderr
     with running_system(ready=("sim", "navigator"), extra_args=("--only", "sim", "--only", "navigator", "--set", "navigator.goal_timeout=42")) as system:
         graph = json.loads(system.run_cli("list", "--json").stdout)
         assert {n["name"] for n in graph["nodes"]} == {"sim", "navigator"}

@@ -6,6 +6,7 @@ import json
 import math
 import os
 import signal
+import subprocess
 import time
 
 import numpy as np
@@ -16,7 +17,7 @@ from cli.launchfile import parse_launch
 from messages import LaserScan, NavigateToResponse, Pose, TurtleStatus, decode
 from messages.keys import OBSTACLES, POSE, STATUS
 from nodes.scan import obstacles_in_view
-from tests.integration.harness import NODES, pid_alive, running_system
+from tests.integration.harness import NODES, ROOT, System, pid_alive, running_system
 
 pytestmark = pytest.mark.integration
 
@@ -185,3 +186,88 @@ def test_children_do_not_outlive_a_killed_supervisor():
         while any(pid_alive(p) for p in pids.values()) and time.monotonic() < deadline:
             time.sleep(0.05)  # pacing: polling process state under a deadline
         assert not [p for p in pids.values() if pid_alive(p)]
+
+
+def test_make_run_takes_args_and_a_busy_port_names_the_way_out(custom, tmp_path):
+    make = subprocess.Popen(
+        ["make", "--no-print-directory", "run", f"ARGS=--port {custom.port} --log-dir {tmp_path}"],
+        cwd=ROOT, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, stdin=subprocess.DEVNULL,
+        start_new_session=True,
+    )
+    try:
+        stdout, stderr = make.communicate(timeout=60)
+    finally:
+        if make.poll() is None:  # a launch that did start (ARGS ignored): stop it, as Ctrl-C would
+            os.killpg(make.pid, signal.SIGINT)
+            try:
+                make.communicate(timeout=10)
+            except subprocess.TimeoutExpired:
+                os.killpg(make.pid, signal.SIGKILL)
+                make.communicate()
+    result = subprocess.CompletedProcess(make.args, make.returncode, stdout, stderr)
+    other = custom.port + 1
+    assert f"launch --port {custom.port} --log-dir" in result.stdout  # make ran it with ARGS
+    assert "the port is already in use" in result.stderr, result.stderr
+    assert f'choose another: .venv/bin/turtlectl launch --port {other} (or make run ARGS="--port {other}")' in result.stderr
+    assert "Error 4" in result.stderr and "Traceback" not in result.stderr
+    assert list(tmp_path.iterdir()) == []  # a launch that could not start leaves no log folder
+
+
+KEEP_TWO = """
+[supervisor]
+keep_logs = 2
+[[node]]
+name = "sim"
+run = "sim"
+"""
+
+
+def test_old_run_folders_are_pruned_at_launch(tmp_path):
+    logs = tmp_path / "logs"
+    old = [logs / f"2020-01-0{day}-12-00-00-{4194300 + day}" for day in range(1, 5)]  # pids that run nothing
+    for folder in old:
+        folder.mkdir(parents=True)
+        (folder / "sim.log").write_text("old\n")
+    (logs / "mine").mkdir()
+    path = tmp_path / "keep_two.toml"
+    path.write_text(KEEP_TWO)
+    with running_system(path, ready=("sim",), extra_args=("--log-dir", str(logs))) as system:
+        current = system.lines[system.wait_line(r"logs in ", 5.0)].split("logs in ")[1]
+        assert sorted(p.name for p in logs.iterdir()) == sorted([old[-1].name, os.path.basename(current), "mine"])
+
+
+NOISE = ("Traceback", "Fatal Python error", "KeyboardInterrupt")
+
+
+def _stopped_quietly(system: System, code: int) -> str:
+    """A stop on request: exit 0 (or the process died of the SIGINT before Python ran a line,
+    saying nothing), no traceback from anyone, and no child left."""
+    out = system.all_output()
+    assert code == 0 or (code == -signal.SIGINT and not out), (code, out)
+    assert not [word for word in NOISE if word in out], out
+    assert not [p for p in system.child_pids if pid_alive(p)], out
+    return out
+
+
+@pytest.mark.parametrize("delay", [0.0, 0.2, 0.5])
+def test_ctrl_c_while_the_nodes_start_is_quiet(delay):
+    """Ctrl-C about a second after `make run`: every node is still importing (numpy, zenoh)."""
+    system = System()
+    try:
+        system.wait_line(r"started obstacle_detector", 30.0)  # the last one: all four are starting now
+        time.sleep(delay)  # pacing: into the nodes' imports (about a second), which announce nothing
+        out = _stopped_quietly(system, system.stop(signal.SIGINT))
+        assert len(system.child_pids) == 4 and "stopped (received SIGINT); exit code 0" in out, out
+    finally:
+        system.kill_everything()
+
+
+@pytest.mark.parametrize("delay", [0.1, 0.4, 0.8])
+def test_ctrl_c_while_the_supervisor_starts_is_quiet(delay):
+    """Ctrl-C while `turtlectl launch` itself imports typer and zenoh, or reads the launch file."""
+    system = System()
+    try:
+        time.sleep(delay)  # pacing: a point in the supervisor's own start-up, which announces nothing to wait on
+        _stopped_quietly(system, system.stop(signal.SIGINT))
+    finally:
+        system.kill_everything()
