@@ -1,17 +1,23 @@
-"""The live graph (nodes, topics, services) from liveliness token keys (pure: no zenoh)."""
+"""The live graph (nodes, topics, services) from liveliness token keys (pure: no zenoh).
+
+A client without --domain also sees the systems that run in domains: their tokens are
+``<domain>/@turtlectl/...``, and their nodes, topics and services are listed with the
+domain in front (``lab1/sim``, ``lab1/robot/status``: the keys such a client uses).
+"""
 
 from __future__ import annotations
 
 import msgspec
 
-from messages.keys import EntityInfo, NodeInfo, parse_entity_token, parse_node_token
+from messages.keys import EntityInfo, NodeInfo, parse_domain_token, parse_entity_token, parse_node_token
 
 
 class NodeRow(msgspec.Struct):
-    name: str
+    name: str  # with its domain in front (lab1/sim) when listed from outside the domain
     pid: int
     host: str
     uptime: float  # s
+    domain: str = ""
 
 
 class TopicRow(msgspec.Struct):
@@ -31,20 +37,37 @@ class Graph(msgspec.Struct):
     nodes: list[NodeRow]
     topics: list[TopicRow]
     services: list[ServiceRow]
+    domains: list[str] = msgspec.field(default_factory=list)  # with a system on this router (seen from outside)
+    hint: str = ""  # what to do when there are no nodes (e.g. "add --domain lab1")
+
+
+def _split_domain(key: str) -> tuple[str, str]:
+    """(``lab1/``, ``@turtlectl/...``) for a token declared in domain lab1, ("", key) otherwise."""
+    head, slash, rest = key.partition("/")
+    if slash and not head.startswith("@") and rest.startswith("@turtlectl/"):
+        return head + "/", rest
+    return "", key
 
 
 def build_graph(keys: list[str], now_ns: int) -> Graph:
     """The graph described by liveliness ``keys``, with uptimes as of ``now_ns`` (wall clock, ns)."""
-    nodes: list[NodeInfo] = []
+    nodes: list[tuple[str, NodeInfo]] = []
     entities: list[EntityInfo] = []
-    for key in keys:
+    domains: set[str] = set()
+    for full_key in keys:
+        prefix, key = _split_domain(full_key)
+        if prefix:
+            domains.add(prefix[:-1])
+        if (domain := parse_domain_token(key)) is not None:
+            domains.add(domain)
+            continue
         node = parse_node_token(key)
         if node is not None:
-            nodes.append(node)
+            nodes.append((prefix, msgspec.structs.replace(node, name=prefix + node.name)))
             continue
         entity = parse_entity_token(key)
         if entity is not None:
-            entities.append(entity)
+            entities.append(msgspec.structs.replace(entity, node=prefix + entity.node, key=prefix + entity.key))
     topics: dict[str, TopicRow] = {}
     services: dict[str, ServiceRow] = {}
     for e in sorted(entities, key=lambda e: (e.key, e.node)):
@@ -56,18 +79,27 @@ def build_graph(keys: list[str], now_ns: int) -> Graph:
             (topic.publishers if e.role == "pub" else topic.subscribers).append(e.node)
     return Graph(
         nodes=[
-            NodeRow(name=n.name, pid=n.pid, host=n.host, uptime=max(0.0, (now_ns - n.start_ns) / 1e9) if n.start_ns else 0.0)
-            for n in sorted(nodes, key=lambda n: n.name)
+            NodeRow(
+                name=n.name,
+                pid=n.pid,
+                host=n.host,
+                uptime=max(0.0, (now_ns - n.start_ns) / 1e9) if n.start_ns else 0.0,
+                domain=prefix[:-1],
+            )
+            for prefix, n in sorted(nodes, key=lambda pn: pn[1].name)
         ],
         topics=list(topics.values()),
         services=list(services.values()),
+        domains=sorted(domains),
     )
 
 
 def graph_text(graph: Graph) -> str:
     """The graph as aligned tables for people."""
     lines = ["NODES"]
-    lines += [f"  {n.name:20s} pid {n.pid:<8d} host {n.host:16s} up {n.uptime:8.1f} s" for n in graph.nodes] or ["  (none)"]
+    lines += [f"  {n.name:20s} pid {n.pid:<8d} host {n.host:16s} up {n.uptime:8.1f} s" for n in graph.nodes] or [
+        f"  (none{': ' + graph.hint if graph.hint else ''})"
+    ]
     lines.append("TOPICS")
     for t in graph.topics:
         lines.append(f"  {t.key:22s} {t.type:20s} pub: {', '.join(t.publishers) or '-':20s} sub: {', '.join(t.subscribers) or '-'}")
@@ -75,4 +107,6 @@ def graph_text(graph: Graph) -> str:
         lines.append("  (none)")
     lines.append("SERVICES")
     lines += [f"  {s.key:28s} {s.type:18s} served by {', '.join(s.servers)}" for s in graph.services] or ["  (none)"]
+    if graph.domains:
+        lines.append(f"DOMAINS (listed with their name in front)\n  {', '.join(graph.domains)}")
     return "\n".join(lines)
