@@ -94,19 +94,33 @@ def build_graph(keys: list[str], now_ns: int) -> Graph:
     )
 
 
+def _width(values: list[str], least: int) -> int:
+    return max([least, *map(len, values)])
+
+
 def graph_text(graph: Graph) -> str:
-    """The graph as aligned tables for people."""
+    """The graph as aligned tables for people (columns as wide as their longest entry)."""
     lines = ["NODES"]
-    lines += [f"  {n.name:20s} pid {n.pid:<8d} host {n.host:16s} up {n.uptime:8.1f} s" for n in graph.nodes] or [
-        f"  (none{': ' + graph.hint if graph.hint else ''})"
-    ]
+    name_w = _width([n.name for n in graph.nodes], 20)
+    host_w = _width([n.host for n in graph.nodes], 8)
+    lines += [
+        f"  {n.name:{name_w}s} pid {n.pid:<8d} host {n.host:{host_w}s} up {n.uptime:8.1f} s" for n in graph.nodes
+    ] or [f"  (none{': ' + graph.hint if graph.hint else ''})"]
     lines.append("TOPICS")
+    key_w = _width([t.key for t in graph.topics], 22)
+    type_w = _width([t.type for t in graph.topics], 12)
+    pub_w = _width([", ".join(t.publishers) or "-" for t in graph.topics], 10)
     for t in graph.topics:
-        lines.append(f"  {t.key:22s} {t.type:20s} pub: {', '.join(t.publishers) or '-':20s} sub: {', '.join(t.subscribers) or '-'}")
+        pubs = ", ".join(t.publishers) or "-"
+        lines.append(f"  {t.key:{key_w}s} {t.type:{type_w}s} pub: {pubs:{pub_w}s} sub: {', '.join(t.subscribers) or '-'}")
     if not graph.topics:
         lines.append("  (none)")
     lines.append("SERVICES")
-    lines += [f"  {s.key:28s} {s.type:18s} served by {', '.join(s.servers)}" for s in graph.services] or ["  (none)"]
+    key_w = _width([s.key for s in graph.services], 28)
+    type_w = _width([s.type for s in graph.services], 12)
+    lines += [f"  {s.key:{key_w}s} {s.type:{type_w}s} served by {', '.join(s.servers)}" for s in graph.services] or [
+        "  (none)"
+    ]
     if graph.domains:
-        lines.append(f"DOMAINS (listed with their name in front)\n  {', '.join(graph.domains)}")
+        lines.append(f"DOMAINS (their nodes and keys are listed with the domain in front)\n  {', '.join(graph.domains)}")
     return "\n".join(lines)

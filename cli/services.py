@@ -37,6 +37,7 @@ from messages import (
 )
 from messages.codec import MEDIA_TYPE
 from messages.keys import NAVIGATE_TO, SERVICES, WORLD_KEY
+from nodes.session import default_domain
 from sim.world import World
 
 ZENOH_GRACE = 1.0  # s: Zenoh's own query timeout is ours plus this; our deadline decides
@@ -72,8 +73,11 @@ def service_session(connect: str) -> Iterator[zenoh.Session]:
     with client_session(connect) as session:
         try:
             yield session
+        except RouterLost as exc:
+            raise CliError(exc.code, exc.message.replace("lost the router", f"lost the router at {connect}", 1)) from None
         except NobodyServes as exc:
-            raise CliError(exc.code, exc.message + domain_hint(connect)) from None
+            where = f" in domain {default_domain()}" if default_domain() else ""
+            raise CliError(exc.code, exc.message.replace(" (", f"{where} (", 1) + domain_hint(connect)) from None
 
 
 def replies(
@@ -174,6 +178,8 @@ def goal_replies(
             raise CliError(
                 ExitCode.FAILED, f"the goal did not end within --timeout {timeout:g} s; the navigator cancels it"
             ) from None
+        except RouterLost as exc:
+            raise RouterLost(exc.code, "lost the router before the goal ended (did `turtlectl launch` stop?)") from None
     raise CliError(ExitCode.FAILED, "the navigator stopped answering before the goal ended (did it exit?)")
 
 
