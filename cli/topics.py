@@ -75,10 +75,11 @@ def silence_text(key: str, current: Graph, hint: Callable[[], str]) -> str:
     """Why nothing has arrived on ``key`` yet and what to do, given the live graph (pure
     but for ``hint()``, the domain hint, asked only when no node runs at all)."""
     expr = zenoh.KeyExpr(key)
-    publishers = sorted({p for t in current.topics if expr.intersects(zenoh.KeyExpr(t.key)) for p in t.publishers})
+    published = [t for t in current.topics if t.publishers and expr.intersects(zenoh.KeyExpr(t.key))]
+    publishers = sorted({p for t in published for p in t.publishers})
     if publishers:
         who = f"{', '.join(publishers)} publish{'es' * (len(publishers) == 1)} it"
-        if base_key(key) in WHILE_A_GOAL_RUNS:
+        if all(base_key(t.key) in WHILE_A_GOAL_RUNS for t in published):
             return f"nothing on {key} yet: {who} only while a goal runs (start one with `turtlectl goto X Y THETA`)"
         return f"nothing on {key} for {SILENCE:g} s although {who}: the publisher may be stalled (see its log)"
     if current.nodes:
