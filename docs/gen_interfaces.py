@@ -351,7 +351,7 @@ def example_section(sample_output: str) -> list[str]:
         "[`docs/examples/raw_client.py`](examples/raw_client.py), written from this document alone (plain "
         "zenoh-python and plain msgpack, no turtlectl import), run against a live system "
         "(`python docs/examples/raw_client.py tcp/127.0.0.1:7447`, or with a domain as the second argument); "
-        "tests/integration/test_interfaces.py runs it against the real system:",
+        "tests/integration/test_client_rules.py runs it against the real system:",
         "",
         "```python",
         EXAMPLE.read_text().rstrip(),
