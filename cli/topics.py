@@ -71,10 +71,19 @@ class Silence:
         self.text = text
 
 
-def silence_text(key: str, current: Graph, hint: Callable[[], str]) -> str:
-    """Why nothing has arrived on ``key`` yet and what to do, given the live graph (pure
-    but for ``hint()``, the domain hint, asked only when no node runs at all)."""
+def silence_text(key: str, current: Graph, hint: Callable[[], str], domain: str = "") -> str:
+    """Why nothing has arrived on ``key`` yet and what to do, given the live graph as a
+    client in ``domain`` sees it (pure but for ``hint()``, the domain hint, asked only when
+    no node runs at all)."""
     expr = zenoh.KeyExpr(key)
+    elsewhere = sorted(
+        {
+            d
+            for d in current.domains
+            for t in current.topics
+            if t.publishers and t.key.startswith(d + "/") and expr.intersects(zenoh.KeyExpr(t.key[len(d) + 1 :]))
+        }
+    )
     published = [t for t in current.topics if t.publishers and expr.intersects(zenoh.KeyExpr(t.key))]
     publishers = sorted({p for t in published for p in t.publishers})
     if publishers:
@@ -82,13 +91,20 @@ def silence_text(key: str, current: Graph, hint: Callable[[], str]) -> str:
         if all(base_key(t.key) in WHILE_A_GOAL_RUNS for t in published):
             return f"nothing on {key} yet: {who} only while a goal runs (start one with `turtlectl goto X Y THETA`)"
         return f"nothing on {key} for {SILENCE:g} s although {who}: the publisher may be stalled (see its log)"
+    if elsewhere:
+        which = ", ".join(elsewhere)
+        return (
+            f"nothing on {key}: it is published in domain{'s' * (len(elsewhere) > 1)} {which}: "
+            f"add --domain {elsewhere[0]} (or use {elsewhere[0]}/{key})"
+        )
     if current.nodes:
         return f"nothing on {key} yet: no running node publishes it (`turtlectl list` shows the topics)"
-    return f"nothing on {key} yet: no turtlectl node runs on this router (is `turtlectl launch` running?){hint()}"
+    where = f"in domain {domain}" if domain else "on this router"
+    return f"nothing on {key} yet: no turtlectl node runs {where} (is `turtlectl launch` running?){hint()}"
 
 
 def _silence(session: zenoh.Session, connect: str, key: str) -> Silence:
-    return Silence(key, silence_text(key, _graph(session), lambda: domain_hint(connect)))
+    return Silence(key, silence_text(key, _graph(session), lambda: domain_hint(connect), default_domain()))
 
 
 def stream(connect: str, topic: str, count: int | None, timeout: float | None) -> Iterator[Received | Silence]:

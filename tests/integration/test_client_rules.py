@@ -322,6 +322,8 @@ def test_a_client_without_domain_sees_every_domain_and_is_told_which_to_use(rout
 
         status = plain("echo", "alpha/robot/status", "--once", "--json", endpoint=router.endpoint)
         assert status.returncode == 0 and json.loads(status.stdout)["type"] == "TurtleStatus"
+        silent = plain("echo", "robot/status", "--timeout", "4", endpoint=router.endpoint)
+        assert silent.returncode == 3 and "published in domain alpha: add --domain alpha" in silent.stderr
         # a goal reached from outside the domain still holds the caller's token inside it
         alpha.teleport(1.0, 5.5, 0.0)
         start = len(alpha.lines)
