@@ -435,7 +435,7 @@ def view(connect: str = ConnectOption) -> None:
 
     Example: turtlectl view
     """
-    from cli.view import run_view  # curses and numpy: only for this command
+    from cli.view import run_view  # curses: only for this command
 
     try:
         with client.client_session(connect) as session:

@@ -40,8 +40,8 @@ SEQ = ("count", ">= 0", "per-publisher counter from 0; starts again at 0 when th
 # (type, field) -> (unit, range or values, meaning).  Every field of every wire type.
 FIELDS: dict[str, dict[str, tuple[str, str, str]]] = {
     "Twist": {
-        "linear": ("m/s", "[-max_linear_speed, max_linear_speed]", "speed along the heading; negative drives backwards"),
-        "angular": ("rad/s", "[-max_angular_speed, max_angular_speed]", "yaw rate, counter-clockwise positive"),
+        "linear": ("m/s", "any finite value; the sim clamps it to [-max_linear_speed, max_linear_speed] and ramps at max_linear_accel; non-finite stops the turtle", "speed along the heading; negative drives backwards"),
+        "angular": ("rad/s", "any finite value; the sim clamps it to [-max_angular_speed, max_angular_speed] and ramps at max_angular_accel", "yaw rate, counter-clockwise positive"),
         "stamp": STAMP,
         "seq": SEQ,
     },
