@@ -28,13 +28,29 @@ from tests.integration.harness import ROOT, free_port, running_system, turtlectl
 pytestmark = pytest.mark.integration
 
 
+STARTED: list[subprocess.Popen] = []
+
+
+@pytest.fixture(autouse=True)
+def _kill_background_commands():
+    """Whatever a test asserts, the commands it started in the background do not outlive it."""
+    yield
+    while STARTED:
+        proc = STARTED.pop()
+        if proc.poll() is None:
+            proc.kill()
+            proc.wait(5)
+
+
 def cli(system, *args: str) -> subprocess.Popen:
-    """A turtlectl command against ``system``, running in the background."""
+    """A turtlectl command against ``system``, running in the background (killed after the test)."""
     domain = ("--domain", system.domain) if system.domain else ()
-    return subprocess.Popen(
+    proc = subprocess.Popen(
         [*turtlectl(), *domain, *args, "--connect", system.endpoint],
         stdout=subprocess.PIPE, stderr=subprocess.PIPE, stdin=subprocess.DEVNULL, text=True,
     )
+    STARTED.append(proc)
+    return proc
 
 
 def read_line(stream, timeout: float) -> str:
@@ -172,6 +188,7 @@ def test_goto_progress_fits_an_80_column_terminal(system):
     goto = subprocess.Popen(
         [*turtlectl(), "goto", "10", "5.5", "-45", "--connect", system.endpoint], stdout=slave, stderr=slave, env=env
     )
+    STARTED.append(goto)
     os.close(slave)
     out = b""
     while True:
