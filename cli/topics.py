@@ -89,18 +89,18 @@ def silence_text(key: str, current: Graph, hint: Callable[[], str], domain: str 
     if publishers:
         who = f"{', '.join(publishers)} publish{'es' * (len(publishers) == 1)} it"
         if all(base_key(t.key) in WHILE_A_GOAL_RUNS for t in published):
-            return f"nothing on {key} yet: {who} only while a goal runs (start one with `turtlectl goto X Y THETA`)"
-        return f"nothing on {key} for {SILENCE:g} s although {who}: the publisher may be stalled (see its log)"
+            return f"nothing published on {key} yet: {who} only while a goal runs (start one with `turtlectl goto X Y THETA`)"
+        return f"nothing published on {key} for {SILENCE:g} s although {who}: it may be stalled (see its log)"
     if elsewhere:
         which = ", ".join(elsewhere)
         return (
-            f"nothing on {key}: it is published in domain{'s' * (len(elsewhere) > 1)} {which}: "
+            f"nothing published on {key} here: it is published in domain{'s' * (len(elsewhere) > 1)} {which}: "
             f"add --domain {elsewhere[0]} (or use {elsewhere[0]}/{key})"
         )
     if current.nodes:
-        return f"nothing on {key} yet: no running node publishes it (`turtlectl list` shows the topics)"
+        return f"nothing published on {key} yet: no running node publishes it (`turtlectl list` shows the topics)"
     where = f"in domain {domain}" if domain else "on this router"
-    return f"nothing on {key} yet: no turtlectl node runs {where} (is `turtlectl launch` running?){hint()}"
+    return f"nothing published on {key} yet: no turtlectl node runs {where} (is `turtlectl launch` running?){hint()}"
 
 
 def _silence(session: zenoh.Session, connect: str, key: str) -> Silence:

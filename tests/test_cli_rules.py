@@ -131,7 +131,7 @@ def test_silence_says_when_a_topic_is_published():
     assert "navigator publishes it only while a goal runs" in text and "launch" not in text
     assert "navigator publishes it only while a goal runs" in silence_text("navigate_to/*", graph, lambda: "")
     status_pub = EntityInfo(node="status_monitor", pid=3, role="pub", type_name="TurtleStatus", key="robot/status")
-    assert "although status_monitor publishes it" in silence_text("robot/status", _graph_with(status_pub), lambda: "")
+    assert "for 3 s although status_monitor publishes it" in silence_text("robot/status", _graph_with(status_pub), lambda: "")
     assert "no running node publishes it" in silence_text("nosuch", graph, lambda: "")
     nothing = silence_text("robot/status", build_graph([], 0), lambda: "; systems run in domain lab1")
     assert "no turtlectl node runs on this router" in nothing and nothing.endswith("; systems run in domain lab1")
@@ -144,7 +144,7 @@ def test_silence_outside_a_domain_points_into_the_domain_that_publishes():
         "lab1/" + entity_token(EntityInfo(node="status_monitor", pid=3, role="pub", type_name="TurtleStatus", key="robot/status")),
     ]
     text = silence_text("robot/status", build_graph(keys, 0), lambda: "")
-    assert text == "nothing on robot/status: it is published in domain lab1: add --domain lab1 (or use lab1/robot/status)"
+    assert text == "nothing published on robot/status here: it is published in domain lab1: add --domain lab1 (or use lab1/robot/status)"
 
 
 def test_a_known_key_keeps_its_type():

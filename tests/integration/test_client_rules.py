@@ -157,7 +157,7 @@ def test_echo_of_feedback_without_a_goal_says_when_it_is_published(system):
 def test_hz_on_a_silent_topic_says_so_and_ctrl_c_exits_0(system):
     hz = cli(system, "hz", "nosuch")
     line = read_line(hz.stderr, 10.0)
-    assert "nothing on nosuch yet: no running node publishes it" in line
+    assert "nothing published on nosuch yet: no running node publishes it" in line
     hz.send_signal(signal.SIGINT)
     hz.communicate(timeout=10)
     assert hz.returncode == 0
