@@ -105,10 +105,9 @@ def new_client_id() -> str:
 def domain_prefix(key: str) -> str:
     """The domain part of a key a client without --domain uses to reach into a domain
     (``lab1/`` in ``lab1/navigate_to``), else ""."""
+    known = TOPICS.keys() | SERVICES.keys()
     head, slash, rest = key.partition("/")
-    if slash and not default_domain() and (rest in TOPICS or rest in SERVICES) and key not in TOPICS and key not in SERVICES:
-        return head + "/"
-    return ""
+    return head + "/" if slash and not default_domain() and rest in known and key not in known else ""
 
 
 def base_key(key: str) -> str:
