@@ -7,12 +7,25 @@ live in cli.services, topics in cli.topics.
 from __future__ import annotations
 
 import contextlib
+import os
 import re
+import secrets
+import socket
 from collections.abc import Iterator
 
 import zenoh
 
 from cli.errors import CliError, ExitCode
+from messages.keys import (
+    DOMAIN_GRAPHS,
+    DOMAIN_TOKEN_PREFIX,
+    NAVIGATE_TO,
+    NODE_TOKEN_PREFIX,
+    SERVICES,
+    TOPICS,
+    client_token,
+    parse_domain_token,
+)
 from nodes.session import client_config, close_session, default_domain
 
 OPEN_TIMEOUT = 2.5  # s to reach the router before reporting "nothing to talk to"
@@ -48,17 +61,108 @@ def check_key(text: str, publish: bool = False) -> str:
     return key
 
 
-@contextlib.contextmanager
-def client_session(connect: str) -> Iterator[zenoh.Session]:
-    """A Zenoh client session to the router at ``connect``, closed (bounded) on exit."""
-    check_endpoint(connect)
+def _no_system(connect: str) -> CliError:
+    return CliError(ExitCode.UNREACHABLE, f"no turtlectl system at {connect} (is `turtlectl launch` running?)")
+
+
+def probe(connect: str) -> None:
+    """CliError(UNREACHABLE) at once if nothing listens at a ``tcp/`` endpoint (Zenoh itself
+    would retry for OPEN_TIMEOUT s before saying so); other protocols are left to Zenoh."""
+    match = ENDPOINT_RE.match(check_endpoint(connect))
+    if match is None or match.group(1) != "tcp":
+        return
     try:
-        session = zenoh.open(client_config(connect, OPEN_TIMEOUT, default_domain()))
+        socket.create_connection((match.group(2).strip("[]"), int(match.group(3))), timeout=OPEN_TIMEOUT).close()
+    except OSError:
+        raise _no_system(connect) from None
+
+
+@contextlib.contextmanager
+def client_session(connect: str, domain: str | None = None) -> Iterator[zenoh.Session]:
+    """A Zenoh client session to the router at ``connect``, closed (bounded) on exit; in
+    ``domain`` (default: --domain / TURTLECTL_DOMAIN; "" for none)."""
+    probe(connect)
+    try:
+        session = zenoh.open(client_config(connect, OPEN_TIMEOUT, default_domain() if domain is None else domain))
     except zenoh.ZError:
-        raise CliError(
-            ExitCode.UNREACHABLE, f"no turtlectl system at {connect} (is `turtlectl launch` running?)"
-        ) from None
+        raise _no_system(connect) from None
     try:
         yield session
     finally:
         close_session(session)
+
+
+def router_lost(session: zenoh.Session) -> bool:
+    """True if this client session has no router any more (the router stopped or went away)."""
+    return not session.info.routers_zid()
+
+
+def new_client_id() -> str:
+    """An id for ``NavigateToRequest.client``: ``<pid>-<8 hex digits>``, one key chunk."""
+    return f"{os.getpid()}-{secrets.token_hex(4)}"
+
+
+def domain_prefix(key: str) -> str:
+    """The domain part of a key a client without --domain uses to reach into a domain
+    (``lab1/`` in ``lab1/navigate_to``), else ""."""
+    known = TOPICS.keys() | SERVICES.keys()
+    head, slash, rest = key.partition("/")
+    return head + "/" if slash and not default_domain() and rest in known and key not in known else ""
+
+
+def base_key(key: str) -> str:
+    """``key`` without the domain prefix of ``domain_prefix`` (``lab1/navigate_to`` -> ``navigate_to``)."""
+    return key[len(domain_prefix(key)):]
+
+
+@contextlib.contextmanager
+def caller_token(session: zenoh.Session, service_key: str = NAVIGATE_TO) -> Iterator[str]:
+    """Hold ``@turtlectl/client/<id>`` while the block runs and yield ``<id>``: the navigator
+    cancels the goal of a caller whose token vanishes (Ctrl-C, kill -9, a timeout here).
+    The token lives in the service's domain (``lab1/@turtlectl/client/<id>`` for ``lab1/navigate_to``)."""
+    client_id = new_client_id()
+    token = session.liveliness().declare_token(domain_prefix(service_key) + client_token(client_id))
+    try:
+        yield client_id
+    finally:
+        token.undeclare()
+
+
+def domains_on_router(connect: str) -> tuple[list[str], bool]:
+    """The domains with a system on the router at ``connect`` (a supervisor's domain token, or
+    nodes in the domain), and whether nodes run there outside any domain.  Asked outside
+    any namespace, so it works whatever --domain this client has."""
+    with client_session(connect, domain="") as session:
+        found: set[str] = set()
+        plain = False
+        for selector in (f"{DOMAIN_TOKEN_PREFIX}/*", DOMAIN_GRAPHS, f"{NODE_TOKEN_PREFIX}/**"):
+            for reply in session.liveliness().get(selector, timeout=1.0):
+                if reply.ok is None:
+                    continue
+                key = str(reply.ok.key_expr)
+                if key.startswith(NODE_TOKEN_PREFIX + "/"):
+                    plain = True
+                elif (domain := parse_domain_token(key)) is not None:
+                    found.add(domain)
+                elif "/@turtlectl/" in key:
+                    found.add(key.partition("/")[0])
+    return sorted(found), plain
+
+
+def domain_hint(connect: str) -> str:
+    """A hint, starting with "; ", when the systems on this router run in other domains than
+    this client's (--domain), else "".  Never raises: it only adds to another error."""
+    mine = default_domain()
+    try:
+        found, plain = domains_on_router(connect)
+    except CliError:
+        return ""
+    others = [d for d in found if d != mine]
+    if plain and mine:
+        return f"; a system runs outside any domain on this router: drop --domain {mine}" + (
+            f" (or use --domain {others[0]})" if others else ""
+        )
+    if others:
+        which = ", ".join(others)
+        return f"; systems run in domain{'s' * (len(others) > 1)} {which} on this router: add --domain {others[0]}"
+    return ""

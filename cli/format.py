@@ -12,6 +12,7 @@ import msgspec
 from cli.errors import CliError, ExitCode
 from cli.launchfile import LaunchPlan
 from messages import Ack, Message, NavigateToFeedback, NavigateToResponse, to_builtins, to_json
+from messages.angles import degrees_0_360
 
 SHORT = 8  # array items shown before "..." unless --full
 
@@ -62,9 +63,13 @@ def value_text(value: Any, full: bool = False) -> str:
     return _value(value, full)
 
 
-def message_json(msg: Message) -> str:
-    """One JSON object on one line (its ``type`` names the message type)."""
-    return to_json(msg).decode()
+def message_json(msg: Message, key: str | None = None) -> str:
+    """One JSON object on one line (its ``type`` names the message type); with ``key``, a
+    ``"key"`` member after ``type`` names the key it came on (echo of a wildcard)."""
+    if key is None:
+        return to_json(msg).decode()
+    data = to_builtins(msg)
+    return msgspec.json.encode({"type": data.pop("type"), "key": key, **data}).decode()
 
 
 def json_value(value: Any) -> str:
@@ -83,9 +88,16 @@ def csv_row(msg: Message) -> str:
     return out.getvalue()
 
 
+def heading_text(degrees: float, decimals: int = 1) -> str:
+    """A heading (degrees, any value) as people read it: in [0, 360) as printed, so 359.97
+    shows as 0.0, never 360.0 (reduced with messages.angles before and after rounding)."""
+    shown = degrees_0_360(round(degrees_0_360(degrees), decimals)) + 0.0  # + 0.0: no "-0.0"
+    return f"{shown:.{decimals}f}"
+
+
 def outcome_line(response: NavigateToResponse) -> str:
     """One line for people: what happened to a goal."""
-    where = f"at ({response.x:.3f}, {response.y:.3f}, {response.theta:.1f} deg)"
+    where = f"at ({response.x:.3f}, {response.y:.3f}, {heading_text(response.theta)} deg)"
     errors = f"error {response.position_error:.4f} m, {response.heading_error:.2f} deg"
     if response.success:
         return f"reached {where} in {response.time_taken:.3f} s ({errors})"
@@ -94,16 +106,35 @@ def outcome_line(response: NavigateToResponse) -> str:
     return f"not reached: {response.reason} after {response.time_taken:.3f} s; {where}, {errors}"
 
 
-def progress_line(fb: NavigateToFeedback) -> str:
-    """One short line for the live progress of a goal (rewritten in place on a terminal)."""
-    return (
-        f"{fb.state:8s} {fb.distance_remaining:6.3f} m, {fb.heading_remaining:5.1f} deg to go, "
-        f"eta {fb.eta:4.1f} s | at ({fb.x:.2f}, {fb.y:.2f}, {fb.theta:.0f} deg) | {fb.elapsed:.1f} s"
-    )
+def progress_line(fb: NavigateToFeedback, width: int = 80) -> str:
+    """The live progress of a goal on one line of at most ``width - 1`` characters (it is
+    rewritten in place, so it must never wrap; the last column stays free because some
+    terminals wrap on writing it).  Parts are dropped, least useful first, to fit: the
+    elapsed time, the pose, the eta, then the heading; a very narrow line is cut."""
+    parts = [  # (priority: lower is kept longer, text)
+        (0, f"{fb.state:8s} {fb.distance_remaining:6.3f} m"),
+        (3, f"{fb.heading_remaining:5.1f} deg to go"),
+        (1, "no scan: avoiding declared obstacles only" if fb.scan_stale else ""),
+        (2, f"eta {fb.eta:4.1f} s"),
+        (4, f"at ({fb.x:.2f}, {fb.y:.2f}, {heading_text(fb.theta, 0)} deg)"),
+        (5, f"{fb.elapsed:.1f} s"),
+    ]
+    parts = [(rank, text) for rank, text in parts if text]
+    room = max(1, width - 1)
+    while True:
+        line = " | ".join(text for _, text in parts)
+        if len(line) <= room or len(parts) == 1:
+            return line[:room]
+        parts.remove(max(parts, key=lambda p: p[0]))
 
 
 def ack_lines(acks: list[Ack]) -> str:
     return "\n".join(a.detail for a in acks)
+
+
+def teleport_line(x: float, y: float, theta_degrees: float) -> str:
+    """What ``teleport`` says, in the units it was given (m, m, degrees in [0, 360))."""
+    return f"teleported to ({x:g}, {y:g}, {heading_text(theta_degrees, 6).rstrip('0').rstrip('.')} deg)"
 
 
 def plan_text(plan: LaunchPlan) -> str:

@@ -1,17 +1,23 @@
-"""The live graph (nodes, topics, services) from liveliness token keys (pure: no zenoh)."""
+"""The live graph (nodes, topics, services) from liveliness token keys (pure: no zenoh).
+
+A client without --domain also sees the systems that run in domains: their tokens are
+``<domain>/@turtlectl/...``, and their nodes, topics and services are listed with the
+domain in front (``lab1/sim``, ``lab1/robot/status``: the keys such a client uses).
+"""
 
 from __future__ import annotations
 
 import msgspec
 
-from messages.keys import EntityInfo, NodeInfo, parse_entity_token, parse_node_token
+from messages.keys import EntityInfo, NodeInfo, parse_domain_token, parse_entity_token, parse_node_token
 
 
 class NodeRow(msgspec.Struct):
-    name: str
+    name: str  # with its domain in front (lab1/sim) when listed from outside the domain
     pid: int
     host: str
     uptime: float  # s
+    domain: str = ""
 
 
 class TopicRow(msgspec.Struct):
@@ -31,20 +37,37 @@ class Graph(msgspec.Struct):
     nodes: list[NodeRow]
     topics: list[TopicRow]
     services: list[ServiceRow]
+    domains: list[str] = msgspec.field(default_factory=list)  # with a system on this router (seen from outside)
+    hint: str = ""  # what to do when there are no nodes (e.g. "add --domain lab1")
+
+
+def _split_domain(key: str) -> tuple[str, str]:
+    """(``lab1/``, ``@turtlectl/...``) for a token declared in domain lab1, ("", key) otherwise."""
+    head, slash, rest = key.partition("/")
+    if slash and not head.startswith("@") and rest.startswith("@turtlectl/"):
+        return head + "/", rest
+    return "", key
 
 
 def build_graph(keys: list[str], now_ns: int) -> Graph:
     """The graph described by liveliness ``keys``, with uptimes as of ``now_ns`` (wall clock, ns)."""
-    nodes: list[NodeInfo] = []
+    nodes: list[tuple[str, NodeInfo]] = []
     entities: list[EntityInfo] = []
-    for key in keys:
+    domains: set[str] = set()
+    for full_key in keys:
+        prefix, key = _split_domain(full_key)
+        if prefix:
+            domains.add(prefix[:-1])
+        if (domain := parse_domain_token(key)) is not None:
+            domains.add(domain)
+            continue
         node = parse_node_token(key)
         if node is not None:
-            nodes.append(node)
+            nodes.append((prefix, msgspec.structs.replace(node, name=prefix + node.name)))
             continue
         entity = parse_entity_token(key)
         if entity is not None:
-            entities.append(entity)
+            entities.append(msgspec.structs.replace(entity, node=prefix + entity.node, key=prefix + entity.key))
     topics: dict[str, TopicRow] = {}
     services: dict[str, ServiceRow] = {}
     for e in sorted(entities, key=lambda e: (e.key, e.node)):
@@ -56,23 +79,48 @@ def build_graph(keys: list[str], now_ns: int) -> Graph:
             (topic.publishers if e.role == "pub" else topic.subscribers).append(e.node)
     return Graph(
         nodes=[
-            NodeRow(name=n.name, pid=n.pid, host=n.host, uptime=max(0.0, (now_ns - n.start_ns) / 1e9) if n.start_ns else 0.0)
-            for n in sorted(nodes, key=lambda n: n.name)
+            NodeRow(
+                name=n.name,
+                pid=n.pid,
+                host=n.host,
+                uptime=max(0.0, (now_ns - n.start_ns) / 1e9) if n.start_ns else 0.0,
+                domain=prefix[:-1],
+            )
+            for prefix, n in sorted(nodes, key=lambda pn: pn[1].name)
         ],
         topics=list(topics.values()),
         services=list(services.values()),
+        domains=sorted(domains),
     )
 
 
+def _width(values: list[str], least: int) -> int:
+    return max([least, *map(len, values)])
+
+
 def graph_text(graph: Graph) -> str:
-    """The graph as aligned tables for people."""
+    """The graph as aligned tables for people (columns as wide as their longest entry)."""
     lines = ["NODES"]
-    lines += [f"  {n.name:20s} pid {n.pid:<8d} host {n.host:16s} up {n.uptime:8.1f} s" for n in graph.nodes] or ["  (none)"]
+    name_w = _width([n.name for n in graph.nodes], 20)
+    host_w = _width([n.host for n in graph.nodes], 8)
+    lines += [
+        f"  {n.name:{name_w}s} pid {n.pid:<8d} host {n.host:{host_w}s} up {n.uptime:8.1f} s" for n in graph.nodes
+    ] or [f"  (none{': ' + graph.hint if graph.hint else ''})"]
     lines.append("TOPICS")
+    key_w = _width([t.key for t in graph.topics], 22)
+    type_w = _width([t.type for t in graph.topics], 12)
+    pub_w = _width([", ".join(t.publishers) or "-" for t in graph.topics], 10)
     for t in graph.topics:
-        lines.append(f"  {t.key:22s} {t.type:20s} pub: {', '.join(t.publishers) or '-':20s} sub: {', '.join(t.subscribers) or '-'}")
+        pubs = ", ".join(t.publishers) or "-"
+        lines.append(f"  {t.key:{key_w}s} {t.type:{type_w}s} pub: {pubs:{pub_w}s} sub: {', '.join(t.subscribers) or '-'}")
     if not graph.topics:
         lines.append("  (none)")
     lines.append("SERVICES")
-    lines += [f"  {s.key:28s} {s.type:18s} served by {', '.join(s.servers)}" for s in graph.services] or ["  (none)"]
+    key_w = _width([s.key for s in graph.services], 28)
+    type_w = _width([s.type for s in graph.services], 12)
+    lines += [f"  {s.key:{key_w}s} {s.type:{type_w}s} served by {', '.join(s.servers)}" for s in graph.services] or [
+        "  (none)"
+    ]
+    if graph.domains:
+        lines.append(f"DOMAINS (their nodes and keys are listed with the domain in front)\n  {', '.join(graph.domains)}")
     return "\n".join(lines)

@@ -12,6 +12,7 @@ import ipaddress
 import math
 import os
 import re
+import shutil
 import signal
 import sys
 from pathlib import Path
@@ -29,15 +30,18 @@ from cli.supervisor.manager import Supervisor
 from cli.supervisor.printer import Printer
 from cli.supervisor.process import exec_node
 from cli.supervisor.router import run_router
-from cli.view import run_view
-from messages import Cancel, NavigateToRequest, Reset, TeleportAbsolute, keys
+from messages import Cancel, NavigateToFeedback, NavigateToRequest, Reset, TeleportAbsolute, keys
+from messages.angles import heading_radians
 from nodes.session import CONNECT_ENV, DEFAULT_ENDPOINT, DEFAULT_PORT, DOMAIN_ENV, default_domain
 
 EXIT_CODES = """
-Exit codes: 0 success; 1 ran but did not succeed (goal refused or not reached,
-a required node died); 2 bad input (arguments, launch file); 3 nothing to talk
-to (no router, no navigator, no message); 4 launch or router could not start
-(port in use, log folder); 130 interrupted (goto).
+Exit codes: 0 success, or Ctrl-C on a command that runs until stopped (echo, hz,
+view, pub --rate); 1 ran but did not succeed (goal refused or not reached, an
+answer that says no, a required node died); 2 bad input (arguments, launch
+file); 3 nothing to talk to (no router, no navigator, no message, the router
+lost); 4 launch or router could not start (port in use, log folder); 130
+interrupted by Ctrl-C before its result (goto, call, and the other one-shot
+commands).
 """
 
 app = typer.Typer(
@@ -188,15 +192,20 @@ def goto(
     """Send the turtle to (X, Y) facing THETA degrees and wait for the outcome.
 
     On a terminal a live progress line shows the goal's state; piped, only the
-    outcome is printed.  Ctrl-C cancels the goal.
+    outcome is printed.  Ctrl-C cancels the goal (exit code 130).
 
     Example: turtlectl goto 8 5 90
     """
     request = NavigateToRequest(x=_number(x, "x"), y=_number(y, "y"), theta=_number(theta, "theta"))
     live = sys.stdout.isatty() and not json
-    show = (lambda fb: typer.echo("\r\033[K" + format.progress_line(fb), nl=False)) if live else None
+
+    def show(fb: NavigateToFeedback) -> None:  # the terminal's width now: it may be resized meanwhile
+        typer.echo("\r\033[K" + format.progress_line(fb, shutil.get_terminal_size().columns), nl=False)
+
     try:
-        response, _ = services.navigate(connect, request, timeout if timeout is not None else services.NO_LIMIT, show)
+        response, _ = services.navigate(
+            connect, request, timeout if timeout is not None else services.NO_LIMIT, show if live else None
+        )
     except KeyboardInterrupt:
         raise CliError(ExitCode.INTERRUPTED, "interrupted: the navigator cancels the goal") from None
     finally:
@@ -230,8 +239,12 @@ def teleport(
 
     Example: turtlectl teleport 2 2 45
     """
-    request = TeleportAbsolute(x=_number(x, "x"), y=_number(y, "y"), theta=math.radians(_number(theta, "theta")))
-    typer.echo(format.ack_lines(services.simple_call(connect, keys.TELEPORT, request)))
+    degrees = _number(theta, "theta")
+    request = TeleportAbsolute(x=_number(x, "x"), y=_number(y, "y"), theta=heading_radians(degrees))
+    acks = services.simple_call(connect, keys.TELEPORT, request)
+    if not all(a.ok for a in acks):  # the simulator's own words (they are in radians, as its request)
+        raise CliError(ExitCode.FAILED, format.ack_lines(acks))
+    typer.echo(format.teleport_line(request.x, request.y, degrees))
 
 
 @app.command()
@@ -240,7 +253,9 @@ def reset(connect: str = ConnectOption) -> None:
 
     Example: turtlectl reset
     """
-    typer.echo(format.ack_lines(services.simple_call(connect, keys.RESET, Reset(), everyone=True)))
+    acks = services.simple_call(connect, keys.RESET, Reset(), everyone=True)
+    typer.echo(format.ack_lines(acks))
+    raise typer.Exit(ExitCode.OK if all(a.ok for a in acks) else ExitCode.FAILED)
 
 
 @app.command()
@@ -257,7 +272,8 @@ def echo(
 ) -> None:
     """Print the messages published on TOPIC, decoded whatever their type.
 
-    Keeps printing across a publisher's restart.  Example: turtlectl echo robot/status --field battery
+    Keeps printing across a publisher's restart; runs until Ctrl-C (exit code 0), --count or
+    --timeout.  With a wildcard each message names its key.  Example: turtlectl echo robot/status --field battery
     """
     if json and csv:
         raise CliError(ExitCode.BAD_INPUT, "--json and --csv do not go together")
@@ -265,10 +281,11 @@ def echo(
         raise CliError(ExitCode.BAD_INPUT, "--once and --count do not go together")
     limit = 1 if once else count
     header = False
+    wildcard = "*" in topic
     try:
         for item in topics.stream(connect, topic, limit, timeout):
             if isinstance(item, topics.Silence):
-                typer.echo(f"nothing published on {topic} yet (is `turtlectl launch` running?)", err=True)
+                typer.echo(item.text, err=True)
                 continue
             if item.message is None:
                 typer.echo(f"skipped a message on {item.key}: {item.problem}", err=True)
@@ -278,14 +295,14 @@ def echo(
                 value = format.select_field(msg, field)
                 typer.echo(format.json_value(value) if json or csv else format.value_text(value, full))
             elif json:
-                typer.echo(format.message_json(msg))
+                typer.echo(format.message_json(msg, item.key if wildcard else None))
             elif csv:
                 if not header:
                     typer.echo(format.csv_header(msg))
                     header = True
                 typer.echo(format.csv_row(msg))
             else:
-                typer.echo(format.message_block(msg, full, item.key if "*" in topic else None))
+                typer.echo(format.message_block(msg, full, item.key if wildcard else None))
     except KeyboardInterrupt:
         pass
     except BrokenPipeError:  # `| head`: the reader has what it wanted
@@ -299,6 +316,8 @@ def list_graph(
 ) -> None:
     """The live graph: nodes (name, pid, host, uptime), topics with their publishers and
     subscribers, and services; read from liveliness tokens now, never from a cache.
+    Without --domain, systems running in domains are listed too, their names and keys
+    prefixed with the domain (lab1/sim, lab1/robot/status).
 
     Example: turtlectl list
     """
@@ -316,11 +335,15 @@ def hz(
 ) -> None:
     """Rate of each TOPIC from arrival times (with jitter), and the publisher's own rate from stamps.
 
+    Runs until Ctrl-C (exit code 0) or --duration; a topic silent for 3 s is reported with the reason.
     Example: turtlectl hz robot/status obstacles --duration 10
     """
     last: list = []
     try:
         for stats in topics.measure_rates(connect, names, window, duration):
+            if isinstance(stats, topics.Silence):
+                typer.echo(stats.text, err=True)
+                continue
             last = stats
             for st in stats:
                 typer.echo(format.json_value(st) if json else rate_line(st))
@@ -340,17 +363,24 @@ def pub(
     type_name: Optional[str] = typer.Option(None, "--type", help="Message type, for keys without a known one."),
     connect: str = ConnectOption,
 ) -> None:
-    """Publish a message built from JSON, validated for the topic's type before anything is sent.
+    """Publish a message built from JSON, validated for the topic's type before anything is sent
+    (a known topic's own type: --type cannot change it).
 
+    With --rate and no --times it runs until Ctrl-C (exit code 0); otherwise Ctrl-C before
+    the last message is exit code 130.
     Example: turtlectl pub turtle1/cmd_vel '{"linear": 1.0, "angular": 0.5}' --rate 10
     """
-    msg = build.topic_message(client.check_key(topic, publish=True), message, type_name)
+    key = client.check_key(topic, publish=True)
+    msg = build.topic_message(client.base_key(key), message, type_name)
+    topics.check_topic_type(key, type(msg))
     if once and (rate is not None or times is not None):
         raise CliError(ExitCode.BAD_INPUT, "--once does not go with --rate or --times")
     count = times if times is not None else (None if rate is not None else 1)
     try:
         sent = topics.publish(connect, topic, msg, rate if rate is not None else 10.0, count)
     except KeyboardInterrupt:
+        if count is not None:
+            raise CliError(ExitCode.INTERRUPTED, "interrupted before every message was sent") from None
         return
     typer.echo(f"published {sent} {type(msg).__name__} on {topic}", err=True)
 
@@ -359,22 +389,39 @@ def pub(
 def call(
     service: str = typer.Argument(..., metavar="SERVICE", help="Key of the queryable."),
     request: str = typer.Argument("{}", metavar="[JSON]", help="The request's fields as JSON."),
-    timeout: float = typer.Option(5.0, "--timeout", min=0.1, help="Give up after S seconds."),
+    timeout: Optional[float] = typer.Option(
+        None, "--timeout", min=0.1,
+        help="Give up after S seconds (a goal is then canceled); default 5, for navigate_to the navigator's goal_timeout.",
+    ),
     type_name: Optional[str] = typer.Option(None, "--type", help="Request type, for keys without a known one."),
     json: bool = typer.Option(False, "--json", help="JSON lines."),
     connect: str = ConnectOption,
 ) -> None:
     """Call any queryable: known services get a typed request, others the JSON as is.
+    Replies are printed as they arrive (navigate_to: its feedback, then its response).
     A missing service is reported within 3 s.
 
+    As goto and cancel: navigate_to holds a client token, so Ctrl-C (exit code 130) or
+    --timeout cancels the goal; an Ack with ok false or a response with success false is
+    exit code 1.
     Example: turtlectl call turtle1/teleport_absolute '{"x": 2, "y": 2, "theta": 0}'
     """
-    body = build.service_request(client.check_key(service), request, type_name)
-    for reply in services.call_service(connect, service, body, timeout):
-        if isinstance(reply, services.Raw):
-            typer.echo(reply.payload.decode("utf-8", "replace"))
-        else:
+    key = client.check_key(service)
+    body = build.service_request(client.base_key(key), request, type_name)
+    if not isinstance(body, bytes):
+        services.check_request_type(key, type(body))
+    code = ExitCode.OK
+    try:
+        for reply in services.call_service(connect, key, body, timeout):
+            if isinstance(reply, services.Raw):
+                typer.echo(reply.payload.decode("utf-8", "replace"))
+                continue
             typer.echo(format.message_json(reply) if json else format.message_block(reply))
+            code = max(code, services.reply_code(reply))
+    except KeyboardInterrupt:
+        goal = services.is_goal_service(key)
+        raise CliError(ExitCode.INTERRUPTED, "interrupted" + (": the navigator cancels the goal" if goal else "")) from None
+    raise typer.Exit(code)
 
 
 @app.command()
@@ -400,12 +447,18 @@ def run(
 @app.command()
 def view(connect: str = ConnectOption) -> None:
     """Draw the world live in this terminal: walls, obstacles, the turtle and its trail,
-    the goal, the laser hits and a status line.  q or Ctrl-C quits.
+    the goal, the laser hits, a legend and a status line.  c clears the trail; q or Ctrl-C
+    quits (exit code 0).
 
     Example: turtlectl view
     """
-    with client.client_session(connect) as session:
-        run_view(session, services.world(session))
+    from cli.view import run_view  # curses: only for this command
+
+    try:
+        with client.client_session(connect) as session:
+            run_view(session, services.world(session), connect)
+    except KeyboardInterrupt:
+        pass
 
 
 def main() -> None:

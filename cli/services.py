@@ -1,20 +1,25 @@
 """Service calls of the command-line tools: any queryable, goals with feedback, simple Acks.
 
 Nothing here prints; functions return data or raise CliError.
+
+The rules every call follows (``goto``, ``cancel``, ``teleport``, ``reset`` and ``call``
+alike): replies are handed on as they arrive; a ``navigate_to`` caller holds a client
+token, so its goal is canceled when it goes away or gives up (--timeout); an answer that
+says no (``Ack.ok`` false, ``NavigateToResponse.success`` false) is exit code 1; nobody
+serving the key is exit code 3, with a hint when systems run in other domains.
 """
 
 from __future__ import annotations
 
-import os
+import contextlib
 import queue
-import secrets
 import time
 from collections.abc import Callable, Iterator
 
 import msgspec
 import zenoh
 
-from cli.client import check_key, client_session
+from cli.client import base_key, caller_token, check_key, client_session, domain_hint, router_lost
 from cli.errors import CliError, ExitCode
 from messages import (
     Ack,
@@ -31,12 +36,27 @@ from messages import (
     type_from_encoding,
 )
 from messages.codec import MEDIA_TYPE
-from messages.keys import CLIENT_TOKEN_PREFIX, NAVIGATE_TO, WORLD_KEY
+from messages.keys import NAVIGATE_TO, SERVICES, WORLD_KEY
+from nodes.session import default_domain
 from sim.world import World
+
+ZENOH_GRACE = 1.0  # s: Zenoh's own query timeout is ours plus this; our deadline decides
 
 
 class NoAnswer(CliError):
-    """The call's time ran out (the service may have been answering: feedback)."""
+    """The call's time ran out; ``answered``: the service had sent replies (feedback) by then."""
+
+    def __init__(self, code: ExitCode, message: str, answered: bool = False):
+        super().__init__(code, message)
+        self.answered = answered
+
+
+class NobodyServes(CliError):
+    """No queryable matches the key."""
+
+
+class RouterLost(CliError):
+    """The client session lost its router while waiting."""
 
 
 class Raw(msgspec.Struct):
@@ -47,6 +67,19 @@ class Raw(msgspec.Struct):
     payload: bytes
 
 
+@contextlib.contextmanager
+def service_session(connect: str) -> Iterator[zenoh.Session]:
+    """A client session whose "nothing serves" errors say which domains have a system."""
+    with client_session(connect) as session:
+        try:
+            yield session
+        except RouterLost as exc:
+            raise CliError(exc.code, exc.message.replace("lost the router", f"lost the router at {connect}", 1)) from None
+        except NobodyServes as exc:
+            where = f" in domain {default_domain()}" if default_domain() else ""
+            raise CliError(exc.code, exc.message.replace(" (", f"{where} (", 1) + domain_hint(connect)) from None
+
+
 def replies(
     session: zenoh.Session, key: str, request: Message | bytes, timeout: float, everyone: bool = False
 ) -> Iterator[Message | Raw]:
@@ -54,11 +87,13 @@ def replies(
 
     All replies are kept (no consolidation), so a service can stream feedback
     before its answer; ``everyone`` asks every matching queryable, not just one.
-    Raises CliError: UNREACHABLE if nobody serves ``key``, FAILED if nothing
-    answers within ``timeout`` s, BAD_INPUT if the service rejects the request.
+    Raises CliError: NobodyServes (UNREACHABLE) if nobody serves ``key``, RouterLost
+    (UNREACHABLE) if the router goes away, NoAnswer (FAILED) when ``timeout`` s pass
+    before the replies end, BAD_INPUT if the service rejects the request.
     """
     inbox: queue.SimpleQueue[zenoh.Reply | None] = queue.SimpleQueue()
     started = time.monotonic()
+    deadline = started + timeout
     if isinstance(request, bytes):
         payload, encoding = request, zenoh.Encoding.APPLICATION_JSON
     else:
@@ -70,22 +105,27 @@ def replies(
         encoding=encoding,
         consolidation=zenoh.ConsolidationMode.NONE,
         target=zenoh.QueryTarget.ALL if everyone else zenoh.QueryTarget.BEST_MATCHING,
-        timeout=timeout,
+        timeout=timeout + ZENOH_GRACE,
     )
     answered = False
     while True:
+        remaining = deadline - time.monotonic()
+        if remaining <= 0.0:
+            if answered:
+                raise NoAnswer(ExitCode.FAILED, f"{key} answered but did not finish within {timeout:g} s", True)
+            raise NoAnswer(ExitCode.FAILED, f"{key} did not answer within {timeout:g} s")
         try:
-            reply = inbox.get(timeout=0.1)  # short waits keep Ctrl-C responsive
+            reply = inbox.get(timeout=min(0.1, remaining))  # short waits keep Ctrl-C responsive
         except queue.Empty:
             continue
         if reply is None:
             break
         answered = True
         yield _read_reply(reply, key, timeout)
+    if router_lost(session):
+        raise RouterLost(ExitCode.UNREACHABLE, f"lost the router while waiting for {key} (did `turtlectl launch` stop?)")
     if not answered:
-        if time.monotonic() - started < 0.9 * timeout:
-            raise CliError(ExitCode.UNREACHABLE, f"nothing serves {key} (is the node running?)")
-        raise NoAnswer(ExitCode.FAILED, f"{key} did not answer within {timeout:g} s")
+        raise NobodyServes(ExitCode.UNREACHABLE, f"nothing serves {key} (is the node running?)")
 
 
 def _read_reply(reply: zenoh.Reply, key: str, timeout: float) -> Message | Raw:
@@ -95,7 +135,7 @@ def _read_reply(reply: zenoh.Reply, key: str, timeout: float) -> Message | Raw:
         if not encoding.startswith(MEDIA_TYPE):
             return Raw(key=str(sample.key_expr), encoding=encoding, payload=payload)
         try:
-            return decode_any(payload)
+            return decode_any(payload)  # by the type tag: whatever the encoding says
         except DecodeError as exc:
             raise CliError(ExitCode.FAILED, f"{key} sent an unreadable answer: {exc}") from None
     err = reply.err
@@ -109,6 +149,38 @@ def _read_reply(reply: zenoh.Reply, key: str, timeout: float) -> Message | Raw:
 
 
 NO_LIMIT = 24 * 3600.0  # s: wait for the navigator's own goal_timeout
+CALL_TIMEOUT = 5.0  # s: default of `call` for services other than navigate_to
+
+
+def is_goal_service(key: str) -> bool:
+    """True for ``navigate_to`` (also ``lab1/navigate_to`` from a client without --domain)."""
+    return base_key(key) == NAVIGATE_TO
+
+
+def goal_replies(
+    session: zenoh.Session, key: str, goal: NavigateToRequest, timeout: float
+) -> Iterator[NavigateToFeedback | NavigateToResponse]:
+    """A goal's replies as they arrive, feedback first and its NavigateToResponse last, while
+    holding a client token (released when this ends, however it ends: the navigator then
+    cancels a goal still running).  Raises CliError(FAILED) if the goal does not end within
+    ``timeout`` s or the navigator stops answering; RouterLost if the router goes away."""
+    with caller_token(session, key) as client_id:
+        request = msgspec.structs.replace(goal, client=goal.client or client_id)
+        try:
+            for message in replies(session, key, request, timeout):
+                if isinstance(message, (NavigateToFeedback, NavigateToResponse)):
+                    yield message
+                if isinstance(message, NavigateToResponse):
+                    return
+        except NoAnswer as exc:
+            if not exc.answered:
+                raise
+            raise CliError(
+                ExitCode.FAILED, f"the goal did not end within --timeout {timeout:g} s; the navigator cancels it"
+            ) from None
+        except RouterLost as exc:
+            raise RouterLost(exc.code, "lost the router before the goal ended (did `turtlectl launch` stop?)") from None
+    raise CliError(ExitCode.FAILED, "the navigator stopped answering before the goal ended (did it exit?)")
 
 
 def navigate(
@@ -120,39 +192,51 @@ def navigate(
     """Call navigate_to and wait for the outcome; returns it and the time the client measured, s.
 
     The call carries a liveliness token of this client: if the client goes away
-    (Ctrl-C, kill), the navigator cancels the goal.
+    (Ctrl-C, kill) or gives up (``timeout``), the navigator cancels the goal.
     """
-    client_id = f"{os.getpid()}-{secrets.token_hex(4)}"
-    with client_session(connect) as session:
-        token = session.liveliness().declare_token(f"{CLIENT_TOKEN_PREFIX}/{client_id}")
+    with service_session(connect) as session:
         started = time.monotonic()
-        request = msgspec.structs.replace(goal, client=client_id)
-        try:
-            for message in replies(session, NAVIGATE_TO, request, timeout):
-                if isinstance(message, NavigateToFeedback) and on_feedback is not None:
-                    on_feedback(message)
-                elif isinstance(message, NavigateToResponse):
-                    elapsed = time.monotonic() - started
-                    token.undeclare()
-                    return message, elapsed
-        except NoAnswer:
-            raise CliError(
-                ExitCode.FAILED, f"the goal did not end within --timeout {timeout:g} s; the navigator cancels it"
-            ) from None
+        for message in goal_replies(session, NAVIGATE_TO, goal, timeout):
+            if isinstance(message, NavigateToResponse):
+                return message, time.monotonic() - started
+            if on_feedback is not None:
+                on_feedback(message)
     raise CliError(ExitCode.FAILED, "the navigator stopped answering before the goal ended (did it exit?)")
-
 
 
 def simple_call(connect: str, key: str, request: Message, everyone: bool = False, timeout: float = 5.0) -> list[Ack]:
     """Call a simple service (Ack answers); with ``everyone``, collect every server's answer."""
-    with client_session(connect) as session:
+    with service_session(connect) as session:
         return [m for m in replies(session, key, request, timeout, everyone) if isinstance(m, Ack)]
 
 
-def call_service(connect: str, key: str, request: Message | bytes, timeout: float) -> list[Message | Raw]:
-    """Every reply of a generic service call (known services typed, others as JSON)."""
-    with client_session(connect) as session:
-        return list(replies(session, check_key(key), request, timeout))
+def call_service(connect: str, key: str, request: Message | bytes, timeout: float | None) -> Iterator[Message | Raw]:
+    """Every reply of a generic service call, as it arrives (known services typed, others as
+    JSON).  ``navigate_to`` follows goto's rules (client token, timeout cancels the goal);
+    ``timeout`` None: the navigator's goal_timeout for goals, CALL_TIMEOUT s otherwise."""
+    key = check_key(key)
+    with service_session(connect) as session:
+        if is_goal_service(key) and isinstance(request, NavigateToRequest):
+            yield from goal_replies(session, key, request, NO_LIMIT if timeout is None else timeout)
+        else:
+            yield from replies(session, key, request, CALL_TIMEOUT if timeout is None else timeout)
+
+
+def check_request_type(key: str, request_type: type[Message]) -> None:
+    """CliError(BAD_INPUT) if ``key`` is a known service that takes another request type."""
+    known = SERVICES.get(base_key(key))
+    if known is not None and request_type is not known[0]:
+        raise CliError(ExitCode.BAD_INPUT, f"{key} takes {known[0].__name__}, not {request_type.__name__}")
+
+
+def reply_code(reply: Message | Raw) -> ExitCode:
+    """The exit code a final reply means: 1 for an answer that says no (Ack ok=false,
+    NavigateToResponse success=false), else 0."""
+    if isinstance(reply, Ack) and not reply.ok:
+        return ExitCode.FAILED
+    if isinstance(reply, NavigateToResponse) and not reply.success:
+        return ExitCode.FAILED
+    return ExitCode.OK
 
 
 def world(session: zenoh.Session) -> World:

@@ -9,17 +9,20 @@ import collections
 import contextlib
 import queue
 import time
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 
 import msgspec
 import zenoh
 
-from cli.client import check_key, client_session
+from cli.client import base_key, check_key, client_session, domain_hint
 from cli.errors import CliError, ExitCode
 from cli.graph import Graph, build_graph
 from cli.rates import RateStats, rate_stats
 from messages import DecodeError, Message, decode, decode_any, encode, encoding_for, type_from_encoding
-from messages.keys import GRAPH
+from messages.keys import CMD_VEL, DOMAIN_GRAPHS, FEEDBACK, GRAPH, TOPICS
+from nodes.session import default_domain
+
+WHILE_A_GOAL_RUNS = (FEEDBACK, CMD_VEL)  # published by the navigator only while a goal runs
 
 
 class Received:
@@ -60,13 +63,54 @@ SILENCE = 3.0  # s without any message before echo tells the user
 
 
 class Silence:
-    """Yielded by ``stream`` once when nothing has arrived for SILENCE seconds."""
+    """Yielded once when nothing has arrived on ``key`` for SILENCE seconds; ``text`` says
+    why, from the live graph (who publishes it, and when)."""
+
+    def __init__(self, key: str, text: str):
+        self.key = key
+        self.text = text
+
+
+def silence_text(key: str, current: Graph, hint: Callable[[], str], domain: str = "") -> str:
+    """Why nothing has arrived on ``key`` yet and what to do, given the live graph as a
+    client in ``domain`` sees it (pure but for ``hint()``, the domain hint, asked only when
+    no node runs at all)."""
+    expr = zenoh.KeyExpr(key)
+    elsewhere = sorted(
+        {
+            d
+            for d in current.domains
+            for t in current.topics
+            if t.publishers and t.key.startswith(d + "/") and expr.intersects(zenoh.KeyExpr(t.key[len(d) + 1 :]))
+        }
+    )
+    published = [t for t in current.topics if t.publishers and expr.intersects(zenoh.KeyExpr(t.key))]
+    publishers = sorted({p for t in published for p in t.publishers})
+    if publishers:
+        who = f"{', '.join(publishers)} publish{'es' * (len(publishers) == 1)} it"
+        if all(base_key(t.key) in WHILE_A_GOAL_RUNS for t in published):
+            return f"nothing published on {key} yet: {who} only while a goal runs (start one with `turtlectl goto X Y THETA`)"
+        return f"nothing published on {key} for {SILENCE:g} s although {who}: it may be stalled (see its log)"
+    if elsewhere:
+        which = ", ".join(elsewhere)
+        return (
+            f"nothing published on {key} here: it is published in domain{'s' * (len(elsewhere) > 1)} {which}: "
+            f"add --domain {elsewhere[0]} (or use {elsewhere[0]}/{key})"
+        )
+    if current.nodes:
+        return f"nothing published on {key} yet: no running node publishes it (`turtlectl list` shows the topics)"
+    where = f"in domain {domain}" if domain else "on this router"
+    return f"nothing published on {key} yet: no turtlectl node runs {where} (is `turtlectl launch` running?){hint()}"
+
+
+def _silence(session: zenoh.Session, connect: str, key: str) -> Silence:
+    return Silence(key, silence_text(key, _graph(session), lambda: domain_hint(connect), default_domain()))
 
 
 def stream(connect: str, topic: str, count: int | None, timeout: float | None) -> Iterator[Received | Silence]:
     """Decoded samples on ``key`` until ``count`` valid messages or ``timeout`` s.
 
-    Yields a ``Silence`` once if nothing at all arrives for SILENCE s.  Raises
+    Yields a ``Silence`` once if nothing at all arrives for SILENCE s, saying why.  Raises
     CliError(UNREACHABLE) if ``timeout`` passes without any message.
     """
     key = check_key(topic)
@@ -83,7 +127,7 @@ def stream(connect: str, topic: str, count: int | None, timeout: float | None) -
                 return
             if not warned and received == 0 and now - started >= SILENCE:
                 warned = True
-                yield Silence()
+                yield _silence(session, connect, key)
             wait = 0.1 if deadline is None else min(0.1, max(0.0, deadline - now))
             try:
                 item = samples.get(timeout=wait)  # short waits keep Ctrl-C responsive
@@ -96,9 +140,10 @@ def stream(connect: str, topic: str, count: int | None, timeout: float | None) -
 
 def measure_rates(
     connect: str, topics: list[str], window: int, duration: float | None
-) -> Iterator[list[RateStats]]:
+) -> Iterator[list[RateStats] | Silence]:
     """Every second, the rate statistics of each topic over its last ``window`` messages;
-    ends after ``duration`` s (None: until Ctrl-C)."""
+    ends after ``duration`` s (None: until Ctrl-C).  A topic that stays silent for SILENCE s
+    gets one ``Silence`` saying why (as echo's)."""
     keys = [check_key(t) for t in topics]
     arrivals = {k: collections.deque(maxlen=window) for k in keys}
     stamps = {k: collections.deque(maxlen=window) for k in keys}
@@ -111,6 +156,7 @@ def measure_rates(
         started = time.monotonic()
         next_report = started + 1.0
         fresh = False  # messages since the last report
+        silent = True  # the silence check is still to come
         while duration is None or time.monotonic() - started < duration:
             try:
                 key, arrived, payload = inbox.get(timeout=0.05)
@@ -122,6 +168,10 @@ def measure_rates(
                     pass
             except queue.Empty:
                 pass
+            if silent and time.monotonic() - started >= SILENCE:
+                for key in [k for k in keys if not arrivals[k]]:
+                    yield _silence(session, connect, key)
+                silent = False
             if time.monotonic() >= next_report:
                 next_report += 1.0
                 fresh = False
@@ -155,8 +205,27 @@ def publish(connect: str, topic: str, message: Message, rate: float | None, time
     return sent
 
 
+def check_topic_type(key: str, msg_type: type[Message]) -> None:
+    """CliError(BAD_INPUT) if ``key`` is a known topic that carries another type."""
+    known = TOPICS.get(base_key(key))
+    if known is not None and msg_type is not known:
+        raise CliError(ExitCode.BAD_INPUT, f"{key} carries {known.__name__}, not {msg_type.__name__}")
+
+
+def _graph(session: zenoh.Session) -> Graph:
+    """The live graph as this session sees it.  Outside any domain that includes every
+    domain's graph, its names and keys prefixed with the domain (``lab1/sim``): tokens
+    declared in a namespace are ``lab1/@turtlectl/...``, which ``@turtlectl/**`` cannot match
+    (Zenoh never matches a chunk starting with ``@`` by a wildcard), hence the second query."""
+    selectors = [GRAPH] if default_domain() else [GRAPH, DOMAIN_GRAPHS]
+    keys = {str(r.ok.key_expr) for sel in selectors for r in session.liveliness().get(sel, timeout=2.0) if r.ok is not None}
+    return build_graph(sorted(keys), time.time_ns())
+
+
 def graph(connect: str) -> Graph:
     """The live graph: asked of the router's liveliness table now, never cached."""
     with client_session(connect) as session:
-        keys = [str(r.ok.key_expr) for r in session.liveliness().get(GRAPH, timeout=2.0) if r.ok is not None]
-    return build_graph(keys, time.time_ns())
+        current = _graph(session)
+    if not current.nodes:
+        current.hint = domain_hint(connect).removeprefix("; ")
+    return current

@@ -3,6 +3,7 @@
 ``render`` is pure (text lines from the latest messages); ``run_view`` is the
 curses shell around it: it subscribes over Zenoh, queues what arrives, and
 redraws at 20 frames a second (curses sends only what changed: no flicker).
+Keys: c clears the trail, q quits.  Losing the router is shown on the status line.
 """
 
 from __future__ import annotations
@@ -17,14 +18,17 @@ import time
 import msgspec
 import zenoh
 
+from cli.client import router_lost
+from cli.format import heading_text
 from messages import LaserScan, NavigateToFeedback, Pose, TurtleStatus, decode_any
 from messages.angles import heading_degrees
 from messages.keys import FEEDBACK, OBSTACLES, POSE, STATUS
-from nodes.scan import hit_points
 from sim.world import World
 
 FRAME = 0.05  # s between frames: 20 frames a second
+ROUTER_CHECK = 0.5  # s between checks that the router is still there
 TRAIL = 400  # poses kept for the trail
+LEGEND = "o obstacle  * scan hit  . trail  X goal  (c clears the trail)"
 ARROWS = "→↗↑↖←↙↓↘"
 ASCII_ARROWS = ">/^\\</v\\"
 
@@ -38,16 +42,17 @@ class Scene(msgspec.Struct, kw_only=True):
     scan: LaserScan | None = None
     feedback: NavigateToFeedback | None = None
     trail: list[tuple[float, float]] = msgspec.field(default_factory=list)
+    router: str = ""  # the endpoint, when the router is lost (shown instead of the pose)
 
 
 def render(scene: Scene, cols: int, rows: int, unicode: bool = True) -> list[str]:
     """The screen as ``rows`` lines of at most ``cols`` characters: the world in a frame
     (walls), obstacles ``o``, trail ``.``, laser hits ``*``, goal ``X``, the turtle as an
-    arrow along its heading, and a status line at the bottom."""
-    if cols < 20 or rows < 6:
+    arrow along its heading, and at the bottom a legend and two status lines."""
+    if cols < 20 or rows < 7:
         return ["terminal too small"][:rows]
     size = scene.world.size
-    map_rows = rows - 2
+    map_rows = rows - 3
     # terminal cells are about twice as tall as wide: two columns per row's height
     scale_y = min((map_rows - 2) / size, (cols - 2) / (2.0 * size))
     scale_x = 2.0 * scale_y
@@ -69,10 +74,11 @@ def render(scene: Scene, cols: int, rows: int, unicode: bool = True) -> list[str
             grid[rc[0]][rc[1]] = "."
     scan = scene.scan
     if scan is not None and all(math.isfinite(v) for v in (scan.origin_x, scan.origin_y, scan.origin_theta)):
-        angles = [scan.angle_min + i * scan.angle_increment for i in range(len(scan.ranges))]
-        for x, y in hit_points(scan.origin_x, scan.origin_y, scan.origin_theta, scan.ranges, angles):
-            if (rc := cell(float(x), float(y))) is not None:
-                grid[rc[0]][rc[1]] = "*"
+        for i, r in enumerate(scan.ranges):  # beam angles are relative to the heading at origin_theta
+            if math.isfinite(r):
+                a = scan.origin_theta + scan.angle_min + i * scan.angle_increment
+                if (rc := cell(scan.origin_x + r * math.cos(a), scan.origin_y + r * math.sin(a))) is not None:
+                    grid[rc[0]][rc[1]] = "*"
     fb = scene.feedback
     if fb is not None and (rc := cell(fb.goal_x, fb.goal_y)) is not None:
         grid[rc[0]][rc[1]] = "X"
@@ -82,18 +88,21 @@ def render(scene: Scene, cols: int, rows: int, unicode: bool = True) -> list[str
 
     lines = ["+" + "-" * width + "+"] + ["|" + "".join(row) + "|" for row in grid] + ["+" + "-" * width + "+"]
     lines += [""] * (map_rows - len(lines))
+    lines.append(LEGEND)
     lines += status_lines(scene)
     return [line[:cols] for line in lines[:rows]]
 
 
 def status_lines(scene: Scene) -> list[str]:
-    """Two lines: where the turtle is and how fast; battery, goal and the key to quit."""
-    if scene.pose is None:
-        where = "waiting for turtle1/pose"
+    """Two lines: where the turtle is and how fast; battery, goal and the keys."""
+    if scene.router:
+        where = f"no router at {scene.router}: reconnecting (is `turtlectl launch` running?)"
+    elif scene.pose is None:
+        where = "waiting for turtle1/pose (is the sim running?)"
     else:
         p = scene.pose
         where = (
-            f"x {p.x:5.2f} y {p.y:5.2f} heading {heading_degrees(p.theta):5.1f} deg | "
+            f"x {p.x:5.2f} y {p.y:5.2f} heading {heading_text(heading_degrees(p.theta)):>5s} deg | "
             f"speed {p.linear_velocity:5.2f} m/s"
         )
     parts = []
@@ -105,7 +114,7 @@ def status_lines(scene: Scene) -> list[str]:
     return [where, " | ".join(parts)]
 
 
-def run_view(session: zenoh.Session, world: World) -> None:
+def run_view(session: zenoh.Session, world: World, endpoint: str = "") -> None:
     """Draw until q or Ctrl-C; the terminal is restored whatever happens."""
     locale.setlocale(locale.LC_ALL, "")
     unicode = locale.getpreferredencoding(False).lower().replace("-", "") == "utf8"
@@ -122,7 +131,11 @@ def run_view(session: zenoh.Session, world: World) -> None:
         nonlocal feedback_time
         curses.curs_set(0)
         screen.timeout(int(FRAME * 1000))
+        next_check = 0.0
         while True:
+            if time.monotonic() >= next_check:
+                next_check = time.monotonic() + ROUTER_CHECK
+                scene.router = (endpoint or "the endpoint") if router_lost(session) else ""
             while not inbox.empty():
                 arrived, payload = inbox.get_nowait()
                 try:
@@ -153,6 +166,8 @@ def run_view(session: zenoh.Session, world: World) -> None:
             key = screen.getch()  # waits up to one frame
             if key in (ord("q"), ord("Q")):
                 return
+            if key in (ord("c"), ord("C")):
+                trail.clear()
             if key == curses.KEY_RESIZE:
                 screen.clear()  # repaint the whole terminal on the next frame
 

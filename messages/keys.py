@@ -1,8 +1,12 @@
 """Key expressions: which message type travels on which key.
 
 Topics are plain keys (no leading slash, as Zenoh wants).  Liveliness tokens
-live under ``@turtlectl/node/<name>/<pid>`` so that ``**`` on the data space
-never matches them.
+live under ``@turtlectl/...`` (nodes: ``@turtlectl/node/<name>/<pid>/<host>/<start_ns>``)
+so that ``*`` and ``**`` on the data space never match them: Zenoh never matches a
+chunk that starts with ``@`` by a wildcard.
+
+A system started with ``--domain D`` runs in a Zenoh namespace: every key above,
+tokens included, is ``D/<key>`` on the router (``D/@turtlectl/node/...``).
 """
 
 from __future__ import annotations
@@ -54,7 +58,9 @@ SERVICES: dict[str, tuple[type[Message], type[Message]]] = {
 NODE_TOKEN_PREFIX = "@turtlectl/node"
 ENTITY_TOKEN_PREFIX = "@turtlectl/entity"
 CLIENT_TOKEN_PREFIX = "@turtlectl/client"
-GRAPH = "@turtlectl/**"  # every node and entity token
+DOMAIN_TOKEN_PREFIX = "@turtlectl/domain"  # declared, outside any namespace, by a supervisor run with --domain
+GRAPH = "@turtlectl/**"  # every node and entity token (and, outside a domain, every domain token)
+DOMAIN_GRAPHS = "*/@turtlectl/**"  # outside any domain: the graph of every domain (``*`` matches the domain)
 
 
 class NodeInfo(msgspec.Struct, frozen=True):
@@ -117,6 +123,24 @@ def parse_entity_token(key: str) -> EntityInfo | None:
     if len(parts) != 5 or not parts[1].isdigit() or parts[2] not in ("pub", "sub", "srv"):
         return None
     return EntityInfo(node=parts[0], pid=int(parts[1]), role=parts[2], type_name=parts[3], key=parts[4])
+
+
+def client_token(client_id: str) -> str:
+    """Liveliness key a caller of ``navigate_to`` holds while it waits: ``@turtlectl/client/<id>``,
+    where ``<id>`` is what it puts in ``NavigateToRequest.client``."""
+    return f"{CLIENT_TOKEN_PREFIX}/{client_id}"
+
+
+def domain_token(domain: str) -> str:
+    """Liveliness key, outside any namespace, announcing that a system runs in ``domain``."""
+    return f"{DOMAIN_TOKEN_PREFIX}/{domain}"
+
+
+def parse_domain_token(key: str) -> str | None:
+    """The domain named by a key made by domain_token, else None."""
+    prefix = DOMAIN_TOKEN_PREFIX + "/"
+    rest = key[len(prefix):] if key.startswith(prefix) else ""
+    return rest if rest and "/" not in rest else None
 
 
 WORLD_KEY = "turtlectl/world"  # the sim answers with the world (size, obstacles) as JSON

@@ -25,7 +25,7 @@ from cli.launchfile import LaunchPlan, node_config
 from cli.supervisor import logs
 from cli.supervisor.printer import Printer
 from cli.supervisor.process import Child, child_env, python_module_argv
-from messages.keys import NODE_TOKEN_PREFIX, parse_node_token
+from messages.keys import NODE_TOKEN_PREFIX, domain_token, parse_node_token
 from nodes.config import ENV_VAR, SUPERVISOR_PID_VAR, encode_config
 from nodes.kinds import KINDS
 from nodes.session import client_config, close_session, router_config, zenoh_reason
@@ -131,6 +131,8 @@ class Supervisor:
             watcher = session.liveliness().declare_subscriber(
                 f"{prefix}{NODE_TOKEN_PREFIX}/**", self._on_token, history=True
             )
+            # outside the namespace (this session has none): clients without --domain find the domain
+            announced = session.liveliness().declare_token(domain_token(self.domain)) if self.domain else None
             count = len(self.entries)
             where = f"router listening on {self.endpoint}" if self.port is not None else f"joining {self.endpoint}"
             domain = f" in domain {self.domain!r}" if self.domain else ""
@@ -142,6 +144,8 @@ class Supervisor:
             self._watch()
             self._shutdown()
             watcher.undeclare()
+            if announced is not None:
+                announced.undeclare()
         finally:
             for sig, handler in previous.items():
                 signal.signal(sig, handler)
