@@ -101,9 +101,10 @@ def outcome_line(response: NavigateToResponse) -> str:
     errors = f"error {response.position_error:.4f} m, {response.heading_error:.2f} deg"
     if response.success:
         return f"reached {where} in {response.time_taken:.3f} s ({errors})"
+    why = f" ({response.detail})" if response.detail else ""
     if response.refused:
-        return f"refused: {response.reason}"
-    return f"not reached: {response.reason} after {response.time_taken:.3f} s; {where}, {errors}"
+        return f"refused: {response.reason}{why}"
+    return f"not reached: {response.reason} after {response.time_taken:.3f} s{why}; {where}, {errors}"
 
 
 def progress_line(fb: NavigateToFeedback, width: int = 80) -> str:

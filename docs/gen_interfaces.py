@@ -103,13 +103,14 @@ FIELDS: dict[str, dict[str, tuple[str, str, str]]] = {
     "NavigateToResponse": {
         "success": ("-", "true / false", "the goal was reached within position_tolerance and heading_tolerance"),
         "time_taken": ("s", ">= 0", "from the navigator receiving the request to this reply"),
-        "reason": ("-", "text", "empty on success; else why: \"invalid goal: ...\", \"battery low\", \"preempted\", \"canceled\", \"caller gone\", \"teleported\", \"reset\", \"blocked\", \"no pose\", \"timeout\", \"navigator shut down\""),
-        "refused": ("-", "true / false", "the goal never started (invalid, battery low); x, y, theta are where the turtle is"),
+        "reason": ("-", "text", "empty on success; else a short word for programs: \"invalid goal: ...\", \"unreachable: ...\" (a declared obstacle on the straight way), \"battery low\", \"preempted\", \"canceled\", \"caller gone\", \"teleported\", \"reset\", \"blocked\", \"no pose\", \"timeout\", \"navigator shut down\""),
+        "refused": ("-", "true / false", "the goal never started (invalid, unreachable, battery low); x, y, theta are where the turtle is"),
         "position_error": ("m", ">= 0", "final distance to the goal position"),
         "heading_error": ("degrees", "[0, 180]", "final absolute heading error"),
         "x": ("m", "[0, world size]", "final position"),
         "y": ("m", "[0, world size]", "final position"),
         "theta": ("degrees", "[0, 360)", "final heading"),
+        "detail": ("-", "text, or empty", "a sentence for people: why, and what to do next (e.g. the battery level and `turtlectl reset`, what blocked the way); not meant to be parsed"),
     },
     "Cancel": {
         "reason": ("-", "text, or empty", "what the canceled goal's caller is told (empty: \"canceled\")"),
@@ -320,7 +321,7 @@ def services_section() -> list[str]:
         "",
         "- **navigate_to**: one goal at a time. Send a `NavigateToRequest` with `ConsolidationMode.NONE`: about 10 "
         "times a second a `NavigateToFeedback` reply, then exactly one `NavigateToResponse`, after which the query "
-        "ends. A refused goal (`refused` true: invalid, battery low) gets only the response. A new goal preempts "
+        "ends. A refused goal (`refused` true: invalid, unreachable, battery low) gets only the response. A new goal preempts "
         "the running one (its caller gets reason \"preempted\"). Without `NONE` Zenoh consolidates the replies and "
         "you get the response alone, at the end.",
         "- **The caller-gone rule** (optional for a raw client): declare the liveliness token "

@@ -184,3 +184,15 @@ def test_the_view_has_a_legend_scan_hits_and_says_when_the_router_is_lost():
     status = TurtleStatus(x=5, y=5, theta=0, vel_x=0, vel_y=0, battery=50)
     heading = render(Scene(world=World(size=10.0), pose=Pose(x=5.0, y=5.0, theta=-1e-9), status=status), 80, 24)[-2]
     assert "heading   0.0 deg" in heading
+
+
+def test_the_outcome_says_why_and_what_to_do_next():
+    low = NavigateToResponse(
+        success=False, time_taken=0.0, reason="battery low", refused=True,
+        detail="battery at 3.0 %, below the navigator's min_battery 5 %: `turtlectl reset` recharges it",
+    )
+    assert outcome_line(low) == f"refused: battery low ({low.detail})"
+    blocked = NavigateToResponse(
+        success=False, time_taken=12.0, reason="blocked", detail="the obstacle at (9, 9) stayed within 0.4 m"
+    )
+    assert outcome_line(blocked).startswith("not reached: blocked after 12.000 s (the obstacle at (9, 9) stayed")
