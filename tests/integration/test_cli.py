@@ -46,7 +46,7 @@ def test_with_nothing_running_the_wait_is_under_3_seconds():
     endpoint = f"tcp/127.0.0.1:{free_port()}"
     error, seconds = waited(lambda: services.navigate(endpoint, NavigateToRequest(x=1, y=1, theta=0), services.NO_LIMIT))
     assert error.code == ExitCode.UNREACHABLE and "no turtlectl system at" in error.message
-    assert client.OPEN_TIMEOUT < seconds < 3.0, seconds
+    assert seconds < 3.0, seconds  # nothing listens on the port: reported at once, not after OPEN_TIMEOUT
 
 
 def test_echo_with_nothing_running_exits_3():
