@@ -72,6 +72,21 @@ def pid_alive(pid: int) -> bool:
         return False
 
 
+def read_until_closed(master: int) -> bytes:
+    """Everything written to a pseudo-terminal until its last writer exits; closes ``master``."""
+    out = b""
+    while True:
+        try:
+            chunk = os.read(master, 4096)
+        except OSError:  # the terminal closed: the program exited
+            break
+        if not chunk:
+            break
+        out += chunk
+    os.close(master)
+    return out
+
+
 class SupervisorDied(AssertionError):
     pass
 

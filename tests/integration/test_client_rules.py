@@ -23,7 +23,7 @@ import pyte
 import pytest
 
 from messages import Twist
-from tests.integration.harness import ROOT, free_port, running_system, turtlectl
+from tests.integration.harness import ROOT, free_port, read_until_closed, running_system, turtlectl
 
 pytestmark = pytest.mark.integration
 
@@ -190,16 +190,7 @@ def test_goto_progress_fits_an_80_column_terminal(system):
     )
     STARTED.append(goto)
     os.close(slave)
-    out = b""
-    while True:
-        try:
-            chunk = os.read(master, 4096)
-        except OSError:  # the terminal closed: goto exited
-            break
-        if not chunk:
-            break
-        out += chunk
-    os.close(master)
+    out = read_until_closed(master)
     assert goto.wait(10) == 0, out
     updates = [u for u in out.decode().split("\r\x1b[K") if u.strip()][:-1]  # the last one is the outcome
     assert len(updates) > 5, out

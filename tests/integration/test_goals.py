@@ -20,7 +20,7 @@ import pytest
 
 from messages import Ack, Cancel, LaserScan, Reset, TeleportAbsolute, TurtleStatus, Twist, decode, encode
 from messages.keys import CANCEL, CMD_VEL, OBSTACLES, RESET, STATUS, TELEPORT
-from tests.integration.harness import running_system, turtlectl
+from tests.integration.harness import read_until_closed, running_system, turtlectl
 
 pytestmark = pytest.mark.integration
 
@@ -226,16 +226,7 @@ def test_goto_shows_live_progress_on_a_terminal_only(lifecycle):
         [*turtlectl(), "goto", "9", "9", "0", "--connect", lifecycle.endpoint], stdout=slave, stderr=slave
     )
     os.close(slave)
-    out = b""
-    while True:
-        try:
-            chunk = os.read(master, 4096)
-        except OSError:  # the terminal closed: goto exited
-            break
-        if not chunk:
-            break
-        out += chunk
-    os.close(master)
+    out = read_until_closed(master)
     assert goto.wait(10) == 0
     text = out.decode()
     assert "\r\x1b[K" in text and "driving" in text and "reached at (9.0" in text
