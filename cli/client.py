@@ -10,7 +10,9 @@ import contextlib
 import os
 import re
 import secrets
+import signal
 import socket
+import threading
 from collections.abc import Iterator
 
 import zenoh
@@ -89,7 +91,21 @@ def client_session(connect: str, domain: str | None = None) -> Iterator[zenoh.Se
     try:
         yield session
     finally:
-        close_session(session)
+        with sigint_deferred():  # a Ctrl-C now must not interrupt Zenoh half-way through closing
+            close_session(session)
+
+
+@contextlib.contextmanager
+def sigint_deferred() -> Iterator[None]:
+    """Ignore Ctrl-C while the block runs (on the main thread; elsewhere nothing changes)."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    previous = signal.signal(signal.SIGINT, signal.SIG_IGN)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGINT, previous)
 
 
 def router_lost(session: zenoh.Session) -> bool:

@@ -438,7 +438,7 @@ def run(
     """
     path = file or default_launch_file()
     try:
-        config = node_config(load_launch(path), node, client.check_endpoint(connect), param)
+        config = node_config(load_launch(path), node, client.check_endpoint(connect), param, default_domain())
     except LaunchFileError as exc:
         raise CliError(ExitCode.BAD_INPUT, str(exc)) from None
     exec_node(config)
@@ -465,6 +465,11 @@ def main() -> None:
     """Console entry point: run the app, turning CliError into stderr + exit code."""
     try:
         app()
+    except SystemExit:
+        # the result is out (click ends every command with SystemExit): a late Ctrl-C must
+        # not turn it into 130, nor hit Zenoh's threads while the interpreter shuts down
+        signal.signal(signal.SIGINT, signal.SIG_IGN)
+        raise
     except CliError as exc:
         typer.echo(f"turtlectl: error: {exc.message}", err=True)
         sys.exit(int(exc.code))

@@ -139,6 +139,24 @@ def test_ctrl_c_ends_a_command_that_runs_until_stopped_with_0(system, args):
     assert "Traceback" not in err
 
 
+@pytest.mark.parametrize(
+    "args",
+    [("echo", "robot/status", "--once", "--field", "x"), ("call", "navigate_to/cancel"), ("teleport", "3", "3", "0")],
+    ids=["echo --once", "call", "teleport"],
+)
+def test_ctrl_c_once_the_result_is_printed_changes_nothing(system, args):
+    """A review found exit 130, "Exception ignored ... KeyboardInterrupt" and SIGABRT (134) when
+    Ctrl-C came within ~0.1 s after a one-shot command printed its result."""
+    expected = 1 if args[0] == "call" else 0  # cancel with no goal running: an answer that says no
+    for _ in range(4):
+        proc = cli(system, *args)
+        read_line(proc.stdout, 10.0)  # the result is out
+        proc.send_signal(signal.SIGINT)
+        _, err = proc.communicate(timeout=10)
+        assert proc.returncode == expected, err
+        assert "Traceback" not in err and "Exception" not in err and "FATAL" not in err, err
+
+
 def test_help_and_exit_codes_state_the_ctrl_c_rule():
     text = " ".join(subprocess.run([*turtlectl(), "--help"], capture_output=True, text=True, timeout=20).stdout.split())
     assert "Ctrl-C on a command that runs until stopped (echo, hz, view, pub --rate)" in text
