@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import math
 import queue
+import signal
 import subprocess
 import time
 
@@ -128,16 +129,19 @@ def test_every_reply_names_its_own_type(no_scans):
     }
 
 
-def test_a_second_navigator_refuses_to_start(no_scans):
+@pytest.mark.parametrize(
+    "node, says", [("navigator", "already serves navigate_to"), ("status_monitor", "already publishes robot/status")]
+)
+def test_a_second_navigator_or_status_monitor_refuses_to_start(no_scans, node, says):
     second = subprocess.run(
-        [*turtlectl(), "run", "navigator", "--file", str(no_scans.launch_file), "--connect", no_scans.endpoint],
+        [*turtlectl(), "run", node, "--file", str(no_scans.launch_file), "--connect", no_scans.endpoint],
         capture_output=True,
         text=True,
         timeout=30,
         stdin=subprocess.DEVNULL,
     )
     assert second.returncode == 4, second.stdout + second.stderr
-    assert "already serves navigate_to" in second.stderr and "not starting a second one" in second.stderr
+    assert says in second.stderr and "not starting a second one" in second.stderr
     # the first one still serves
     no_scans.teleport(2.0, 2.0, 0.0)
     assert no_scans.navigate(3.0, 2.0, 0.0)[0].success
@@ -185,3 +189,35 @@ def test_teleports_are_not_charged_to_the_battery(no_scans):
         after = no_scans.collect(STATUS, TurtleStatus, 3, timeout=2.0)[-1][1]
         assert (after.x, after.y) == pytest.approx(target)
         assert before - after.battery < 0.01, (before, after.battery)  # 9 m would cost 0.9 %
+
+
+def test_a_node_run_in_another_domain_joins_that_domain_not_this_system(no_scans):
+    """A review found `turtlectl --domain lab3 run navigator` joining the plain system (and so
+    refused as a second navigator): run must start the node in its --domain."""
+    tokens: queue.SimpleQueue = queue.SimpleQueue()
+    watch = no_scans.session.liveliness().declare_subscriber(
+        "lab3/@turtlectl/node/**", lambda s: tokens.put(str(s.key_expr))
+    )
+    other = subprocess.Popen(
+        [*turtlectl(), "--domain", "lab3", "run", "navigator", "--file", str(no_scans.launch_file),
+         "--connect", no_scans.endpoint],
+        stdout=subprocess.PIPE, stderr=subprocess.STDOUT, stdin=subprocess.DEVNULL, text=True,
+    )
+    try:
+        deadline = time.monotonic() + 15
+        token = None
+        while token is None:
+            assert other.poll() is None, other.communicate()[0]
+            assert time.monotonic() < deadline, "no lab3 navigator token within 15 s"
+            try:
+                token = tokens.get(timeout=0.2)
+            except queue.Empty:
+                pass
+        assert token.startswith("lab3/@turtlectl/node/navigator/"), token
+    finally:
+        watch.undeclare()
+        other.send_signal(signal.SIGINT)
+        try:
+            other.wait(5)
+        except subprocess.TimeoutExpired:
+            other.kill()
