@@ -175,10 +175,10 @@ def domain_hint(connect: str) -> str:
         return ""
     others = [d for d in found if d != mine]
     if plain and mine:
-        return f"; a system runs outside any domain on this router: drop --domain {mine}" + (
+        return f"; a system runs outside any domain on this router: run the command without `--domain {mine}`" + (
             f" (or use --domain {others[0]})" if others else ""
         )
     if others:
         which = ", ".join(others)
-        return f"; systems run in domain{'s' * (len(others) > 1)} {which} on this router: add --domain {others[0]}"
+        return f"; systems run in domain{'s' * (len(others) > 1)} {which} on this router: add it before the command, `turtlectl --domain {others[0]} ...`"
     return ""

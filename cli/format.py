@@ -21,7 +21,13 @@ def _value(value: object, full: bool) -> str:
     if isinstance(value, float):
         if math.isinf(value):
             return "inf" if value > 0 else "-inf"
-        return f"{value:.6g}".replace("-0", "0") if value == 0 else f"{value:.6g}"
+        if value == 0:
+            return "0"
+        text = f"{value:.6g}"
+        # 359.99999 is not 360: a heading must read below 360, so give the digits it needs
+        return f"{value:.12g}" if float(text) != value and abs(float(text)) >= 360.0 > abs(value) else text
+    if isinstance(value, bool):
+        return "true" if value else "false"  # as the JSON and the interface reference write it
     if isinstance(value, list):
         items = value if full or len(value) <= SHORT else value[:SHORT]
         more = "" if len(items) == len(value) else f", ... ({len(value)} values)"

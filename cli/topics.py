@@ -95,7 +95,7 @@ def silence_text(key: str, current: Graph, hint: Callable[[], str], domain: str 
         which = ", ".join(elsewhere)
         return (
             f"nothing published on {key} here: it is published in domain{'s' * (len(elsewhere) > 1)} {which}: "
-            f"add --domain {elsewhere[0]} (or use {elsewhere[0]}/{key})"
+            f"add it before the command, `turtlectl --domain {elsewhere[0]} ...` (or use {elsewhere[0]}/{key})"
         )
     if current.nodes:
         return f"nothing published on {key} yet: no running node publishes it (`turtlectl list` shows the topics)"

@@ -130,7 +130,7 @@ class Navigator:
 
     def on_client(self, key: str, alive: bool) -> None:
         if not alive and self.goal is not None and key == self.goal.client:
-            self.finish(False, "caller gone", "its caller went away (Ctrl-C, or killed)")
+            self.finish(False, "caller gone", "its caller went away: Ctrl-C, killed, or its own --timeout")
 
     def on_pose(self, pose: Pose) -> None:
         self.pose, self.pose_time = pose, time.monotonic()

@@ -293,7 +293,8 @@ class Node(Generic[P]):
         query: zenoh.Query,
         handler: Callable[[Request[M]], None],
     ) -> None:
-        payload = query.payload.to_bytes() if query.payload is not None else b""
+        # no payload at all is an empty map: `reset` and `navigate_to/cancel` need no fields
+        payload = query.payload.to_bytes() if query.payload is not None else b"\x80"
         try:
             body = decode(payload, request_type)
         except ValueError as exc:

@@ -36,7 +36,7 @@ def placement_problem(world: World, x: float, y: float, theta: float) -> str | N
     if not world.contains(x, y):
         return f"({x:g}, {y:g}) is outside the world [0, {world.size:.10g}] m"
     for o in world.obstacles:
-        if math.hypot(x - o.x, y - o.y) <= o.radius:
+        if math.hypot(x - o.x, y - o.y) < o.radius:  # on the surface is fine: where a push stops
             return f"({x:g}, {y:g}) is inside an obstacle"
     return None
 

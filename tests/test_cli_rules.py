@@ -8,7 +8,7 @@ import pytest
 
 from cli.client import base_key, domain_prefix
 from cli.errors import CliError, ExitCode
-from cli.format import heading_text, message_json, outcome_line, progress_line, teleport_line
+from cli.format import heading_text, message_block, message_json, outcome_line, progress_line, teleport_line
 from cli.graph import build_graph, graph_text
 from cli.services import check_request_type, reply_code
 from cli.topics import check_topic_type, silence_text
@@ -98,8 +98,8 @@ def test_a_client_without_domain_sees_each_domain_prefixed():
 
 def test_an_empty_graph_says_what_to_do():
     graph = build_graph([], now_ns=0)
-    graph.hint = "systems run in domain lab1 on this router: add --domain lab1"
-    assert "(none: systems run in domain lab1 on this router: add --domain lab1)" in graph_text(graph)
+    graph.hint = "systems run in domain lab1 on this router: add it before the command, `turtlectl --domain lab1 ...`"
+    assert "(none: systems run in domain lab1 on this router: add it before the command, `turtlectl --domain lab1 ...`)" in graph_text(graph)
 
 
 def test_domain_and_client_tokens():
@@ -144,7 +144,7 @@ def test_silence_outside_a_domain_points_into_the_domain_that_publishes():
         "lab1/" + entity_token(EntityInfo(node="status_monitor", pid=3, role="pub", type_name="TurtleStatus", key="robot/status")),
     ]
     text = silence_text("robot/status", build_graph(keys, 0), lambda: "")
-    assert text == "nothing published on robot/status here: it is published in domain lab1: add --domain lab1 (or use lab1/robot/status)"
+    assert text == "nothing published on robot/status here: it is published in domain lab1: add it before the command, `turtlectl --domain lab1 ...` (or use lab1/robot/status)"
 
 
 def test_a_known_key_keeps_its_type():
@@ -196,3 +196,9 @@ def test_the_outcome_says_why_and_what_to_do_next():
         success=False, time_taken=12.0, reason="blocked", detail="the obstacle at (9, 9) stayed within 0.4 m"
     )
     assert outcome_line(blocked).startswith("not reached: blocked after 12.000 s (the obstacle at (9, 9) stayed")
+
+
+def test_a_block_never_rounds_a_heading_up_to_360_and_writes_booleans_as_json_does():
+    status = TurtleStatus(x=1.0, y=2.0, theta=359.99999, vel_x=0.0, vel_y=0.0, battery=50.0)
+    assert "theta: 359.99999" in message_block(status)
+    assert "contact: true" in message_block(Pose(x=2.0, y=8.5, theta=0.0, contact=True))

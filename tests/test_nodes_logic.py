@@ -102,3 +102,8 @@ def test_teleports_and_resets_are_not_travel():
     assert travelled(before, jumped, 4.0) == 0.0
     # a lost pose in between: twice the time, twice the distance, still travel
     assert travelled(before, Pose(x=1.12, y=1.0, theta=0.0, stamp=1_032_000_000), 4.0) == pytest.approx(0.12)
+
+
+def test_a_goal_from_where_the_turtle_touches_an_obstacle_says_to_move_away_first():
+    problem = path_problem(2.0, 8.5, 3.5, 8.5, DEFAULT_WORLD, 0.3)  # touching (2, 9), r 0.5, from below
+    assert problem is not None and "right beside the turtle" in problem and "away from it first" in problem

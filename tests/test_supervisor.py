@@ -4,13 +4,14 @@ from __future__ import annotations
 
 import io
 import signal
+import socket
 
 import pytest
 
 from cli import STOPPED_BY_CTRL_C, command_of
 from cli.launchfile import parse_launch
 from cli.supervisor import logs
-from cli.supervisor.manager import Supervisor, port_in_use
+from cli.supervisor.manager import Supervisor, free_port_near, port_in_use
 from cli.supervisor.printer import Printer
 
 TWO = '[supervisor]\nsigint_timeout = 0.05\nsigterm_timeout = 0.05\n[[node]]\nname = "sim"\nrun = "sim"\n[[node]]\nname = "navigator"\nrun = "navigator"\n'
@@ -117,3 +118,16 @@ def test_a_busy_port_names_the_commands_that_avoid_it():
     assert 'the port is already in use' in text
     assert '.venv/bin/turtlectl launch --port 7448 (or make run ARGS="--port 7448")' in text
     assert port_in_use(65535, "router").endswith(".venv/bin/turtlectl router --port 65534")
+
+
+def test_the_port_suggested_instead_of_a_busy_one_is_free():
+    """A review found `--port 7544` suggested while 7544 was taken too."""
+    with socket.socket() as busy, socket.socket() as next_busy:
+        busy.bind(("127.0.0.1", 0))
+        port = busy.getsockname()[1]
+        try:
+            next_busy.bind(("127.0.0.1", port + 1))
+        except OSError:
+            pass  # already taken by someone else: just as good for this test
+        suggested = free_port_near(port)
+    assert suggested not in (port, port + 1)

@@ -14,6 +14,7 @@ from __future__ import annotations
 import os
 import queue
 import signal
+import socket
 import time
 from pathlib import Path
 from typing import Any
@@ -40,9 +41,22 @@ def respawn_delay(first: float, cap: float, attempt: int) -> float:
     return min(cap, first * 2.0 ** (attempt - 1)) if first > 0 else 0.0
 
 
-def port_in_use(port: int, command: str) -> str:
-    """Why a listen failed on a busy port, and the command that avoids it."""
-    other = port + 1 if port < 65535 else port - 1
+def free_port_near(port: int, host: str = "127.0.0.1") -> int:
+    """The first port after ``port`` (wrapping below it at the top) that ``host`` can listen on now."""
+    candidates = [p for p in range(port + 1, min(port + 50, 65536))] + list(range(port - 1, max(port - 50, 0), -1))
+    for candidate in candidates:
+        with socket.socket() as probe:
+            try:
+                probe.bind((host.strip("[]"), candidate))
+            except OSError:
+                continue
+            return candidate
+    return port + 1 if port < 65535 else port - 1
+
+
+def port_in_use(port: int, command: str, host: str = "127.0.0.1") -> str:
+    """Why a listen failed on a busy port, and the command that avoids it (with a port that is free now)."""
+    other = free_port_near(port, host)
     if command == "launch":
         how = f'.venv/bin/turtlectl launch --port {other} (or make run ARGS="--port {other}")'
     else:
@@ -94,7 +108,7 @@ class Supervisor:
             return zenoh.open(router_config(self.port, self.host))
         except zenoh.ZError as exc:
             if "in use" in str(exc):
-                reason = port_in_use(self.port, "launch")
+                reason = port_in_use(self.port, "launch", self.host)
             else:
                 reason = zenoh_reason(exc)
             raise CliError(ExitCode.CANNOT_START, f"cannot listen on {self.endpoint}: {reason}") from None

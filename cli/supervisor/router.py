@@ -20,7 +20,7 @@ def run_router(port: int, host: str, on_ready: Callable[[], None]) -> None:
     try:
         session = zenoh.open(router_config(port, host))
     except zenoh.ZError as exc:
-        reason = port_in_use(port, "router") if "in use" in str(exc) else zenoh_reason(exc)
+        reason = port_in_use(port, "router", host) if "in use" in str(exc) else zenoh_reason(exc)
         raise CliError(ExitCode.CANNOT_START, f"cannot listen on tcp/{host}:{port}: {reason}") from None
     previous = {sig: signal.signal(sig, lambda *_: stop.set()) for sig in (signal.SIGINT, signal.SIGTERM)}
     try:

@@ -339,16 +339,16 @@ def test_a_client_without_domain_sees_every_domain_and_is_told_which_to_use(rout
 
         lost = plain("goto", "3", "3", "0", endpoint=router.endpoint)
         assert lost.returncode == 3
-        assert "nothing serves navigate_to" in lost.stderr and "add --domain alpha" in lost.stderr
+        assert "nothing serves navigate_to" in lost.stderr and "add it before the command, `turtlectl --domain alpha ...`" in lost.stderr
         wrong = plain("--domain", "beta", "goto", "3", "3", "0", endpoint=router.endpoint)
-        assert wrong.returncode == 3 and "in domain beta" in wrong.stderr and "add --domain alpha" in wrong.stderr
+        assert wrong.returncode == 3 and "in domain beta" in wrong.stderr and "add it before the command, `turtlectl --domain alpha ...`" in wrong.stderr
         empty = plain("--domain", "gamma", "list", endpoint=router.endpoint).stdout
-        assert "(none: systems run in domains alpha, beta on this router: add --domain alpha)" in empty
+        assert "(none: systems run in domains alpha, beta on this router: add it before the command, `turtlectl --domain alpha ...`)" in empty
 
         status = plain("echo", "alpha/robot/status", "--once", "--json", endpoint=router.endpoint)
         assert status.returncode == 0 and json.loads(status.stdout)["type"] == "TurtleStatus"
         silent = plain("echo", "robot/status", "--timeout", "4", endpoint=router.endpoint)
-        assert silent.returncode == 3 and "published in domain alpha: add --domain alpha" in silent.stderr
+        assert silent.returncode == 3 and "published in domain alpha: add it before the command, `turtlectl --domain alpha ...`" in silent.stderr
         # a goal reached from outside the domain still holds the caller's token inside it
         alpha.teleport(1.0, 5.5, 0.0)
         start = len(alpha.lines)

@@ -221,3 +221,23 @@ def test_a_node_run_in_another_domain_joins_that_domain_not_this_system(no_scans
             other.wait(5)
         except subprocess.TimeoutExpired:
             other.kill()
+
+
+def test_reset_and_cancel_need_no_payload_at_all(no_scans):
+    """docs/interfaces.md says a request without fields may be sent empty; a review found an
+    ErrorReply ("Input data was truncated") for a get on `reset` without a payload."""
+    replies = list(
+        no_scans.session.get(
+            RESET, consolidation=zenoh.ConsolidationMode.NONE, target=zenoh.QueryTarget.ALL, timeout=5.0
+        )
+    )
+    assert len(replies) == 2 and all(r.ok is not None for r in replies), [r.err for r in replies]
+    assert {decode(r.ok.payload.to_bytes(), Ack).detail for r in replies} == {
+        "battery full", "turtle back at its spawn pose"
+    }
+
+
+def test_the_turtle_may_be_teleported_onto_an_obstacle_s_surface_where_a_push_stops(no_scans):
+    no_scans.teleport(2.0, 8.5, 0.0)  # the surface of the obstacle at (2, 9), r 0.5
+    inside = no_scans.call(TELEPORT, TeleportAbsolute(x=2.0, y=8.6, theta=0.0))
+    assert inside[0].err is not None and b"inside an obstacle" in inside[0].err.payload.to_bytes()
