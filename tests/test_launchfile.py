@@ -4,7 +4,15 @@ from pathlib import Path
 
 import pytest
 
-from cli.launchfile import LaunchFileError, load_launch, node_config, parse_assignment, parse_launch, select_nodes, with_overrides
+from cli.launchfile import (
+    LaunchFileError,
+    load_launch,
+    node_config,
+    parse_assignment,
+    parse_launch,
+    select_nodes,
+    with_overrides,
+)
 from cli.main import PACKAGED_LAUNCH
 
 ROOT = Path(__file__).resolve().parent.parent
