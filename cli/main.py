@@ -382,7 +382,7 @@ def pub(
         if count is not None:
             raise CliError(ExitCode.INTERRUPTED, "interrupted before every message was sent") from None
         return
-    typer.echo(f"published {sent} {type(msg).__name__} on {topic}", err=True)
+    typer.echo(f"published {sent} {type(msg).__name__} on {key}", err=True)
 
 
 @app.command()
