@@ -413,6 +413,8 @@ def call(
     code = ExitCode.OK
     try:
         for reply in services.call_service(connect, key, body, timeout):
+            if not isinstance(reply, NavigateToFeedback):  # an answer: a Ctrl-C from now on changes nothing
+                signal.signal(signal.SIGINT, signal.SIG_IGN)
             if isinstance(reply, services.Raw):
                 typer.echo(reply.payload.decode("utf-8", "replace"))
                 continue

@@ -164,21 +164,17 @@ def test_teleport_or_reset_cancel_a_running_goal(no_scans, how):
     assert (pose.x, pose.y) == pytest.approx(expected, abs=1e-6)
 
 
-def test_the_teleport_ack_comes_after_the_pose_that_shows_it(no_scans):
-    for i in range(5):
-        target = (2.0 + i, 3.0 + 0.5 * i)
-        poses: queue.SimpleQueue = queue.SimpleQueue()
-        sub = no_scans.session.declare_subscriber(POSE, lambda s: poses.put(decode(s.payload.to_bytes(), Pose)))
-        try:
-            no_scans.wait_until(lambda: not poses.empty(), 2.0, "a pose")
-            replies = no_scans.call(TELEPORT, TeleportAbsolute(x=target[0], y=target[1], theta=0.0))
-            assert decode(replies[0].ok.payload.to_bytes(), Ack).ok
-            seen = []
-            while not poses.empty():
-                seen.append(poses.get_nowait())
-        finally:
-            sub.undeclare()
-        assert any((p.x, p.y) == pytest.approx(target) for p in seen), (target, seen[-3:])
+def test_a_goal_sent_right_after_the_teleport_ack_starts_from_the_new_pose(no_scans):
+    """(2, 9.6) is unreachable from the spawn (the obstacle at (2, 9) is in the way) and 0.9 m
+    straight ahead from (2, 10.5): a goal sent the moment the teleport is acknowledged must be
+    judged from where the turtle now is.  Before the fix the Ack came before the pose showed
+    the teleport, so the navigator often still had the old pose."""
+    for _ in range(5):
+        no_scans.teleport(5.544445, 5.544445, 0.0)
+        replies = no_scans.call(TELEPORT, TeleportAbsolute(x=2.0, y=10.5, theta=-math.pi / 2))
+        assert decode(replies[0].ok.payload.to_bytes(), Ack).ok
+        response, _, _ = no_scans.navigate(2.0, 9.6, 270.0)
+        assert response.success, response
 
 
 def test_teleports_are_not_charged_to_the_battery(no_scans):

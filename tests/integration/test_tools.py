@@ -18,7 +18,8 @@ import pytest
 
 from cli import services
 from cli.errors import CliError, ExitCode
-from messages.keys import GRAPH
+from messages import TurtleStatus
+from messages.keys import GRAPH, STATUS
 from tests.integration.harness import NODES, running_system, turtlectl
 
 pytestmark = pytest.mark.integration
@@ -256,14 +257,12 @@ def test_echo_with_a_wildcard_says_which_key(system):
     assert result.returncode == 0 and "# Pose on turtle1/pose" in result.stdout
 
 
-def test_a_second_process_with_a_node_s_name_is_reported(system):
-    node = subprocess.Popen(
+def test_a_second_process_with_a_node_s_name_refuses_to_start(system):
+    """It used to run beside the first and the supervisor warned; since a review found two
+    status monitors alternating on robot/status, the second one refuses to start (issue 8)."""
+    node = subprocess.run(
         [*turtlectl(), "run", "status_monitor", "--connect", system.endpoint],
-        stdout=subprocess.DEVNULL,
-        stderr=subprocess.DEVNULL,
+        capture_output=True, text=True, timeout=30, stdin=subprocess.DEVNULL,
     )
-    try:
-        system.wait_line(rf"another process \(pid {node.pid}\) also calls itself status_monitor", 20.0)
-    finally:
-        node.send_signal(signal.SIGINT)
-        node.wait(10)
+    assert node.returncode == 4 and "already publishes robot/status" in node.stderr, node.stderr
+    system.collect(STATUS, TurtleStatus, 3, timeout=5.0)  # the system's own goes on
