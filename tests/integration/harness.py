@@ -7,16 +7,21 @@ under a deadline, and checks that the supervisor is still alive while waiting.
 
 from __future__ import annotations
 
+import fcntl
 import math
 import os
+import pty
 import queue
 import re
+import select
 import shutil
 import signal
 import socket
+import struct
 import subprocess
 import sys
 import tempfile
+import termios
 import threading
 import time
 from collections.abc import Callable, Iterator
@@ -85,6 +90,36 @@ def read_until_closed(master: int) -> bytes:
         out += chunk
     os.close(master)
     return out
+
+
+def set_winsize(fd: int, rows: int, cols: int) -> None:
+    """Give the pseudo-terminal ``fd`` a size (the program learns of it at start or by SIGWINCH)."""
+    fcntl.ioctl(fd, termios.TIOCSWINSZ, struct.pack("HHHH", rows, cols, 0, 0))
+
+
+def pump(fd: int, stream: Any, seconds: float) -> bool:
+    """Feed what the program writes to an emulated screen (a pyte stream) for ``seconds``;
+    False once it closed the terminal."""
+    end = time.monotonic() + seconds
+    while time.monotonic() < end:
+        ready, _, _ = select.select([fd], [], [], 0.05)
+        if ready:
+            try:
+                stream.feed(os.read(fd, 65536))
+            except OSError:
+                return False
+    return True
+
+
+def view_in_pty(endpoint: str) -> tuple[int, int]:
+    """``turtlectl view`` in a new pseudo-terminal: (pid, master fd)."""
+    pid, fd = pty.fork()
+    if pid == 0:  # the child: the real command in a pseudo-terminal
+        # a clean environment: LINES/COLUMNS (set behind os.environ's back by readline) would pin the size
+        env = {k: v for k, v in os.environ.items() if k not in ("LINES", "COLUMNS")}
+        env.update(TERM="xterm", LANG="C.UTF-8", LC_ALL="C.UTF-8")
+        os.execve(turtlectl()[0], [*turtlectl(), "view", "--connect", endpoint], env)
+    return pid, fd
 
 
 class SupervisorDied(AssertionError):

@@ -6,24 +6,30 @@ raw client of docs/interfaces.md."""
 
 from __future__ import annotations
 
-import fcntl
 import json
 import os
 import pty
 import re
 import select
 import signal
-import struct
 import subprocess
 import sys
-import termios
 import time
 
 import pyte
 import pytest
 
 from messages import Twist
-from tests.integration.harness import ROOT, free_port, read_until_closed, running_system, turtlectl
+from tests.integration.harness import (
+    ROOT,
+    free_port,
+    pump,
+    read_until_closed,
+    running_system,
+    set_winsize,
+    turtlectl,
+    view_in_pty,
+)
 
 pytestmark = pytest.mark.integration
 
@@ -194,14 +200,10 @@ def test_no_router_is_reported_at_once():
 # -- the live progress line and the view in real terminals -------------------------------
 
 
-def _winsize(fd: int, rows: int, cols: int) -> None:
-    fcntl.ioctl(fd, termios.TIOCSWINSZ, struct.pack("HHHH", rows, cols, 0, 0))
-
-
 def test_goto_progress_fits_an_80_column_terminal(system):
     system.teleport(1.0, 5.5, 0.0)
     master, slave = pty.openpty()
-    _winsize(slave, 24, 80)
+    set_winsize(slave, 24, 80)
     env = {k: v for k, v in os.environ.items() if k not in ("LINES", "COLUMNS")}
     goto = subprocess.Popen(
         [*turtlectl(), "goto", "10", "5.5", "-45", "--connect", system.endpoint], stdout=slave, stderr=slave, env=env
@@ -216,18 +218,6 @@ def test_goto_progress_fits_an_80_column_terminal(system):
     assert re.search(r"reached at \(10\.0\d+, 5\.5\d+, 31[45]\.\d deg\)", out.decode()), out
 
 
-def _pump(fd: int, stream: pyte.ByteStream, seconds: float) -> bool:
-    end = time.monotonic() + seconds
-    while time.monotonic() < end:
-        ready, _, _ = select.select([fd], [], [], 0.05)
-        if ready:
-            try:
-                stream.feed(os.read(fd, 65536))
-            except OSError:
-                return False
-    return True
-
-
 def _trail_dots(screen: pyte.Screen) -> int:
     rows = screen.display
     map_rows = [r for r in rows[1:] if r.startswith("|")]
@@ -236,33 +226,29 @@ def _trail_dots(screen: pyte.Screen) -> int:
 
 def test_view_has_a_legend_c_clears_the_trail_and_ctrl_c_exits_0(system):
     system.teleport(2.0, 5.5, 0.0)
-    pid, fd = pty.fork()
-    if pid == 0:
-        env = {k: v for k, v in os.environ.items() if k not in ("LINES", "COLUMNS")}
-        env.update(TERM="xterm", LANG="C.UTF-8", LC_ALL="C.UTF-8")
-        os.execve(turtlectl()[0], [*turtlectl(), "view", "--connect", system.endpoint], env)
+    pid, fd = view_in_pty(system.endpoint)
     screen = pyte.Screen(100, 30)
     stream = pyte.ByteStream(screen)
     try:
-        _winsize(fd, 30, 100)
+        set_winsize(fd, 30, 100)
         os.kill(pid, signal.SIGWINCH)
         deadline = time.monotonic() + 15
         while "battery" not in "\n".join(screen.display):
             assert time.monotonic() < deadline, "\n".join(screen.display)
-            assert _pump(fd, stream, 0.2)
+            assert pump(fd, stream, 0.2)
         assert "o obstacle  * scan hit  . trail  X goal  (c clears the trail)" in "\n".join(screen.display)
         assert system.run_cli("goto", "8", "5.5", "0").returncode == 0  # a trail behind the turtle
         deadline = time.monotonic() + 5
         while _trail_dots(screen) < 5:
             assert time.monotonic() < deadline, "\n".join(screen.display)
-            assert _pump(fd, stream, 0.1)
+            assert pump(fd, stream, 0.1)
         os.write(fd, b"c")
         deadline = time.monotonic() + 5
         while _trail_dots(screen) > 1:  # the turtle is at rest: at most the cell it stands on comes back
             assert time.monotonic() < deadline, "\n".join(screen.display)
-            assert _pump(fd, stream, 0.1)
+            assert pump(fd, stream, 0.1)
         os.kill(pid, signal.SIGINT)
-        while _pump(fd, stream, 0.1):
+        while pump(fd, stream, 0.1):
             pass
         _, status = os.waitpid(pid, 0)
         assert os.WIFEXITED(status) and os.WEXITSTATUS(status) == 0

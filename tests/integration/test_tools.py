@@ -2,15 +2,10 @@
 
 from __future__ import annotations
 
-import fcntl
 import json
 import os
-import pty
-import select
 import signal
-import struct
 import subprocess
-import termios
 import time
 
 import pyte
@@ -20,7 +15,7 @@ from cli import services
 from cli.errors import CliError, ExitCode
 from messages import TurtleStatus
 from messages.keys import GRAPH, STATUS
-from tests.integration.harness import NODES, running_system, turtlectl
+from tests.integration.harness import NODES, pump, running_system, set_winsize, turtlectl, view_in_pty
 
 pytestmark = pytest.mark.integration
 
@@ -195,52 +190,31 @@ def test_run_one_node_in_the_foreground_with_overrides(tmp_path):
             node.kill()
 
 
-def _pump(fd: int, stream: pyte.ByteStream, seconds: float) -> bool:
-    """Feed what the program writes to the emulated screen for ``seconds``; False once it closed."""
-    end = time.monotonic() + seconds
-    while time.monotonic() < end:
-        ready, _, _ = select.select([fd], [], [], 0.05)
-        if ready:
-            try:
-                stream.feed(os.read(fd, 65536))
-            except OSError:
-                return False
-    return True
-
-
-def _resize(fd: int, pid: int, rows: int, cols: int) -> None:
-    fcntl.ioctl(fd, termios.TIOCSWINSZ, struct.pack("HHHH", rows, cols, 0, 0))
-    os.kill(pid, signal.SIGWINCH)
-
-
 def test_view_draws_the_world_in_a_real_terminal(system):
     system.teleport(3.0, 8.0, 0.0)  # facing +x: the arrow is →
-    pid, fd = pty.fork()
-    if pid == 0:  # the child: the real command in a pseudo-terminal
-        # a clean environment: LINES/COLUMNS (set behind os.environ's back by readline) would pin the size
-        env = {k: v for k, v in os.environ.items() if k not in ("LINES", "COLUMNS")}
-        env.update(TERM="xterm", LANG="C.UTF-8", LC_ALL="C.UTF-8")
-        os.execve(turtlectl()[0], [*turtlectl(), "view", "--connect", system.endpoint], env)
+    pid, fd = view_in_pty(system.endpoint)
     screen = pyte.Screen(100, 30)
     stream = pyte.ByteStream(screen)
     try:
-        _resize(fd, pid, 30, 100)
+        set_winsize(fd, 30, 100)
+        os.kill(pid, signal.SIGWINCH)
         deadline = time.monotonic() + 15
         while "battery" not in "\n".join(screen.display):
             assert time.monotonic() < deadline, "\n".join(screen.display)
-            assert _pump(fd, stream, 0.2)
+            assert pump(fd, stream, 0.2)
         shown = "\n".join(screen.display)
         assert screen.display[0].startswith("+---") and "|" in screen.display[5]
         assert "→" in shown and "x  3.00 y  8.00 heading   0.0 deg" in shown
         assert shown.count("o") > 5  # the launch file's obstacles
         screen.resize(20, 60)
-        _resize(fd, pid, 20, 60)
-        _pump(fd, stream, 1.0)
+        set_winsize(fd, 20, 60)
+        os.kill(pid, signal.SIGWINCH)
+        pump(fd, stream, 1.0)
         assert screen.display[0].startswith("+---") and screen.display[0].rstrip().endswith("+"), "\n".join(screen.display)
         assert len(screen.display[0].rstrip()) < 60
         os.write(fd, b"q")
         start = time.monotonic()
-        while _pump(fd, stream, 0.1) and time.monotonic() - start < 5:
+        while pump(fd, stream, 0.1) and time.monotonic() - start < 5:
             pass
         _, status = os.waitpid(pid, 0)
         assert os.WIFEXITED(status) and os.WEXITSTATUS(status) == 0
