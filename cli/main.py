@@ -82,11 +82,28 @@ def _print_version(value: bool) -> None:
         raise typer.Exit(0)
 
 
+def _use_domain(domain: str) -> str:
+    """Check ``--domain`` and make it the domain of every session this process opens; the same
+    option before or after the command (``turtlectl --domain lab1 list`` = ``turtlectl list --domain lab1``)."""
+    if domain:
+        if not DOMAIN_RE.match(domain):
+            raise CliError(ExitCode.BAD_INPUT, f"--domain {domain!r}: use letters, digits, _ and - (like lab1 or 42)")
+        os.environ[DOMAIN_ENV] = domain  # read by every session this process opens
+    return domain
+
+
+DomainOption = typer.Option(
+    "", "--domain", envvar=DOMAIN_ENV, callback=_use_domain,
+    help="Keys of the system live under this prefix (two systems never mix); before or after the command.",
+)
+
+
 @app.callback()
 def root(
     ctx: typer.Context,
-    domain: str = typer.Option(
-        "", "--domain", envvar=DOMAIN_ENV, help="Keys of the system live under this prefix (two systems never mix)."
+    domain: str = DomainOption,
+    connect: Optional[str] = typer.Option(
+        None, "--connect", help="Router endpoint for the client commands (as after the command; launch has its own)."
     ),
     _version: bool = typer.Option(
         False, "--version", is_eager=True, callback=_print_version, help="Print turtlectl's version and exit."
@@ -97,10 +114,8 @@ def root(
         # client commands handle Ctrl-C as KeyboardInterrupt (goto cancels, echo stops);
         # launch and router keep cli.entry's quiet handler until they install their own
         signal.signal(signal.SIGINT, signal.default_int_handler)
-    if domain:
-        if not DOMAIN_RE.match(domain):
-            raise CliError(ExitCode.BAD_INPUT, f"--domain {domain!r}: use letters, digits, _ and - (like lab1 or 42)")
-        os.environ[DOMAIN_ENV] = domain  # read by every session this process opens
+    if connect is not None:  # the commands read it as their --connect default (before their own options)
+        os.environ[CONNECT_ENV] = connect
 
 
 @app.command()
@@ -116,6 +131,7 @@ def launch(
     ),
     check: bool = typer.Option(False, "--check", help="Validate the file (and overrides), print the plan, and exit."),
     log_dir: Optional[Path] = typer.Option(None, "--log-dir", envvar="TURTLECTL_LOG_DIR", help="Parent folder of run folders (default ~/.turtlectl/log)."),
+    domain: str = DomainOption,
 ) -> None:
     """Start the router and every node of a launch file; Ctrl-C stops them all.
 
@@ -188,6 +204,7 @@ def goto(
     ),
     json: bool = typer.Option(False, "--json", help="Print the response as one JSON object."),
     connect: str = ConnectOption,
+    domain: str = DomainOption,
 ) -> None:
     """Send the turtle to (X, Y) facing THETA degrees and wait for the outcome.
 
@@ -216,7 +233,7 @@ def goto(
 
 
 @app.command()
-def cancel(connect: str = ConnectOption) -> None:
+def cancel(connect: str = ConnectOption, domain: str = DomainOption) -> None:
     """Cancel the running goal: the turtle brakes at once; its caller gets reason "canceled".
 
     Exit code 1 if no goal was running.
@@ -234,6 +251,7 @@ def teleport(
     y: str = typer.Argument(..., metavar="Y", help="y, m."),
     theta: str = typer.Argument(..., metavar="THETA", help="Heading, degrees (as for goto)."),
     connect: str = ConnectOption,
+    domain: str = DomainOption,
 ) -> None:
     """Put the turtle at (X, Y) facing THETA degrees, at rest (turtlesim's teleport_absolute).
 
@@ -248,7 +266,7 @@ def teleport(
 
 
 @app.command()
-def reset(connect: str = ConnectOption) -> None:
+def reset(connect: str = ConnectOption, domain: str = DomainOption) -> None:
     """Put the turtle back at its spawn pose and fill the battery (turtlesim's reset).
 
     Example: turtlectl reset
@@ -269,6 +287,7 @@ def echo(
     full: bool = typer.Option(False, "--full", help="Print long arrays whole."),
     timeout: Optional[float] = typer.Option(None, "--timeout", min=0.1, help="Exit after S seconds."),
     connect: str = ConnectOption,
+    domain: str = DomainOption,
 ) -> None:
     """Print the messages published on TOPIC, decoded whatever their type.
 
@@ -313,6 +332,7 @@ def echo(
 def list_graph(
     json: bool = typer.Option(False, "--json", help="The graph as one JSON object."),
     connect: str = ConnectOption,
+    domain: str = DomainOption,
 ) -> None:
     """The live graph: nodes (name, pid, host, uptime), topics with their publishers and
     subscribers, and services; read from liveliness tokens now, never from a cache.
@@ -332,6 +352,7 @@ def hz(
     duration: Optional[float] = typer.Option(None, "--duration", min=0.5, help="Stop after S seconds."),
     json: bool = typer.Option(False, "--json", help="JSON lines."),
     connect: str = ConnectOption,
+    domain: str = DomainOption,
 ) -> None:
     """Rate of each TOPIC from arrival times (with jitter), and the publisher's own rate from stamps.
 
@@ -362,6 +383,7 @@ def pub(
     times: Optional[int] = typer.Option(None, "--times", min=1, help="Publish N times."),
     type_name: Optional[str] = typer.Option(None, "--type", help="Message type, for keys without a known one."),
     connect: str = ConnectOption,
+    domain: str = DomainOption,
 ) -> None:
     """Publish a message built from JSON, validated for the topic's type before anything is sent
     (a known topic's own type: --type cannot change it).
@@ -396,6 +418,7 @@ def call(
     type_name: Optional[str] = typer.Option(None, "--type", help="Request type, for keys without a known one."),
     json: bool = typer.Option(False, "--json", help="JSON lines."),
     connect: str = ConnectOption,
+    domain: str = DomainOption,
 ) -> None:
     """Call any queryable: known services get a typed request, others the JSON as is.
     Replies are printed as they arrive (navigate_to: its feedback, then its response).
@@ -432,6 +455,7 @@ def run(
     param: list[str] = typer.Option([], "--param", "-p", help="KEY=VALUE override (repeatable; a.b=1 for tables)."),
     file: Optional[Path] = typer.Option(None, "--file", help="Launch file (default as for launch)."),
     connect: str = ConnectOption,
+    domain: str = DomainOption,
 ) -> None:
     """Run one node in the foreground with the parameters the launch file gives it (and
     overrides), joining the system at --connect: for debugging, or on another machine.
@@ -447,7 +471,7 @@ def run(
 
 
 @app.command()
-def view(connect: str = ConnectOption) -> None:
+def view(connect: str = ConnectOption, domain: str = DomainOption) -> None:
     """Draw the world live in this terminal: walls, obstacles, the turtle and its trail,
     the goal, the laser hits, a legend and a status line.  c clears the trail; q or Ctrl-C
     quits (exit code 0).

@@ -3,13 +3,16 @@ JSON, the graph across domains, silence hints, type checks, exit codes of replie
 
 import json
 import math
+import os
 
 import pytest
+from typer.testing import CliRunner
 
 from cli.client import base_key, domain_prefix
 from cli.errors import CliError, ExitCode
 from cli.format import heading_text, message_block, message_json, outcome_line, progress_line, teleport_line
 from cli.graph import build_graph, graph_text
+from cli.main import app
 from cli.services import check_request_type, reply_code
 from cli.topics import check_topic_type, silence_text
 from cli.view import Scene, render
@@ -32,6 +35,7 @@ from messages.keys import (
     node_token,
     parse_domain_token,
 )
+from nodes.session import CONNECT_ENV, DOMAIN_ENV
 from sim.world import World
 
 FEEDBACK = NavigateToFeedback(
@@ -202,3 +206,29 @@ def test_a_block_never_rounds_a_heading_up_to_360_and_writes_booleans_as_json_do
     status = TurtleStatus(x=1.0, y=2.0, theta=359.99999, vel_x=0.0, vel_y=0.0, battery=50.0)
     assert "theta: 359.99999" in message_block(status)
     assert "contact: true" in message_block(Pose(x=2.0, y=8.5, theta=0.0, contact=True))
+
+
+@pytest.mark.parametrize(
+    "args",
+    [
+        ["list", "--domain", "lab9", "--connect", "tcp/127.0.0.1:1"],
+        ["--domain", "lab9", "list", "--connect", "tcp/127.0.0.1:1"],
+        ["--domain", "lab9", "--connect", "tcp/127.0.0.1:1", "list"],
+        ["goto", "1", "1", "0", "--domain", "lab9", "--connect", "tcp/127.0.0.1:1"],
+    ],
+)
+def test_domain_and_connect_work_before_and_after_the_command(args, monkeypatch):
+    """A review found `turtlectl goto 5 5 0 --domain lab1` refused ("unexpected extra argument")
+    right after a hint told the user to add --domain, and `turtlectl --connect ... list` refused."""
+    monkeypatch.delenv(DOMAIN_ENV, raising=False)
+    monkeypatch.delenv(CONNECT_ENV, raising=False)
+    result = CliRunner().invoke(app, args)
+    assert isinstance(result.exception, CliError), result.output  # it ran: nothing listens on port 1
+    assert result.exception.code == ExitCode.UNREACHABLE and "tcp/127.0.0.1:1" in result.exception.message
+    assert os.environ[DOMAIN_ENV] == "lab9"
+
+
+def test_a_bad_domain_after_the_command_is_bad_input(monkeypatch):
+    monkeypatch.delenv(DOMAIN_ENV, raising=False)
+    result = CliRunner().invoke(app, ["list", "--domain", "a/b"])
+    assert isinstance(result.exception, CliError) and result.exception.code == ExitCode.BAD_INPUT
