@@ -184,6 +184,13 @@ def check_host(text: str) -> str:
         raise CliError(ExitCode.BAD_INPUT, f"--listen {text!r} is not an IP address") from None
 
 
+def _result(text: str) -> None:
+    """Print a one-shot command's result: from now on a Ctrl-C changes nothing (no 130, no
+    traceback from Zenoh's threads while the process ends)."""
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    typer.echo(text)
+
+
 def _number(text: str, name: str) -> float:
     try:
         value = float(text.replace("_", "?"))  # Python reads 1_0 as 10; a user did not mean that
@@ -228,7 +235,7 @@ def goto(
     finally:
         if live:
             typer.echo("\r\033[K", nl=False)
-    typer.echo(format.message_json(response) if json else format.outcome_line(response))
+    _result(format.message_json(response) if json else format.outcome_line(response))
     raise typer.Exit(ExitCode.OK if response.success else ExitCode.FAILED)
 
 
@@ -241,7 +248,7 @@ def cancel(connect: str = ConnectOption, domain: str = DomainOption) -> None:
     Example: turtlectl cancel
     """
     (ack,) = services.simple_call(connect, keys.CANCEL, Cancel())
-    typer.echo(ack.detail)
+    _result(ack.detail)
     raise typer.Exit(ExitCode.OK if ack.ok else ExitCode.FAILED)
 
 
@@ -262,7 +269,7 @@ def teleport(
     acks = services.simple_call(connect, keys.TELEPORT, request)
     if not all(a.ok for a in acks):  # the simulator's own words (they are in radians, as its request)
         raise CliError(ExitCode.FAILED, format.ack_lines(acks))
-    typer.echo(format.teleport_line(request.x, request.y, degrees))
+    _result(format.teleport_line(request.x, request.y, degrees))
 
 
 @app.command()
@@ -272,7 +279,7 @@ def reset(connect: str = ConnectOption, domain: str = DomainOption) -> None:
     Example: turtlectl reset
     """
     acks = services.simple_call(connect, keys.RESET, Reset(), everyone=True)
-    typer.echo(format.ack_lines(acks))
+    _result(format.ack_lines(acks))
     raise typer.Exit(ExitCode.OK if all(a.ok for a in acks) else ExitCode.FAILED)
 
 
@@ -342,7 +349,7 @@ def list_graph(
     Example: turtlectl list
     """
     current = topics.graph(connect)
-    typer.echo(format.json_value(current) if json else graph_text(current))
+    _result(format.json_value(current) if json else graph_text(current))
 
 
 @app.command()

@@ -80,6 +80,23 @@ def service_session(connect: str) -> Iterator[zenoh.Session]:
             raise CliError(exc.code, exc.message.replace(" (", f"{where} (", 1) + domain_hint(connect)) from None
 
 
+ROUTER_LOSS_WAIT = 0.5  # s: how long a query's end may come before the session notices its router is gone
+
+
+def router_lost_soon(session: zenoh.Session, lasted: float) -> bool:
+    """Whether the router went away, given a query that ended without any reply after ``lasted``
+    s.  One that ends at once means nobody serves the key; one that ran for a while may have
+    ended because the router died, which the session notices a moment later: wait for that."""
+    if lasted < 0.05:
+        return False
+    until = time.monotonic() + ROUTER_LOSS_WAIT
+    while not router_lost(session):
+        if time.monotonic() >= until:
+            return False
+        time.sleep(0.02)  # pacing: polling the session's router list under a deadline
+    return True
+
+
 def replies(
     session: zenoh.Session, key: str, request: Message | bytes, timeout: float, everyone: bool = False
 ) -> Iterator[Message | Raw]:
@@ -122,7 +139,7 @@ def replies(
             break
         answered = True
         yield _read_reply(reply, key, timeout)
-    if router_lost(session):
+    if router_lost(session) or (not answered and router_lost_soon(session, time.monotonic() - started)):
         raise RouterLost(ExitCode.UNREACHABLE, f"lost the router while waiting for {key} (did `turtlectl launch` stop?)")
     if not answered:
         raise NobodyServes(ExitCode.UNREACHABLE, f"nothing serves {key} (is the node running?)")
@@ -180,6 +197,8 @@ def goal_replies(
             ) from None
         except RouterLost as exc:
             raise RouterLost(exc.code, "lost the router before the goal ended (did `turtlectl launch` stop?)") from None
+        if router_lost_soon(session, lasted=ROUTER_LOSS_WAIT):  # the replies ended without a response: why?
+            raise RouterLost(ExitCode.UNREACHABLE, "lost the router before the goal ended (did `turtlectl launch` stop?)")
     raise CliError(ExitCode.FAILED, "the navigator stopped answering before the goal ended (did it exit?)")
 
 
