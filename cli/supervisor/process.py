@@ -63,10 +63,11 @@ class Child:
         return self.proc is not None and self.proc.poll() is None
 
     def send(self, sig: signal.Signals) -> None:
-        if self.running():
-            assert self.proc is not None
+        """Signal the child's whole process group (it leads its own), as honcho and mirakuru do:
+        whatever the node itself started gets the signal too and never outlives it."""
+        if self.proc is not None and self.running():
             try:
-                self.proc.send_signal(sig)
+                os.killpg(self.proc.pid, sig)
             except ProcessLookupError:
                 pass
 

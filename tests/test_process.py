@@ -1,0 +1,47 @@
+"""One supervised child (cli.supervisor.process) with real processes: signals reach its group."""
+
+from __future__ import annotations
+
+import io
+import os
+import signal
+import sys
+import time
+
+from cli.supervisor.printer import Printer
+from cli.supervisor.process import Child
+
+
+def test_a_signal_reaches_the_child_s_own_children_too(tmp_path):
+    """Issue 9: the supervisor signalled the child's pid only, so a node's own children lived on."""
+    script = (
+        "import subprocess, sys, time\n"
+        "grandchild = subprocess.Popen([sys.executable, '-c', 'import time; time.sleep(60)'])\n"
+        "print(grandchild.pid, flush=True)\n"
+        "time.sleep(60)\n"
+    )
+    printer = Printer(["parent"], stream=io.StringIO())
+    child = Child("parent", [sys.executable, "-c", script], dict(os.environ), printer)
+    child.start()
+    try:
+        deadline = time.monotonic() + 10
+        while not printer.stream.getvalue().strip():
+            assert time.monotonic() < deadline, "the child never printed its child's pid"
+            child.flush_output(0.05)
+        grandchild = int(printer.stream.getvalue().split("|")[-1])
+        child.send(signal.SIGTERM)
+        deadline = time.monotonic() + 5
+        while child.running() or _alive(grandchild):
+            assert time.monotonic() < deadline, "a SIGTERM to the child left its own child running"
+            time.sleep(0.02)  # pacing: polling process state under a deadline
+    finally:
+        if child.proc is not None and child.proc.poll() is None:
+            os.killpg(child.proc.pid, signal.SIGKILL)
+
+
+def _alive(pid: int) -> bool:
+    try:
+        with open(f"/proc/{pid}/stat") as f:
+            return f.read().split(") ", 1)[1][0] != "Z"
+    except OSError:
+        return False
