@@ -17,7 +17,12 @@ MEDIA_TYPE = "application/msgpack"
 
 M = TypeVar("M", bound=Message)
 
-TYPES_BY_NAME: dict[str, type[Message]] = {t.__name__: t for t in ALL_TYPES}
+def type_name(msg_type: type[Message]) -> str:
+    """The name a message type travels under: its explicit wire tag, never the class name."""
+    return str(msg_type.__struct_config__.tag)
+
+
+TYPES_BY_NAME: dict[str, type[Message]] = {type_name(t): t for t in ALL_TYPES}
 
 _encoder = msgspec.msgpack.Encoder()
 _decoders: dict[type[Message], msgspec.msgpack.Decoder] = {
@@ -38,7 +43,7 @@ def encode(msg: Message) -> bytes:
 
 def encoding_for(msg_type: type[Message]) -> str:
     """The sample encoding string that names ``msg_type``, e.g. ``application/msgpack;Pose``."""
-    return f"{MEDIA_TYPE};{msg_type.__name__}"
+    return f"{MEDIA_TYPE};{type_name(msg_type)}"
 
 
 def decode(payload: bytes, msg_type: type[M]) -> M:

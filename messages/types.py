@@ -1,14 +1,15 @@
 """The wire contract: every message that crosses a process boundary.
 
-Rules (DEVELOPERS.md, "messages/ is the contract"):
+Rules (the reference for clients is docs/interfaces.md, generated from here):
 
-* every Struct is strict (``forbid_unknown_fields``) and keyword-only;
-* every Struct is tagged with its type name (``"type": "TurtleStatus"`` in the
-  encoded map), so a payload names its own type on the wire;
+* every Struct is strict (``forbid_unknown_fields``), keyword-only and frozen;
+* every Struct names its wire tag explicitly (``class Pose(Message, tag="Pose")``;
+  ``"type": "Pose"`` in the encoded map), so a payload names its own type on the wire
+  and renaming a class never changes it;
 * fields added later get defaults, so old senders stay valid.
 
 Units are SI unless a field says otherwise: metres, seconds, radians, except
-where the capstone specification asks for degrees (``TurtleStatus.theta``,
+where people read and type them, in degrees (``TurtleStatus.theta``,
 ``NavigateToRequest.theta``).  ``stamp`` is wall-clock time in nanoseconds
 since the Unix epoch, ``seq`` a per-publisher counter starting at 0.
 """
@@ -20,11 +21,13 @@ import math
 import msgspec
 
 
-class Message(msgspec.Struct, forbid_unknown_fields=True, kw_only=True, tag=True):
-    """Base of every wire type; the tag (type name) is the class name."""
+class Message(msgspec.Struct, forbid_unknown_fields=True, kw_only=True, frozen=True, tag_field="type"):
+    """Base of every wire type: frozen (build a new one with ``msgspec.structs.replace``), and
+    each subclass names its wire tag explicitly (``class Pose(Message, tag="Pose")``), so that
+    renaming a class can never change the wire format."""
 
 
-class Twist(Message):
+class Twist(Message, tag="Twist"):
     """Velocity command for the turtle (turtlesim's ``cmd_vel``).
 
     linear: forward speed along the heading, m/s (negative drives backwards).
@@ -37,7 +40,7 @@ class Twist(Message):
     seq: int = 0
 
 
-class Pose(Message):
+class Pose(Message, tag="Pose"):
     """The turtle's pose as turtlesim publishes it.
 
     x, y: position in the world frame, m (origin at the lower-left corner).
@@ -56,7 +59,7 @@ class Pose(Message):
     seq: int = 0
 
 
-class TurtleStatus(Message):
+class TurtleStatus(Message, tag="TurtleStatus"):
     """The aggregated robot status of the capstone specification (10 Hz).
 
     x, y: position, m.  theta: heading in degrees, [0, 360).
@@ -74,7 +77,7 @@ class TurtleStatus(Message):
     seq: int = 0
 
 
-class LaserScan(Message):
+class LaserScan(Message, tag="LaserScan"):
     """A planar scan, as ``sensor_msgs/LaserScan`` (simplified).
 
     Angles are rad in the turtle's frame (0 = straight ahead, CCW positive);
@@ -99,7 +102,7 @@ class LaserScan(Message):
     seq: int = 0
 
 
-class NavigateToRequest(Message):
+class NavigateToRequest(Message, tag="NavigateToRequest"):
     """Goal for the ``navigate_to`` service.
 
     x, y: goal position in the world frame, m.  theta: goal heading, degrees
@@ -114,7 +117,7 @@ class NavigateToRequest(Message):
     client: str = ""
 
 
-class NavigateToFeedback(Message):
+class NavigateToFeedback(Message, tag="NavigateToFeedback"):
     """Progress of a running goal, replied to its caller about 10 times a second.
 
     Also published on ``navigate_to/feedback`` for observers (``turtlectl view``).
@@ -142,7 +145,7 @@ class NavigateToFeedback(Message):
     seq: int = 0
 
 
-class NavigateToResponse(Message):
+class NavigateToResponse(Message, tag="NavigateToResponse"):
     """Outcome of a ``navigate_to`` goal.
 
     success: the goal was reached within tolerance.
@@ -170,7 +173,7 @@ class NavigateToResponse(Message):
     detail: str = ""
 
 
-class Cancel(Message):
+class Cancel(Message, tag="Cancel"):
     """Request to ``navigate_to/cancel``: stop the running goal.
 
     reason: what its caller is told (default "canceled"; the simulator sends
@@ -180,7 +183,7 @@ class Cancel(Message):
     reason: str = ""
 
 
-class TeleportAbsolute(Message):
+class TeleportAbsolute(Message, tag="TeleportAbsolute"):
     """Request to ``turtle1/teleport_absolute``, as turtlesim's: x, y in m, theta in rad."""
 
     x: float
@@ -188,18 +191,18 @@ class TeleportAbsolute(Message):
     theta: float
 
 
-class Reset(Message):
+class Reset(Message, tag="Reset"):
     """Request to ``reset``: the turtle back to its spawn pose, the battery full."""
 
 
-class Ack(Message):
+class Ack(Message, tag="Ack"):
     """Answer of a simple service: ok, and a sentence saying what was done."""
 
     ok: bool = True
     detail: str = ""
 
 
-class ErrorReply(Message):
+class ErrorReply(Message, tag="ErrorReply"):
     """What a service sends back when it cannot even parse a request."""
 
     error: str

@@ -106,11 +106,12 @@ class Navigator:
             self.node.log.info(
                 "refused goal (%g, %g, %.1f deg): %s", body.x, body.y, degrees_0_360(body.theta), problem
             )
-            refusal = NavigateToResponse(success=False, time_taken=0.0, reason=problem, refused=True, detail=detail)
+            where = {}
             if self.pose is not None:
-                refusal.x, refusal.y = self.pose.x, self.pose.y
-                refusal.theta = heading_degrees(self.pose.theta)
-            request.respond(refusal)
+                where = {"x": self.pose.x, "y": self.pose.y, "theta": heading_degrees(self.pose.theta)}
+            request.respond(
+                NavigateToResponse(success=False, time_taken=0.0, reason=problem, refused=True, detail=detail, **where)
+            )
             return
         self.finish(False, "preempted", "a new goal replaced it")
         self.goal = Goal(request)
@@ -277,13 +278,18 @@ class Navigator:
             return
         self.cmd_pub.publish(Twist())
         pose = self.pose
-        response = NavigateToResponse(
-            success=success, time_taken=time.monotonic() - goal.start, reason=reason, detail=detail
-        )
+        final = {}
         if pose is not None:
-            response.position_error = math.hypot(goal.x - pose.x, goal.y - pose.y)
-            response.heading_error = heading_error_deg(goal.theta, pose.theta)
-            response.x, response.y, response.theta = pose.x, pose.y, heading_degrees(pose.theta)
+            final = {
+                "position_error": math.hypot(goal.x - pose.x, goal.y - pose.y),
+                "heading_error": heading_error_deg(goal.theta, pose.theta),
+                "x": pose.x,
+                "y": pose.y,
+                "theta": heading_degrees(pose.theta),
+            }
+        response = NavigateToResponse(
+            success=success, time_taken=time.monotonic() - goal.start, reason=reason, detail=detail, **final
+        )
         level = self.node.log.info if success else self.node.log.warning
         level(
             "goal %s in %.3f s (error %.4f m, %.2f deg)%s",

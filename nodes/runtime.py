@@ -37,6 +37,7 @@ import msgspec
 import zenoh
 
 from messages import ErrorReply, Message, decode, decode_any, encode, encoding_for
+from messages.codec import type_name
 from messages.keys import (
     ENTITY_TOKEN_PREFIX,
     EntityInfo,
@@ -157,7 +158,7 @@ class Node(Generic[P]):
     # -- declarations -------------------------------------------------------
     def _announce(self, role: str, msg_type: type[Message], key: str) -> None:
         """A liveliness token for the graph (``turtlectl list``): this node's role on ``key``."""
-        entity = EntityInfo(node=self.name, pid=os.getpid(), role=role, type_name=msg_type.__name__, key=key)
+        entity = EntityInfo(node=self.name, pid=os.getpid(), role=role, type_name=type_name(msg_type), key=key)
         self._entities.append(self.session.liveliness().declare_token(entity_token(entity)))
 
     def publisher(self, key: str, msg_type: type[M]) -> Publisher[M]:

@@ -1,5 +1,6 @@
 """Criterion 7 (unit part): every message type round-trips; malformed payloads are rejected clearly."""
 
+import inspect
 import math
 
 import msgspec
@@ -12,6 +13,7 @@ from messages import (
     DecodeError,
     ErrorReply,
     LaserScan,
+    Message,
     NavigateToFeedback,
     NavigateToRequest,
     NavigateToResponse,
@@ -156,3 +158,18 @@ def test_radians_read_as_degrees_in_0_360():
     assert heading_degrees(-1e-18) == 0.0 and heading_degrees(-math.pi / 2) == pytest.approx(270.0)
     assert heading_degrees(2 * math.pi) == 0.0
     assert wrap_radians(math.pi) == -math.pi and wrap_radians(1e300) < math.pi
+
+
+def test_every_message_is_frozen_and_names_its_wire_tag_explicitly():
+    """Issue 9: a renamed class must never change the wire format, and a reply is built, not mutated."""
+    for t in ALL_TYPES:
+        assert t.__struct_config__.frozen, t
+        assert f'tag="{t.__struct_config__.tag}"' in inspect.getsource(t).splitlines()[0], t
+    with pytest.raises(AttributeError):
+        Pose(x=1.0, y=2.0, theta=0.0).x = 3.0  # type: ignore[misc]
+
+    class RenamedTwist(Message, tag="Twist"):
+        linear: float = 0.0
+
+    assert encoding_for(RenamedTwist) == "application/msgpack;Twist"
+    assert b"Twist" in encode(RenamedTwist(linear=1.0)) and b"Renamed" not in encode(RenamedTwist())
