@@ -187,7 +187,7 @@ def check_host(text: str) -> str:
 def _result(text: str) -> None:
     """Print a one-shot command's result: from now on a Ctrl-C changes nothing (no 130, no
     traceback from Zenoh's threads while the process ends)."""
-    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    client.ignore_sigint()
     typer.echo(text)
 
 
@@ -444,7 +444,7 @@ def call(
     try:
         for reply in services.call_service(connect, key, body, timeout):
             if not isinstance(reply, NavigateToFeedback):  # an answer: a Ctrl-C from now on changes nothing
-                signal.signal(signal.SIGINT, signal.SIG_IGN)
+                client.ignore_sigint()
             if isinstance(reply, services.Raw):
                 typer.echo(reply.payload.decode("utf-8", "replace"))
                 continue
@@ -496,12 +496,13 @@ def view(connect: str = ConnectOption, domain: str = DomainOption) -> None:
 
 def main() -> None:
     """Console entry point: run the app, turning CliError into stderr + exit code."""
+    sys.unraisablehook = client.quiet_unraisable
     try:
         app()
     except SystemExit:
         # the result is out (click ends every command with SystemExit): a late Ctrl-C must
         # not turn it into 130, nor hit Zenoh's threads while the interpreter shuts down
-        signal.signal(signal.SIGINT, signal.SIG_IGN)
+        client.ignore_sigint()
         raise
     except CliError as exc:
         typer.echo(f"turtlectl: error: {exc.message}", err=True)
