@@ -23,18 +23,22 @@ def _problem(exc: msgspec.ValidationError) -> str:
     return f"{path}: {what}" if path else what
 
 
-def message_type(key: str, type_name: str | None, table: dict[str, Any]) -> type[Message]:
-    """The message type for ``key``: ``type_name`` if given, else the one ``table`` declares."""
+def message_type(key: str, type_name: str | None, table: dict[str, Any], verb: str = "carries") -> type[Message]:
+    """The message type for ``key``: the one ``table`` declares (a known key keeps its own
+    type: ``--type`` naming another is refused, "KEY <verb> Twist, not Pose"), else ``type_name``."""
+    entry = table.get(key)
+    known = None if entry is None else (entry[0] if isinstance(entry, tuple) else entry)
     if type_name is not None:
         found = TYPES_BY_NAME.get(type_name)
         if found is None:
-            known = ", ".join(sorted(TYPES_BY_NAME))
-            raise CliError(ExitCode.BAD_INPUT, f"unknown message type {type_name!r} (known: {known})")
+            names = ", ".join(sorted(TYPES_BY_NAME))
+            raise CliError(ExitCode.BAD_INPUT, f"unknown message type {type_name!r} (known: {names})")
+        if known is not None and found is not known:
+            raise CliError(ExitCode.BAD_INPUT, f"{key} {verb} {known.__name__}, not {found.__name__}")
         return found
-    entry = table.get(key)
-    if entry is None:
+    if known is None:
         raise CliError(ExitCode.BAD_INPUT, f"no known message type for {key!r}: give one with --type")
-    return entry[0] if isinstance(entry, tuple) else entry
+    return known
 
 
 def message_from_json(text: str, msg_type: type[Message]) -> Message:
@@ -59,4 +63,4 @@ def service_request(key: str, text: str, type_name: str | None = None) -> Messag
         except msgspec.DecodeError as exc:
             raise CliError(ExitCode.BAD_INPUT, f"not valid JSON: {exc}") from None
         return text.encode()
-    return message_from_json(text, message_type(key, type_name, SERVICES))
+    return message_from_json(text, message_type(key, type_name, SERVICES, verb="takes"))

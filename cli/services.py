@@ -36,7 +36,7 @@ from messages import (
     type_from_encoding,
 )
 from messages.codec import MEDIA_TYPE
-from messages.keys import NAVIGATE_TO, SERVICES, WORLD_KEY
+from messages.keys import NAVIGATE_TO, WORLD_KEY
 from nodes.session import default_domain
 from sim.world import World
 
@@ -239,13 +239,6 @@ def call_service(connect: str, key: str, request: Message | bytes, timeout: floa
             yield from goal_replies(session, key, request, NO_LIMIT if timeout is None else timeout)
         else:
             yield from replies(session, key, request, CALL_TIMEOUT if timeout is None else timeout)
-
-
-def check_request_type(key: str, request_type: type[Message]) -> None:
-    """CliError(BAD_INPUT) if ``key`` is a known service that takes another request type."""
-    known = SERVICES.get(base_key(key))
-    if known is not None and request_type is not known[0]:
-        raise CliError(ExitCode.BAD_INPUT, f"{key} takes {known[0].__name__}, not {request_type.__name__}")
 
 
 def reply_code(reply: Message | Raw) -> ExitCode:

@@ -19,7 +19,7 @@ from cli.errors import CliError, ExitCode
 from cli.graph import Graph, build_graph
 from cli.rates import RateStats, rate_stats
 from messages import DecodeError, Message, decode, decode_any, encode, encoding_for, type_from_encoding
-from messages.keys import CMD_VEL, DOMAIN_GRAPHS, FEEDBACK, GRAPH, TOPICS
+from messages.keys import CMD_VEL, DOMAIN_GRAPHS, FEEDBACK, GRAPH
 from nodes.session import default_domain
 
 WHILE_A_GOAL_RUNS = (FEEDBACK, CMD_VEL)  # published by the navigator only while a goal runs
@@ -203,13 +203,6 @@ def publish(connect: str, topic: str, message: Message, rate: float | None, time
         finally:
             pub.undeclare()
     return sent
-
-
-def check_topic_type(key: str, msg_type: type[Message]) -> None:
-    """CliError(BAD_INPUT) if ``key`` is a known topic that carries another type."""
-    known = TOPICS.get(base_key(key))
-    if known is not None and msg_type is not known:
-        raise CliError(ExitCode.BAD_INPUT, f"{key} carries {known.__name__}, not {msg_type.__name__}")
 
 
 def _graph(session: zenoh.Session) -> Graph:

@@ -40,12 +40,13 @@ def path_problem(
     clearance, obstacle = circles_corridor_clearance(world.obstacles, x, y, bearing, half_width)
     if obstacle is None or clearance >= distance:
         return None
-    where = "right beside the turtle" if clearance < 0.01 else f"{clearance:.2f} m ahead"
-    what_next = "send a goal away from it first" if clearance < 0.01 else "send a goal beside it first"
+    touching = clearance < 0.01
+    where = "right beside the turtle" if touching else f"{clearance:.2f} m ahead"
     return (
         f"unreachable: the straight way from ({x:.2f}, {y:.2f}) to ({goal_x:g}, {goal_y:g}) meets the obstacle "
         f"at ({obstacle.x:g}, {obstacle.y:g}), radius {obstacle.radius:g} m, {where} "
-        f"(the navigator drives straight lines and keeps a {2 * half_width:g} m corridor clear): {what_next}"
+        f"(the navigator drives straight lines and keeps a {2 * half_width:g} m corridor clear): "
+        f"send a goal {'away from' if touching else 'beside'} it first"
     )
 
 

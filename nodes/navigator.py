@@ -63,7 +63,6 @@ class Goal:
         self.direction = 0  # chosen with the first pose
         self.state = "turning"
         self.blocked_since: float | None = None
-        self.blocked_by = ""  # what stops it, for the log and the caller
 
 
 class Navigator:
@@ -245,7 +244,6 @@ class Navigator:
             goal.blocked_since = now
             self.node.log.info("%s within %.2f m in the direction of travel: stopped", what, p.safety_distance)
         goal.state = "blocked"
-        goal.blocked_by = what
         self.cmd_pub.publish(Twist(linear=0.0, angular=angular))
         if now - goal.blocked_since > p.blocked_timeout:
             self.finish(

@@ -8,13 +8,14 @@ import os
 import pytest
 from typer.testing import CliRunner
 
+from cli.build import service_request, topic_message
 from cli.client import base_key, domain_prefix
 from cli.errors import CliError, ExitCode
 from cli.format import heading_text, message_block, message_json, outcome_line, progress_line, teleport_line
 from cli.graph import build_graph, graph_text
 from cli.main import app
-from cli.services import check_request_type, reply_code
-from cli.topics import check_topic_type, silence_text
+from cli.services import reply_code
+from cli.topics import silence_text
 from cli.view import Scene, render
 from messages import (
     Ack,
@@ -152,14 +153,14 @@ def test_silence_outside_a_domain_points_into_the_domain_that_publishes():
 
 
 def test_a_known_key_keeps_its_type():
-    check_topic_type("turtle1/cmd_vel", Twist)
-    check_topic_type("some/topic", Pose)
+    assert type(topic_message("turtle1/cmd_vel", "{}", "Twist")) is Twist
+    assert type(topic_message("some/topic", '{"x": 1, "y": 2, "theta": 0}', "Pose")) is Pose
     with pytest.raises(CliError) as err:
-        check_topic_type("turtle1/cmd_vel", Pose)
+        topic_message("turtle1/cmd_vel", '{"x": 1, "y": 2, "theta": 0}', "Pose")
     assert err.value.code == ExitCode.BAD_INPUT and "turtle1/cmd_vel carries Twist, not Pose" in err.value.message
     with pytest.raises(CliError, match="navigate_to/cancel takes Cancel, not Pose"):
-        check_request_type("navigate_to/cancel", Pose)
-    check_request_type("navigate_to/cancel", Cancel)
+        service_request("navigate_to/cancel", '{"x": 1, "y": 2, "theta": 0}', "Pose")
+    assert type(service_request("navigate_to/cancel", "{}", "Cancel")) is Cancel
 
 
 def test_an_answer_that_says_no_is_exit_code_1():

@@ -16,9 +16,10 @@ def test_a_signal_reaches_the_child_s_own_children_too(tmp_path):
     """Issue 9: the supervisor signalled the child's pid only, so a node's own children lived on."""
     script = (
         "import subprocess, sys, time\n"
-        "grandchild = subprocess.Popen([sys.executable, '-c', 'import time; time.sleep(60)'])\n"
+        # the processes under test only stay alive until the signal (not a wait for readiness)
+        "grandchild = subprocess.Popen([sys.executable, '-c', 'import time; time.sleep(60)'])\n"  # pacing: ok
         "print(grandchild.pid, flush=True)\n"
-        "time.sleep(60)\n"
+        "time.sleep(60)\n"  # pacing: ok
     )
     printer = Printer(["parent"], stream=io.StringIO())
     child = Child("parent", [sys.executable, "-c", script], dict(os.environ), printer)
