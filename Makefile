@@ -3,7 +3,7 @@ PYTHON ?= python3
 VENV ?= .venv
 BIN := $(VENV)/bin
 
-.PHONY: install run test unit bench soak clean
+.PHONY: install lint run test unit bench soak clean
 
 $(BIN)/.installed: pyproject.toml
 	$(PYTHON) -m venv $(VENV)
@@ -17,7 +17,11 @@ ARGS ?=
 run: install  ## start the whole system (Ctrl-C stops it); options with ARGS="--port 7448"
 	$(BIN)/turtlectl launch $(ARGS)
 
-test: install  ## unit and multi-process integration tests
+lint: install  ## ruff: lint rules and formatting (configuration in pyproject.toml)
+	$(BIN)/ruff check .
+	$(BIN)/ruff format --check .
+
+test: lint  ## lint, then unit and multi-process integration tests
 	$(BIN)/python -m pytest
 
 unit: install  ## unit tests only

@@ -66,7 +66,8 @@ def main() -> None:
             system.teleport(1.0, 5.5, 0.0)
             goal = subprocess.Popen(
                 [sys.executable, "-m", "cli", "goto", "10", "5.5", "0", "--connect", system.endpoint],
-                stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
+                stdout=subprocess.DEVNULL,
+                stderr=subprocess.DEVNULL,
             )
             system.wait_moving(1.0)
             old = system.alive["navigator"]

@@ -60,8 +60,10 @@ def main() -> None:
     times = [r.time_taken for r, _, _ in rows]
     ratios = [r.time_taken / b for r, _, b in rows if b > 0]
     print(f"limits: {limits}")
-    print("| goals | success | max position error | max heading error | mean time | p95 time |"
-          " mean ratio | p95 ratio | max ratio |")
+    print(
+        "| goals | success | max position error | max heading error | mean time | p95 time |"
+        " mean ratio | p95 ratio | max ratio |"
+    )
     print("|---|---|---|---|---|---|---|---|---|")
     print(
         f"| {len(rows)} | {100.0 * len(ok) / len(rows):.0f} % | "
@@ -69,7 +71,7 @@ def main() -> None:
         f"{max(r.heading_error for r, _, _ in rows):.2f} deg | {statistics.mean(times):.3f} s | "
         f"{pct(times, 95):.3f} s | {statistics.mean(ratios):.3f} | {pct(ratios, 95):.3f} | {max(ratios):.3f} |"
     )
-    failures = [(r.reason, g) for (r, _, _), (_, g) in zip(rows, cases) if not r.success]
+    failures = [(r.reason, g) for (r, _, _), (_, g) in zip(rows, cases, strict=False) if not r.success]
     if failures:
         print(f"failures: {failures}")
     client_gap = [e - r.time_taken for r, e, _ in rows]

@@ -33,7 +33,7 @@ from cli.launchfile import load_launch  # noqa: E402
 from messages import NavigateToResponse, TurtleStatus, decode  # noqa: E402
 from messages.keys import STATUS  # noqa: E402
 from nodes.goal import path_problem  # noqa: E402
-from nodes.session import close_session, peer_config  # noqa: E402
+from runtime.session import close_session, peer_config  # noqa: E402
 from tests.integration.harness import NODES, System  # noqa: E402  (the same launcher as the tests)
 
 
@@ -44,10 +44,7 @@ def pct(values: list[float], q: float) -> float:
 
 def summary(values: list[float], unit: str, scale: float = 1.0) -> str:
     v = [x * scale for x in values]
-    return (
-        f"n={len(v)} p50={pct(v, 50):.3f} p95={pct(v, 95):.3f} p99={pct(v, 99):.3f} "
-        f"max={max(v):.3f} {unit}"
-    )
+    return f"n={len(v)} p50={pct(v, 50):.3f} p95={pct(v, 95):.3f} p99={pct(v, 99):.3f} max={max(v):.3f} {unit}"
 
 
 def machine() -> str:
@@ -187,8 +184,8 @@ def main() -> None:
             close_session(session)
 
         arrivals = [t for t, _ in status.samples[: args.periods + 1]]
-        jitter = [abs((b - a) - 0.1) for a, b in zip(arrivals, arrivals[1:])]
-        periods = [b - a for a, b in zip(arrivals, arrivals[1:])]
+        jitter = [abs((b - a) - 0.1) for a, b in zip(arrivals, arrivals[1:], strict=False)]
+        periods = [b - a for a, b in zip(arrivals, arrivals[1:], strict=False)]
         print(f"status period |period - 100 ms| at the subscriber: {summary(jitter, 'ms', 1e3)}")
         print(f"status mean period: {statistics.mean(periods) * 1e3:.3f} ms (goals running during part of it)")
         lat_ours = [lat for _, lat in status.samples]

@@ -1,4 +1,5 @@
 """``python -m cli``: the same as the ``turtlectl`` console script."""
+
 from cli import entry
 
 entry()

@@ -29,7 +29,7 @@ from messages.keys import (
     client_token,
     parse_domain_token,
 )
-from nodes.session import client_config, close_session, default_domain
+from runtime.session import client_config, close_session, default_domain
 
 OPEN_TIMEOUT = 2.5  # s to reach the router before reporting "nothing to talk to"
 
@@ -150,7 +150,7 @@ def domain_prefix(key: str) -> str:
 
 def base_key(key: str) -> str:
     """``key`` without the domain prefix of ``domain_prefix`` (``lab1/navigate_to`` -> ``navigate_to``)."""
-    return key[len(domain_prefix(key)):]
+    return key[len(domain_prefix(key)) :]
 
 
 @contextlib.contextmanager

@@ -112,7 +112,9 @@ def graph_text(graph: Graph) -> str:
     pub_w = _width([", ".join(t.publishers) or "-" for t in graph.topics], 10)
     for t in graph.topics:
         pubs = ", ".join(t.publishers) or "-"
-        lines.append(f"  {t.key:{key_w}s} {t.type:{type_w}s} pub: {pubs:{pub_w}s} sub: {', '.join(t.subscribers) or '-'}")
+        lines.append(
+            f"  {t.key:{key_w}s} {t.type:{type_w}s} pub: {pubs:{pub_w}s} sub: {', '.join(t.subscribers) or '-'}"
+        )
     if not graph.topics:
         lines.append("  (none)")
     lines.append("SERVICES")
@@ -122,5 +124,7 @@ def graph_text(graph: Graph) -> str:
         "  (none)"
     ]
     if graph.domains:
-        lines.append(f"DOMAINS (their nodes and keys are listed with the domain in front)\n  {', '.join(graph.domains)}")
+        lines.append(
+            f"DOMAINS (their nodes and keys are listed with the domain in front)\n  {', '.join(graph.domains)}"
+        )
     return "\n".join(lines)

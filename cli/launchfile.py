@@ -29,9 +29,9 @@ from typing import Annotated, Any
 import msgspec
 import msgspec.inspect as mi
 
-from nodes.config import NodeConfig
+from messages.world import Limits, World
 from nodes.kinds import KINDS
-from sim.world import Limits, World
+from runtime.config import NodeConfig
 
 NAME_RE = re.compile(r"^[A-Za-z_][A-Za-z0-9_\-]*$")
 #: tables that ``--set TABLE.KEY=VALUE`` reaches; no node may be named like them
@@ -199,7 +199,8 @@ def _validate(data: Any, source: str, report: _Report) -> LaunchPlan:
             raise report.error(["node", i, "name"], f"{entry.name!r} is not a valid name (letters, digits, _ and -)")
         if entry.name in TABLES:
             raise report.error(
-                ["node", i, "name"], f"{entry.name!r} is reserved (--set {entry.name}.KEY=VALUE sets the [{entry.name}] table)"
+                ["node", i, "name"],
+                f"{entry.name!r} is reserved (--set {entry.name}.KEY=VALUE sets the [{entry.name}] table)",
             )
         if entry.name in seen:
             raise report.error(["node", i, "name"], f"duplicate node name {entry.name!r}")
@@ -208,7 +209,8 @@ def _validate(data: Any, source: str, report: _Report) -> LaunchPlan:
         if kind is None:
             known = ", ".join(sorted(KINDS))
             raise report.error(
-                ["node", i, "run"], f"unknown node kind {entry.run!r}{suggestion(entry.run, tuple(KINDS))} (known: {known})"
+                ["node", i, "run"],
+                f"unknown node kind {entry.run!r}{suggestion(entry.run, tuple(KINDS))} (known: {known})",
             )
         if entry.run in kinds:
             j = kinds[entry.run]
@@ -391,9 +393,7 @@ def node_config(
         raise _no_node(name, names, plan.source)
     if overrides:
         assignments = [parse_assignment(text, "--param", "KEY=VALUE") for text in overrides]
-        plan = with_overrides(
-            plan, [msgspec.structs.replace(a, keys=(name, *a.keys)) for a in assignments], "--param"
-        )
+        plan = with_overrides(plan, [msgspec.structs.replace(a, keys=(name, *a.keys)) for a in assignments], "--param")
     entry = plan.launch.node[names.index(name)]
     return NodeConfig(
         name=name,

@@ -16,7 +16,6 @@ import shutil
 import signal
 import sys
 from pathlib import Path
-from typing import Optional
 
 import typer
 
@@ -32,7 +31,7 @@ from cli.supervisor.process import exec_node
 from cli.supervisor.router import run_router
 from messages import Cancel, NavigateToFeedback, NavigateToRequest, Reset, TeleportAbsolute, keys
 from messages.angles import heading_radians
-from nodes.session import CONNECT_ENV, DEFAULT_ENDPOINT, DEFAULT_PORT, DOMAIN_ENV, default_domain
+from runtime.session import CONNECT_ENV, DEFAULT_ENDPOINT, DEFAULT_PORT, DOMAIN_ENV, default_domain
 
 EXIT_CODES = """
 Exit codes: 0 success, or Ctrl-C on a command that runs until stopped (echo, hz,
@@ -93,7 +92,10 @@ def _use_domain(domain: str) -> str:
 
 
 DomainOption = typer.Option(
-    "", "--domain", envvar=DOMAIN_ENV, callback=_use_domain,
+    "",
+    "--domain",
+    envvar=DOMAIN_ENV,
+    callback=_use_domain,
     help="Keys of the system live under this prefix (two systems never mix); before or after the command.",
 )
 
@@ -102,7 +104,7 @@ DomainOption = typer.Option(
 def root(
     ctx: typer.Context,
     domain: str = DomainOption,
-    connect: Optional[str] = typer.Option(
+    connect: str | None = typer.Option(
         None, "--connect", help="Router endpoint for the client commands (as after the command; launch has its own)."
     ),
     _version: bool = typer.Option(
@@ -120,17 +122,23 @@ def root(
 
 @app.command()
 def launch(
-    file: Optional[Path] = typer.Argument(None, metavar="[FILE]", help="Launch file (default: ./launch.toml, else the packaged one)."),
+    file: Path | None = typer.Argument(
+        None, metavar="[FILE]", help="Launch file (default: ./launch.toml, else the packaged one)."
+    ),
     port: int = typer.Option(DEFAULT_PORT, "--port", min=1, max=65535, help="Router port."),
     listen: str = typer.Option("127.0.0.1", "--listen", help="Address the router listens on (other hosts: theirs)."),
-    join: Optional[str] = typer.Option(None, "--connect", help="Run no router: join the one at this endpoint."),
+    join: str | None = typer.Option(None, "--connect", help="Run no router: join the one at this endpoint."),
     only: list[str] = typer.Option([], "--only", help="Run only this node (repeatable)."),
     exclude: list[str] = typer.Option([], "--exclude", help="Do not run this node (repeatable)."),
     set_: list[str] = typer.Option(
-        [], "--set", help="NODE.PARAM=VALUE or world/limits/supervisor.KEY=VALUE override (repeatable), validated like the file."
+        [],
+        "--set",
+        help="NODE.PARAM=VALUE or world/limits/supervisor.KEY=VALUE override (repeatable), validated like the file.",
     ),
     check: bool = typer.Option(False, "--check", help="Validate the file (and overrides), print the plan, and exit."),
-    log_dir: Optional[Path] = typer.Option(None, "--log-dir", envvar="TURTLECTL_LOG_DIR", help="Parent folder of run folders (default ~/.turtlectl/log)."),
+    log_dir: Path | None = typer.Option(
+        None, "--log-dir", envvar="TURTLECTL_LOG_DIR", help="Parent folder of run folders (default ~/.turtlectl/log)."
+    ),
     domain: str = DomainOption,
 ) -> None:
     """Start the router and every node of a launch file; Ctrl-C stops them all.
@@ -206,8 +214,11 @@ def goto(
     x: str = typer.Argument(..., metavar="X", help="Goal x, m."),
     y: str = typer.Argument(..., metavar="Y", help="Goal y, m."),
     theta: str = typer.Argument(..., metavar="THETA", help="Goal heading, degrees (negative values are fine)."),
-    timeout: Optional[float] = typer.Option(
-        None, "--timeout", min=0.1, help="Stop waiting (and cancel the goal) after S seconds; default: the navigator's goal_timeout."
+    timeout: float | None = typer.Option(
+        None,
+        "--timeout",
+        min=0.1,
+        help="Stop waiting (and cancel the goal) after S seconds; default: the navigator's goal_timeout.",
     ),
     json: bool = typer.Option(False, "--json", help="Print the response as one JSON object."),
     connect: str = ConnectOption,
@@ -287,12 +298,12 @@ def reset(connect: str = ConnectOption, domain: str = DomainOption) -> None:
 def echo(
     topic: str = typer.Argument(..., metavar="TOPIC", help="Key expression, e.g. robot/status or turtle1/*."),
     once: bool = typer.Option(False, "--once", help="Print one message and exit."),
-    count: Optional[int] = typer.Option(None, "--count", min=1, help="Exit after N messages."),
+    count: int | None = typer.Option(None, "--count", min=1, help="Exit after N messages."),
     json: bool = typer.Option(False, "--json", help="One JSON object per line."),
     csv: bool = typer.Option(False, "--csv", help="CSV: a header line, then one line per message."),
-    field: Optional[str] = typer.Option(None, "--field", help="Print only this field (dotted path, e.g. ranges.0)."),
+    field: str | None = typer.Option(None, "--field", help="Print only this field (dotted path, e.g. ranges.0)."),
     full: bool = typer.Option(False, "--full", help="Print long arrays whole."),
-    timeout: Optional[float] = typer.Option(None, "--timeout", min=0.1, help="Exit after S seconds."),
+    timeout: float | None = typer.Option(None, "--timeout", min=0.1, help="Exit after S seconds."),
     connect: str = ConnectOption,
     domain: str = DomainOption,
 ) -> None:
@@ -356,7 +367,7 @@ def list_graph(
 def hz(
     names: list[str] = typer.Argument(..., metavar="TOPIC...", help="One or more key expressions."),
     window: int = typer.Option(100, "--window", min=2, help="Messages per statistic."),
-    duration: Optional[float] = typer.Option(None, "--duration", min=0.5, help="Stop after S seconds."),
+    duration: float | None = typer.Option(None, "--duration", min=0.5, help="Stop after S seconds."),
     json: bool = typer.Option(False, "--json", help="JSON lines."),
     connect: str = ConnectOption,
     domain: str = DomainOption,
@@ -385,10 +396,10 @@ def hz(
 def pub(
     topic: str = typer.Argument(..., metavar="TOPIC", help="Key to publish on."),
     message: str = typer.Argument(..., metavar="JSON", help="The message's fields as JSON."),
-    rate: Optional[float] = typer.Option(None, "--rate", min=0.01, help="Publish at HZ until Ctrl-C (or --times)."),
+    rate: float | None = typer.Option(None, "--rate", min=0.01, help="Publish at HZ until Ctrl-C (or --times)."),
     once: bool = typer.Option(False, "--once", help="Publish once (the default without --rate)."),
-    times: Optional[int] = typer.Option(None, "--times", min=1, help="Publish N times."),
-    type_name: Optional[str] = typer.Option(None, "--type", help="Message type, for keys without a known one."),
+    times: int | None = typer.Option(None, "--times", min=1, help="Publish N times."),
+    type_name: str | None = typer.Option(None, "--type", help="Message type, for keys without a known one."),
     connect: str = ConnectOption,
     domain: str = DomainOption,
 ) -> None:
@@ -417,11 +428,13 @@ def pub(
 def call(
     service: str = typer.Argument(..., metavar="SERVICE", help="Key of the queryable."),
     request: str = typer.Argument("{}", metavar="[JSON]", help="The request's fields as JSON."),
-    timeout: Optional[float] = typer.Option(
-        None, "--timeout", min=0.1,
+    timeout: float | None = typer.Option(
+        None,
+        "--timeout",
+        min=0.1,
         help="Give up after S seconds (a goal is then canceled); default 5, for navigate_to the navigator's goal_timeout.",
     ),
-    type_name: Optional[str] = typer.Option(None, "--type", help="Request type, for keys without a known one."),
+    type_name: str | None = typer.Option(None, "--type", help="Request type, for keys without a known one."),
     json: bool = typer.Option(False, "--json", help="JSON lines."),
     connect: str = ConnectOption,
     domain: str = DomainOption,
@@ -449,7 +462,9 @@ def call(
             code = max(code, services.reply_code(reply))
     except KeyboardInterrupt:
         goal = services.is_goal_service(key)
-        raise CliError(ExitCode.INTERRUPTED, "interrupted" + (": the navigator cancels the goal" if goal else "")) from None
+        raise CliError(
+            ExitCode.INTERRUPTED, "interrupted" + (": the navigator cancels the goal" if goal else "")
+        ) from None
     raise typer.Exit(code)
 
 
@@ -457,7 +472,7 @@ def call(
 def run(
     node: str = typer.Argument(..., metavar="NODE", help="Name of a node in the launch file."),
     param: list[str] = typer.Option([], "--param", "-p", help="KEY=VALUE override (repeatable; a.b=1 for tables)."),
-    file: Optional[Path] = typer.Option(None, "--file", help="Launch file (default as for launch)."),
+    file: Path | None = typer.Option(None, "--file", help="Launch file (default as for launch)."),
     connect: str = ConnectOption,
     domain: str = DomainOption,
 ) -> None:

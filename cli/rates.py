@@ -36,7 +36,7 @@ def rate_stats(key: str, arrivals: list[float], stamps: list[int]) -> RateStats 
     """Statistics over a window: ``arrivals`` in s (monotonic), ``stamps`` in ns; None below 2 samples."""
     if len(arrivals) < 2:
         return None
-    periods = [b - a for a, b in zip(arrivals, arrivals[1:])]
+    periods = [b - a for a, b in zip(arrivals, arrivals[1:], strict=False)]
     mean = statistics.fmean(periods)
     jitter = [abs(p - mean) * 1e3 for p in periods]
     span_ns = stamps[-1] - stamps[0] if len(stamps) >= 2 else 0

@@ -37,8 +37,8 @@ from messages import (
 )
 from messages.codec import MEDIA_TYPE
 from messages.keys import NAVIGATE_TO, WORLD_KEY
-from nodes.session import default_domain
-from sim.world import World
+from messages.world import World
+from runtime.session import default_domain
 
 ZENOH_GRACE = 1.0  # s: Zenoh's own query timeout is ours plus this; our deadline decides
 
@@ -74,7 +74,9 @@ def service_session(connect: str) -> Iterator[zenoh.Session]:
         try:
             yield session
         except RouterLost as exc:
-            raise CliError(exc.code, exc.message.replace("lost the router", f"lost the router at {connect}", 1)) from None
+            raise CliError(
+                exc.code, exc.message.replace("lost the router", f"lost the router at {connect}", 1)
+            ) from None
         except NobodyServes as exc:
             where = f" in domain {default_domain()}" if default_domain() else ""
             raise CliError(exc.code, exc.message.replace(" (", f"{where} (", 1) + domain_hint(connect)) from None
@@ -140,7 +142,9 @@ def replies(
         answered = True
         yield _read_reply(reply, key, timeout)
     if router_lost(session) or (not answered and router_lost_soon(session, time.monotonic() - started)):
-        raise RouterLost(ExitCode.UNREACHABLE, f"lost the router while waiting for {key} (did `turtlectl launch` stop?)")
+        raise RouterLost(
+            ExitCode.UNREACHABLE, f"lost the router while waiting for {key} (did `turtlectl launch` stop?)"
+        )
     if not answered:
         raise NobodyServes(ExitCode.UNREACHABLE, f"nothing serves {key} (is the node running?)")
 
@@ -198,7 +202,9 @@ def goal_replies(
         except RouterLost as exc:
             raise RouterLost(exc.code, "lost the router before the goal ended (did `turtlectl launch` stop?)") from None
         if router_lost_soon(session, lasted=ROUTER_LOSS_WAIT):  # the replies ended without a response: why?
-            raise RouterLost(ExitCode.UNREACHABLE, "lost the router before the goal ended (did `turtlectl launch` stop?)")
+            raise RouterLost(
+                ExitCode.UNREACHABLE, "lost the router before the goal ended (did `turtlectl launch` stop?)"
+            )
     raise CliError(ExitCode.FAILED, "the navigator stopped answering before the goal ended (did it exit?)")
 
 

@@ -20,7 +20,7 @@ from cli.graph import Graph, build_graph
 from cli.rates import RateStats, rate_stats
 from messages import DecodeError, Message, decode, decode_any, encode, encoding_for, type_from_encoding
 from messages.keys import CMD_VEL, DOMAIN_GRAPHS, FEEDBACK, GRAPH
-from nodes.session import default_domain
+from runtime.session import default_domain
 
 WHILE_A_GOAL_RUNS = (FEEDBACK, CMD_VEL)  # published by the navigator only while a goal runs
 
@@ -211,7 +211,9 @@ def _graph(session: zenoh.Session) -> Graph:
     declared in a namespace are ``lab1/@turtlectl/...``, which ``@turtlectl/**`` cannot match
     (Zenoh never matches a chunk starting with ``@`` by a wildcard), hence the second query."""
     selectors = [GRAPH] if default_domain() else [GRAPH, DOMAIN_GRAPHS]
-    keys = {str(r.ok.key_expr) for sel in selectors for r in session.liveliness().get(sel, timeout=2.0) if r.ok is not None}
+    keys = {
+        str(r.ok.key_expr) for sel in selectors for r in session.liveliness().get(sel, timeout=2.0) if r.ok is not None
+    }
     return build_graph(sorted(keys), time.time_ns())
 
 

@@ -23,7 +23,7 @@ from cli.format import heading_text
 from messages import LaserScan, NavigateToFeedback, Pose, TurtleStatus, decode_any
 from messages.angles import heading_degrees
 from messages.keys import FEEDBACK, OBSTACLES, POSE, STATUS
-from sim.world import World
+from messages.world import World
 
 FRAME = 0.05  # s between frames: 20 frames a second
 ROUTER_CHECK = 0.5  # s between checks that the router is still there
@@ -109,7 +109,9 @@ def status_lines(scene: Scene) -> list[str]:
     if scene.status is not None:
         parts.append(f"battery {scene.status.battery:.1f} %")
     fb = scene.feedback
-    parts.append(f"goal ({fb.goal_x:.2f}, {fb.goal_y:.2f}) {fb.state} {fb.distance_remaining:.2f} m" if fb else "no goal")
+    parts.append(
+        f"goal ({fb.goal_x:.2f}, {fb.goal_y:.2f}) {fb.state} {fb.distance_remaining:.2f} m" if fb else "no goal"
+    )
     parts.append("q quits")
     return [where, " | ".join(parts)]
 

@@ -27,9 +27,9 @@ if str(ROOT) not in sys.path:
 
 from messages import ALL_TYPES, keys  # noqa: E402
 from messages.codec import MEDIA_TYPE  # noqa: E402
+from messages.world import Limits, Obstacle, World  # noqa: E402
 from nodes.kinds import KINDS  # noqa: E402
 from sim.params import SimParams  # noqa: E402
-from sim.world import Limits, Obstacle, World  # noqa: E402
 
 OUTPUT = ROOT / "docs" / "interfaces.md"
 EXAMPLE = ROOT / "docs" / "examples" / "raw_client.py"
@@ -40,8 +40,16 @@ SEQ = ("count", ">= 0", "per-publisher counter from 0; starts again at 0 when th
 # (type, field) -> (unit, range or values, meaning).  Every field of every wire type.
 FIELDS: dict[str, dict[str, tuple[str, str, str]]] = {
     "Twist": {
-        "linear": ("m/s", "any finite value; the sim clamps it to [-max_linear_speed, max_linear_speed] and ramps at max_linear_accel; non-finite stops the turtle", "speed along the heading; negative drives backwards"),
-        "angular": ("rad/s", "any finite value; the sim clamps it to [-max_angular_speed, max_angular_speed] and ramps at max_angular_accel", "yaw rate, counter-clockwise positive"),
+        "linear": (
+            "m/s",
+            "any finite value; the sim clamps it to [-max_linear_speed, max_linear_speed] and ramps at max_linear_accel; non-finite stops the turtle",
+            "speed along the heading; negative drives backwards",
+        ),
+        "angular": (
+            "rad/s",
+            "any finite value; the sim clamps it to [-max_angular_speed, max_angular_speed] and ramps at max_angular_accel",
+            "yaw rate, counter-clockwise positive",
+        ),
         "stamp": STAMP,
         "seq": SEQ,
     },
@@ -66,15 +74,31 @@ FIELDS: dict[str, dict[str, tuple[str, str, str]]] = {
         "seq": SEQ,
     },
     "LaserScan": {
-        "angle_min": ("rad", "[-pi, pi]", "angle of beam 0, relative to the heading at origin_theta (0 = straight ahead, CCW positive)"),
+        "angle_min": (
+            "rad",
+            "[-pi, pi]",
+            "angle of beam 0, relative to the heading at origin_theta (0 = straight ahead, CCW positive)",
+        ),
         "angle_max": ("rad", "angle_min + at most 2 pi", "angle of the last beam, relative to the heading"),
-        "angle_increment": ("rad", ">= 0", "between consecutive beams: beam i points at angle_min + i * angle_increment"),
+        "angle_increment": (
+            "rad",
+            ">= 0",
+            "between consecutive beams: beam i points at angle_min + i * angle_increment",
+        ),
         "range_min": ("m", ">= 0", "shortest range the sensor reports"),
         "range_max": ("m", "> range_min", "longest range; farther hits are not reported"),
-        "ranges": ("m", "[0, range_max] or inf", "one per beam: distance to the first hit, walls and declared obstacles (and phantoms) alike; inf = nothing within range_max (null in JSON); 0 on every beam inside an obstacle"),
+        "ranges": (
+            "m",
+            "[0, range_max] or inf",
+            "one per beam: distance to the first hit, walls and declared obstacles (and phantoms) alike; inf = nothing within range_max (null in JSON); 0 on every beam inside an obstacle",
+        ),
         "origin_x": ("m", "[0, world size] or NaN", "where the scan was taken (the turtle's position); NaN if unknown"),
         "origin_y": ("m", "[0, world size] or NaN", "where the scan was taken; NaN if unknown"),
-        "origin_theta": ("rad", "[-pi, pi) or NaN", "the turtle's heading when the scan was taken; world angle of beam i = origin_theta + angle_min + i * angle_increment"),
+        "origin_theta": (
+            "rad",
+            "[-pi, pi) or NaN",
+            "the turtle's heading when the scan was taken; world angle of beam i = origin_theta + angle_min + i * angle_increment",
+        ),
         "stamp": STAMP,
         "seq": SEQ,
     },
@@ -82,12 +106,20 @@ FIELDS: dict[str, dict[str, tuple[str, str, str]]] = {
         "x": ("m", "[0, world size], not inside a declared obstacle", "goal position"),
         "y": ("m", "[0, world size], not inside a declared obstacle", "goal position"),
         "theta": ("degrees", "any finite value (taken modulo 360)", "goal heading"),
-        "client": ("-", "one key chunk, or empty", "id of the caller's liveliness token @turtlectl/client/<id>; when that token vanishes the goal is canceled (\"caller gone\"); empty: none"),
+        "client": (
+            "-",
+            "one key chunk, or empty",
+            'id of the caller\'s liveliness token @turtlectl/client/<id>; when that token vanishes the goal is canceled ("caller gone"); empty: none',
+        ),
     },
     "NavigateToFeedback": {
-        "state": ("-", "\"turning\", \"driving\", \"blocked\"", "what the turtle does now"),
+        "state": ("-", '"turning", "driving", "blocked"', "what the turtle does now"),
         "distance_remaining": ("m", ">= 0", "straight-line distance to the goal position"),
-        "heading_remaining": ("degrees", "[0, 180]", "absolute difference between the heading now and the goal heading"),
+        "heading_remaining": (
+            "degrees",
+            "[0, 180]",
+            "absolute difference between the heading now and the goal heading",
+        ),
         "eta": ("s", ">= 0", "estimated time to arrival within the robot's limits"),
         "elapsed": ("s", ">= 0", "since the navigator received the goal"),
         "x": ("m", "[0, world size]", "position now"),
@@ -96,29 +128,49 @@ FIELDS: dict[str, dict[str, tuple[str, str, str]]] = {
         "goal_x": ("m", "[0, world size]", "the goal being run"),
         "goal_y": ("m", "[0, world size]", "the goal being run"),
         "goal_theta": ("degrees", "[0, 360)", "the goal heading"),
-        "scan_stale": ("-", "true / false", "no scan newer than the navigator's scan_timeout: it avoids only the declared obstacles"),
+        "scan_stale": (
+            "-",
+            "true / false",
+            "no scan newer than the navigator's scan_timeout: it avoids only the declared obstacles",
+        ),
         "stamp": STAMP,
         "seq": SEQ,
     },
     "NavigateToResponse": {
         "success": ("-", "true / false", "the goal was reached within position_tolerance and heading_tolerance"),
         "time_taken": ("s", ">= 0", "from the navigator receiving the request to this reply"),
-        "reason": ("-", "text", "empty on success; else a short word for programs: \"invalid goal: ...\", \"unreachable: ...\" (a declared obstacle on the straight way), \"battery low\", \"preempted\", \"canceled\", \"caller gone\", \"teleported\", \"reset\", \"blocked\", \"no pose\", \"timeout\", \"navigator shut down\""),
-        "refused": ("-", "true / false", "the goal never started (invalid, unreachable, battery low); x, y, theta are where the turtle is"),
+        "reason": (
+            "-",
+            "text",
+            'empty on success; else a short word for programs: "invalid goal: ...", "unreachable: ..." (a declared obstacle on the straight way), "battery low", "preempted", "canceled", "caller gone", "teleported", "reset", "blocked", "no pose", "timeout", "navigator shut down"',
+        ),
+        "refused": (
+            "-",
+            "true / false",
+            "the goal never started (invalid, unreachable, battery low); x, y, theta are where the turtle is",
+        ),
         "position_error": ("m", ">= 0", "final distance to the goal position"),
         "heading_error": ("degrees", "[0, 180]", "final absolute heading error"),
         "x": ("m", "[0, world size]", "final position"),
         "y": ("m", "[0, world size]", "final position"),
         "theta": ("degrees", "[0, 360)", "final heading"),
-        "detail": ("-", "text, or empty", "a sentence for people: why, and what to do next (e.g. the battery level and `turtlectl reset`, what blocked the way); not meant to be parsed"),
+        "detail": (
+            "-",
+            "text, or empty",
+            "a sentence for people: why, and what to do next (e.g. the battery level and `turtlectl reset`, what blocked the way); not meant to be parsed",
+        ),
     },
     "Cancel": {
-        "reason": ("-", "text, or empty", "what the canceled goal's caller is told (empty: \"canceled\")"),
+        "reason": ("-", "text, or empty", 'what the canceled goal\'s caller is told (empty: "canceled")'),
     },
     "TeleportAbsolute": {
         "x": ("m", "[0, world size], not inside a declared obstacle", "new position"),
         "y": ("m", "[0, world size], not inside a declared obstacle", "new position"),
-        "theta": ("rad", "any finite value (wrapped to [-pi, pi))", "new heading, radians as turtlesim's (turtlectl teleport takes degrees)"),
+        "theta": (
+            "rad",
+            "any finite value (wrapped to [-pi, pi))",
+            "new heading, radians as turtlesim's (turtlectl teleport takes degrees)",
+        ),
     },
     "Reset": {},
     "Ack": {
@@ -126,27 +178,103 @@ FIELDS: dict[str, dict[str, tuple[str, str, str]]] = {
         "detail": ("-", "text", "a sentence for people saying what was done; not meant to be parsed"),
     },
     "ErrorReply": {
-        "error": ("-", "text", "why the request could not be used (undecodable, unknown field, missing field, impossible pose)"),
+        "error": (
+            "-",
+            "text",
+            "why the request could not be used (undecodable, unknown field, missing field, impossible pose)",
+        ),
     },
 }
 
 # key -> (kind, payload, from -> to, when, how to use it)
 KEYS: dict[str, tuple[str, str, str, str, str]] = {
-    keys.CMD_VEL: ("topic", "Twist", "navigator -> sim", "with each pose, only while a goal runs", "subscribe; publish to drive by hand (the sim stops 1 s (cmd_timeout) after the last one)"),
+    keys.CMD_VEL: (
+        "topic",
+        "Twist",
+        "navigator -> sim",
+        "with each pose, only while a goal runs",
+        "subscribe; publish to drive by hand (the sim stops 1 s (cmd_timeout) after the last one)",
+    ),
     keys.POSE: ("topic", "Pose", "sim -> anyone", "62.5 Hz (every 16 ms simulation step)", "subscribe"),
     keys.STATUS: ("topic", "TurtleStatus", "status_monitor -> anyone", "10 Hz", "subscribe"),
     keys.OBSTACLES: ("topic", "LaserScan", "obstacle_detector -> navigator, anyone", "5 Hz", "subscribe"),
-    keys.FEEDBACK: ("topic", "NavigateToFeedback", "navigator -> anyone (observers)", "10 Hz, only while a goal runs", "subscribe"),
-    keys.NAVIGATE_TO: ("service", "NavigateToRequest -> NavigateToFeedback replies, then one NavigateToResponse", "client -> navigator", "per goal; feedback at feedback_rate (10 Hz)", "get with ConsolidationMode.NONE (the default consolidation delivers only the response, at the end)"),
-    keys.CANCEL: ("service", "Cancel -> Ack", "client -> navigator", "on request", "get; Ack ok=false when no goal is running"),
-    keys.TELEPORT: ("service", "TeleportAbsolute -> Ack", "client -> sim", "on request", "get; an ErrorReply (reply.err) for an impossible pose"),
-    keys.RESET: ("service", "Reset -> Ack from each server", "client -> sim (pose), status_monitor (battery)", "on request", "get with QueryTarget.ALL and ConsolidationMode.NONE for both Acks (the default consolidation returns one)"),
-    keys.WORLD_KEY: ("queryable", "JSON (application/json): World", "sim -> anyone (turtlectl view)", "on request", "get; fixed for the sim's lifetime"),
-    keys.params_key("<node>"): ("queryable", "JSON (application/json): the node's parameters", "each node -> anyone", "on request", "get; the parameters the node runs with"),
-    f"{keys.NODE_TOKEN_PREFIX}/<name>/<pid>/<host>/<start_ns>": ("liveliness token", "-", "each node -> anyone", "while the node runs", f"liveliness get or subscribe on `{keys.NODE_TOKEN_PREFIX}/**`"),
-    f"{keys.ENTITY_TOKEN_PREFIX}/<node>/<pid>/<role>/<Type>/<key>": ("liveliness token", "-", "each node -> anyone (turtlectl list)", "while the entity exists", f"liveliness get on `{keys.ENTITY_TOKEN_PREFIX}/**`; role is pub, sub or srv; Type the message type (a service's request type; JSON for the JSON queryables); key may contain /"),
-    f"{keys.CLIENT_TOKEN_PREFIX}/<id>": ("liveliness token", "-", "a navigate_to caller -> navigator", "while the caller waits for its goal", "declare it before the request, put <id> in NavigateToRequest.client; optional"),
-    f"{keys.DOMAIN_TOKEN_PREFIX}/<domain>": ("liveliness token", "-", "a supervisor run with --domain -> anyone", "while the supervisor runs", "liveliness get on `@turtlectl/domain/*` from a session without namespace"),
+    keys.FEEDBACK: (
+        "topic",
+        "NavigateToFeedback",
+        "navigator -> anyone (observers)",
+        "10 Hz, only while a goal runs",
+        "subscribe",
+    ),
+    keys.NAVIGATE_TO: (
+        "service",
+        "NavigateToRequest -> NavigateToFeedback replies, then one NavigateToResponse",
+        "client -> navigator",
+        "per goal; feedback at feedback_rate (10 Hz)",
+        "get with ConsolidationMode.NONE (the default consolidation delivers only the response, at the end)",
+    ),
+    keys.CANCEL: (
+        "service",
+        "Cancel -> Ack",
+        "client -> navigator",
+        "on request",
+        "get; Ack ok=false when no goal is running",
+    ),
+    keys.TELEPORT: (
+        "service",
+        "TeleportAbsolute -> Ack",
+        "client -> sim",
+        "on request",
+        "get; an ErrorReply (reply.err) for an impossible pose",
+    ),
+    keys.RESET: (
+        "service",
+        "Reset -> Ack from each server",
+        "client -> sim (pose), status_monitor (battery)",
+        "on request",
+        "get with QueryTarget.ALL and ConsolidationMode.NONE for both Acks (the default consolidation returns one)",
+    ),
+    keys.WORLD_KEY: (
+        "queryable",
+        "JSON (application/json): World",
+        "sim -> anyone (turtlectl view)",
+        "on request",
+        "get; fixed for the sim's lifetime",
+    ),
+    keys.params_key("<node>"): (
+        "queryable",
+        "JSON (application/json): the node's parameters",
+        "each node -> anyone",
+        "on request",
+        "get; the parameters the node runs with",
+    ),
+    f"{keys.NODE_TOKEN_PREFIX}/<name>/<pid>/<host>/<start_ns>": (
+        "liveliness token",
+        "-",
+        "each node -> anyone",
+        "while the node runs",
+        f"liveliness get or subscribe on `{keys.NODE_TOKEN_PREFIX}/**`",
+    ),
+    f"{keys.ENTITY_TOKEN_PREFIX}/<node>/<pid>/<role>/<Type>/<key>": (
+        "liveliness token",
+        "-",
+        "each node -> anyone (turtlectl list)",
+        "while the entity exists",
+        f"liveliness get on `{keys.ENTITY_TOKEN_PREFIX}/**`; role is pub, sub or srv; Type the message type (a service's request type; JSON for the JSON queryables); key may contain /",
+    ),
+    f"{keys.CLIENT_TOKEN_PREFIX}/<id>": (
+        "liveliness token",
+        "-",
+        "a navigate_to caller -> navigator",
+        "while the caller waits for its goal",
+        "declare it before the request, put <id> in NavigateToRequest.client; optional",
+    ),
+    f"{keys.DOMAIN_TOKEN_PREFIX}/<domain>": (
+        "liveliness token",
+        "-",
+        "a supervisor run with --domain -> anyone",
+        "while the supervisor runs",
+        "liveliness get on `@turtlectl/domain/*` from a session without namespace",
+    ),
 }
 
 
@@ -214,7 +342,7 @@ def types_section() -> list[str]:
         out += ["", f"### {name}", "", "```text", _doc(cls), "```", ""]
         fields = _fields(cls)
         if not fields:
-            out.append("No fields: the map is `{\"type\": \"%s\"}` (or empty)." % name)
+            out.append(f'No fields: the map is `{{"type": "{name}"}}` (or empty).')
             continue
         out.append(_row("field", "type", "default", "unit", "range", "meaning"))
         out.append(_row(*["---"] * 6))
@@ -247,11 +375,20 @@ def params_section() -> list[str]:
         out.append(_row("field", "type", "default", "note"))
         out.append(_row(*["---"] * 4))
         for f in _fields(cls):
-            out.append(_row(f"`{f.name}`", _type_name(f.type), _default(f), "table:" if isinstance(f.type, msgspec.inspect.StructType) else ""))
+            out.append(
+                _row(
+                    f"`{f.name}`",
+                    _type_name(f.type),
+                    _default(f),
+                    "table:" if isinstance(f.type, msgspec.inspect.StructType) else "",
+                )
+            )
             if isinstance(f.type, msgspec.inspect.StructType):
                 notes = _comments(f.type.cls)
                 for sub in _fields(f.type.cls):
-                    out.append(_row(f"`{f.name}.{sub.name}`", _type_name(sub.type), _default(sub), notes.get(sub.name, "")))
+                    out.append(
+                        _row(f"`{f.name}.{sub.name}`", _type_name(sub.type), _default(sub), notes.get(sub.name, ""))
+                    )
     return out
 
 
@@ -260,7 +397,7 @@ def world_section() -> list[str]:
         "## World: `turtlectl/world` (JSON)",
         "",
         "The simulator answers a get on `turtlectl/world` with one JSON object (encoding `application/json`), the "
-        "launch file's `[world]` table: `{\"size\": 11.088889, \"obstacles\": [{\"x\": 2.0, \"y\": 9.0, \"radius\": 0.5}, ...]}`.",
+        'launch file\'s `[world]` table: `{"size": 11.088889, "obstacles": [{"x": 2.0, "y": 9.0, "radius": 0.5}, ...]}`.',
     ]
     for cls in (World, Obstacle):
         out += ["", f"### {cls.__name__}", "", "```text", _doc(cls), "```", ""]
@@ -323,26 +460,26 @@ def services_section() -> list[str]:
         "- **navigate_to**: one goal at a time. Send a `NavigateToRequest` with `ConsolidationMode.NONE`: about 10 "
         "times a second a `NavigateToFeedback` reply, then exactly one `NavigateToResponse`, after which the query "
         "ends. A refused goal (`refused` true: invalid, unreachable, battery low) gets only the response. A new goal preempts "
-        "the running one (its caller gets reason \"preempted\"). Without `NONE` Zenoh consolidates the replies and "
+        'the running one (its caller gets reason "preempted"). Without `NONE` Zenoh consolidates the replies and '
         "you get the response alone, at the end. Give the query a `timeout` longer than the goal can take "
         "(the navigator's `goal_timeout`, 30 s by default; Zenoh's own default is 10 s): when the query times out "
         "the client gets no response, and the goal keeps running unless you hold the caller's token below. The "
-        "pose in a response ended by \"teleported\" or \"reset\" is where the turtle was when the goal was "
+        'pose in a response ended by "teleported" or "reset" is where the turtle was when the goal was '
         "canceled, before it was moved.",
         "- **The caller-gone rule** (optional for a raw client): declare the liveliness token "
         f"`{keys.CLIENT_TOKEN_PREFIX}/<id>` (in the system's domain), put `<id>` in `NavigateToRequest.client`, and "
         "keep the token until the response. When it vanishes (undeclared, the session closed, the process killed) "
-        "the navigator cancels the goal with reason \"caller gone\". turtlectl uses `<pid>-<8 hex digits>`; any "
+        'the navigator cancels the goal with reason "caller gone". turtlectl uses `<pid>-<8 hex digits>`; any '
         "single key chunk works. Without `client` the goal runs to its end whatever happens to the caller.",
-        "- **navigate_to/cancel**: `Cancel` -> `Ack`; ok=false (\"no goal is running\") when there is nothing to "
-        "cancel. The running goal's caller gets its `NavigateToResponse` with the reason (default \"canceled\"); "
+        '- **navigate_to/cancel**: `Cancel` -> `Ack`; ok=false ("no goal is running") when there is nothing to '
+        'cancel. The running goal\'s caller gets its `NavigateToResponse` with the reason (default "canceled"); '
         "the navigator commands a stop at once.",
         "- **turtle1/teleport_absolute**: `TeleportAbsolute` (radians) -> `Ack` once the new pose has been published; "
         "an `ErrorReply` for a pose outside the world, inside a declared obstacle or not finite. A running goal is "
-        "canceled (reason \"teleported\"); a teleport is not charged to the battery.",
+        'canceled (reason "teleported"); a teleport is not charged to the battery.',
         "- **reset**: served by the sim (pose back to spawn) and the status monitor (battery full): one `Ack` from "
         "each, but only with `QueryTarget.ALL` and `ConsolidationMode.NONE` (both replies come on the same key, so "
-        "the default consolidation keeps one). A running goal is canceled (reason \"reset\").",
+        'the default consolidation keeps one). A running goal is canceled (reason "reset").',
         "- **One navigator**: a second navigator refuses to start while one serves `navigate_to` (in the same domain).",
         "- **Liveliness**: `@turtlectl/node/<name>/<pid>/<host>/<start_ns>`, where host is the machine's name with "
         "`/ * $ # ?` and spaces replaced by `_` and start_ns the node's start, wall-clock ns. The selector "

@@ -17,6 +17,7 @@ MEDIA_TYPE = "application/msgpack"
 
 M = TypeVar("M", bound=Message)
 
+
 def type_name(msg_type: type[Message]) -> str:
     """The name a message type travels under: its explicit wire tag, never the class name."""
     return str(msg_type.__struct_config__.tag)
@@ -25,10 +26,8 @@ def type_name(msg_type: type[Message]) -> str:
 TYPES_BY_NAME: dict[str, type[Message]] = {type_name(t): t for t in ALL_TYPES}
 
 _encoder = msgspec.msgpack.Encoder()
-_decoders: dict[type[Message], msgspec.msgpack.Decoder] = {
-    t: msgspec.msgpack.Decoder(t) for t in ALL_TYPES
-}
-_any_decoder = msgspec.msgpack.Decoder(Union[ALL_TYPES])  # type: ignore[valid-type]
+_decoders: dict[type[Message], msgspec.msgpack.Decoder] = {t: msgspec.msgpack.Decoder(t) for t in ALL_TYPES}
+_any_decoder = msgspec.msgpack.Decoder(Union[ALL_TYPES])  # type: ignore[valid-type]  # noqa: UP007 (a tuple of types)
 _json_encoder = msgspec.json.Encoder()
 
 

@@ -101,7 +101,7 @@ def parse_node_token(key: str) -> NodeInfo | None:
     prefix = NODE_TOKEN_PREFIX + "/"
     if not key.startswith(prefix):
         return None
-    parts = key[len(prefix):].split("/")
+    parts = key[len(prefix) :].split("/")
     if len(parts) not in (2, 4) or not parts[0] or not parts[1].isdigit():
         return None
     if len(parts) == 4 and not parts[3].isdigit():
@@ -119,7 +119,7 @@ def parse_entity_token(key: str) -> EntityInfo | None:
     prefix = ENTITY_TOKEN_PREFIX + "/"
     if not key.startswith(prefix):
         return None
-    parts = key[len(prefix):].split("/", 4)
+    parts = key[len(prefix) :].split("/", 4)
     if len(parts) != 5 or not parts[1].isdigit() or parts[2] not in ("pub", "sub", "srv"):
         return None
     return EntityInfo(node=parts[0], pid=int(parts[1]), role=parts[2], type_name=parts[3], key=parts[4])
@@ -139,7 +139,7 @@ def domain_token(domain: str) -> str:
 def parse_domain_token(key: str) -> str | None:
     """The domain named by a key made by domain_token, else None."""
     prefix = DOMAIN_TOKEN_PREFIX + "/"
-    rest = key[len(prefix):] if key.startswith(prefix) else ""
+    rest = key[len(prefix) :] if key.startswith(prefix) else ""
     return rest if rest and "/" not in rest else None
 
 

@@ -1,5 +1,6 @@
-"""The node runtime (`runtime`, `session`) and the nodes: navigator, status_monitor, obstacle_detector.
+"""The nodes that drive the turtle: navigator, status_monitor, obstacle_detector.
 
-Pure logic lives in `control`, `scan`, `battery`, `goal`, `params`; the node
-modules are thin shells that wire keys to it.
+Pure logic lives in `control`, `goal`, `scan`, `battery` and `params` (no zenoh);
+the node modules are thin shells over `runtime` that wire keys to it.  `kinds`
+names every node kind a launch file can run.
 """

@@ -19,8 +19,9 @@ import math
 
 import msgspec
 
+from messages.units import Positive
+from messages.world import Limits
 from sim.kinematics import STEP, wrap_angle
-from sim.world import Limits, Positive
 
 
 class Phase(enum.StrEnum):

@@ -8,8 +8,8 @@ from __future__ import annotations
 import math
 
 from messages import NavigateToRequest
+from messages.world import World
 from nodes.scan import circles_corridor_clearance
-from sim.world import World
 
 
 def goal_problem(request: NavigateToRequest, world: World) -> str | None:
@@ -26,9 +26,7 @@ def goal_problem(request: NavigateToRequest, world: World) -> str | None:
     return None
 
 
-def path_problem(
-    x: float, y: float, goal_x: float, goal_y: float, world: World, half_width: float
-) -> str | None:
+def path_problem(x: float, y: float, goal_x: float, goal_y: float, world: World, half_width: float) -> str | None:
     """Why the navigator, which drives straight lines, could never reach (goal_x, goal_y)
     from (x, y) (m): a declared obstacle lies in the corridor of ``half_width`` m either
     side of the way before the goal, so it would stop short of it until "blocked".

@@ -44,8 +44,8 @@ from messages.keys import CANCEL, CLIENT_TOKEN_PREFIX, CMD_VEL, FEEDBACK, NAVIGA
 from nodes.control import Phase, choose_direction, control_step, remaining_time
 from nodes.goal import allowed_speed, goal_problem, heading_error_deg, path_problem
 from nodes.params import NavigatorParams
-from nodes.runtime import Node, Request, run
 from nodes.scan import circles_corridor_clearance, corridor_clearance, hit_points, off_walls
+from runtime import Node, Request, run_main
 
 WATCHDOG_PERIOD = 0.05  # s
 
@@ -301,7 +301,7 @@ class Navigator:
 
 
 def main() -> None:
-    run(Navigator, NavigatorParams)
+    run_main(Navigator, NavigatorParams)
 
 
 if __name__ == "__main__":

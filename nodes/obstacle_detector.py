@@ -2,7 +2,7 @@
 
 Casts rays from the turtle's pose (``turtle1/pose``) against the world's
 circles and walls, plus short-lived phantom detections if asked for
-(nodes.scan, numpy), and publishes ``obstacles`` (LaserScan).
+(sim.lidar, numpy), and publishes ``obstacles`` (LaserScan).
 """
 
 from __future__ import annotations
@@ -14,10 +14,10 @@ import numpy as np
 
 from messages import LaserScan, Pose
 from messages.keys import OBSTACLES, POSE
+from messages.world import Obstacle, World
 from nodes.params import ObstacleDetectorParams
-from nodes.runtime import Node, run
-from nodes.scan import beam_angles, cast_rays, new_phantoms
-from sim.world import Obstacle, World
+from runtime import Node, run_main
+from sim.lidar import beam_angles, cast_rays, new_phantoms
 
 
 class ObstacleDetector:
@@ -70,7 +70,7 @@ class ObstacleDetector:
 
 
 def main() -> None:
-    run(ObstacleDetector, ObstacleDetectorParams)
+    run_main(ObstacleDetector, ObstacleDetectorParams)
 
 
 if __name__ == "__main__":

@@ -11,8 +11,8 @@ from typing import Annotated
 
 import msgspec
 
+from messages.units import LongTimeout, NonNegative, Percent, Positive, Rate, ShortTimeout
 from nodes.control import Gains
-from sim.world import LongTimeout, NonNegative, Percent, Positive, Rate, ShortTimeout
 
 Degrees = Annotated[float, msgspec.Meta(ge=-360.0, le=360.0)]
 

@@ -13,7 +13,7 @@ from messages import Ack, Pose, Reset, TurtleStatus
 from messages.keys import POSE, RESET, STATUS
 from nodes.battery import drain, make_status, travelled
 from nodes.params import StatusMonitorParams
-from nodes.runtime import Node, Request, run
+from runtime import Node, Request, run_main
 
 FULL = 100.0  # %
 
@@ -52,7 +52,7 @@ class StatusMonitor:
 
 
 def main() -> None:
-    run(StatusMonitor, StatusMonitorParams)
+    run_main(StatusMonitor, StatusMonitorParams)
 
 
 if __name__ == "__main__":

@@ -1,1 +1,2 @@
-"""The turtle simulator: pure kinematics (`kinematics`, `world`) and its process (`node`)."""
+"""The turtle simulator: pure kinematics (`kinematics`) and lidar (`lidar`), and the
+simulator process (`node`) over `runtime`."""

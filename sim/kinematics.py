@@ -12,7 +12,7 @@ from collections.abc import Sequence
 import msgspec
 
 from messages.angles import wrap_radians
-from sim.world import Limits, Obstacle
+from messages.world import Limits, Obstacle
 
 #: turtlesim updates its turtles every 16 ms (62.5 Hz).
 STEP = 0.016

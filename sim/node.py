@@ -22,10 +22,10 @@ import msgspec
 from messages import Ack, Cancel, Message, Pose, Reset, TeleportAbsolute, Twist
 from messages.angles import heading_degrees
 from messages.keys import CANCEL, CMD_VEL, POSE, RESET, TELEPORT, WORLD_KEY
-from nodes.runtime import Node, Request, run
+from messages.world import World
+from runtime import Node, Request, run_main
 from sim.kinematics import STEP, TurtleState, accelerate, collide, effective_command, step, wrap_angle
 from sim.params import SimParams
-from sim.world import World
 
 
 def placement_problem(world: World, x: float, y: float, theta: float) -> str | None:
@@ -111,7 +111,7 @@ class Simulator:
 
 
 def main() -> None:
-    run(Simulator, SimParams)
+    run_main(Simulator, SimParams)
 
 
 if __name__ == "__main__":

@@ -4,7 +4,8 @@ from __future__ import annotations
 
 import msgspec
 
-from sim.world import TURTLESIM_SIZE, Finite, ShortTimeout
+from messages.units import Finite, ShortTimeout
+from messages.world import TURTLESIM_SIZE
 
 
 class SimParams(msgspec.Struct, forbid_unknown_fields=True, kw_only=True):

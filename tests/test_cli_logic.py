@@ -12,7 +12,7 @@ from cli.rates import rate_stats
 from cli.view import Scene, render
 from messages import LaserScan, NavigateToFeedback, Pose, TeleportAbsolute, TurtleStatus, Twist
 from messages.keys import EntityInfo, NodeInfo, entity_token, node_token
-from sim.world import Obstacle, World
+from messages.world import Obstacle, World
 
 
 def test_graph_from_tokens():
@@ -27,7 +27,12 @@ def test_graph_from_tokens():
     graph = build_graph(keys, now_ns=5_000_000_000)
     assert [(n.name, n.uptime) for n in graph.nodes] == [("navigator", 3.0), ("sim", 4.0)]
     (topic,) = graph.topics
-    assert (topic.key, topic.type, topic.publishers, topic.subscribers) == ("turtle1/pose", "Pose", ["sim"], ["navigator"])
+    assert (topic.key, topic.type, topic.publishers, topic.subscribers) == (
+        "turtle1/pose",
+        "Pose",
+        ["sim"],
+        ["navigator"],
+    )
     assert [(s.key, s.servers) for s in graph.services] == [("navigate_to", ["navigator"])]
 
 
@@ -50,14 +55,18 @@ def test_messages_from_json_name_the_bad_field():
         message_from_json('{"boost": 1}', Twist)
     with pytest.raises(CliError, match="--type"):
         topic_message("some/key", "{}")
-    assert service_request("turtle1/teleport_absolute", '{"x":1,"y":2,"theta":0}') == TeleportAbsolute(x=1, y=2, theta=0)
+    assert service_request("turtle1/teleport_absolute", '{"x":1,"y":2,"theta":0}') == TeleportAbsolute(
+        x=1, y=2, theta=0
+    )
     assert service_request("turtlectl/params/sim", "{}") == b"{}"
     with pytest.raises(CliError, match="not valid JSON"):
         service_request("any/key", "{")
 
 
 def test_formats():
-    scan = LaserScan(angle_min=0, angle_max=1, angle_increment=0.1, range_min=0, range_max=5, ranges=[1.0] * 20 + [math.inf])
+    scan = LaserScan(
+        angle_min=0, angle_max=1, angle_increment=0.1, range_min=0, range_max=5, ranges=[1.0] * 20 + [math.inf]
+    )
     block = message_block(scan)
     assert block.startswith("# LaserScan\n") and "... (21 values)]" in block and block.endswith("---")
     assert "inf" in message_block(scan, full=True)
@@ -76,7 +85,16 @@ def test_view_draws_walls_obstacles_turtle_goal_and_status():
         pose=Pose(x=5.0, y=5.0, theta=math.pi / 2),
         status=TurtleStatus(x=5, y=5, theta=90, vel_x=0, vel_y=0, battery=77.0),
         feedback=NavigateToFeedback(
-            state="driving", distance_remaining=2, heading_remaining=0, eta=1, elapsed=0, x=5, y=5, theta=90, goal_x=2, goal_y=2
+            state="driving",
+            distance_remaining=2,
+            heading_remaining=0,
+            eta=1,
+            elapsed=0,
+            x=5,
+            y=5,
+            theta=90,
+            goal_x=2,
+            goal_y=2,
         ),
         trail=[(4.0, 4.0)],
     )

@@ -36,16 +36,27 @@ from messages.keys import (
     node_token,
     parse_domain_token,
 )
-from nodes.session import CONNECT_ENV, DOMAIN_ENV
-from sim.world import World
+from messages.world import World
+from runtime.session import CONNECT_ENV, DOMAIN_ENV
 
 FEEDBACK = NavigateToFeedback(
-    state="driving", distance_remaining=10.123, heading_remaining=179.9, eta=12.3, elapsed=14.5,
-    x=11.08, y=11.08, theta=359.96, goal_x=1, goal_y=1, goal_theta=0,
+    state="driving",
+    distance_remaining=10.123,
+    heading_remaining=179.9,
+    eta=12.3,
+    elapsed=14.5,
+    x=11.08,
+    y=11.08,
+    theta=359.96,
+    goal_x=1,
+    goal_y=1,
+    goal_theta=0,
 )
 
 
-@pytest.mark.parametrize("degrees, shown", [(359.97, "0.0"), (360.0, "0.0"), (-0.0, "0.0"), (-45, "315.0"), (720.25, "0.2")])
+@pytest.mark.parametrize(
+    "degrees, shown", [(359.97, "0.0"), (360.0, "0.0"), (-0.0, "0.0"), (-45, "315.0"), (720.25, "0.2")]
+)
 def test_headings_are_shown_in_0_360_after_rounding(degrees, shown):
     assert heading_text(degrees) == shown
 
@@ -87,7 +98,10 @@ def test_a_client_without_domain_sees_each_domain_prefixed():
     keys = [
         "lab1/" + node_token(NodeInfo(name="sim", pid=1, host="h", start_ns=1)),
         "lab1/" + entity_token(EntityInfo(node="sim", pid=1, role="pub", type_name="Pose", key="turtle1/pose")),
-        "lab1/" + entity_token(EntityInfo(node="navigator", pid=2, role="srv", type_name="NavigateToRequest", key="navigate_to")),
+        "lab1/"
+        + entity_token(
+            EntityInfo(node="navigator", pid=2, role="srv", type_name="NavigateToRequest", key="navigate_to")
+        ),
         node_token(NodeInfo(name="sim", pid=3, host="h", start_ns=1)),
         domain_token("lab1"),
         domain_token("lab2"),
@@ -104,7 +118,10 @@ def test_a_client_without_domain_sees_each_domain_prefixed():
 def test_an_empty_graph_says_what_to_do():
     graph = build_graph([], now_ns=0)
     graph.hint = "systems run in domain lab1 on this router: add it before the command, `turtlectl --domain lab1 ...`"
-    assert "(none: systems run in domain lab1 on this router: add it before the command, `turtlectl --domain lab1 ...`)" in graph_text(graph)
+    assert (
+        "(none: systems run in domain lab1 on this router: add it before the command, `turtlectl --domain lab1 ...`)"
+        in graph_text(graph)
+    )
 
 
 def test_domain_and_client_tokens():
@@ -130,26 +147,38 @@ def _graph_with(*entities: EntityInfo, nodes: bool = True):
 
 
 def test_silence_says_when_a_topic_is_published():
-    feedback_pub = EntityInfo(node="navigator", pid=2, role="pub", type_name="NavigateToFeedback", key="navigate_to/feedback")
+    feedback_pub = EntityInfo(
+        node="navigator", pid=2, role="pub", type_name="NavigateToFeedback", key="navigate_to/feedback"
+    )
     graph = _graph_with(feedback_pub)
     text = silence_text("navigate_to/feedback", graph, lambda: "")
     assert "navigator publishes it only while a goal runs" in text and "launch" not in text
     assert "navigator publishes it only while a goal runs" in silence_text("navigate_to/*", graph, lambda: "")
     status_pub = EntityInfo(node="status_monitor", pid=3, role="pub", type_name="TurtleStatus", key="robot/status")
-    assert "for 3 s although status_monitor publishes it" in silence_text("robot/status", _graph_with(status_pub), lambda: "")
+    assert "for 3 s although status_monitor publishes it" in silence_text(
+        "robot/status", _graph_with(status_pub), lambda: ""
+    )
     assert "no running node publishes it" in silence_text("nosuch", graph, lambda: "")
     nothing = silence_text("robot/status", build_graph([], 0), lambda: "; systems run in domain lab1")
     assert "no turtlectl node runs on this router" in nothing and nothing.endswith("; systems run in domain lab1")
-    assert "no turtlectl node runs in domain lab2" in silence_text("robot/status", build_graph([], 0), lambda: "", "lab2")
+    assert "no turtlectl node runs in domain lab2" in silence_text(
+        "robot/status", build_graph([], 0), lambda: "", "lab2"
+    )
 
 
 def test_silence_outside_a_domain_points_into_the_domain_that_publishes():
     keys = [
         "lab1/" + node_token(NodeInfo(name="status_monitor", pid=3)),
-        "lab1/" + entity_token(EntityInfo(node="status_monitor", pid=3, role="pub", type_name="TurtleStatus", key="robot/status")),
+        "lab1/"
+        + entity_token(
+            EntityInfo(node="status_monitor", pid=3, role="pub", type_name="TurtleStatus", key="robot/status")
+        ),
     ]
     text = silence_text("robot/status", build_graph(keys, 0), lambda: "")
-    assert text == "nothing published on robot/status here: it is published in domain lab1: add it before the command, `turtlectl --domain lab1 ...` (or use lab1/robot/status)"
+    assert (
+        text
+        == "nothing published on robot/status here: it is published in domain lab1: add it before the command, `turtlectl --domain lab1 ...` (or use lab1/robot/status)"
+    )
 
 
 def test_a_known_key_keeps_its_type():
@@ -173,8 +202,15 @@ def test_an_answer_that_says_no_is_exit_code_1():
 
 def test_the_view_has_a_legend_scan_hits_and_says_when_the_router_is_lost():
     scan = LaserScan(  # one beam straight ahead of a turtle facing +y: the hit is above it
-        angle_min=0.0, angle_max=0.0, angle_increment=0.0, range_min=0.0, range_max=10.0, ranges=[3.0],
-        origin_x=5.0, origin_y=2.0, origin_theta=math.pi / 2,
+        angle_min=0.0,
+        angle_max=0.0,
+        angle_increment=0.0,
+        range_min=0.0,
+        range_max=10.0,
+        ranges=[3.0],
+        origin_x=5.0,
+        origin_y=2.0,
+        origin_theta=math.pi / 2,
     )
     scene = Scene(world=World(size=10.0), pose=Pose(x=5.0, y=2.0, theta=math.pi / 2), scan=scan)
     lines = render(scene, 60, 24)
@@ -182,7 +218,9 @@ def test_the_view_has_a_legend_scan_hits_and_says_when_the_router_is_lost():
     (hit_row,) = [i for i, row in enumerate(grid) if "*" in row]
     (turtle_row,) = [i for i, row in enumerate(grid) if "↑" in row]
     assert hit_row < turtle_row and grid[hit_row].index("*") == grid[turtle_row].index("↑")
-    assert any("o obstacle" in line and "* scan hit" in line and ". trail" in line and "X goal" in line for line in lines)
+    assert any(
+        "o obstacle" in line and "* scan hit" in line and ". trail" in line and "X goal" in line for line in lines
+    )
     assert any("c clears the trail" in line for line in lines)
     scene.router = "tcp/127.0.0.1:7447"
     assert "no router at tcp/127.0.0.1:7447" in render(scene, 80, 24)[-2]
@@ -193,7 +231,10 @@ def test_the_view_has_a_legend_scan_hits_and_says_when_the_router_is_lost():
 
 def test_the_outcome_says_why_and_what_to_do_next():
     low = NavigateToResponse(
-        success=False, time_taken=0.0, reason="battery low", refused=True,
+        success=False,
+        time_taken=0.0,
+        reason="battery low",
+        refused=True,
         detail="battery at 3.0 %, below the navigator's min_battery 5 %: `turtlectl reset` recharges it",
     )
     assert outcome_line(low) == f"refused: battery low ({low.detail})"

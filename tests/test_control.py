@@ -6,6 +6,7 @@ import random
 
 import pytest
 
+from messages.world import TURTLESIM_SIZE, Limits
 from nodes.control import (
     Gains,
     Phase,
@@ -16,7 +17,6 @@ from nodes.control import (
     trapezoid_time,
 )
 from sim.kinematics import STEP, TurtleState, accelerate, effective_command, step
-from sim.world import TURTLESIM_SIZE, Limits
 
 LIMITS = Limits()
 GAINS = Gains()
@@ -104,11 +104,11 @@ def test_no_overshoot_and_no_oscillation_at_the_goal(seed):
     _, _, trace = drive(start, goal)
     # once within the tolerance of the position, the turtle stays within it
     inside = [i for i, s in enumerate(trace) if math.hypot(goal[0] - s.x, goal[1] - s.y) <= POS_TOL]
-    assert inside and all(math.hypot(goal[0] - s.x, goal[1] - s.y) <= POS_TOL for s in trace[inside[0]:])
+    assert inside and all(math.hypot(goal[0] - s.x, goal[1] - s.y) <= POS_TOL for s in trace[inside[0] :])
     # the final turn in place does not swing back and forth: the turn rate changes
     # sign at most once (the steering left over from driving, then the final turn)
-    spins = [s.w for s in trace[inside[0]:] if abs(s.w) > 1e-9]
-    assert sum(1 for a, b in zip(spins, spins[1:]) if (a > 0) != (b > 0)) <= 1
+    spins = [s.w for s in trace[inside[0] :] if abs(s.w) > 1e-9]
+    assert sum(1 for a, b in zip(spins, spins[1:], strict=False) if (a > 0) != (b > 0)) <= 1
 
 
 def test_commands_stay_within_limits():

@@ -32,7 +32,9 @@ def test_every_field_of_every_type_has_a_unit_range_and_meaning(msg_type):
     fields = {f.name for f in msgspec.inspect.type_info(msg_type).fields}
     documented = gen.FIELDS.get(msg_type.__name__)
     assert documented is not None, f"{msg_type.__name__} is not in docs/gen_interfaces.py FIELDS"
-    assert set(documented) == fields, f"{msg_type.__name__}: undocumented {fields - set(documented)}, stale {set(documented) - fields}"
+    assert set(documented) == fields, (
+        f"{msg_type.__name__}: undocumented {fields - set(documented)}, stale {set(documented) - fields}"
+    )
     for name, (unit, span, meaning) in documented.items():
         assert unit and span and meaning, (msg_type.__name__, name)
         assert f"| `{name}` |" in DOC.split(f"### {msg_type.__name__}\n", 1)[1].split("\n### ", 1)[0]

@@ -4,8 +4,8 @@ import math
 
 import pytest
 
+from messages.world import TURTLESIM_SIZE, Limits, Obstacle
 from sim.kinematics import STEP, TurtleState, accelerate, collide, effective_command, step, wrap_angle
-from sim.world import TURTLESIM_SIZE, Limits, Obstacle
 
 LIMITS = Limits(max_linear_speed=4.0, max_angular_speed=9.0, max_linear_accel=10.0, max_angular_accel=40.0)
 
@@ -35,7 +35,9 @@ def test_full_turn_in_place_keeps_position_and_wraps():
     assert abs(wrap_angle(s.theta)) < 1e-9
 
 
-@pytest.mark.parametrize("theta, x, y", [(0.0, 11.0, 5.0), (math.pi / 2, 5.0, 11.0), (-math.pi, 0.0, 5.0), (-math.pi / 2, 5.0, 0.0)])
+@pytest.mark.parametrize(
+    "theta, x, y", [(0.0, 11.0, 5.0), (math.pi / 2, 5.0, 11.0), (-math.pi, 0.0, 5.0), (-math.pi / 2, 5.0, 0.0)]
+)
 def test_walls_clamp_position(theta, x, y):
     s = TurtleState(x=5.0, y=5.0, theta=theta)
     for _ in range(200):
@@ -60,7 +62,9 @@ def test_non_finite_command_is_ignored():
     assert effective_command(0.0, math.inf, 0.0, LIMITS) == (0.0, 0.0)
 
 
-@pytest.mark.parametrize("angle, wrapped", [(0.0, 0.0), (math.pi, -math.pi), (3 * math.pi / 2, -math.pi / 2), (-3 * math.pi, -math.pi)])
+@pytest.mark.parametrize(
+    "angle, wrapped", [(0.0, 0.0), (math.pi, -math.pi), (3 * math.pi / 2, -math.pi / 2), (-3 * math.pi, -math.pi)]
+)
 def test_wrap_angle(angle, wrapped):
     assert wrap_angle(angle) == pytest.approx(wrapped)
 

@@ -38,11 +38,17 @@ def test_defaults_are_filled_in():
     [
         (MINIMAL + "colour = 1\n", "f.toml: node[0] (sim).colour: unknown key"),
         (MINIMAL + "[node.params]\nx = 'left'\n", "f.toml: node[0] (sim).params.x: Expected `float`, got `str`"),
-        (MINIMAL + "[node.params]\ncmd_timeout = -1\n", "f.toml: node[0] (sim).params.cmd_timeout: Expected `float` >= 0.05"),
+        (
+            MINIMAL + "[node.params]\ncmd_timeout = -1\n",
+            "f.toml: node[0] (sim).params.cmd_timeout: Expected `float` >= 0.05",
+        ),
         (MINIMAL + "[node.params]\nspeed = 3\n", "f.toml: node[0] (sim).params.speed: unknown key"),
         (MINIMAL + "respawn = 'yes'\n", "f.toml: node[0] (sim).respawn: Expected `bool`, got `str`"),
         ("[world]\nsize = 0\n" + MINIMAL, "f.toml: world.size: Expected `float` > 0.0"),
-        ("[world]\nobstacles = [{x = 1, y = 1}]\n" + MINIMAL, "f.toml: world.obstacles[0].radius: missing required key"),
+        (
+            "[world]\nobstacles = [{x = 1, y = 1}]\n" + MINIMAL,
+            "f.toml: world.obstacles[0].radius: missing required key",
+        ),
         ("[limits]\nmax_linear_speed = 'fast'\n" + MINIMAL, "f.toml: limits.max_linear_speed: Expected `float`"),
         ('[[node]]\nname = "a"\n', "f.toml: node[0] (a).run: missing required key"),
         ('[[node]]\nname = "a"\nrun = "turtle"\n', "f.toml: node[0] (a).run: unknown node kind 'turtle'"),
@@ -77,9 +83,18 @@ DETECTOR = '[[node]]\nname = "obstacle_detector"\nrun = "obstacle_detector"\n'
     "text, message",
     [
         # the spawn: the simulator itself would only clamp it to the walls, or leave the turtle stuck
-        (MINIMAL + "[node.params]\nx = 12.0\n", "f.toml: node[0] (sim).params.x: spawn x = 12 m is outside the world (0 to 11.0889 m)"),
-        (MINIMAL + "[node.params]\ny = -0.5\n", "f.toml: node[0] (sim).params.y: spawn y = -0.5 m is outside the world"),
-        ("[world]\nsize = 5\n" + MINIMAL, "f.toml: node[0] (sim).params.x: spawn x = 5.54444 m is outside the world (0 to 5 m)"),
+        (
+            MINIMAL + "[node.params]\nx = 12.0\n",
+            "f.toml: node[0] (sim).params.x: spawn x = 12 m is outside the world (0 to 11.0889 m)",
+        ),
+        (
+            MINIMAL + "[node.params]\ny = -0.5\n",
+            "f.toml: node[0] (sim).params.y: spawn y = -0.5 m is outside the world",
+        ),
+        (
+            "[world]\nsize = 5\n" + MINIMAL,
+            "f.toml: node[0] (sim).params.x: spawn x = 5.54444 m is outside the world (0 to 5 m)",
+        ),
         (
             "[world]\nobstacles = [{x = 1, y = 1, radius = 0.2}, {x = 5.5, y = 5.6, radius = 0.5}]\n" + MINIMAL,
             "f.toml: node[0] (sim).params: spawn (5.54444, 5.54444) is inside world.obstacles[1] (centre (5.5, 5.6), radius 0.5 m)",
@@ -94,17 +109,50 @@ DETECTOR = '[[node]]\nname = "obstacle_detector"\nrun = "obstacle_detector"\n'
             "f.toml: world.obstacles[0]: centre (20, 5), radius 1 m lies entirely outside the world (0 to 11.0889 m)",
         ),
         # rates and times within sane ranges (a node at 1e9 Hz spins a CPU)
-        (STATUS + "[node.params]\nrate = 1e9\n", "f.toml: node[0] (status_monitor).params.rate: Expected `float` <= 100.0"),
-        (STATUS + "[node.params]\nrate = 0.0\n", "f.toml: node[0] (status_monitor).params.rate: Expected `float` >= 0.1"),
-        (NAV + "[node.params]\nfeedback_rate = 1e9\n", "f.toml: node[0] (navigator).params.feedback_rate: Expected `float` <= 100.0"),
-        (DETECTOR + "[node.params]\nrate = 1000\n", "f.toml: node[0] (obstacle_detector).params.rate: Expected `float` <= 100.0"),
-        (DETECTOR + "[node.params]\nbeams = 100000\n", "f.toml: node[0] (obstacle_detector).params.beams: Expected `int` <= 3600"),
-        (DETECTOR + "[node.params]\nphantom_rate = 1e6\n", "f.toml: node[0] (obstacle_detector).params.phantom_rate: Expected `float` <= 100.0"),
-        (NAV + "[node.params]\ngoal_timeout = 1e9\n", "f.toml: node[0] (navigator).params.goal_timeout: Expected `float` <= 3600.0"),
-        (NAV + "[node.params]\npose_timeout = 0.001\n", "f.toml: node[0] (navigator).params.pose_timeout: Expected `float` >= 0.05"),
-        (MINIMAL + "[node.params]\ncmd_timeout = 1e9\n", "f.toml: node[0] (sim).params.cmd_timeout: Expected `float` <= 60.0"),
-        ("[supervisor]\nsigint_timeout = 1e9\n" + MINIMAL, "f.toml: supervisor.sigint_timeout: Expected `float` <= 60.0"),
-        (MINIMAL + "respawn = true\nrespawn_delay = 1e9\n", "f.toml: node[0] (sim).respawn_delay: Expected `float` <= 3600.0"),
+        (
+            STATUS + "[node.params]\nrate = 1e9\n",
+            "f.toml: node[0] (status_monitor).params.rate: Expected `float` <= 100.0",
+        ),
+        (
+            STATUS + "[node.params]\nrate = 0.0\n",
+            "f.toml: node[0] (status_monitor).params.rate: Expected `float` >= 0.1",
+        ),
+        (
+            NAV + "[node.params]\nfeedback_rate = 1e9\n",
+            "f.toml: node[0] (navigator).params.feedback_rate: Expected `float` <= 100.0",
+        ),
+        (
+            DETECTOR + "[node.params]\nrate = 1000\n",
+            "f.toml: node[0] (obstacle_detector).params.rate: Expected `float` <= 100.0",
+        ),
+        (
+            DETECTOR + "[node.params]\nbeams = 100000\n",
+            "f.toml: node[0] (obstacle_detector).params.beams: Expected `int` <= 3600",
+        ),
+        (
+            DETECTOR + "[node.params]\nphantom_rate = 1e6\n",
+            "f.toml: node[0] (obstacle_detector).params.phantom_rate: Expected `float` <= 100.0",
+        ),
+        (
+            NAV + "[node.params]\ngoal_timeout = 1e9\n",
+            "f.toml: node[0] (navigator).params.goal_timeout: Expected `float` <= 3600.0",
+        ),
+        (
+            NAV + "[node.params]\npose_timeout = 0.001\n",
+            "f.toml: node[0] (navigator).params.pose_timeout: Expected `float` >= 0.05",
+        ),
+        (
+            MINIMAL + "[node.params]\ncmd_timeout = 1e9\n",
+            "f.toml: node[0] (sim).params.cmd_timeout: Expected `float` <= 60.0",
+        ),
+        (
+            "[supervisor]\nsigint_timeout = 1e9\n" + MINIMAL,
+            "f.toml: supervisor.sigint_timeout: Expected `float` <= 60.0",
+        ),
+        (
+            MINIMAL + "respawn = true\nrespawn_delay = 1e9\n",
+            "f.toml: node[0] (sim).respawn_delay: Expected `float` <= 3600.0",
+        ),
         ("[supervisor]\nkeep_logs = -1\n" + MINIMAL, "f.toml: supervisor.keep_logs: Expected `int` >= 0"),
         # one node of each kind: the keys are fixed
         (
@@ -119,12 +167,21 @@ DETECTOR = '[[node]]\nname = "obstacle_detector"\nrun = "obstacle_detector"\n'
             "obstacle_detector (0.2 s at 5 Hz)",
         ),
         # the nearest valid name
-        (NAV + "[node.params]\ngoal_timeot = 60\n", "f.toml: node[0] (navigator).params.goal_timeot: unknown key; did you mean goal_timeout?"),
-        (NAV + "[node.params.gains]\nk_linaer = 1\n", "f.toml: node[0] (navigator).params.gains.k_linaer: unknown key; did you mean k_linear?"),
+        (
+            NAV + "[node.params]\ngoal_timeot = 60\n",
+            "f.toml: node[0] (navigator).params.goal_timeot: unknown key; did you mean goal_timeout?",
+        ),
+        (
+            NAV + "[node.params.gains]\nk_linaer = 1\n",
+            "f.toml: node[0] (navigator).params.gains.k_linaer: unknown key; did you mean k_linear?",
+        ),
         ("[wrold]\nsize = 5\n" + MINIMAL, "f.toml: wrold: unknown key; did you mean world?"),
         ("[world]\nsise = 5\n" + MINIMAL, "f.toml: world.sise: unknown key; did you mean size?"),
         (MINIMAL + "respwn = true\n", "f.toml: node[0] (sim).respwn: unknown key; did you mean respawn?"),
-        ('[[node]]\nname = "a"\nrun = "navigatr"\n', "f.toml: node[0] (a).run: unknown node kind 'navigatr'; did you mean navigator?"),
+        (
+            '[[node]]\nname = "a"\nrun = "navigatr"\n',
+            "f.toml: node[0] (a).run: unknown node kind 'navigatr'; did you mean navigator?",
+        ),
         ('[[node]]\nname = "world"\nrun = "sim"\n', "f.toml: node[0] (world).name: 'world' is reserved"),
     ],
 )
@@ -194,9 +251,15 @@ def test_set_takes_spaces_tables_and_nested_keys():
         ("status_monitor.rate=1e9", "--set status_monitor.rate: Expected `float` <= 100.0"),
         ("world.size=-3", "--set world.size: Expected `float` > 0.0"),
         ("world.sise=3", "--set world.sise: unknown key; did you mean size?"),
-        ("world.size=5", "--set world.obstacles[0]: centre (2, 9), radius 0.5 m lies entirely outside the world (0 to 5 m)"),
+        (
+            "world.size=5",
+            "--set world.obstacles[0]: centre (2, 9), radius 0.5 m lies entirely outside the world (0 to 5 m)",
+        ),
         ("limits.max_linear_sped=3", "--set limits.max_linear_sped: unknown key; did you mean max_linear_speed?"),
-        ("navigatr.goal_timeout=60", "--set 'navigatr.goal_timeout=60': no node or table named 'navigatr'; did you mean navigator?"),
+        (
+            "navigatr.goal_timeout=60",
+            "--set 'navigatr.goal_timeout=60': no node or table named 'navigatr'; did you mean navigator?",
+        ),
         ("navigator.goal_timeout", "--set 'navigator.goal_timeout': write it as NODE.PARAM=VALUE"),
         ("navigator..x=1", "--set 'navigator..x=1': write it as"),
         ("world=5", "--set 'world=5': name a key of world"),
@@ -241,4 +304,8 @@ def test_only_and_exclude_suggest_the_nearest_node():
     plan = load_launch(ROOT / "launch.toml")
     with pytest.raises(LaunchFileError, match=r"--only navigatr: no node named 'navigatr'; did you mean navigator\?"):
         select_nodes(plan, ["navigatr"], [])
-    assert [e.name for e in select_nodes(plan, [], ["obstacle_detector"]).launch.node] == ["sim", "navigator", "status_monitor"]
+    assert [e.name for e in select_nodes(plan, [], ["obstacle_detector"]).launch.node] == [
+        "sim",
+        "navigator",
+        "status_monitor",
+    ]

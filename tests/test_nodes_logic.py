@@ -5,10 +5,10 @@ import math
 import pytest
 
 from messages import NavigateToRequest, Pose
+from messages.world import Obstacle, World
 from nodes.battery import drain, make_status, travelled
 from nodes.goal import allowed_speed, clearance_speed, goal_problem, heading_error_deg, path_problem
-from nodes.runtime import _Timer
-from sim.world import Obstacle, World
+from runtime.node import _Timer
 
 WORLD = World(size=10.0, obstacles=[Obstacle(x=8.0, y=8.0, radius=0.5)])
 

@@ -5,18 +5,10 @@ import math
 import numpy as np
 import pytest
 
-from nodes.scan import (
-    beam_angles,
-    cast_rays,
-    circles_corridor_clearance,
-    corridor_clearance,
-    hit_points,
-    nearest_in_cone,
-    new_phantoms,
-    obstacles_in_view,
-    off_walls,
-)
-from sim.world import Obstacle, World
+from messages.world import Obstacle, World
+from nodes.scan import circles_corridor_clearance, corridor_clearance, hit_points, off_walls
+from sim.lidar import beam_angles, cast_rays, new_phantoms
+from tests.integration.harness import obstacles_in_view
 
 EMPTY = World(size=10.0)
 
@@ -66,18 +58,14 @@ def test_beam_angles_full_circle_has_no_duplicate():
     assert beam_angles(-1.0, 1.0, 3) == pytest.approx([-1.0, 0.0, 1.0])
 
 
-def test_nearest_in_cone_wraps_around_pi():
-    angles = beam_angles(-math.pi, math.pi, 8)
-    ranges = np.array([1.0, 9, 9, 9, 5.0, 9, 9, 9])  # 1.0 straight behind, 5.0 ahead
-    assert nearest_in_cone(ranges, angles, 0.0, 0.1) == 5.0
-    assert nearest_in_cone(ranges, angles, math.pi, 0.1) == 1.0
-    assert nearest_in_cone(ranges, angles, 0.0, 0.0001 + math.pi / 4) == 5.0
-
-
 def test_three_obstacles_in_view():
     world = World(
         size=11.0,
-        obstacles=[Obstacle(x=7.0, y=5.5, radius=0.4), Obstacle(x=5.5, y=7.0, radius=0.4), Obstacle(x=4.0, y=5.5, radius=0.4)],
+        obstacles=[
+            Obstacle(x=7.0, y=5.5, radius=0.4),
+            Obstacle(x=5.5, y=7.0, radius=0.4),
+            Obstacle(x=4.0, y=5.5, radius=0.4),
+        ],
     )
     angles = beam_angles(-math.pi, math.pi, 72)
     ranges = cast_rays(5.5, 5.5, 0.0, angles, world, 3.0)

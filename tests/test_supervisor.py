@@ -115,7 +115,7 @@ def test_run_folder_names_sort_by_time_then_pid():
 
 def test_a_busy_port_names_the_commands_that_avoid_it():
     text = port_in_use(7447, "launch")
-    assert 'the port is already in use' in text
+    assert "the port is already in use" in text
     assert '.venv/bin/turtlectl launch --port 7448 (or make run ARGS="--port 7448")' in text
     assert port_in_use(65535, "router").endswith(".venv/bin/turtlectl router --port 65534")
 

@@ -27,9 +27,9 @@ from cli.supervisor import logs
 from cli.supervisor.printer import Printer
 from cli.supervisor.process import Child, child_env, python_module_argv
 from messages.keys import NODE_TOKEN_PREFIX, domain_token, parse_node_token
-from nodes.config import ENV_VAR, SUPERVISOR_PID_VAR, encode_config
 from nodes.kinds import KINDS
-from nodes.session import client_config, close_session, router_config, zenoh_reason
+from runtime.config import ENV_VAR, SUPERVISOR_PID_VAR, encode_config
+from runtime.session import client_config, close_session, router_config, zenoh_reason
 
 POLL = 0.05  # s between checks of the children
 STABLE_RUN = 10.0  # s: a child that ran this long has its respawn count reset
@@ -129,7 +129,9 @@ class Supervisor:
         try:
             logs.prune(self.log_parent, self.plan.launch.supervisor.keep_logs, folder)
         except OSError as exc:
-            self.printer.system(f"warning: could not remove old run folders in {self.log_parent}: {exc.strerror or exc}")
+            self.printer.system(
+                f"warning: could not remove old run folders in {self.log_parent}: {exc.strerror or exc}"
+            )
 
     def run(self) -> int:
         """Run until stopped; returns the exit code. Raises CliError if it cannot start."""
@@ -213,8 +215,10 @@ class Supervisor:
                     self._exited(name, child, code, now)
                     if self._stop_reason is not None:
                         break
-            if self._stop_reason is None and not self._respawn_at and not any(
-                c.running() for c in self.children.values()
+            if (
+                self._stop_reason is None
+                and not self._respawn_at
+                and not any(c.running() for c in self.children.values())
             ):
                 self.stop("every node has exited", ExitCode.FAILED)
             time.sleep(POLL)  # pacing: the supervisor's poll period

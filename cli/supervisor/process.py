@@ -16,8 +16,8 @@ import time
 from typing import NoReturn
 
 from cli.supervisor.printer import Printer
-from nodes.config import ENV_VAR, SUPERVISOR_PID_VAR, NodeConfig, encode_config
 from nodes.kinds import KINDS
+from runtime.config import ENV_VAR, SUPERVISOR_PID_VAR, NodeConfig, encode_config
 
 
 class Child:

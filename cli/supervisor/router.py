@@ -11,7 +11,7 @@ import zenoh
 
 from cli.errors import CliError, ExitCode
 from cli.supervisor.manager import port_in_use
-from nodes.session import close_session, router_config, zenoh_reason
+from runtime.session import close_session, router_config, zenoh_reason
 
 
 def run_router(port: int, host: str, on_ready: Callable[[], None]) -> None:

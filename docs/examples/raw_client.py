@@ -52,7 +52,9 @@ with zenoh.open(conf) as session:
     sub = session.declare_subscriber("robot/status", lambda s: statuses.put(unpack(s)))
     status = statuses.get(timeout=5)
     sub.undeclare()
-    print(f"status: x {status['x']:.2f} m, y {status['y']:.2f} m, heading {status['theta']:.1f} deg, battery {status['battery']:.1f} %")
+    print(
+        f"status: x {status['x']:.2f} m, y {status['y']:.2f} m, heading {status['theta']:.1f} deg, battery {status['battery']:.1f} %"
+    )
 
     # 3. the world: JSON, not msgpack
     world = json.loads(next(r.ok for r in session.get("turtlectl/world") if r.ok).payload.to_bytes())
@@ -80,7 +82,9 @@ with zenoh.open(conf) as session:
         if message["type"] == "NavigateToFeedback":
             feedback += 1
             if feedback == 1:
-                print(f"feedback: {message['state']}, {message['distance_remaining']:.2f} m to go, eta {message['eta']:.1f} s")
+                print(
+                    f"feedback: {message['state']}, {message['distance_remaining']:.2f} m to go, eta {message['eta']:.1f} s"
+                )
         elif message["type"] == "NavigateToResponse":
             outcome = "reached" if message["success"] else f"not reached ({message['reason']})"
             print(
@@ -95,8 +99,12 @@ with zenoh.open(conf) as session:
     acks = [
         unpack(r.ok)["detail"]
         for r in session.get(
-            "reset", payload=payload, encoding=encoding,
-            target=zenoh.QueryTarget.ALL, consolidation=zenoh.ConsolidationMode.NONE, timeout=5,
+            "reset",
+            payload=payload,
+            encoding=encoding,
+            target=zenoh.QueryTarget.ALL,
+            consolidation=zenoh.ConsolidationMode.NONE,
+            timeout=5,
         )
         if r.ok
     ]

@@ -29,6 +29,7 @@ from contextlib import contextmanager
 from pathlib import Path
 from typing import Any, TypeVar
 
+import numpy as np
 import zenoh
 
 from messages import (
@@ -45,7 +46,7 @@ from messages import (
     encoding_for,
 )
 from messages.keys import NAVIGATE_TO, NODE_TOKEN_PREFIX, POSE, STATUS, TELEPORT, parse_node_token
-from nodes.session import client_config, close_session
+from runtime.session import client_config, close_session
 
 ROOT = Path(__file__).resolve().parents[2]
 DEFAULT_LAUNCH = ROOT / "launch.toml"
@@ -205,7 +206,9 @@ class System:
                     # give the reader a moment to drain, then fail fast
                     self._line_event.wait(0.2)
                     if not any(rx.search(line) for line in self.lines[start:]):
-                        raise SupervisorDied(f"launch exited ({self.proc.returncode}) before {pattern!r}:\n{self.output()}")
+                        raise SupervisorDied(
+                            f"launch exited ({self.proc.returncode}) before {pattern!r}:\n{self.output()}"
+                        )
                 remaining = deadline - time.monotonic()
                 if remaining <= 0:
                     raise AssertionError(f"no line matching {pattern!r} within {timeout} s:\n{self.output()}")
@@ -246,7 +249,9 @@ class System:
         while not condition():
             self.check_alive()
             if time.monotonic() > deadline:
-                raise AssertionError(f"timed out after {timeout} s waiting for {what}; alive={self.alive}\n{self.output()}")
+                raise AssertionError(
+                    f"timed out after {timeout} s waiting for {what}; alive={self.alive}\n{self.output()}"
+                )
             self._drain_tokens(0.05)
 
     def wait_ready(self, names: tuple[str, ...] = NODES, timeout: float = 30.0) -> dict[str, int]:
@@ -391,3 +396,13 @@ def running_system(
         yield system
     finally:
         system.kill_everything()
+
+
+def obstacles_in_view(ranges: np.ndarray, angles: np.ndarray) -> int:
+    """Number of separate objects the scan sees: runs of consecutive finite beams."""
+    finite = np.isfinite(np.asarray(ranges, dtype=float))
+    if not finite.any():
+        return 0
+    # count rising edges, treating the scan as circular only if it is a full circle
+    edges = np.count_nonzero(finite & ~np.roll(finite, 1))
+    return int(edges) if edges else 1

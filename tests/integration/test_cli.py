@@ -16,7 +16,9 @@ pytestmark = pytest.mark.integration
 
 
 def run(*args: str, timeout: float = 20.0) -> subprocess.CompletedProcess[str]:
-    return subprocess.run([*turtlectl(), *args], capture_output=True, text=True, timeout=timeout, stdin=subprocess.DEVNULL)
+    return subprocess.run(
+        [*turtlectl(), *args], capture_output=True, text=True, timeout=timeout, stdin=subprocess.DEVNULL
+    )
 
 
 @pytest.mark.parametrize("args", [("nan", "1", "0"), ("1", "inf", "0"), ("1", "2", "north"), ("one", "2", "3")])
@@ -44,7 +46,9 @@ def test_goto_with_nothing_running_exits_3():
 
 def test_with_nothing_running_the_wait_is_under_3_seconds():
     endpoint = f"tcp/127.0.0.1:{free_port()}"
-    error, seconds = waited(lambda: services.navigate(endpoint, NavigateToRequest(x=1, y=1, theta=0), services.NO_LIMIT))
+    error, seconds = waited(
+        lambda: services.navigate(endpoint, NavigateToRequest(x=1, y=1, theta=0), services.NO_LIMIT)
+    )
     assert error.code == ExitCode.UNREACHABLE and "no turtlectl system at" in error.message
     assert seconds < 3.0, seconds  # nothing listens on the port: reported at once, not after OPEN_TIMEOUT
 
@@ -99,7 +103,9 @@ def test_goto_with_no_navigator_exits_3_within_3_seconds(tmp_path):
         assert seconds < 3.0, seconds
 
 
-@pytest.mark.parametrize("endpoint", ["tcp/127.0.0.1", "tcp/127.0.0.1:abc", "tcp/127.0.0.1:99999", "127.0.0.1:7447", "garbage"])
+@pytest.mark.parametrize(
+    "endpoint", ["tcp/127.0.0.1", "tcp/127.0.0.1:abc", "tcp/127.0.0.1:99999", "127.0.0.1:7447", "garbage"]
+)
 def test_a_malformed_endpoint_is_bad_input_at_once(endpoint):
     result = run("list", "--connect", endpoint)
     assert result.returncode == 2 and "write it as tcp/HOST:PORT" in result.stderr, result.stderr

@@ -54,7 +54,10 @@ def cli(system, *args: str) -> subprocess.Popen:
     domain = ("--domain", system.domain) if system.domain else ()
     proc = subprocess.Popen(
         [*turtlectl(), *domain, *args, "--connect", system.endpoint],
-        stdout=subprocess.PIPE, stderr=subprocess.PIPE, stdin=subprocess.DEVNULL, text=True,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        stdin=subprocess.DEVNULL,
+        text=True,
     )
     STARTED.append(proc)
     return proc
@@ -131,7 +134,11 @@ def test_teleport_answers_in_degrees(system):
 
 @pytest.mark.parametrize(
     "args",
-    [("echo", "robot/status"), ("hz", "robot/status"), ("pub", "test/ctrl_c", '{"linear": 0}', "--type", "Twist", "--rate", "20")],
+    [
+        ("echo", "robot/status"),
+        ("hz", "robot/status"),
+        ("pub", "test/ctrl_c", '{"linear": 0}', "--type", "Twist", "--rate", "20"),
+    ],
     ids=["echo", "hz", "pub --rate"],
 )
 def test_ctrl_c_ends_a_command_that_runs_until_stopped_with_0(system, args):
@@ -192,7 +199,10 @@ def test_no_router_is_reported_at_once():
     for args in (("view",), ("goto", "1", "1", "0"), ("list",)):
         started = time.monotonic()
         result = subprocess.run(
-            [*turtlectl(), *args, "--connect", f"tcp/127.0.0.1:{free_port()}"], capture_output=True, text=True, timeout=20
+            [*turtlectl(), *args, "--connect", f"tcp/127.0.0.1:{free_port()}"],
+            capture_output=True,
+            text=True,
+            timeout=20,
         )
         assert result.returncode == 3 and "no turtlectl system at" in result.stderr, (args, result.stderr)
         assert time.monotonic() - started < 2.0, args  # Zenoh alone would retry for 2.5 s
@@ -270,7 +280,9 @@ def test_view_has_a_legend_c_clears_the_trail_and_ctrl_c_exits_0(system):
 def test_the_raw_client_of_the_interface_reference_runs(system):
     result = subprocess.run(
         [sys.executable, str(ROOT / "docs" / "examples" / "raw_client.py"), system.endpoint],
-        capture_output=True, text=True, timeout=60,
+        capture_output=True,
+        text=True,
+        timeout=60,
     )
     assert result.returncode == 0, result.stdout + result.stderr
     out = result.stdout
@@ -290,7 +302,10 @@ class Router:
         self.port = free_port()
         self.endpoint = f"tcp/127.0.0.1:{self.port}"
         self.proc = subprocess.Popen(
-            [*turtlectl(), "router", "--port", str(self.port)], stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True
+            [*turtlectl(), "router", "--port", str(self.port)],
+            stdout=subprocess.PIPE,
+            stderr=subprocess.STDOUT,
+            text=True,
         )
         assert self.proc.stdout is not None
         assert "router listening" in self.proc.stdout.readline()  # an event: it listens
@@ -311,12 +326,15 @@ def router():
 def plain(*args: str, endpoint: str) -> subprocess.CompletedProcess[str]:
     """A command outside any domain."""
     env = {k: v for k, v in os.environ.items() if k != "TURTLECTL_DOMAIN"}
-    return subprocess.run([*turtlectl(), *args, "--connect", endpoint], capture_output=True, text=True, timeout=30, env=env)
+    return subprocess.run(
+        [*turtlectl(), *args, "--connect", endpoint], capture_output=True, text=True, timeout=30, env=env
+    )
 
 
 def test_a_client_without_domain_sees_every_domain_and_is_told_which_to_use(router):
-    with running_system(join=router.endpoint, domain="alpha") as alpha, running_system(
-        join=router.endpoint, domain="beta", ready=("sim",), extra_args=("--only", "sim")
+    with (
+        running_system(join=router.endpoint, domain="alpha") as alpha,
+        running_system(join=router.endpoint, domain="beta", ready=("sim",), extra_args=("--only", "sim")),
     ):
         graph = json.loads(plain("list", "--json", endpoint=router.endpoint).stdout)
         names = {n["name"] for n in graph["nodes"]}
@@ -329,20 +347,35 @@ def test_a_client_without_domain_sees_every_domain_and_is_told_which_to_use(rout
 
         lost = plain("goto", "3", "3", "0", endpoint=router.endpoint)
         assert lost.returncode == 3
-        assert "nothing serves navigate_to" in lost.stderr and "add it before the command, `turtlectl --domain alpha ...`" in lost.stderr
+        assert (
+            "nothing serves navigate_to" in lost.stderr
+            and "add it before the command, `turtlectl --domain alpha ...`" in lost.stderr
+        )
         wrong = plain("--domain", "beta", "goto", "3", "3", "0", endpoint=router.endpoint)
-        assert wrong.returncode == 3 and "in domain beta" in wrong.stderr and "add it before the command, `turtlectl --domain alpha ...`" in wrong.stderr
+        assert (
+            wrong.returncode == 3
+            and "in domain beta" in wrong.stderr
+            and "add it before the command, `turtlectl --domain alpha ...`" in wrong.stderr
+        )
         empty = plain("--domain", "gamma", "list", endpoint=router.endpoint).stdout
-        assert "(none: systems run in domains alpha, beta on this router: add it before the command, `turtlectl --domain alpha ...`)" in empty
+        assert (
+            "(none: systems run in domains alpha, beta on this router: add it before the command, `turtlectl --domain alpha ...`)"
+            in empty
+        )
 
         status = plain("echo", "alpha/robot/status", "--once", "--json", endpoint=router.endpoint)
         assert status.returncode == 0 and json.loads(status.stdout)["type"] == "TurtleStatus"
         silent = plain("echo", "robot/status", "--timeout", "4", endpoint=router.endpoint)
-        assert silent.returncode == 3 and "published in domain alpha: add it before the command, `turtlectl --domain alpha ...`" in silent.stderr
+        assert (
+            silent.returncode == 3
+            and "published in domain alpha: add it before the command, `turtlectl --domain alpha ...`" in silent.stderr
+        )
         # a goal reached from outside the domain still holds the caller's token inside it
         alpha.teleport(1.0, 5.5, 0.0)
         start = len(alpha.lines)
-        timed_out = plain("call", "alpha/navigate_to", '{"x": 10, "y": 5.5, "theta": 0}', "--timeout", "1", endpoint=router.endpoint)
+        timed_out = plain(
+            "call", "alpha/navigate_to", '{"x": 10, "y": 5.5, "theta": 0}', "--timeout", "1", endpoint=router.endpoint
+        )
         assert timed_out.returncode == 1, timed_out.stderr
         alpha.wait_line(r"navigator .*goal failed .*: caller gone", 5.0, start)
 

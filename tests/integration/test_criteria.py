@@ -51,7 +51,7 @@ def test_2_goal_three_metres_away_is_reached_within_two_seconds(system):
 def test_3_status_arrives_every_100_ms(system):
     samples = system.collect(STATUS, TurtleStatus, 51, timeout=15.0)
     times = [t for t, _ in samples]
-    periods = [b - a for a, b in zip(times, times[1:])]
+    periods = [b - a for a, b in zip(times, times[1:], strict=False)]
     within = sum(1 for p in periods if abs(p - 0.100) <= 0.010)
     assert within >= 0.95 * len(periods), f"only {within}/{len(periods)} periods within 100 ± 10 ms: {periods}"
     assert abs(statistics.mean(periods) - 0.100) <= 0.001, statistics.mean(periods)
@@ -85,7 +85,11 @@ def test_goto_cli_reports_an_unreachable_goal_with_exit_1(system):
 def test_echo_decodes_status_as_blocks_and_json(system):
     blocks = system.run_cli("echo", "robot/status", "--once")
     assert blocks.returncode == 0, blocks.stderr
-    assert blocks.stdout.startswith("# TurtleStatus\n") and "battery:" in blocks.stdout and blocks.stdout.strip().endswith("---")
+    assert (
+        blocks.stdout.startswith("# TurtleStatus\n")
+        and "battery:" in blocks.stdout
+        and blocks.stdout.strip().endswith("---")
+    )
     lines = system.run_cli("echo", "turtle1/pose", "--count", "3", "--json")
     assert lines.returncode == 0, lines.stderr
     decoded = [json.loads(line) for line in lines.stdout.splitlines()]

@@ -64,14 +64,24 @@ def test_each_node_logs_to_its_own_file_in_the_run_folder(system):
 def test_check_only_exclude_and_set():
     check = subprocess.run(
         [*turtlectl(), "launch", "--check", "--exclude", "obstacle_detector", "--set", "navigator.goal_timeout=42"],
-        capture_output=True, text=True, timeout=20,
+        capture_output=True,
+        text=True,
+        timeout=20,
     )
     assert check.returncode == 0, check.stderr
     assert "  sim (run sim; required)" in check.stdout and "obstacle_detector" not in check.stdout
-    assert "navigator (run navigator; optional; respawn after 1 s" in check.stdout and '"goal_timeout":42.0' in check.stdout
-    bad = subprocess.run([*turtlectl(), "launch", "--check", "--set", "navigator.speed=3"], capture_output=True, text=True, timeout=20)
+    assert (
+        "navigator (run navigator; optional; respawn after 1 s" in check.stdout
+        and '"goal_timeout":42.0' in check.stdout
+    )
+    bad = subprocess.run(
+        [*turtlectl(), "launch", "--check", "--set", "navigator.speed=3"], capture_output=True, text=True, timeout=20
+    )
     assert bad.returncode == 2 and "--set navigator.speed: unknown key" in bad.stderr
-    with running_system(ready=("sim", "navigator"), extra_args=("--only", "sim", "--only", "navigator", "--set", "navigator.goal_timeout=42")) as system:
+    with running_system(
+        ready=("sim", "navigator"),
+        extra_args=("--only", "sim", "--only", "navigator", "--set", "navigator.goal_timeout=42"),
+    ) as system:
         graph = json.loads(system.run_cli("list", "--json").stdout)
         assert {n["name"] for n in graph["nodes"]} == {"sim", "navigator"}
         params = json.loads(system.run_cli("call", "turtlectl/params/navigator").stdout)
@@ -88,7 +98,10 @@ class Router:
 
     def start(self) -> None:
         self.proc = subprocess.Popen(
-            [*turtlectl(), "router", "--port", str(self.port)], stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True
+            [*turtlectl(), "router", "--port", str(self.port)],
+            stdout=subprocess.PIPE,
+            stderr=subprocess.STDOUT,
+            text=True,
         )
         assert self.proc.stdout is not None
         line = self.proc.stdout.readline()  # an event: the router says it listens
@@ -128,7 +141,10 @@ def test_nodes_come_back_by_themselves_after_the_router_restarts(router):
 
 
 def test_two_domains_on_one_router_never_mix(router):
-    with running_system(join=router.endpoint, domain="alpha") as a, running_system(join=router.endpoint, domain="beta") as b:
+    with (
+        running_system(join=router.endpoint, domain="alpha") as a,
+        running_system(join=router.endpoint, domain="beta") as b,
+    ):
         graph_a = json.loads(a.run_cli("list", "--json").stdout)
         assert {n["pid"] for n in graph_a["nodes"]} == set(a.alive.values())
         assert not set(a.alive.values()) & set(b.alive.values())
@@ -139,7 +155,9 @@ def test_two_domains_on_one_router_never_mix(router):
         assert (after_b.x, after_b.y) == (before_b.x, before_b.y)
         plain = subprocess.run(
             [*turtlectl(), "echo", "robot/status", "--timeout", "3.5", "--connect", router.endpoint],
-            capture_output=True, text=True, timeout=20,
+            capture_output=True,
+            text=True,
+            timeout=20,
         )
         assert plain.returncode == 3  # outside any domain there is nothing
 
@@ -148,7 +166,9 @@ def test_kill_9_the_navigator_mid_goal(system):
     system.teleport(1.0, 5.5, 0.0)
     goto = subprocess.Popen(
         [*turtlectl(), "goto", "10", "5.5", "0", "--connect", system.endpoint],
-        stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
     )
     system.wait_moving(1.0)
     old = system.alive["navigator"]
@@ -170,7 +190,10 @@ def test_kill_9_a_helper_mid_goal_does_not_fail_the_goal(system, victim):
     system.teleport(2.0, 2.0, 0.0)
     old = system.alive[victim]
     goto = subprocess.Popen(
-        [*turtlectl(), "goto", "7", "4", "90", "--connect", system.endpoint], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True
+        [*turtlectl(), "goto", "7", "4", "90", "--connect", system.endpoint],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
     )
     system.wait_moving(0.5)
     os.kill(old, signal.SIGKILL)
@@ -199,8 +222,14 @@ def test_garbage_on_every_key_is_dropped_and_logged_once_per_key(system):
     assert goal.returncode == 0, goal.stdout + goal.stderr
     system.collect(STATUS, TurtleStatus, 2, timeout=5.0)
     assert system.alive == pids
-    for node, key in [("sim", "turtle1/cmd_vel"), ("navigator", "turtle1/pose"), ("navigator", "navigate_to"),
-                      ("status_monitor", "turtle1/pose"), ("sim", "reset"), ("status_monitor", "reset")]:
+    for node, key in [
+        ("sim", "turtle1/cmd_vel"),
+        ("navigator", "turtle1/pose"),
+        ("navigator", "navigate_to"),
+        ("status_monitor", "turtle1/pose"),
+        ("sim", "reset"),
+        ("status_monitor", "reset"),
+    ]:
         system.wait_line(rf"{node} .*dropped malformed payload #1 on {re.escape(key)}:", 5.0, start)
     logged = [line for line in system.lines[start:] if "dropped malformed payload" in line]
     # 15 payloads per topic key (3 rounds x 5): logged once per key and node, not once per message
@@ -241,7 +270,10 @@ def test_shutdown_escalates_to_sigkill_for_a_child_that_does_not_stop(tmp_path):
 def test_a_goal_fails_cleanly_when_poses_stop(system):
     system.teleport(2.0, 5.0, 0.0)
     goto = subprocess.Popen(
-        [*turtlectl(), "goto", "9", "5", "0", "--connect", system.endpoint], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True
+        [*turtlectl(), "goto", "9", "5", "0", "--connect", system.endpoint],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
     )
     sim = system.alive["sim"]
     try:
@@ -259,7 +291,9 @@ def test_kill_9_the_required_sim_mid_goal_stops_everything_and_tells_the_caller(
         pids = dict(system.alive)
         goto = subprocess.Popen(
             [*turtlectl(), "goto", "9", "4", "0", "--connect", system.endpoint],
-            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+            stdout=subprocess.PIPE,
+            stderr=subprocess.PIPE,
+            text=True,
         )
         system.wait_moving(0.5)
         os.kill(pids["sim"], signal.SIGKILL)

@@ -63,7 +63,10 @@ class Launch:
         self.lines: list[str] = []
         self.proc = subprocess.Popen(
             ["ip", "netns", "exec", netns, *turtlectl(), "launch", *args],
-            stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, start_new_session=True,
+            stdout=subprocess.PIPE,
+            stderr=subprocess.STDOUT,
+            text=True,
+            start_new_session=True,
             env={**os.environ, "PYTHONUNBUFFERED": "1", "TURTLECTL_LOG_DIR": "/tmp/turtlectl-test-logs"},
         )
         threading.Thread(target=self._read, daemon=True).start()
@@ -76,7 +79,9 @@ class Launch:
     def wait_for(self, pattern: str, timeout: float) -> None:
         deadline = time.monotonic() + timeout
         while not any(re.search(pattern, line) for line in self.lines):
-            assert self.proc.poll() is None or any(re.search(pattern, line) for line in self.lines), "\n".join(self.lines)
+            assert self.proc.poll() is None or any(re.search(pattern, line) for line in self.lines), "\n".join(
+                self.lines
+            )
             assert time.monotonic() < deadline, f"no {pattern!r}:\n" + "\n".join(self.lines)
             time.sleep(0.05)  # pacing: polling collected output under a deadline
 

@@ -16,8 +16,7 @@ import zenoh
 from cli.launchfile import parse_launch
 from messages import LaserScan, NavigateToResponse, Pose, TurtleStatus, decode
 from messages.keys import OBSTACLES, POSE, STATUS
-from nodes.scan import obstacles_in_view
-from tests.integration.harness import NODES, ROOT, System, pid_alive, running_system
+from tests.integration.harness import NODES, ROOT, System, obstacles_in_view, pid_alive, running_system
 
 pytestmark = pytest.mark.integration
 
@@ -191,7 +190,11 @@ def test_children_do_not_outlive_a_killed_supervisor():
 def test_make_run_takes_args_and_a_busy_port_names_the_way_out(custom, tmp_path):
     make = subprocess.Popen(
         ["make", "--no-print-directory", "run", f"ARGS=--port {custom.port} --log-dir {tmp_path}"],
-        cwd=ROOT, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, stdin=subprocess.DEVNULL,
+        cwd=ROOT,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        stdin=subprocess.DEVNULL,
         start_new_session=True,
     )
     try:
@@ -208,7 +211,10 @@ def test_make_run_takes_args_and_a_busy_port_names_the_way_out(custom, tmp_path)
     other = custom.port + 1
     assert f"launch --port {custom.port} --log-dir" in result.stdout  # make ran it with ARGS
     assert "the port is already in use" in result.stderr, result.stderr
-    assert f'choose another: .venv/bin/turtlectl launch --port {other} (or make run ARGS="--port {other}")' in result.stderr
+    assert (
+        f'choose another: .venv/bin/turtlectl launch --port {other} (or make run ARGS="--port {other}")'
+        in result.stderr
+    )
     assert "Error 4" in result.stderr and "Traceback" not in result.stderr
     assert list(tmp_path.iterdir()) == []  # a launch that could not start leaves no log folder
 

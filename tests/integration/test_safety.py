@@ -195,9 +195,21 @@ def test_a_node_run_in_another_domain_joins_that_domain_not_this_system(no_scans
         "lab3/@turtlectl/node/**", lambda s: tokens.put(str(s.key_expr))
     )
     other = subprocess.Popen(
-        [*turtlectl(), "--domain", "lab3", "run", "navigator", "--file", str(no_scans.launch_file),
-         "--connect", no_scans.endpoint],
-        stdout=subprocess.PIPE, stderr=subprocess.STDOUT, stdin=subprocess.DEVNULL, text=True,
+        [
+            *turtlectl(),
+            "--domain",
+            "lab3",
+            "run",
+            "navigator",
+            "--file",
+            str(no_scans.launch_file),
+            "--connect",
+            no_scans.endpoint,
+        ],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.STDOUT,
+        stdin=subprocess.DEVNULL,
+        text=True,
     )
     try:
         deadline = time.monotonic() + 15
@@ -229,7 +241,8 @@ def test_reset_and_cancel_need_no_payload_at_all(no_scans):
     )
     assert len(replies) == 2 and all(r.ok is not None for r in replies), [r.err for r in replies]
     assert {decode(r.ok.payload.to_bytes(), Ack).detail for r in replies} == {
-        "battery full", "turtle back at its spawn pose"
+        "battery full",
+        "turtle back at its spawn pose",
     }
 
 

@@ -35,7 +35,12 @@ def test_list_shows_the_live_graph(system):
     topics = {t["key"]: t for t in graph["topics"]}
     assert topics["turtle1/pose"]["type"] == "Pose" and topics["turtle1/pose"]["publishers"] == ["sim"]
     assert set(topics["turtle1/pose"]["subscribers"]) == {"navigator", "obstacle_detector", "status_monitor"}
-    assert topics["turtle1/cmd_vel"] == {"key": "turtle1/cmd_vel", "type": "Twist", "publishers": ["navigator"], "subscribers": ["sim"]}
+    assert topics["turtle1/cmd_vel"] == {
+        "key": "turtle1/cmd_vel",
+        "type": "Twist",
+        "publishers": ["navigator"],
+        "subscribers": ["sim"],
+    }
     services = {s["key"]: s for s in graph["services"]}
     assert services["reset"]["servers"] == ["sim", "status_monitor"]
     assert services["navigate_to"]["type"] == "NavigateToRequest"
@@ -66,7 +71,18 @@ def test_hz_reports_our_rates_within_one_percent(system):
 
 def test_hz_against_a_publisher_of_known_rate(system):
     publisher = subprocess.Popen(
-        [*turtlectl(), "pub", "bench/known", '{"linear": 0.0}', "--type", "Twist", "--rate", "20", "--connect", system.endpoint],
+        [
+            *turtlectl(),
+            "pub",
+            "bench/known",
+            '{"linear": 0.0}',
+            "--type",
+            "Twist",
+            "--rate",
+            "20",
+            "--connect",
+            system.endpoint,
+        ],
         stdout=subprocess.DEVNULL,
         stderr=subprocess.DEVNULL,
     )
@@ -113,7 +129,7 @@ def test_echo_survives_a_publisher_restart(system):
     system.wait_until(lambda: system.alive.get("status_monitor", old) != old, 10.0, "status_monitor back")
     out, _ = echo.communicate(timeout=20)
     seqs = [int(first)] + [int(v) for v in out.split()]
-    assert len(seqs) == 40 and any(b < a for a, b in zip(seqs, seqs[1:])), "no restart of seq seen"
+    assert len(seqs) == 40 and any(b < a for a, b in zip(seqs, seqs[1:], strict=False)), "no restart of seq seen"
 
 
 def test_pub_twist_moves_the_turtle_and_checks_fields(system):
@@ -122,7 +138,11 @@ def test_pub_twist_moves_the_turtle_and_checks_fields(system):
     assert result.returncode == 0 and "published 10 Twist" in result.stderr
     moved = system.latest_pose()
     assert moved.x > 3.2
-    for payload, message in (('{"linear": "fast"}', "linear: Expected `float`, got `str`"), ('{"speed": 1}', "unknown field `speed`"), ("{", "not valid JSON")):
+    for payload, message in (
+        ('{"linear": "fast"}', "linear: Expected `float`, got `str`"),
+        ('{"speed": 1}', "unknown field `speed`"),
+        ("{", "not valid JSON"),
+    ):
         bad = system.run_cli("pub", "turtle1/cmd_vel", payload)
         assert bad.returncode == 2 and message in bad.stderr, bad.stderr
     unknown = system.run_cli("pub", "some/topic", "{}")
@@ -145,7 +165,20 @@ def test_call_any_service(system):
 
 
 def test_every_command_has_an_example_in_its_help():
-    for command in ("launch", "goto", "cancel", "teleport", "reset", "echo", "list", "hz", "pub", "call", "run", "view"):
+    for command in (
+        "launch",
+        "goto",
+        "cancel",
+        "teleport",
+        "reset",
+        "echo",
+        "list",
+        "hz",
+        "pub",
+        "call",
+        "run",
+        "view",
+    ):
         result = subprocess.run([*turtlectl(), command, "--help"], capture_output=True, text=True, timeout=20)
         assert result.returncode == 0 and "Example: turtlectl " + command in " ".join(result.stdout.split())
 
@@ -171,8 +204,19 @@ def test_run_one_node_in_the_foreground_with_overrides(tmp_path):
         bad = system.run_cli("run", "navigator", "--file", str(file), "-p", "goal_timeout=-1")
         assert bad.returncode == 2 and "--param navigator.goal_timeout: Expected `float` >= 0.1" in bad.stderr
         node = subprocess.Popen(
-            [*turtlectl(), "run", "navigator", "--file", str(file), "-p", "goal_timeout=60", "-p", "gains.k_linear=25",
-             "--connect", system.endpoint],
+            [
+                *turtlectl(),
+                "run",
+                "navigator",
+                "--file",
+                str(file),
+                "-p",
+                "goal_timeout=60",
+                "-p",
+                "gains.k_linear=25",
+                "--connect",
+                system.endpoint,
+            ],
             stdout=subprocess.PIPE,
             stderr=subprocess.STDOUT,
             text=True,
@@ -210,7 +254,9 @@ def test_view_draws_the_world_in_a_real_terminal(system):
         set_winsize(fd, 20, 60)
         os.kill(pid, signal.SIGWINCH)
         pump(fd, stream, 1.0)
-        assert screen.display[0].startswith("+---") and screen.display[0].rstrip().endswith("+"), "\n".join(screen.display)
+        assert screen.display[0].startswith("+---") and screen.display[0].rstrip().endswith("+"), "\n".join(
+            screen.display
+        )
         assert len(screen.display[0].rstrip()) < 60
         os.write(fd, b"q")
         start = time.monotonic()
@@ -236,7 +282,10 @@ def test_a_second_process_with_a_node_s_name_refuses_to_start(system):
     status monitors alternating on robot/status, the second one refuses to start (issue 8)."""
     node = subprocess.run(
         [*turtlectl(), "run", "status_monitor", "--connect", system.endpoint],
-        capture_output=True, text=True, timeout=30, stdin=subprocess.DEVNULL,
+        capture_output=True,
+        text=True,
+        timeout=30,
+        stdin=subprocess.DEVNULL,
     )
     assert node.returncode == 4 and "already publishes robot/status" in node.stderr, node.stderr
     system.collect(STATUS, TurtleStatus, 3, timeout=5.0)  # the system's own goes on

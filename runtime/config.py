@@ -11,7 +11,7 @@ from typing import Any
 
 import msgspec
 
-from sim.world import Limits, World
+from messages.world import Limits, World
 
 ENV_VAR = "TURTLECTL_NODE_CONFIG"
 SUPERVISOR_PID_VAR = "TURTLECTL_SUPERVISOR_PID"

@@ -22,13 +22,9 @@ so the period does not drift with the time the callbacks take.
 
 from __future__ import annotations
 
-import ctypes
 import logging
 import os
 import queue
-import signal
-import socket
-import sys
 import time
 from collections.abc import Callable
 from typing import Any, Generic, TypeVar
@@ -41,25 +37,17 @@ from messages.codec import type_name
 from messages.keys import (
     ENTITY_TOKEN_PREFIX,
     EntityInfo,
-    NodeInfo,
     entity_token,
-    node_token,
     params_key,
     parse_entity_token,
 )
-from nodes.config import ENV_VAR, SUPERVISOR_PID_VAR, NodeConfig, decode_config
-from nodes.session import client_config, close_session, peer_config
-from sim.world import Limits, World
+from messages.world import Limits, World
+from runtime.config import NodeConfig
+from runtime.session import client_config, close_session
 
 P = TypeVar("P", bound=msgspec.Struct)
 M = TypeVar("M", bound=Message)
 
-EXIT_OK = 0
-EXIT_CONFIG = 2  # the node's configuration could not be used
-EXIT_SESSION = 3  # could not open a Zenoh session
-EXIT_CONFLICT = 4  # another running node already holds what this one would claim
-
-_PR_SET_PDEATHSIG = 1
 _ENCODINGS: dict[type[Message], zenoh.Encoding] = {}
 _CLAIM_TIMEOUT = 1.0  # s to hear from the router which tokens it knows
 
@@ -74,8 +62,6 @@ def _encoding(msg_type: type[Message]) -> zenoh.Encoding:
 
 class NodeConflict(Exception):
     """Another running node already does what this one claims to do alone."""
-_PARENT_CHECK_PERIOD = 0.5  # s
-_ROUTER_CHECK_PERIOD = 1.0  # s
 
 
 class Publisher(Generic[M]):
@@ -218,9 +204,7 @@ class Node(Generic[P]):
                     f"(stop it first, or run this one in another --domain)"
                 )
 
-    def call(
-        self, key: str, request: Message, on_done: Callable[[list[Message]], None], timeout: float = 1.0
-    ) -> None:
+    def call(self, key: str, request: Message, on_done: Callable[[list[Message]], None], timeout: float = 1.0) -> None:
         """Query ``key`` with ``request`` without waiting: ``on_done(replies)`` runs on the node
         thread once every server has answered (at once when nobody serves ``key``), with the
         replies that decoded; bounded by ``timeout`` s."""
@@ -304,115 +288,41 @@ class Node(Generic[P]):
             return
         handler(Request(key, query, body))
 
-
     def stop(self, *_: Any) -> None:
         """Ask the node to stop (safe from signal handlers and other threads)."""
         self._running = False
         self._queue.put((lambda: None, ()))
 
-    def spin(self) -> None:
-        """Run timers and queued callbacks on this thread until ``stop``."""
-        while self._running:
-            now = time.monotonic()
-            for t in self._timers:
-                if now >= t.deadline:
-                    t.advance(now)
-                    t.callback()
-            timeout = min((t.deadline for t in self._timers), default=now + 1.0) - time.monotonic()
-            try:
-                func, args = self._queue.get(timeout=max(0.0, timeout))
-            except queue.Empty:
-                continue
-            func(*args)
-        for callback in self._on_shutdown:
-            callback()
-
-
-def _router_watch(node: Node[Any], endpoint: str) -> Callable[[], None]:
-    """A check that reports, once each way, losing and finding again the router: the node
-    keeps running meanwhile (Zenoh reconnects by itself) and says so."""
-    connected = [bool(node.session.info.routers_zid())]  # as the session opened
-    if not connected[0]:
-        node.log.warning("no router at %s yet; running, and trying to reach it", endpoint)
-
-    def check() -> None:
-        now = bool(node.session.info.routers_zid())
-        if now != connected[0]:
-            connected[0] = now
-            if now:
-                node.log.info("router at %s is reached", endpoint)
-            else:
-                node.log.warning("lost the router at %s; still running, reconnecting", endpoint)
-
-    return check
-
-
-def _watch_parent() -> Callable[[], bool]:
-    """Die with the supervisor: ask Linux for SIGTERM when the parent dies, and
-    return a check that reports a changed parent (the fallback on other systems)."""
-    expected = os.environ.get(SUPERVISOR_PID_VAR)
-    if not expected or not expected.isdigit():
-        return lambda: False
-    try:
-        libc = ctypes.CDLL(None, use_errno=True)
-        libc.prctl(_PR_SET_PDEATHSIG, signal.SIGTERM, 0, 0, 0)
-    except (OSError, AttributeError):
-        pass
-    parent = int(expected)
-    return lambda: os.getppid() != parent
-
-
-def run(node_class: Callable[[Node[P]], Any], params_type: type[P]) -> None:
-    """Entry point of a node process: read the config, open the session, spin, close; exits."""
-    started = time.time_ns()
-    logging.basicConfig(level=logging.INFO, format="%(levelname)s %(message)s", stream=sys.stderr)
-    log = logging.getLogger("runtime")
-    early_stop: list[int] = []  # a stop asked for before the node exists is kept, not lost
-    for sig in (signal.SIGINT, signal.SIGTERM):
-        signal.signal(sig, lambda signum, _frame: early_stop.append(signum))
-    parent_gone = _watch_parent()
-    if parent_gone():
-        sys.exit(EXIT_OK)
-    try:
-        config = decode_config(os.environ[ENV_VAR])
-        params = msgspec.convert(config.params, params_type, strict=True)
-    except KeyError:
-        log.error("%s is not set: start nodes with `turtlectl launch`", ENV_VAR)
-        sys.exit(EXIT_CONFIG)
-    except (msgspec.ValidationError, msgspec.DecodeError) as exc:
-        log.error("invalid node configuration: %s", exc)
-        sys.exit(EXIT_CONFIG)
-
-    try:
-        session = zenoh.open(peer_config(config.connect, config.domain))
-    except zenoh.ZError as exc:
-        log.error("cannot open a Zenoh session to %s: %s", config.connect, exc)
-        sys.exit(EXIT_SESSION)
-
-    exit_code = EXIT_OK
-    try:
-        node = Node(config, params, session)
-        signal.signal(signal.SIGINT, node.stop)
-        signal.signal(signal.SIGTERM, node.stop)
-        node.timer(_PARENT_CHECK_PERIOD, lambda: parent_gone() and node.stop())
-        node.timer(_ROUTER_CHECK_PERIOD, _router_watch(node, config.connect))
-        if early_stop:
-            node.stop()
+    def spin(self) -> bool:
+        """Run timers and queued callbacks on this thread until ``stop``, then the shutdown
+        hooks.  Returns False if node code raised: the traceback is logged once and the
+        node stops as if asked to (its hooks still run, so a navigator still stops the turtle)."""
+        ok = True
         try:
-            node_class(node)
-        except NodeConflict as exc:
-            log.error("%s", exc)
-            exit_code = EXIT_CONFLICT
-        else:
-            me = NodeInfo(name=config.name, pid=os.getpid(), host=socket.gethostname(), start_ns=started)
-            token = session.liveliness().declare_token(node_token(me))
-            node.log.info("ready (pid %d)", os.getpid())
-            node.spin()
-            token.undeclare()
-            node.log.info("stopped")
-    finally:
-        if not close_session(session):
-            log.warning("Zenoh session did not close within 2 s; exiting anyway")
-            logging.shutdown()
-            os._exit(exit_code)
-    sys.exit(exit_code)
+            while self._running:
+                now = time.monotonic()
+                for t in self._timers:
+                    if now >= t.deadline:
+                        t.advance(now)
+                        t.callback()
+                timeout = min((t.deadline for t in self._timers), default=now + 1.0) - time.monotonic()
+                try:
+                    func, args = self._queue.get(timeout=max(0.0, timeout))
+                except queue.Empty:
+                    continue
+                func(*args)
+        except Exception:  # node code: a defect, reported once; stop cleanly and let respawn apply
+            self.log.exception("stopping after an error in node code")
+            ok = False
+        self.shutdown()
+        return ok
+
+    def shutdown(self) -> None:
+        """Run the shutdown hooks once, each even if an earlier one raised."""
+        hooks, self._on_shutdown = self._on_shutdown, []
+        self._running = False
+        for callback in hooks:
+            try:
+                callback()
+            except Exception:  # one failing hook must not keep the next (e.g. the stop command) from running
+                self.log.exception("shutdown hook %s failed", getattr(callback, "__qualname__", callback))

@@ -1,0 +1,152 @@
+"""A node process from start to exit: config, signals, parent death, router watch,
+the node's spin, and a bounded close.
+
+``run_main(node_class, params_type)`` is what a node module calls; ``run`` does the
+work and returns the exit code, and ``run_main`` is the one place that exits:
+
+* 0 stopped by a signal or because the supervisor went away;
+* 1 the node's own code raised (traceback logged once, shutdown hooks run, so the
+  navigator still commands a stop; the supervisor's respawn applies);
+* 2 the configuration could not be used; 3 no Zenoh session; 4 another node
+  already holds what this one claims (see ``Node.claim``).
+"""
+
+from __future__ import annotations
+
+import ctypes
+import logging
+import os
+import signal
+import socket
+import sys
+import time
+from collections.abc import Callable
+from typing import Any, NoReturn
+
+import msgspec
+import zenoh
+
+from messages.keys import NodeInfo, node_token
+from runtime.config import ENV_VAR, SUPERVISOR_PID_VAR, decode_config
+from runtime.node import Node, NodeConflict, P
+from runtime.session import close_session, peer_config
+
+EXIT_OK = 0
+EXIT_ERROR = 1  # the node's own code raised
+EXIT_CONFIG = 2  # the node's configuration could not be used
+EXIT_SESSION = 3  # could not open a Zenoh session
+EXIT_CONFLICT = 4  # another running node already holds what this one would claim
+
+_PR_SET_PDEATHSIG = 1
+_PARENT_CHECK_PERIOD = 0.5  # s
+_ROUTER_CHECK_PERIOD = 1.0  # s
+
+
+def _router_watch(node: Node[Any], endpoint: str) -> Callable[[], None]:
+    """A check that reports, once each way, losing and finding again the router: the node
+    keeps running meanwhile (Zenoh reconnects by itself) and says so."""
+    connected = [bool(node.session.info.routers_zid())]  # as the session opened
+    if not connected[0]:
+        node.log.warning("no router at %s yet; running, and trying to reach it", endpoint)
+
+    def check() -> None:
+        now = bool(node.session.info.routers_zid())
+        if now != connected[0]:
+            connected[0] = now
+            if now:
+                node.log.info("router at %s is reached", endpoint)
+            else:
+                node.log.warning("lost the router at %s; still running, reconnecting", endpoint)
+
+    return check
+
+
+def _watch_parent() -> Callable[[], bool]:
+    """Die with the supervisor: ask Linux for SIGTERM when the parent dies, and
+    return a check that reports a changed parent (the fallback on other systems)."""
+    expected = os.environ.get(SUPERVISOR_PID_VAR)
+    if not expected or not expected.isdigit():
+        return lambda: False
+    try:
+        libc = ctypes.CDLL(None, use_errno=True)
+        libc.prctl(_PR_SET_PDEATHSIG, signal.SIGTERM, 0, 0, 0)
+    except (OSError, AttributeError):
+        pass
+    parent = int(expected)
+    return lambda: os.getppid() != parent
+
+
+class _Closed:
+    """Whether the session closed within its bound (if not, ``main`` must not wait for Zenoh's
+    threads at interpreter exit)."""
+
+    clean = True
+
+
+def run(node_class: Callable[[Node[P]], Any], params_type: type[P]) -> int:
+    """Run one node in this process: read the config, open the session, build the node,
+    spin, run its shutdown hooks, close.  Returns the exit code (see the module docstring)."""
+    started = time.time_ns()
+    logging.basicConfig(level=logging.INFO, format="%(levelname)s %(message)s", stream=sys.stderr)
+    log = logging.getLogger("runtime")
+    early_stop: list[int] = []  # a stop asked for before the node exists is kept, not lost
+    for sig in (signal.SIGINT, signal.SIGTERM):
+        signal.signal(sig, lambda signum, _frame: early_stop.append(signum))
+    parent_gone = _watch_parent()
+    if parent_gone():
+        return EXIT_OK
+    try:
+        config = decode_config(os.environ[ENV_VAR])
+        params = msgspec.convert(config.params, params_type, strict=True)
+    except KeyError:
+        log.error("%s is not set: start nodes with `turtlectl launch` or `turtlectl run`", ENV_VAR)
+        return EXIT_CONFIG
+    except (msgspec.ValidationError, msgspec.DecodeError) as exc:
+        log.error("invalid node configuration: %s", exc)
+        return EXIT_CONFIG
+
+    try:
+        session = zenoh.open(peer_config(config.connect, config.domain))
+    except zenoh.ZError as exc:
+        log.error("cannot open a Zenoh session to %s: %s", config.connect, exc)
+        return EXIT_SESSION
+
+    try:
+        node = Node(config, params, session)
+        signal.signal(signal.SIGINT, node.stop)
+        signal.signal(signal.SIGTERM, node.stop)
+        node.timer(_PARENT_CHECK_PERIOD, lambda: parent_gone() and node.stop())
+        node.timer(_ROUTER_CHECK_PERIOD, _router_watch(node, config.connect))
+        if early_stop:
+            node.stop()
+        try:
+            node_class(node)
+        except NodeConflict as exc:
+            log.error("%s", exc)
+            node.shutdown()
+            return EXIT_CONFLICT
+        except Exception:  # the node's own code: a defect, reported once, and the node still stops cleanly
+            node.log.exception("failed while starting")
+            node.shutdown()
+            return EXIT_ERROR
+        me = NodeInfo(name=config.name, pid=os.getpid(), host=socket.gethostname(), start_ns=started)
+        token = session.liveliness().declare_token(node_token(me))
+        node.log.info("ready (pid %d)", os.getpid())
+        ok = node.spin()
+        token.undeclare()
+        node.log.info("stopped" if ok else "stopped after an error")
+        return EXIT_OK if ok else EXIT_ERROR
+    finally:
+        if not close_session(session):
+            log.warning("Zenoh session did not close within 2 s; exiting anyway")
+            _Closed.clean = False
+
+
+def run_main(node_class: Callable[[Node[P]], Any], params_type: type[P]) -> NoReturn:
+    """Entry point of a node module (``run_main(MyNode, MyParams)``):
+    the one place a node process exits."""
+    code = run(node_class, params_type)
+    logging.shutdown()
+    if not _Closed.clean:
+        os._exit(code)  # Zenoh's threads did not stop: do not wait for them at exit
+    sys.exit(code)

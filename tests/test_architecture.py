@@ -1,0 +1,129 @@
+"""The layout's rules, read from the source with ``ast`` (no third-party tool):
+
+* imports run one way, ``messages <- runtime <- sim <- nodes <- cli``: a package
+  imports only packages to its left (and itself);
+* the pure modules (wire contract, world model, kinematics, lidar, control law,
+  scan geometry, goal logic, launch-file parsing) never import zenoh, not even
+  through another module of ours.
+"""
+
+from __future__ import annotations
+
+import ast
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+LAYERS = ["messages", "runtime", "sim", "nodes", "cli"]
+
+#: modules that must stay free of zenoh (and so of I/O): plain functions over Structs and arrays
+PURE = [
+    "messages",  # every module of the package
+    "runtime.config",
+    "sim.kinematics",
+    "sim.lidar",
+    "sim.params",
+    "nodes.control",
+    "nodes.scan",
+    "nodes.goal",
+    "nodes.battery",
+    "nodes.params",
+    "nodes.kinds",
+    "cli.launchfile",
+]
+
+
+def imports_of(path: Path, name: str) -> set[str]:
+    """Every module that ``path`` (module ``name``) imports, at any depth of its code (lazy
+    imports in functions included)."""
+    tree = ast.parse(path.read_text(), str(path))
+    found: set[str] = set()
+    package = name if path.name == "__init__.py" else name.rpartition(".")[0]
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Import):
+            found.update(alias.name for alias in node.names)
+        elif isinstance(node, ast.ImportFrom):
+            if node.level:  # relative: resolve against this module's package
+                base = package.split(".")[: len(package.split(".")) - node.level + 1]
+                stem = ".".join(base + ([node.module] if node.module else []))
+            else:
+                stem = node.module or ""
+            found.add(stem)
+            found.update(f"{stem}.{alias.name}" for alias in node.names)  # `from pkg import module`
+    return found
+
+
+def all_modules(root: Path = ROOT) -> dict[str, set[str]]:
+    """Module name -> the modules it imports, for every module of the five packages under ``root``."""
+    graph: dict[str, set[str]] = {}
+    for layer in LAYERS:
+        for path in sorted((root / layer).rglob("*.py")):
+            name = ".".join(path.relative_to(root).with_suffix("").parts).removesuffix(".__init__")
+            graph[name] = imports_of(path, name)
+    return graph
+
+
+def layer_of(module: str) -> int | None:
+    top = module.split(".")[0]
+    return LAYERS.index(top) if top in LAYERS else None
+
+
+def wrong_way(graph: dict[str, set[str]]) -> list[str]:
+    """Imports that run to the right of the importing module's layer."""
+    problems = []
+    for module, imported in sorted(graph.items()):
+        mine = layer_of(module)
+        for target in sorted(imported):
+            theirs = layer_of(target)
+            if target.rpartition(".")[0] in imported and layer_of(target.rpartition(".")[0]) == theirs:
+                continue  # `from sim.world import World`: reported once, as sim.world
+            if mine is not None and theirs is not None and theirs > mine:
+                problems.append(f"{module} imports {target} ({LAYERS[theirs]} is right of {LAYERS[mine]})")
+    return problems
+
+
+def zenoh_reached(graph: dict[str, set[str]], start: str) -> list[str] | None:
+    """The chain of our imports by which ``start`` reaches zenoh, or None."""
+    seen = {start}
+    stack = [[start]]
+    while stack:
+        chain = stack.pop()
+        for target in sorted(graph.get(chain[-1], ())):
+            if target == "zenoh" or target.startswith("zenoh."):
+                return [*chain, "zenoh"]
+            if target in graph and target not in seen:
+                seen.add(target)
+                stack.append([*chain, target])
+    return None
+
+
+def pure_modules(graph: dict[str, set[str]]) -> list[str]:
+    return sorted(m for m in graph if any(m == p or m.startswith(p + ".") for p in PURE))
+
+
+def test_imports_run_one_way():
+    assert wrong_way(all_modules()) == []
+
+
+@pytest.mark.parametrize("module", pure_modules(all_modules()))
+def test_pure_modules_never_reach_zenoh(module):
+    assert zenoh_reached(all_modules(), module) is None
+
+
+def test_every_named_pure_module_exists():
+    graph = all_modules()
+    for name in PURE:
+        assert any(m == name or m.startswith(name + ".") for m in graph), f"{name} is not a module any more"
+
+
+def test_the_checks_catch_what_they_name(tmp_path):
+    """The rules on a small tree that breaks both, so the two tests above can fail."""
+    for layer in LAYERS:
+        (tmp_path / layer).mkdir()
+        (tmp_path / layer / "__init__.py").write_text("")
+    (tmp_path / "runtime" / "node.py").write_text("import zenoh\nfrom sim.world import World\n")
+    (tmp_path / "sim" / "kinematics.py").write_text("def f():\n    from runtime import node\n")
+    graph = all_modules(tmp_path)
+    assert wrong_way(graph) == ["runtime.node imports sim.world (sim is right of runtime)"]
+    assert zenoh_reached(graph, "sim.kinematics") == ["sim.kinematics", "runtime.node", "zenoh"]
