@@ -14,7 +14,7 @@ from pathlib import Path
 
 import pytest
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 LAYERS = ["messages", "runtime", "sim", "nodes", "cli"]
 
 #: modules that must stay free of zenoh (and so of I/O): plain functions over Structs and arrays
