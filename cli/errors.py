@@ -1,7 +1,8 @@
-"""Exit codes of every turtlectl command, and the one error type that carries them.
+"""What can go wrong for a user, and the exit code of each: the one table.
 
-Commands raise ``CliError``; ``cli.main.main`` is the one place that turns it
-into a message on stderr and an exit code.
+Logic modules raise the error that says what happened (``BadInput``, ``Unreachable``,
+…), never an exit code; ``cli.main.main`` is the one place that prints the message
+on stderr and exits with ``exit_code(error)``.
 """
 
 from __future__ import annotations
@@ -18,10 +19,54 @@ class ExitCode(enum.IntEnum):
     INTERRUPTED = 130  # stopped by Ctrl-C before finishing (goto)
 
 
-class CliError(Exception):
-    """An error for the user: one line, and the exit code it maps to."""
+class TurtlectlError(Exception):
+    """An error for the user: one line of text (``message``)."""
+
+    def __init__(self, message: str):
+        super().__init__(message)
+        self.message = message
+
+
+class BadInput(TurtlectlError):
+    """Arguments, a launch file or a payload that cannot be used; nothing was sent or started."""
+
+
+class Unreachable(TurtlectlError):
+    """Nothing to talk to: no router, nobody serving or publishing what was asked for."""
+
+
+class CannotStart(TurtlectlError):
+    """The system could not start: a port in use, a log folder that cannot be written."""
+
+
+class Failed(TurtlectlError):
+    """It ran but did not succeed: a goal not reached, a request refused."""
+
+
+class Interrupted(TurtlectlError):
+    """Stopped by Ctrl-C before it finished."""
+
+
+EXIT_CODES: dict[type[TurtlectlError], ExitCode] = {
+    BadInput: ExitCode.BAD_INPUT,
+    Unreachable: ExitCode.UNREACHABLE,
+    CannotStart: ExitCode.CANNOT_START,
+    Failed: ExitCode.FAILED,
+    Interrupted: ExitCode.INTERRUPTED,
+}
+
+
+def exit_code(error: TurtlectlError) -> ExitCode:
+    """The exit code for ``error`` (its class or the nearest base in the table)."""
+    for cls in type(error).__mro__:
+        if cls in EXIT_CODES:
+            return EXIT_CODES[cls]  # type: ignore[index]
+    return ExitCode.FAILED
+
+
+class CliError(TurtlectlError):
+    """Transitional: an error carrying its exit code; being replaced by the classes above."""
 
     def __init__(self, code: ExitCode, message: str):
         super().__init__(message)
         self.code = code
-        self.message = message
