@@ -216,7 +216,7 @@ def _validate(data: Any, source: str, report: _Report) -> LaunchPlan:
             j = kinds[entry.run]
             raise report.error(
                 ["node", i, "run"],
-                f"a second {entry.run!r} node (node[{j}] ({launch.node[j].name}) is one): both would {kind.owns}; "
+                f"a second {entry.run!r} node (node[{j}] ({launch.node[j].name}) is one): both would {kind.owns()}; "
                 "a system runs one of each kind",
             )
         kinds[entry.run] = i
@@ -401,6 +401,7 @@ def node_config(
         connect=connect,
         domain=domain,
         params=plan.params[name],
+        claims=list(KINDS[entry.run].claims),
         world=plan.launch.world,
         limits=plan.launch.limits,
     )

@@ -75,7 +75,6 @@ class Navigator:
         self.scan_time = -math.inf
         self.scans_stale = True  # as said last in the log
         self.goal: Goal | None = None
-        node.claim("srv", NAVIGATE_TO, "serves navigate_to and drives the turtle")
         self.cmd_pub = node.publisher(CMD_VEL, Twist)
         self.feedback_pub = node.publisher(FEEDBACK, NavigateToFeedback)
         node.subscribe(POSE, Pose, self.on_pose)

@@ -29,7 +29,6 @@ class ObstacleDetector:
         self.pose: Pose | None = None
         self.rng = np.random.default_rng(p.phantom_seed)
         self.phantoms: list[tuple[float, Obstacle]] = []  # (expiry, monotonic s), obstacle
-        node.claim("pub", OBSTACLES, f"publishes {OBSTACLES}")
         self.pub = node.publisher(OBSTACLES, LaserScan)
         node.subscribe(POSE, Pose, self.on_pose)
         node.timer(1.0 / p.rate, self.tick)

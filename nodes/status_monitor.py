@@ -25,7 +25,6 @@ class StatusMonitor:
         self.battery = node.params.battery
         self.travelled = 0.0  # m since the last status
         self.last_tick = time.monotonic()
-        node.claim("pub", STATUS, f"publishes {STATUS}")
         self.pub = node.publisher(STATUS, TurtleStatus)
         node.subscribe(POSE, Pose, self.on_pose)
         node.serve(RESET, Reset, Ack, self.on_reset)

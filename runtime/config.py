@@ -7,7 +7,7 @@ The supervisor serialises a NodeConfig to JSON in the environment variable
 
 from __future__ import annotations
 
-from typing import Any
+from typing import Any, Literal
 
 import msgspec
 
@@ -17,12 +17,27 @@ ENV_VAR = "TURTLECTL_NODE_CONFIG"
 SUPERVISOR_PID_VAR = "TURTLECTL_SUPERVISOR_PID"
 
 
+class Claim(msgspec.Struct, frozen=True, forbid_unknown_fields=True):
+    """What only one node of a system may do: publish ("pub") or serve ("srv") ``key``.
+
+    Declared once, by the node kind (nodes.kinds); the runtime checks it before the node starts."""
+
+    role: Literal["pub", "srv"]
+    key: str
+
+    def phrase(self, third_person: bool = False) -> str:
+        """'publish turtle1/pose', or with ``third_person`` 'publishes turtle1/pose'."""
+        verb = {"pub": "publish", "srv": "serve"}[self.role]
+        return f"{verb}{'es' if third_person and verb.endswith('sh') else 's' if third_person else ''} {self.key}"
+
+
 class NodeConfig(msgspec.Struct, forbid_unknown_fields=True, kw_only=True):
     name: str
     kind: str
     connect: str
     domain: str = ""  # a Zenoh namespace that prefixes every key of the system (isolation)
     params: dict[str, Any] = msgspec.field(default_factory=dict)
+    claims: list[Claim] = msgspec.field(default_factory=list)  # checked before the node starts
     world: World = msgspec.field(default_factory=World)
     limits: Limits = msgspec.field(default_factory=Limits)
 

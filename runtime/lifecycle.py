@@ -120,6 +120,8 @@ def run(node_class: Callable[[Node[P]], Any], params_type: type[P]) -> int:
         if early_stop:
             node.stop()
         try:
+            for claim in config.claims:
+                node.claim(claim)
             node_class(node)
         except NodeConflict as exc:
             log.error("%s", exc)

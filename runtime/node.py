@@ -42,7 +42,7 @@ from messages.keys import (
     parse_entity_token,
 )
 from messages.world import Limits, World
-from runtime.config import NodeConfig
+from runtime.config import Claim, NodeConfig
 from runtime.session import client_config, close_session
 
 P = TypeVar("P", bound=msgspec.Struct)
@@ -177,10 +177,11 @@ class Node(Generic[P]):
         self._entities.append(self.session.declare_queryable(key, on_query))
         self._announce("srv", request_type, key)
 
-    def claim(self, role: str, key: str, what: str) -> None:
-        """Make sure no other running node is the ``role`` ("pub", "srv") of ``key``: two
-        navigators would both drive the turtle, two simulators both publish its pose.
-        Raises NodeConflict naming the other node; call it before declaring the entity."""
+    def claim(self, claim: Claim) -> None:
+        """Make sure no other running node is the ``claim.role`` ("pub", "srv") of ``claim.key``:
+        two navigators would both drive the turtle, two simulators both publish its pose.
+        Raises NodeConflict naming the other node.  The runtime calls it for each claim of the
+        node's kind, before the node declares anything."""
         # Asked through a short client session: the router knows every token and answers a client
         # at once, while a peer's own liveliness get, just after opening, often answers only part
         # of them (zenoh 1.10).  No router yet: nothing to ask, nothing known to conflict with.
@@ -198,9 +199,9 @@ class Node(Generic[P]):
             close_session(asker)
         for token in tokens:
             other = parse_entity_token(token)
-            if other is not None and other.role == role and other.key == key and other.pid != os.getpid():
+            if other is not None and (other.role, other.key) == (claim.role, claim.key) and other.pid != os.getpid():
                 raise NodeConflict(
-                    f"{other.node} (pid {other.pid}) already {what}; not starting a second one "
+                    f"{other.node} (pid {other.pid}) already {claim.phrase(third_person=True)}; not starting a second one "
                     f"(stop it first, or run this one in another --domain)"
                 )
 

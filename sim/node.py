@@ -54,7 +54,6 @@ class Simulator:
         self.cmd_time: float | None = None
         self.contact = False
         self.acks: list[tuple[Request[Any], Ack]] = []  # answered once the next pose is out
-        node.claim("pub", POSE, f"simulates the turtle (publishes {POSE})")
         self.pose_pub = node.publisher(POSE, Pose)
         node.subscribe(CMD_VEL, Twist, self.on_cmd_vel)
         node.serve(TELEPORT, TeleportAbsolute, Ack, self.on_teleport)
