@@ -60,7 +60,7 @@ class Pose(Message, tag="Pose"):
 
 
 class TurtleStatus(Message, tag="TurtleStatus"):
-    """The aggregated robot status of the capstone specification (10 Hz).
+    """The aggregated robot status of the capstone specification (docs/capstone.md), 10 Hz.
 
     x, y: position, m.  theta: heading in degrees, [0, 360).
     vel_x, vel_y: velocity in the world frame, m/s.

@@ -60,7 +60,7 @@ class ObstacleDetectorParams(msgspec.Struct, forbid_unknown_fields=True, kw_only
     """rate: Hz of the scan (0.1 to 100).  beams: number of rays (1 to 3600, a tenth of a
     degree apart over a full turn; 3600 beams take about 1 ms per scan).  angle_min,
     angle_max: degrees relative to the heading (at most 360 apart).  range_min, range_max: m.
-    Phantom detections, to stress the navigator (the capstone's mock sensor):
+    Phantom detections, to stress the navigator (the mock sensor of docs/capstone.md):
     phantom_rate: new phantoms per s on average (0: none, at most 100); each is a circle of
     phantom_radius m, phantom_distance m away in a random direction, seen for
     phantom_lifetime s (0.01 to 10); phantom_seed makes the sequence repeatable.

@@ -2,7 +2,7 @@
 
 Rays start at the turtle's position; angles are rad in the turtle's frame
 (0 = straight ahead, counter-clockwise positive); distances are m.  Phantoms
-are the sensor's false detections (the capstone's mock sensor), drawn from a
+are the sensor's false detections (the mock sensor of docs/capstone.md), drawn from a
 seeded generator.
 """
 

@@ -1,4 +1,4 @@
-"""The capstone's success criteria, one test each, against the real multi-process system."""
+"""The capstone's success criteria (docs/capstone.md), one test each, against the real multi-process system."""
 
 from __future__ import annotations
 
