@@ -9,7 +9,7 @@ import pytest
 
 from messages import ALL_TYPES, keys
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[3]
 
 
 def _generator():
@@ -20,6 +20,8 @@ def _generator():
 
 
 gen = _generator()
+
+
 DOC = (ROOT / "docs" / "interfaces.md").read_text()
 
 

@@ -1,0 +1,36 @@
+"""Criterion 7 (unit part): every message type round-trips; malformed payloads are rejected clearly."""
+
+from messages import (
+    NavigateToRequest,
+    NavigateToResponse,
+)
+from messages.keys import (
+    SERVICES,
+    TOPICS,
+    EntityInfo,
+    NodeInfo,
+    entity_token,
+    node_token,
+    parse_entity_token,
+    parse_node_token,
+)
+
+
+def test_every_key_has_a_message_type():
+    assert set(TOPICS) == {"turtle1/cmd_vel", "turtle1/pose", "robot/status", "obstacles", "navigate_to/feedback"}
+    assert SERVICES["navigate_to"] == (NavigateToRequest, NavigateToResponse)
+
+
+def test_node_token_round_trip():
+    info = NodeInfo(name="navigator", pid=42, host="box.local", start_ns=17)
+    assert parse_node_token(node_token(info)) == info
+    assert parse_node_token(node_token(NodeInfo(name="n", pid=1, host="we/ird*"))).host == "we_ird_"
+    assert parse_node_token("@turtlectl/node/x") is None
+    assert parse_node_token("@turtlectl/node/x/1/host/notanumber") is None
+    assert parse_node_token("other/key") is None
+
+
+def test_entity_token_round_trip_keeps_slashes_in_the_key():
+    entity = EntityInfo(node="sim", pid=7, role="pub", type_name="Pose", key="turtle1/pose")
+    assert parse_entity_token(entity_token(entity)) == entity
+    assert parse_entity_token("@turtlectl/entity/sim/7/bad/Pose/k") is None

@@ -1,0 +1,85 @@
+"""Criterion 7 (unit part): every message type round-trips; malformed payloads are rejected clearly."""
+
+import inspect
+import math
+
+import msgspec
+import pytest
+
+from messages import (
+    ALL_TYPES,
+    Ack,
+    Cancel,
+    ErrorReply,
+    LaserScan,
+    Message,
+    NavigateToFeedback,
+    NavigateToRequest,
+    NavigateToResponse,
+    Pose,
+    Reset,
+    TeleportAbsolute,
+    TurtleStatus,
+    Twist,
+    decode,
+    encode,
+    encoding_for,
+)
+
+SAMPLES = [
+    Twist(linear=1.5, angular=-0.25, stamp=123, seq=4),
+    Pose(x=1.0, y=2.0, theta=-3.0, linear_velocity=0.5, angular_velocity=0.1, stamp=5, seq=6),
+    TurtleStatus(x=1.0, y=2.0, theta=359.5, vel_x=0.1, vel_y=-0.2, battery=87.5, stamp=7, seq=8),
+    LaserScan(
+        angle_min=-math.pi,
+        angle_max=math.pi,
+        angle_increment=0.1,
+        range_min=0.0,
+        range_max=10.0,
+        ranges=[1.0, math.inf, 2.5],
+        origin_x=5.0,
+        origin_y=4.0,
+        origin_theta=0.5,
+        stamp=9,
+        seq=10,
+    ),
+    NavigateToRequest(x=1.0, y=2.0, theta=90.0, client="42-abcd"),
+    NavigateToFeedback(
+        state="driving", distance_remaining=1.5, heading_remaining=10.0, eta=0.8, elapsed=0.2, x=1, y=2, theta=3
+    ),
+    Cancel(),
+    TeleportAbsolute(x=1.0, y=2.0, theta=0.5),
+    Reset(),
+    Ack(ok=False, detail="no goal is running"),
+    NavigateToResponse(success=True, time_taken=1.25, position_error=0.004, heading_error=0.3, x=1, y=2, theta=90),
+    ErrorReply(error="bad"),
+]
+
+
+def test_samples_cover_every_type():
+    assert {type(m) for m in SAMPLES} == set(ALL_TYPES)
+
+
+def test_scan_origin_defaults_to_unknown():
+    scan = LaserScan(angle_min=0, angle_max=0, angle_increment=0, range_min=0, range_max=1, ranges=[])
+    assert math.isnan(decode(encode(scan), LaserScan).origin_x)
+
+
+def test_new_fields_have_defaults_so_old_senders_stay_valid():
+    old = msgspec.msgpack.encode({"type": "NavigateToRequest", "x": 1.0, "y": 2.0, "theta": 0.0})
+    assert decode(old, NavigateToRequest).client == ""
+
+
+def test_every_message_is_frozen_and_names_its_wire_tag_explicitly():
+    """Issue 9: a renamed class must never change the wire format, and a reply is built, not mutated."""
+    for t in ALL_TYPES:
+        assert t.__struct_config__.frozen, t
+        assert f'tag="{t.__struct_config__.tag}"' in inspect.getsource(t).splitlines()[0], t
+    with pytest.raises(AttributeError):
+        Pose(x=1.0, y=2.0, theta=0.0).x = 3.0  # type: ignore[misc]
+
+    class RenamedTwist(Message, tag="Twist"):
+        linear: float = 0.0
+
+    assert encoding_for(RenamedTwist) == "application/msgpack;Twist"
+    assert b"Twist" in encode(RenamedTwist(linear=1.0)) and b"Renamed" not in encode(RenamedTwist())
