@@ -25,10 +25,8 @@ from cli.errors import CliError, ExitCode
 from cli.launchfile import LaunchPlan, node_config
 from cli.supervisor import logs
 from cli.supervisor.printer import Printer
-from cli.supervisor.process import Child, child_env, python_module_argv
+from cli.supervisor.process import Child, node_command
 from messages.keys import NODE_TOKEN_PREFIX, domain_token, parse_node_token
-from nodes.kinds import KINDS
-from runtime.config import ENV_VAR, SUPERVISOR_PID_VAR, encode_config
 from runtime.session import client_config, close_session, router_config, zenoh_reason
 
 POLL = 0.05  # s between checks of the children
@@ -190,8 +188,8 @@ class Supervisor:
     def _child(self, name: str) -> Child:
         """The Child for node ``name``: its command and environment, made once."""
         config = node_config(self.plan, name, self.endpoint, domain=self.domain)
-        env = child_env({ENV_VAR: encode_config(config), SUPERVISOR_PID_VAR: str(os.getpid())})
-        return Child(name, python_module_argv(KINDS[config.kind].module), env, self.printer)
+        argv, env = node_command(config, supervisor_pid=os.getpid())
+        return Child(name, argv, env, self.printer)
 
     def _start(self, name: str) -> None:
         child = self.children.get(name) or self.children.setdefault(name, self._child(name))

@@ -77,21 +77,23 @@ class Child:
             self._reader.join(timeout)
 
 
-def python_module_argv(module: str) -> list[str]:
-    """argv that runs ``python -m module`` with this interpreter, unbuffered."""
-    return [sys.executable, "-u", "-m", module]
-
-
-def child_env(extra: dict[str, str]) -> dict[str, str]:
+def node_command(config: NodeConfig, supervisor_pid: int | None = None) -> tuple[list[str], dict[str, str]]:
+    """The argv and environment that start node ``config``, the one way both ``launch`` and
+    ``run`` do it: this interpreter, unbuffered, running the kind's module with the config in
+    its environment.  ``supervisor_pid``: the supervisor the node watches (it stops when that
+    process dies); None for a node run on its own (``turtlectl run``), which watches nobody."""
+    argv = [sys.executable, "-u", "-m", KINDS[config.kind].module]
     env = dict(os.environ)
-    env.update(extra)
+    env[ENV_VAR] = encode_config(config)
     env["PYTHONUNBUFFERED"] = "1"
-    return env
+    if supervisor_pid is None:
+        env.pop(SUPERVISOR_PID_VAR, None)
+    else:
+        env[SUPERVISOR_PID_VAR] = str(supervisor_pid)
+    return argv, env
 
 
 def exec_node(config: NodeConfig) -> NoReturn:
     """Become node ``config`` (``turtlectl run``): exec its module in this process, in the foreground."""
-    env = child_env({ENV_VAR: encode_config(config)})
-    env.pop(SUPERVISOR_PID_VAR, None)
-    argv = python_module_argv(KINDS[config.kind].module)
+    argv, env = node_command(config)
     os.execve(argv[0], argv, env)
