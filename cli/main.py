@@ -20,7 +20,7 @@ from pathlib import Path
 import typer
 
 from cli import STOPPED_BY_CTRL_C, build, client, format, services, topics
-from cli.errors import CliError, ExitCode
+from cli.errors import CliError, ExitCode, TurtlectlError, exit_code
 from cli.graph import graph_text
 from cli.launchfile import LaunchFileError, load_launch, node_config, parse_assignment, select_nodes, with_overrides
 from cli.rates import rate_line
@@ -516,9 +516,9 @@ def main() -> None:
         # not turn it into 130, nor hit Zenoh's threads while the interpreter shuts down
         client.ignore_sigint()
         raise
-    except CliError as exc:
+    except TurtlectlError as exc:
         typer.echo(f"turtlectl: error: {exc.message}", err=True)
-        sys.exit(int(exc.code))
+        sys.exit(int(exc.code if isinstance(exc, CliError) else exit_code(exc)))
     except KeyboardInterrupt:
         typer.echo("turtlectl: interrupted", err=True)
         sys.exit(int(ExitCode.INTERRUPTED))

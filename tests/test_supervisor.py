@@ -11,8 +11,9 @@ import pytest
 from cli import STOPPED_BY_CTRL_C, command_of
 from cli.launchfile import parse_launch
 from cli.supervisor import logs
-from cli.supervisor.manager import Supervisor, free_port_near, port_in_use
 from cli.supervisor.printer import Printer
+from cli.supervisor.router import free_port_near, port_in_use
+from cli.supervisor.supervision import Supervision
 
 TWO = '[supervisor]\nsigint_timeout = 0.05\nsigterm_timeout = 0.05\n[[node]]\nname = "sim"\nrun = "sim"\n[[node]]\nname = "navigator"\nrun = "navigator"\n'
 
@@ -37,11 +38,13 @@ class FakeChild:
         pass
 
 
-def supervisor_with(*children: FakeChild, ready: dict[str, int]) -> tuple[Supervisor, io.StringIO]:
+def supervisor_with(*children: FakeChild, ready: dict[str, int]) -> tuple[Supervision, io.StringIO]:
     out = io.StringIO()
-    sup = Supervisor(parse_launch(TWO), Printer(["sim", "navigator"], out, colour=False), 7447, "")
-    sup.children = {c.name: c for c in children}  # type: ignore[misc]
-    sup._alive = dict(ready)
+    by_name = {c.name: c for c in children}
+    sup = Supervision(parse_launch(TWO), Printer(["sim", "navigator"], out, colour=False), by_name.__getitem__)
+    sup.children = dict(by_name)  # type: ignore[arg-type]
+    for name, pid in ready.items():
+        sup.announce(True, name, pid)
     return sup, out
 
 
@@ -49,7 +52,7 @@ def test_a_child_still_starting_gets_sigterm_first_not_a_sigint_inside_its_impor
     ready = FakeChild("sim", 10, (signal.SIGINT,))
     starting = FakeChild("navigator", 11, (signal.SIGTERM,))
     sup, out = supervisor_with(ready, starting, ready={"sim": 10})
-    sup._shutdown()
+    sup.shutdown()
     assert ready.got == [signal.SIGINT] and starting.got == [signal.SIGTERM]
     assert "sending" not in out.getvalue()
 
@@ -57,7 +60,7 @@ def test_a_child_still_starting_gets_sigterm_first_not_a_sigint_inside_its_impor
 def test_a_respawned_child_is_ready_only_once_its_new_pid_is_announced():
     old_token = FakeChild("navigator", 12, (signal.SIGTERM,))  # the token still names pid 11
     sup, _ = supervisor_with(old_token, ready={"navigator": 11})
-    sup._shutdown()
+    sup.shutdown()
     assert old_token.got == [signal.SIGTERM]
 
 
@@ -65,7 +68,7 @@ def test_each_child_gets_each_signal_once_then_sigkill():
     stubborn_ready = FakeChild("sim", 10, ())
     stubborn_starting = FakeChild("navigator", 11, ())
     sup, out = supervisor_with(stubborn_ready, stubborn_starting, ready={"sim": 10})
-    sup._shutdown()
+    sup.shutdown()
     assert stubborn_ready.got == [signal.SIGINT, signal.SIGTERM, signal.SIGKILL]
     assert stubborn_starting.got == [signal.SIGTERM, signal.SIGKILL]
     text = out.getvalue()

@@ -1,27 +1,70 @@
-"""``turtlectl router``: a Zenoh router alone, for systems whose nodes join with ``launch --connect``
-(on other hosts, or to survive a router restart), as rmw_zenoh's ``rmw_zenohd``."""
+"""Routers: the one way turtlectl opens a router (``launch`` and ``router``) or joins one
+(``launch --connect``), and tells a busy port from other failures.
+
+``turtlectl router`` is a Zenoh router alone, for systems whose nodes join with ``launch
+--connect`` (on other hosts, or to survive a router restart), as rmw_zenoh's ``rmw_zenohd``.
+"""
 
 from __future__ import annotations
 
 import signal
+import socket
 import threading
 from collections.abc import Callable
 
 import zenoh
 
-from cli.errors import CliError, ExitCode
-from cli.supervisor.manager import port_in_use
-from runtime.session import close_session, router_config, zenoh_reason
+from cli.errors import CannotStart, Unreachable
+from runtime.session import client_config, close_session, router_config, zenoh_reason
+
+JOIN_TIMEOUT = 3.0  # s to reach the router that ``launch --connect`` joins
+
+
+def free_port_near(port: int, host: str = "127.0.0.1") -> int:
+    """The first port after ``port`` (wrapping below it at the top) that ``host`` can listen on now."""
+    candidates = [p for p in range(port + 1, min(port + 50, 65536))] + list(range(port - 1, max(port - 50, 0), -1))
+    for candidate in candidates:
+        with socket.socket() as probe:
+            try:
+                probe.bind((host.strip("[]"), candidate))
+            except OSError:
+                continue
+            return candidate
+    return port + 1 if port < 65535 else port - 1
+
+
+def port_in_use(port: int, command: str, host: str = "127.0.0.1") -> str:
+    """Why a listen failed on a busy port, and the command that avoids it (with a port that is free now)."""
+    other = free_port_near(port, host)
+    if command == "launch":
+        how = f'.venv/bin/turtlectl launch --port {other} (or make run ARGS="--port {other}")'
+    else:
+        how = f".venv/bin/turtlectl {command} --port {other}"
+    return f"the port is already in use (another `turtlectl {command}`?); choose another: {how}"
+
+
+def open_router(port: int, host: str, command: str) -> zenoh.Session:
+    """A router session listening on tcp/``host``:``port``, or CannotStart saying why (a busy
+    port names the ``command`` to type with a free one)."""
+    try:
+        return zenoh.open(router_config(port, host))
+    except zenoh.ZError as exc:
+        reason = port_in_use(port, command, host) if "in use" in str(exc) else zenoh_reason(exc)
+        raise CannotStart(f"cannot listen on tcp/{host}:{port}: {reason}") from None
+
+
+def join_router(endpoint: str, timeout: float = JOIN_TIMEOUT) -> zenoh.Session:
+    """A client session of the router at ``endpoint``, or Unreachable after ``timeout`` s."""
+    try:
+        return zenoh.open(client_config(endpoint, timeout))
+    except zenoh.ZError:
+        raise Unreachable(f"no router at {endpoint} to join") from None
 
 
 def run_router(port: int, host: str, on_ready: Callable[[], None]) -> None:
     """Serve as a router on tcp/``host``:``port`` until SIGINT/SIGTERM; ``on_ready()`` once listening."""
     stop = threading.Event()
-    try:
-        session = zenoh.open(router_config(port, host))
-    except zenoh.ZError as exc:
-        reason = port_in_use(port, "router", host) if "in use" in str(exc) else zenoh_reason(exc)
-        raise CliError(ExitCode.CANNOT_START, f"cannot listen on tcp/{host}:{port}: {reason}") from None
+    session = open_router(port, host, "router")
     previous = {sig: signal.signal(sig, lambda *_: stop.set()) for sig in (signal.SIGINT, signal.SIGTERM)}
     try:
         on_ready()
