@@ -137,7 +137,9 @@ class Supervision:
                 self._exited(name, child, code, now)
                 if self.stop_reason is not None:
                     return
-        if self.stop_reason is None and not self._respawn_at and not any(c.running() for c in self.children.values()):
+        if self.stop_reason is None and self._given_up >= set(self.entries):
+            # every exit handled and none to be respawned (not merely none running right now:
+            # a respawned child that has exited already is respawned again at the next check)
             self.stop("every node has exited", ExitCode.FAILED)
 
     # -- children -------------------------------------------------------------
