@@ -31,6 +31,7 @@ PURE = [
     "nodes.params",
     "nodes.kinds",
     "cli.launchfile",
+    "cli.supervisor.supervision",  # the supervision policy: processes and clock come from outside
 ]
 
 
