@@ -12,7 +12,6 @@ import signal
 import subprocess
 import sys
 import threading
-import time
 from typing import NoReturn
 
 from cli.supervisor.printer import Printer
@@ -27,7 +26,6 @@ class Child:
         self.env = env
         self.printer = printer
         self.proc: subprocess.Popen[bytes] | None = None
-        self.started_at = 0.0
         self._reader: threading.Thread | None = None
 
     @property
@@ -45,7 +43,6 @@ class Child:
             process_group=0,
             close_fds=True,
         )
-        self.started_at = time.monotonic()
         self._reader = threading.Thread(target=self._pump, args=(self.proc,), name=f"out-{self.name}", daemon=True)
         self._reader.start()
 
