@@ -1,11 +1,17 @@
-"""cli.supervisor.process without starting anything: the one command a node is started with."""
+"""cli.supervisor.process: the one command a node is started with, and one supervised child
+with real processes (signals reach its whole group)."""
 
 from __future__ import annotations
 
+import io
+import os
+import signal
 import sys
+import time
 
 from cli.launchfile import node_config, parse_launch
-from cli.supervisor.process import node_command
+from cli.supervisor.printer import Printer
+from cli.supervisor.process import Child, node_command
 from nodes.kinds import KINDS
 from runtime.config import ENV_VAR, SUPERVISOR_PID_VAR, decode_config
 
@@ -27,3 +33,39 @@ def test_a_node_run_on_its_own_watches_no_supervisor_even_one_inherited(monkeypa
     argv, env = node_command(config)
     assert argv[-1] == KINDS["navigator"].module
     assert SUPERVISOR_PID_VAR not in env and env["TURTLECTL_TEST_MARK"] == "kept"
+
+
+def test_a_signal_reaches_the_child_s_own_children_too(tmp_path):
+    """Issue 9: the supervisor signalled the child's pid only, so a node's own children lived on."""
+    script = (
+        "import subprocess, sys, time\n"
+        # the processes under test only stay alive until the signal (not a wait for readiness)
+        "grandchild = subprocess.Popen([sys.executable, '-c', 'import time; time.sleep(60)'])\n"  # pacing: ok
+        "print(grandchild.pid, flush=True)\n"
+        "time.sleep(60)\n"  # pacing: ok
+    )
+    printer = Printer(["parent"], stream=io.StringIO())
+    child = Child("parent", [sys.executable, "-c", script], dict(os.environ), printer)
+    child.start()
+    try:
+        deadline = time.monotonic() + 10
+        while not printer.stream.getvalue().strip():
+            assert time.monotonic() < deadline, "the child never printed its child's pid"
+            child.flush_output(0.05)
+        grandchild = int(printer.stream.getvalue().split("|")[-1])
+        child.send(signal.SIGTERM)
+        deadline = time.monotonic() + 5
+        while child.running() or _alive(grandchild):
+            assert time.monotonic() < deadline, "a SIGTERM to the child left its own child running"
+            time.sleep(0.02)  # pacing: polling process state under a deadline
+    finally:
+        if child.proc is not None and child.proc.poll() is None:
+            os.killpg(child.proc.pid, signal.SIGKILL)
+
+
+def _alive(pid: int) -> bool:
+    try:
+        with open(f"/proc/{pid}/stat") as f:
+            return f.read().split(") ", 1)[1][0] != "Z"
+    except OSError:
+        return False
