@@ -58,6 +58,8 @@ EXIT_CODES: dict[type[TurtlectlError], ExitCode] = {
 
 def exit_code(error: TurtlectlError) -> ExitCode:
     """The exit code for ``error`` (its class or the nearest base in the table)."""
+    if isinstance(error, CliError):  # transitional: it carries its own code
+        return error.code
     for cls in type(error).__mro__:
         if cls in EXIT_CODES:
             return EXIT_CODES[cls]  # type: ignore[index]
