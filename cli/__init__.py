@@ -1,8 +1,8 @@
 """The ``turtlectl`` command line: launch supervisor and client tools.
 
 ``entry`` is the console script.  It is kept apart from ``cli.main`` so that a
-Ctrl-C during the half second of importing typer, zenoh and numpy ends the
-process with one line instead of a traceback from inside an import.
+Ctrl-C while typer and a command's modules are imported ends the process with
+one line instead of a traceback from inside an import.
 """
 
 from __future__ import annotations

@@ -1,7 +1,7 @@
 """Messages and parameters built from what a user types (pure: no zenoh).
 
 Everything is validated before anything is sent or started; errors are
-CliError(BAD_INPUT) naming the field.
+BadInput naming the field.
 """
 
 from __future__ import annotations
@@ -10,7 +10,7 @@ from typing import Any
 
 import msgspec
 
-from cli.errors import CliError, ExitCode
+from cli.errors import BadInput
 from cli.launchfile import validation_parts
 from messages import Message
 from messages.codec import TYPES_BY_NAME
@@ -32,12 +32,12 @@ def message_type(key: str, type_name: str | None, table: dict[str, Any], verb: s
         found = TYPES_BY_NAME.get(type_name)
         if found is None:
             names = ", ".join(sorted(TYPES_BY_NAME))
-            raise CliError(ExitCode.BAD_INPUT, f"unknown message type {type_name!r} (known: {names})")
+            raise BadInput(f"unknown message type {type_name!r} (known: {names})")
         if known is not None and found is not known:
-            raise CliError(ExitCode.BAD_INPUT, f"{key} {verb} {known.__name__}, not {found.__name__}")
+            raise BadInput(f"{key} {verb} {known.__name__}, not {found.__name__}")
         return found
     if known is None:
-        raise CliError(ExitCode.BAD_INPUT, f"no known message type for {key!r}: give one with --type")
+        raise BadInput(f"no known message type for {key!r}: give one with --type")
     return known
 
 
@@ -46,9 +46,9 @@ def message_from_json(text: str, msg_type: type[Message]) -> Message:
     try:
         return msgspec.json.decode(text.encode(), type=msg_type)
     except msgspec.ValidationError as exc:
-        raise CliError(ExitCode.BAD_INPUT, f"not a valid {msg_type.__name__}: {_problem(exc)}") from None
+        raise BadInput(f"not a valid {msg_type.__name__}: {_problem(exc)}") from None
     except msgspec.DecodeError as exc:
-        raise CliError(ExitCode.BAD_INPUT, f"not valid JSON: {exc}") from None
+        raise BadInput(f"not valid JSON: {exc}") from None
 
 
 def topic_message(key: str, text: str, type_name: str | None = None) -> Message:
@@ -61,6 +61,6 @@ def service_request(key: str, text: str, type_name: str | None = None) -> Messag
         try:
             msgspec.json.decode(text.encode())
         except msgspec.DecodeError as exc:
-            raise CliError(ExitCode.BAD_INPUT, f"not valid JSON: {exc}") from None
+            raise BadInput(f"not valid JSON: {exc}") from None
         return text.encode()
     return message_from_json(text, message_type(key, type_name, SERVICES, verb="takes"))

@@ -1,24 +1,22 @@
 """Client sessions of the command-line tools, and checks of what users type for them.
 
-Nothing here prints; functions return data or raise CliError.  Service calls
-live in cli.services, topics in cli.topics.
+Nothing here prints; functions return data or raise a TurtlectlError (cli.errors).  Service calls
+live in cli.services, topics in cli.topics; the check of --connect in cli.args.
 """
 
 from __future__ import annotations
 
 import contextlib
 import os
-import re
 import secrets
-import signal
 import socket
-import sys
-import threading
 from collections.abc import Iterator
 
 import zenoh
 
-from cli.errors import CliError, ExitCode
+from cli.args import ENDPOINT_RE, endpoint
+from cli.errors import BadInput, TurtlectlError, Unreachable
+from cli.sigint import sigint_deferred
 from messages.keys import (
     DOMAIN_GRAPHS,
     DOMAIN_TOKEN_PREFIX,
@@ -34,44 +32,28 @@ from runtime.session import client_config, close_session, default_domain
 OPEN_TIMEOUT = 2.5  # s to reach the router before reporting "nothing to talk to"
 
 
-ENDPOINT_RE = re.compile(r"^(tcp|udp|tls|quic|ws)/(\[[0-9A-Fa-f:.]+\]|[^\s/:\[\]]+):(\d{1,5})$")
-
-
-def check_endpoint(connect: str) -> str:
-    """``connect`` if it is a Zenoh endpoint (``tcp/HOST:PORT``), else CliError(BAD_INPUT)."""
-    match = ENDPOINT_RE.match(connect)
-    if not match or not 0 < int(match.group(3)) <= 65535:
-        raise CliError(
-            ExitCode.BAD_INPUT,
-            f"{connect!r} is not an endpoint: write it as tcp/HOST:PORT (from --connect or TURTLECTL_CONNECT)",
-        )
-    return connect
-
-
 def check_key(text: str, publish: bool = False) -> str:
     """A topic as typed by a user as a Zenoh key expression: a ROS-style leading '/' is
-    dropped; anything Zenoh would refuse is CliError(BAD_INPUT).  With ``publish``, one
+    dropped; anything Zenoh would refuse is BadInput.  With ``publish``, one
     plain key: no wildcards, nothing of turtlectl's own ``@`` space."""
     key = text[1:] if text.startswith("/") and len(text) > 1 else text
     try:
         key = str(zenoh.KeyExpr(key))
     except zenoh.ZError:
-        raise CliError(
-            ExitCode.BAD_INPUT, f"{text!r} is not a valid key expression (like robot/status or turtle1/*)"
-        ) from None
+        raise BadInput(f"{text!r} is not a valid key expression (like robot/status or turtle1/*)") from None
     if publish and ("*" in key or "$" in key or key.startswith("@")):
-        raise CliError(ExitCode.BAD_INPUT, f"{text!r}: publish on one plain key, without wildcards or '@'")
+        raise BadInput(f"{text!r}: publish on one plain key, without wildcards or '@'")
     return key
 
 
-def _no_system(connect: str) -> CliError:
-    return CliError(ExitCode.UNREACHABLE, f"no turtlectl system at {connect} (is `turtlectl launch` running?)")
+def _no_system(connect: str) -> Unreachable:
+    return Unreachable(f"no turtlectl system at {connect} (is `turtlectl launch` running?)")
 
 
 def probe(connect: str) -> None:
-    """CliError(UNREACHABLE) at once if nothing listens at a ``tcp/`` endpoint (Zenoh itself
+    """Unreachable at once if nothing listens at a ``tcp/`` endpoint (Zenoh itself
     would retry for OPEN_TIMEOUT s before saying so); other protocols are left to Zenoh."""
-    match = ENDPOINT_RE.match(check_endpoint(connect))
+    match = ENDPOINT_RE.match(endpoint(connect))
     if match is None or match.group(1) != "tcp":
         return
     try:
@@ -94,40 +76,6 @@ def client_session(connect: str, domain: str | None = None) -> Iterator[zenoh.Se
     finally:
         with sigint_deferred():  # a Ctrl-C now must not interrupt Zenoh half-way through closing
             close_session(session)
-
-
-def ignore_sigint() -> None:
-    """From now on Ctrl-C changes nothing (main thread only): the result is out, or Zenoh is closing.
-
-    SIG_IGN, so that it also holds while the interpreter shuts down (Python handlers are reset
-    then).  A Ctrl-C already on its way when it is set either raises KeyboardInterrupt here
-    (set it again) or is reported by Python as "Signal 2 ignored due to race condition"
-    (cli.main's unraisable hook keeps that quiet)."""
-    try:
-        signal.signal(signal.SIGINT, signal.SIG_IGN)
-    except KeyboardInterrupt:
-        signal.signal(signal.SIGINT, signal.SIG_IGN)
-
-
-def quiet_unraisable(info: sys.UnraisableHookArgs) -> None:
-    """sys.unraisablehook: drop Python's report of a Ctrl-C that arrived as it was being ignored."""
-    if isinstance(info.exc_value, OSError) and "ignored due to race condition" in str(info.exc_value):
-        return
-    sys.__unraisablehook__(info)
-
-
-@contextlib.contextmanager
-def sigint_deferred() -> Iterator[None]:
-    """Ignore Ctrl-C while the block runs (on the main thread; elsewhere nothing changes)."""
-    if threading.current_thread() is not threading.main_thread():
-        yield
-        return
-    previous = signal.getsignal(signal.SIGINT)
-    ignore_sigint()
-    try:
-        yield
-    finally:
-        signal.signal(signal.SIGINT, previous)
 
 
 def router_lost(session: zenoh.Session) -> bool:
@@ -193,7 +141,7 @@ def domain_hint(connect: str) -> str:
     mine = default_domain()
     try:
         found, plain = domains_on_router(connect)
-    except CliError:
+    except TurtlectlError:
         return ""
     others = [d for d in found if d != mine]
     if plain and mine:

@@ -62,11 +62,3 @@ def exit_code(error: TurtlectlError) -> ExitCode:
         if cls in EXIT_CODES:
             return EXIT_CODES[cls]  # type: ignore[index]
     return ExitCode.FAILED
-
-
-class CliError(TurtlectlError):
-    """Transitional: an error carrying its exit code; being replaced by the classes above."""
-
-    def __init__(self, code: ExitCode, message: str):
-        super().__init__(message)
-        self.code = code

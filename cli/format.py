@@ -5,14 +5,16 @@ from __future__ import annotations
 import csv
 import io
 import math
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import msgspec
 
-from cli.errors import CliError, ExitCode
-from cli.launchfile import LaunchPlan
+from cli.errors import BadInput
 from messages import Ack, Message, NavigateToFeedback, NavigateToResponse, to_builtins, to_json
 from messages.angles import degrees_0_360
+
+if TYPE_CHECKING:  # launch files (nodes' parameters) are loaded by launch and run only
+    from cli.launchfile import LaunchPlan
 
 SHORT = 8  # array items shown before "..." unless --full
 
@@ -43,17 +45,17 @@ def _fields(msg: Message) -> dict[str, Any]:
 
 
 def select_field(msg: Message, path: str) -> Any:
-    """The value at a dotted ``path`` (``ranges.0`` indexes a list); CliError if there is none."""
+    """The value at a dotted ``path`` (``ranges.0`` indexes a list); BadInput if there is none."""
     value: Any = _fields(msg)
     for part in path.split("."):
         if isinstance(value, dict) and part in value:
             value = value[part]
         elif isinstance(value, list) and part.lstrip("-").isdigit():
             if not -len(value) <= int(part) < len(value):
-                raise CliError(ExitCode.BAD_INPUT, f"{path!r}: index {part} is out of range ({len(value)} values)")
+                raise BadInput(f"{path!r}: index {part} is out of range ({len(value)} values)")
             value = value[int(part)]
         else:
-            raise CliError(ExitCode.BAD_INPUT, f"{type(msg).__name__} has no field {path!r}")
+            raise BadInput(f"{type(msg).__name__} has no field {path!r}")
     return value
 
 

@@ -29,10 +29,13 @@ from typing import Annotated, Any
 import msgspec
 import msgspec.inspect as mi
 
+from cli.errors import BadInput
 from messages.world import Limits, World
 from nodes.kinds import KINDS
 from runtime.config import NodeConfig
 
+#: the launch file that comes with turtlectl: the whole system on one machine
+PACKAGED_LAUNCH = Path(__file__).resolve().parent / "launch.toml"
 NAME_RE = re.compile(r"^[A-Za-z_][A-Za-z0-9_\-]*$")
 #: tables that ``--set TABLE.KEY=VALUE`` reaches; no node may be named like them
 TABLES = ("world", "limits", "supervisor")
@@ -41,8 +44,9 @@ Delay = Annotated[float, msgspec.Meta(ge=0.0, le=3600.0)]
 StopWait = Annotated[float, msgspec.Meta(gt=0.0, le=60.0)]
 
 
-class LaunchFileError(ValueError):
-    """A launch file that cannot be used; str() is the one-line message for the user."""
+class LaunchFileError(BadInput, ValueError):
+    """A launch file (or an override) that cannot be used: bad input; str() is the one-line
+    message for the user."""
 
 
 class NodeEntry(msgspec.Struct, forbid_unknown_fields=True, kw_only=True):
@@ -298,6 +302,12 @@ def load_launch(path: Path) -> LaunchPlan:
     return parse_launch(text, source=str(path))
 
 
+def default_launch_file() -> Path:
+    """./launch.toml if there is one, else the packaged default."""
+    local = Path("launch.toml")
+    return local if local.is_file() else PACKAGED_LAUNCH
+
+
 def _no_node(name: str, names: list[str], where: str) -> LaunchFileError:
     return LaunchFileError(f"{where}: no node named {name!r}{suggestion(name, names)} (nodes: {', '.join(names)})")
 
@@ -381,6 +391,17 @@ def with_overrides(plan: LaunchPlan, assignments: list[Assignment], option: str)
                 raise LaunchFileError(f"{option} {'.'.join([target, *keys[: depth + 1]])}: is not a table")
         table[keys[-1]] = item.value
     return _validate(data, plan.source, _Report(option, list(names), override=True))
+
+
+#: how to write a ``launch --set`` override
+SET_FORM = "NODE.PARAM=VALUE or TABLE.KEY=VALUE (world, limits, supervisor)"
+
+
+def launch_plan(path: Path, only: list[str], exclude: list[str], settings: list[str]) -> LaunchPlan:
+    """What ``turtlectl launch`` runs: the file at ``path``, its ``--only``/``--exclude``
+    selection, then its ``--set`` overrides (``settings``), all validated as the file is."""
+    plan = select_nodes(load_launch(path), only, exclude)
+    return with_overrides(plan, [parse_assignment(item, "--set", SET_FORM) for item in settings], "--set")
 
 
 def node_config(

@@ -1,17 +1,19 @@
-"""``turtlectl``: the command-line interface (Typer).
+"""``turtlectl``: the command-line interface (Typer), the command surface only.
 
-Commands are thin: they parse options, call logic in cli.* that never prints,
-and print what it returns.  ``main`` is the one place that turns a CliError
-into a message on stderr and an exit code.
+Commands parse options, call logic in cli.* that never prints (argument checks in
+cli.args, launch files in cli.launchfile, sessions in cli.client, cli.services and
+cli.topics, the supervisor in cli.supervisor), and print what it returns.  Logic raises
+errors by meaning (cli.errors); ``main`` is the one place that prints them on stderr and
+exits with their exit code.
+
+``turtlectl --help`` must stay quick: modules that cost time to import (sessions, launch
+files and node parameters, the supervisor, the curses view, the version metadata) are
+imported inside the commands that use them, not here.
 """
 
 from __future__ import annotations
 
-import importlib.metadata
-import ipaddress
-import math
 import os
-import re
 import shutil
 import signal
 import sys
@@ -19,21 +21,14 @@ from pathlib import Path
 
 import typer
 
-from cli import STOPPED_BY_CTRL_C, build, client, format, services, topics
-from cli.errors import CliError, ExitCode, TurtlectlError, exit_code
-from cli.graph import graph_text
-from cli.launchfile import LaunchFileError, load_launch, node_config, parse_assignment, select_nodes, with_overrides
-from cli.rates import rate_line
-from cli.supervisor import logs
-from cli.supervisor.manager import Supervisor
-from cli.supervisor.printer import Printer
-from cli.supervisor.process import exec_node
-from cli.supervisor.router import run_router
+from cli import STOPPED_BY_CTRL_C, args, format
+from cli.errors import ExitCode, Failed, Interrupted, TurtlectlError, Unreachable, exit_code
+from cli.sigint import ignore_sigint, quiet_unraisable
 from messages import Cancel, NavigateToFeedback, NavigateToRequest, Reset, TeleportAbsolute, keys
 from messages.angles import heading_radians
 from runtime.session import CONNECT_ENV, DEFAULT_ENDPOINT, DEFAULT_PORT, DOMAIN_ENV, default_domain
 
-EXIT_CODES = """
+EXIT_CODES_HELP = """
 Exit codes: 0 success, or Ctrl-C on a command that runs until stopped (echo, hz,
 view, pub --rate); 1 ran but did not succeed (goal refused or not reached, an
 answer that says no, a required node died); 2 bad input (arguments, launch
@@ -45,7 +40,7 @@ commands).
 
 app = typer.Typer(
     name="turtlectl",
-    help="A turtle robot over Zenoh, the ROS 2 way." + EXIT_CODES,
+    help="A turtle robot over Zenoh, the ROS 2 way." + EXIT_CODES_HELP,
     no_args_is_help=True,
     add_completion=True,
     pretty_exceptions_enable=False,
@@ -53,30 +48,15 @@ app = typer.Typer(
     context_settings={"help_option_names": ["-h", "--help"]},
 )
 
-PACKAGED_LAUNCH = Path(__file__).resolve().parent / "launch.toml"
-DOMAIN_RE = re.compile(r"^[A-Za-z0-9_\-]+$")  # one key chunk; a number like ROS_DOMAIN_ID is fine
-
 ConnectOption = typer.Option(
     DEFAULT_ENDPOINT, "--connect", envvar=CONNECT_ENV, help="Router endpoint of the system to talk to."
 )
 
 
-def default_launch_file() -> Path:
-    """./launch.toml if there is one, else the packaged default."""
-    local = Path("launch.toml")
-    return local if local.is_file() else PACKAGED_LAUNCH
-
-
-def version() -> str:
-    """This installation's version, from the package metadata (pyproject.toml)."""
-    try:
-        return importlib.metadata.version("turtlectl")
-    except importlib.metadata.PackageNotFoundError:
-        return "unknown (not installed: run `make install`)"
-
-
 def _print_version(value: bool) -> None:
     if value:
+        from cli.version import version
+
         typer.echo(f"turtlectl {version()}")
         raise typer.Exit(0)
 
@@ -84,9 +64,7 @@ def _print_version(value: bool) -> None:
 def _use_domain(domain: str) -> str:
     """Check ``--domain`` and make it the domain of every session this process opens; the same
     option before or after the command (``turtlectl --domain lab1 list`` = ``turtlectl list --domain lab1``)."""
-    if domain:
-        if not DOMAIN_RE.match(domain):
-            raise CliError(ExitCode.BAD_INPUT, f"--domain {domain!r}: use letters, digits, _ and - (like lab1 or 42)")
+    if args.domain(domain):
         os.environ[DOMAIN_ENV] = domain  # read by every session this process opens
     return domain
 
@@ -147,18 +125,17 @@ def launch(
 
     Example: turtlectl launch --port 7448 --set navigator.goal_timeout=60
     """
-    path = file or default_launch_file()
-    try:
-        plan = select_nodes(load_launch(path), only, exclude)
-        form = "NODE.PARAM=VALUE or TABLE.KEY=VALUE (world, limits, supervisor)"
-        plan = with_overrides(plan, [parse_assignment(item, "--set", form) for item in set_], "--set")
-    except LaunchFileError as exc:
-        raise CliError(ExitCode.BAD_INPUT, str(exc)) from None
+    from cli.launchfile import default_launch_file, launch_plan
+    from cli.supervisor import logs
+    from cli.supervisor.manager import Supervisor
+    from cli.supervisor.printer import Printer
+
+    plan = launch_plan(file or default_launch_file(), only, exclude, set_)
     if check:
         typer.echo(format.plan_text(plan))
         return
-    connect = client.check_endpoint(join) if join is not None else ""
-    host = check_host(listen)
+    connect = args.endpoint(join) if join is not None else ""
+    host = args.listen_address(listen)
     printer = Printer([e.name for e in plan.launch.node])
     supervisor = Supervisor(
         plan, printer, None if join else port, connect, default_domain(), host, log_dir or logs.default_parent()
@@ -179,34 +156,17 @@ def router(
 
     Example: turtlectl router --port 7447
     """
-    host = check_host(listen)
+    from cli.supervisor.router import run_router
+
+    host = args.listen_address(listen)
     run_router(port, host, lambda: typer.echo(f"router listening on tcp/{host}:{port}; Ctrl-C stops it", err=False))
-
-
-def check_host(text: str) -> str:
-    """An IP address to listen on, as an endpoint writes it ([..] around IPv6), or CliError(BAD_INPUT)."""
-    try:
-        address = ipaddress.ip_address(text)
-        return f"[{address}]" if address.version == 6 else str(address)
-    except ValueError:
-        raise CliError(ExitCode.BAD_INPUT, f"--listen {text!r} is not an IP address") from None
 
 
 def _result(text: str) -> None:
     """Print a one-shot command's result: from now on a Ctrl-C changes nothing (no 130, no
     traceback from Zenoh's threads while the process ends)."""
-    client.ignore_sigint()
+    ignore_sigint()
     typer.echo(text)
-
-
-def _number(text: str, name: str) -> float:
-    try:
-        value = float(text.replace("_", "?"))  # Python reads 1_0 as 10; a user did not mean that
-    except ValueError:
-        raise CliError(ExitCode.BAD_INPUT, f"{name} must be a number, got {text!r}") from None
-    if not math.isfinite(value):
-        raise CliError(ExitCode.BAD_INPUT, f"{name} must be a finite number, got {text!r}")
-    return value
 
 
 @app.command(context_settings={"ignore_unknown_options": True})
@@ -231,7 +191,11 @@ def goto(
 
     Example: turtlectl goto 8 5 90
     """
-    request = NavigateToRequest(x=_number(x, "x"), y=_number(y, "y"), theta=_number(theta, "theta"))
+    from cli import services
+
+    request = NavigateToRequest(
+        x=args.finite_number(x, "x"), y=args.finite_number(y, "y"), theta=args.finite_number(theta, "theta")
+    )
     live = sys.stdout.isatty() and not json
 
     def show(fb: NavigateToFeedback) -> None:  # the terminal's width now: it may be resized meanwhile
@@ -242,7 +206,7 @@ def goto(
             connect, request, timeout if timeout is not None else services.NO_LIMIT, show if live else None
         )
     except KeyboardInterrupt:
-        raise CliError(ExitCode.INTERRUPTED, "interrupted: the navigator cancels the goal") from None
+        raise Interrupted("interrupted: the navigator cancels the goal") from None
     finally:
         if live:
             typer.echo("\r\033[K", nl=False)
@@ -258,6 +222,8 @@ def cancel(connect: str = ConnectOption, domain: str = DomainOption) -> None:
 
     Example: turtlectl cancel
     """
+    from cli import services
+
     (ack,) = services.simple_call(connect, keys.CANCEL, Cancel())
     _result(ack.detail)
     raise typer.Exit(ExitCode.OK if ack.ok else ExitCode.FAILED)
@@ -275,11 +241,15 @@ def teleport(
 
     Example: turtlectl teleport 2 2 45
     """
-    degrees = _number(theta, "theta")
-    request = TeleportAbsolute(x=_number(x, "x"), y=_number(y, "y"), theta=heading_radians(degrees))
+    from cli import services
+
+    degrees = args.finite_number(theta, "theta")
+    request = TeleportAbsolute(
+        x=args.finite_number(x, "x"), y=args.finite_number(y, "y"), theta=heading_radians(degrees)
+    )
     acks = services.simple_call(connect, keys.TELEPORT, request)
     if not all(a.ok for a in acks):  # the simulator's own words (they are in radians, as its request)
-        raise CliError(ExitCode.FAILED, format.ack_lines(acks))
+        raise Failed(format.ack_lines(acks))
     _result(format.teleport_line(request.x, request.y, degrees))
 
 
@@ -289,6 +259,8 @@ def reset(connect: str = ConnectOption, domain: str = DomainOption) -> None:
 
     Example: turtlectl reset
     """
+    from cli import services
+
     acks = services.simple_call(connect, keys.RESET, Reset(), everyone=True)
     _result(format.ack_lines(acks))
     raise typer.Exit(ExitCode.OK if all(a.ok for a in acks) else ExitCode.FAILED)
@@ -312,11 +284,10 @@ def echo(
     Keeps printing across a publisher's restart; runs until Ctrl-C (exit code 0), --count or
     --timeout.  With a wildcard each message names its key.  Example: turtlectl echo robot/status --field battery
     """
-    if json and csv:
-        raise CliError(ExitCode.BAD_INPUT, "--json and --csv do not go together")
-    if once and count is not None:
-        raise CliError(ExitCode.BAD_INPUT, "--once and --count do not go together")
-    limit = 1 if once else count
+    from cli import topics
+
+    args.one_format(json, csv)
+    limit = args.echo_limit(once, count)
     header = False
     wildcard = "*" in topic
     try:
@@ -359,6 +330,9 @@ def list_graph(
 
     Example: turtlectl list
     """
+    from cli import topics
+    from cli.graph import graph_text
+
     current = topics.graph(connect)
     _result(format.json_value(current) if json else graph_text(current))
 
@@ -377,6 +351,9 @@ def hz(
     Runs until Ctrl-C (exit code 0) or --duration; a topic silent for 3 s is reported with the reason.
     Example: turtlectl hz robot/status obstacles --duration 10
     """
+    from cli import topics
+    from cli.rates import rate_line
+
     last: list = []
     try:
         for stats in topics.measure_rates(connect, names, window, duration):
@@ -389,7 +366,7 @@ def hz(
     except KeyboardInterrupt:
         pass
     if duration is not None and not last:
-        raise CliError(ExitCode.UNREACHABLE, f"no messages on {', '.join(names)} within {duration:g} s")
+        raise Unreachable(f"no messages on {', '.join(names)} within {duration:g} s")
 
 
 @app.command()
@@ -410,16 +387,16 @@ def pub(
     the last message is exit code 130.
     Example: turtlectl pub turtle1/cmd_vel '{"linear": 1.0, "angular": 0.5}' --rate 10
     """
+    from cli import build, client, topics
+
     key = client.check_key(topic, publish=True)
     msg = build.topic_message(client.base_key(key), message, type_name)
-    if once and (rate is not None or times is not None):
-        raise CliError(ExitCode.BAD_INPUT, "--once does not go with --rate or --times")
-    count = times if times is not None else (None if rate is not None else 1)
+    count = args.publish_count(once, rate, times)
     try:
         sent = topics.publish(connect, topic, msg, rate if rate is not None else 10.0, count)
     except KeyboardInterrupt:
         if count is not None:
-            raise CliError(ExitCode.INTERRUPTED, "interrupted before every message was sent") from None
+            raise Interrupted("interrupted before every message was sent") from None
         return
     typer.echo(f"published {sent} {type(msg).__name__} on {key}", err=True)
 
@@ -448,13 +425,15 @@ def call(
     exit code 1.
     Example: turtlectl call turtle1/teleport_absolute '{"x": 2, "y": 2, "theta": 0}'
     """
+    from cli import build, client, services
+
     key = client.check_key(service)
     body = build.service_request(client.base_key(key), request, type_name)
     code = ExitCode.OK
     try:
         for reply in services.call_service(connect, key, body, timeout):
             if not isinstance(reply, NavigateToFeedback):  # an answer: a Ctrl-C from now on changes nothing
-                client.ignore_sigint()
+                ignore_sigint()
             if isinstance(reply, services.Raw):
                 typer.echo(reply.payload.decode("utf-8", "replace"))
                 continue
@@ -462,9 +441,7 @@ def call(
             code = max(code, services.reply_code(reply))
     except KeyboardInterrupt:
         goal = services.is_goal_service(key)
-        raise CliError(
-            ExitCode.INTERRUPTED, "interrupted" + (": the navigator cancels the goal" if goal else "")
-        ) from None
+        raise Interrupted("interrupted" + (": the navigator cancels the goal" if goal else "")) from None
     raise typer.Exit(code)
 
 
@@ -481,12 +458,11 @@ def run(
 
     Example: turtlectl run navigator -p goal_timeout=60
     """
+    from cli.launchfile import default_launch_file, load_launch, node_config
+    from cli.supervisor.process import exec_node
+
     path = file or default_launch_file()
-    try:
-        config = node_config(load_launch(path), node, client.check_endpoint(connect), param, default_domain())
-    except LaunchFileError as exc:
-        raise CliError(ExitCode.BAD_INPUT, str(exc)) from None
-    exec_node(config)
+    exec_node(node_config(load_launch(path), node, args.endpoint(connect), param, default_domain()))
 
 
 @app.command()
@@ -497,6 +473,7 @@ def view(connect: str = ConnectOption, domain: str = DomainOption) -> None:
 
     Example: turtlectl view
     """
+    from cli import client, services
     from cli.view import run_view  # curses: only for this command
 
     try:
@@ -506,19 +483,25 @@ def view(connect: str = ConnectOption, domain: str = DomainOption) -> None:
         pass
 
 
+def error_line(error: TurtlectlError) -> str:
+    """What the user reads on stderr for ``error``."""
+    return f"turtlectl: error: {error.message}"
+
+
 def main() -> None:
-    """Console entry point: run the app, turning CliError into stderr + exit code."""
-    sys.unraisablehook = client.quiet_unraisable
+    """Console entry point: run the app; the one place where an error becomes its message on
+    stderr and its exit code (cli.errors.exit_code)."""
+    sys.unraisablehook = quiet_unraisable
     try:
         app()
     except SystemExit:
         # the result is out (click ends every command with SystemExit): a late Ctrl-C must
         # not turn it into 130, nor hit Zenoh's threads while the interpreter shuts down
-        client.ignore_sigint()
+        ignore_sigint()
         raise
     except TurtlectlError as exc:
-        typer.echo(f"turtlectl: error: {exc.message}", err=True)
-        sys.exit(int(exc.code if isinstance(exc, CliError) else exit_code(exc)))
+        typer.echo(error_line(exc), err=True)
+        sys.exit(int(exit_code(exc)))
     except KeyboardInterrupt:
         typer.echo("turtlectl: interrupted", err=True)
         sys.exit(int(ExitCode.INTERRUPTED))

@@ -1,6 +1,6 @@
 """Service calls of the command-line tools: any queryable, goals with feedback, simple Acks.
 
-Nothing here prints; functions return data or raise CliError.
+Nothing here prints; functions return data or raise a TurtlectlError (cli.errors).
 
 The rules every call follows (``goto``, ``cancel``, ``teleport``, ``reset`` and ``call``
 alike): replies are handed on as they arrive; a ``navigate_to`` caller holds a client
@@ -20,7 +20,7 @@ import msgspec
 import zenoh
 
 from cli.client import base_key, caller_token, check_key, client_session, domain_hint, router_lost
-from cli.errors import CliError, ExitCode
+from cli.errors import BadInput, ExitCode, Failed, Unreachable
 from messages import (
     Ack,
     DecodeError,
@@ -43,19 +43,19 @@ from runtime.session import default_domain
 ZENOH_GRACE = 1.0  # s: Zenoh's own query timeout is ours plus this; our deadline decides
 
 
-class NoAnswer(CliError):
+class NoAnswer(Failed):
     """The call's time ran out; ``answered``: the service had sent replies (feedback) by then."""
 
-    def __init__(self, code: ExitCode, message: str, answered: bool = False):
-        super().__init__(code, message)
+    def __init__(self, message: str, answered: bool = False):
+        super().__init__(message)
         self.answered = answered
 
 
-class NobodyServes(CliError):
+class NobodyServes(Unreachable):
     """No queryable matches the key."""
 
 
-class RouterLost(CliError):
+class RouterLost(Unreachable):
     """The client session lost its router while waiting."""
 
 
@@ -74,12 +74,10 @@ def service_session(connect: str) -> Iterator[zenoh.Session]:
         try:
             yield session
         except RouterLost as exc:
-            raise CliError(
-                exc.code, exc.message.replace("lost the router", f"lost the router at {connect}", 1)
-            ) from None
+            raise RouterLost(exc.message.replace("lost the router", f"lost the router at {connect}", 1)) from None
         except NobodyServes as exc:
             where = f" in domain {default_domain()}" if default_domain() else ""
-            raise CliError(exc.code, exc.message.replace(" (", f"{where} (", 1) + domain_hint(connect)) from None
+            raise NobodyServes(exc.message.replace(" (", f"{where} (", 1) + domain_hint(connect)) from None
 
 
 ROUTER_LOSS_WAIT = 0.5  # s: how long a query's end may come before the session notices its router is gone
@@ -106,9 +104,9 @@ def replies(
 
     All replies are kept (no consolidation), so a service can stream feedback
     before its answer; ``everyone`` asks every matching queryable, not just one.
-    Raises CliError: NobodyServes (UNREACHABLE) if nobody serves ``key``, RouterLost
-    (UNREACHABLE) if the router goes away, NoAnswer (FAILED) when ``timeout`` s pass
-    before the replies end, BAD_INPUT if the service rejects the request.
+    Raises NobodyServes (Unreachable) if nobody serves ``key``, RouterLost
+    (Unreachable) if the router goes away, NoAnswer (Failed) when ``timeout`` s pass
+    before the replies end, BadInput if the service rejects the request.
     """
     inbox: queue.SimpleQueue[zenoh.Reply | None] = queue.SimpleQueue()
     started = time.monotonic()
@@ -131,8 +129,8 @@ def replies(
         remaining = deadline - time.monotonic()
         if remaining <= 0.0:
             if answered:
-                raise NoAnswer(ExitCode.FAILED, f"{key} answered but did not finish within {timeout:g} s", True)
-            raise NoAnswer(ExitCode.FAILED, f"{key} did not answer within {timeout:g} s")
+                raise NoAnswer(f"{key} answered but did not finish within {timeout:g} s", True)
+            raise NoAnswer(f"{key} did not answer within {timeout:g} s")
         try:
             reply = inbox.get(timeout=min(0.1, remaining))  # short waits keep Ctrl-C responsive
         except queue.Empty:
@@ -142,11 +140,9 @@ def replies(
         answered = True
         yield _read_reply(reply, key, timeout)
     if router_lost(session) or (not answered and router_lost_soon(session, time.monotonic() - started)):
-        raise RouterLost(
-            ExitCode.UNREACHABLE, f"lost the router while waiting for {key} (did `turtlectl launch` stop?)"
-        )
+        raise RouterLost(f"lost the router while waiting for {key} (did `turtlectl launch` stop?)")
     if not answered:
-        raise NobodyServes(ExitCode.UNREACHABLE, f"nothing serves {key} (is the node running?)")
+        raise NobodyServes(f"nothing serves {key} (is the node running?)")
 
 
 def _read_reply(reply: zenoh.Reply, key: str, timeout: float) -> Message | Raw:
@@ -158,15 +154,15 @@ def _read_reply(reply: zenoh.Reply, key: str, timeout: float) -> Message | Raw:
         try:
             return decode_any(payload)  # by the type tag: whatever the encoding says
         except DecodeError as exc:
-            raise CliError(ExitCode.FAILED, f"{key} sent an unreadable answer: {exc}") from None
+            raise Failed(f"{key} sent an unreadable answer: {exc}") from None
     err = reply.err
     payload = err.payload.to_bytes() if err is not None else b""
     if err is not None and type_from_encoding(str(err.encoding)) is ErrorReply:
-        raise CliError(ExitCode.BAD_INPUT, f"{key} rejected the request: {decode(payload, ErrorReply).error}")
+        raise BadInput(f"{key} rejected the request: {decode(payload, ErrorReply).error}")
     # not the service's word but Zenoh's: the query timed out or the route broke
     if payload == b"Timeout":
-        raise NoAnswer(ExitCode.FAILED, f"{key} did not answer within {timeout:g} s")
-    raise CliError(ExitCode.FAILED, f"{key} failed: {payload.decode('utf-8', 'replace') or 'unknown error'}")
+        raise NoAnswer(f"{key} did not answer within {timeout:g} s")
+    raise Failed(f"{key} failed: {payload.decode('utf-8', 'replace') or 'unknown error'}")
 
 
 NO_LIMIT = 24 * 3600.0  # s: wait for the navigator's own goal_timeout
@@ -183,7 +179,7 @@ def goal_replies(
 ) -> Iterator[NavigateToFeedback | NavigateToResponse]:
     """A goal's replies as they arrive, feedback first and its NavigateToResponse last, while
     holding a client token (released when this ends, however it ends: the navigator then
-    cancels a goal still running).  Raises CliError(FAILED) if the goal does not end within
+    cancels a goal still running).  Raises Failed if the goal does not end within
     ``timeout`` s or the navigator stops answering; RouterLost if the router goes away."""
     with caller_token(session, key) as client_id:
         request = msgspec.structs.replace(goal, client=goal.client or client_id)
@@ -196,16 +192,12 @@ def goal_replies(
         except NoAnswer as exc:
             if not exc.answered:
                 raise
-            raise CliError(
-                ExitCode.FAILED, f"the goal did not end within --timeout {timeout:g} s; the navigator cancels it"
-            ) from None
-        except RouterLost as exc:
-            raise RouterLost(exc.code, "lost the router before the goal ended (did `turtlectl launch` stop?)") from None
+            raise Failed(f"the goal did not end within --timeout {timeout:g} s; the navigator cancels it") from None
+        except RouterLost:
+            raise RouterLost("lost the router before the goal ended (did `turtlectl launch` stop?)") from None
         if router_lost_soon(session, lasted=ROUTER_LOSS_WAIT):  # the replies ended without a response: why?
-            raise RouterLost(
-                ExitCode.UNREACHABLE, "lost the router before the goal ended (did `turtlectl launch` stop?)"
-            )
-    raise CliError(ExitCode.FAILED, "the navigator stopped answering before the goal ended (did it exit?)")
+            raise RouterLost("lost the router before the goal ended (did `turtlectl launch` stop?)")
+    raise Failed("the navigator stopped answering before the goal ended (did it exit?)")
 
 
 def navigate(
@@ -226,7 +218,7 @@ def navigate(
                 return message, time.monotonic() - started
             if on_feedback is not None:
                 on_feedback(message)
-    raise CliError(ExitCode.FAILED, "the navigator stopped answering before the goal ended (did it exit?)")
+    raise Failed("the navigator stopped answering before the goal ended (did it exit?)")
 
 
 def simple_call(connect: str, key: str, request: Message, everyone: bool = False, timeout: float = 5.0) -> list[Ack]:

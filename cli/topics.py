@@ -1,6 +1,6 @@
 """Topics for the command-line tools: echo's stream, hz's rates, pub, and the live graph.
 
-Nothing here prints; functions return data or raise CliError.
+Nothing here prints; functions return data or raise a TurtlectlError (cli.errors).
 """
 
 from __future__ import annotations
@@ -15,7 +15,7 @@ import msgspec
 import zenoh
 
 from cli.client import base_key, check_key, client_session, domain_hint
-from cli.errors import CliError, ExitCode
+from cli.errors import Unreachable
 from cli.graph import Graph, build_graph
 from cli.rates import RateStats, rate_stats
 from messages import DecodeError, Message, decode, decode_any, encode, encoding_for, type_from_encoding
@@ -111,7 +111,7 @@ def stream(connect: str, topic: str, count: int | None, timeout: float | None) -
     """Decoded samples on ``key`` until ``count`` valid messages or ``timeout`` s.
 
     Yields a ``Silence`` once if nothing at all arrives for SILENCE s, saying why.  Raises
-    CliError(UNREACHABLE) if ``timeout`` passes without any message.
+    Unreachable if ``timeout`` passes without any message.
     """
     key = check_key(topic)
     with client_session(connect) as session, subscription(session, key) as samples:
@@ -123,7 +123,7 @@ def stream(connect: str, topic: str, count: int | None, timeout: float | None) -
             now = time.monotonic()
             if deadline is not None and now >= deadline:
                 if received == 0:
-                    raise CliError(ExitCode.UNREACHABLE, f"no message on {key} within {timeout:g} s")
+                    raise Unreachable(f"no message on {key} within {timeout:g} s")
                 return
             if not warned and received == 0 and now - started >= SILENCE:
                 warned = True

@@ -1,8 +1,33 @@
 """What every turtlectl process uses: the node API (publishers, subscriptions, services,
 timers, liveliness) on one logic thread, the process lifecycle, session configuration and
-the node config the supervisor hands over.  Imports ``messages`` only, never sim/nodes/cli."""
+the node config the supervisor hands over.  Imports ``messages`` only, never sim/nodes/cli.
 
-from runtime.lifecycle import run, run_main
-from runtime.node import Node, NodeConflict, Publisher, Request
+The node API is loaded when first used (``from runtime import Node``), not when a module
+of the package is imported: ``runtime.session``'s constants and ``runtime.config`` stay
+cheap for the command line (``turtlectl --help``)."""
+
+from __future__ import annotations
+
+import importlib
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:
+    from runtime.lifecycle import run, run_main
+    from runtime.node import Node, NodeConflict, Publisher, Request
 
 __all__ = ["Node", "NodeConflict", "Publisher", "Request", "run", "run_main"]
+
+_HOME = {
+    "Node": "runtime.node",
+    "NodeConflict": "runtime.node",
+    "Publisher": "runtime.node",
+    "Request": "runtime.node",
+    "run": "runtime.lifecycle",
+    "run_main": "runtime.lifecycle",
+}
+
+
+def __getattr__(name: str) -> Any:
+    if name in _HOME:
+        return getattr(importlib.import_module(_HOME[name]), name)
+    raise AttributeError(f"module 'runtime' has no attribute {name!r}")

@@ -5,7 +5,7 @@ import math
 import pytest
 
 from cli.build import message_from_json, service_request, topic_message
-from cli.errors import CliError
+from cli.errors import BadInput
 from cli.format import csv_header, csv_row, message_block, select_field
 from cli.graph import build_graph
 from cli.rates import rate_stats
@@ -49,17 +49,17 @@ def test_rates_from_arrivals_and_stamps():
 
 def test_messages_from_json_name_the_bad_field():
     assert topic_message("turtle1/cmd_vel", '{"linear": 1}') == Twist(linear=1.0)
-    with pytest.raises(CliError, match="linear: Expected `float`, got `str`"):
+    with pytest.raises(BadInput, match="linear: Expected `float`, got `str`"):
         topic_message("turtle1/cmd_vel", '{"linear": "x"}')
-    with pytest.raises(CliError, match="unknown field `boost`"):
+    with pytest.raises(BadInput, match="unknown field `boost`"):
         message_from_json('{"boost": 1}', Twist)
-    with pytest.raises(CliError, match="--type"):
+    with pytest.raises(BadInput, match="--type"):
         topic_message("some/key", "{}")
     assert service_request("turtle1/teleport_absolute", '{"x":1,"y":2,"theta":0}') == TeleportAbsolute(
         x=1, y=2, theta=0
     )
     assert service_request("turtlectl/params/sim", "{}") == b"{}"
-    with pytest.raises(CliError, match="not valid JSON"):
+    with pytest.raises(BadInput, match="not valid JSON"):
         service_request("any/key", "{")
 
 
@@ -72,7 +72,7 @@ def test_formats():
     assert "inf" in message_block(scan, full=True)
     status = TurtleStatus(x=1.0, y=2.0, theta=3.0, vel_x=-0.0, vel_y=0.0, battery=50.0, stamp=7, seq=1)
     assert select_field(scan, "ranges.20") == math.inf and select_field(status, "battery") == 50
-    with pytest.raises(CliError, match="no field 'nope'"):
+    with pytest.raises(BadInput, match="no field 'nope'"):
         select_field(status, "nope")
     assert csv_header(status) == "x,y,theta,vel_x,vel_y,battery,stamp,seq"
     assert csv_row(status).startswith("1.0,2.0,3.0,")

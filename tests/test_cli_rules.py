@@ -10,7 +10,7 @@ from typer.testing import CliRunner
 
 from cli.build import service_request, topic_message
 from cli.client import base_key, domain_prefix
-from cli.errors import CliError, ExitCode
+from cli.errors import ExitCode, TurtlectlError, exit_code
 from cli.format import heading_text, message_block, message_json, outcome_line, progress_line, teleport_line
 from cli.graph import build_graph, graph_text
 from cli.main import app
@@ -184,10 +184,10 @@ def test_silence_outside_a_domain_points_into_the_domain_that_publishes():
 def test_a_known_key_keeps_its_type():
     assert type(topic_message("turtle1/cmd_vel", "{}", "Twist")) is Twist
     assert type(topic_message("some/topic", '{"x": 1, "y": 2, "theta": 0}', "Pose")) is Pose
-    with pytest.raises(CliError) as err:
+    with pytest.raises(TurtlectlError) as err:
         topic_message("turtle1/cmd_vel", '{"x": 1, "y": 2, "theta": 0}', "Pose")
-    assert err.value.code == ExitCode.BAD_INPUT and "turtle1/cmd_vel carries Twist, not Pose" in err.value.message
-    with pytest.raises(CliError, match="navigate_to/cancel takes Cancel, not Pose"):
+    assert exit_code(err.value) == ExitCode.BAD_INPUT and "turtle1/cmd_vel carries Twist, not Pose" in err.value.message
+    with pytest.raises(TurtlectlError, match="navigate_to/cancel takes Cancel, not Pose"):
         service_request("navigate_to/cancel", '{"x": 1, "y": 2, "theta": 0}', "Pose")
     assert type(service_request("navigate_to/cancel", "{}", "Cancel")) is Cancel
 
@@ -265,12 +265,12 @@ def test_domain_and_connect_work_before_and_after_the_command(args, monkeypatch)
     monkeypatch.delenv(DOMAIN_ENV, raising=False)
     monkeypatch.delenv(CONNECT_ENV, raising=False)
     result = CliRunner().invoke(app, args)
-    assert isinstance(result.exception, CliError), result.output  # it ran: nothing listens on port 1
-    assert result.exception.code == ExitCode.UNREACHABLE and "tcp/127.0.0.1:1" in result.exception.message
+    assert isinstance(result.exception, TurtlectlError), result.output  # it ran: nothing listens on port 1
+    assert exit_code(result.exception) == ExitCode.UNREACHABLE and "tcp/127.0.0.1:1" in result.exception.message
     assert os.environ[DOMAIN_ENV] == "lab9"
 
 
 def test_a_bad_domain_after_the_command_is_bad_input(monkeypatch):
     monkeypatch.delenv(DOMAIN_ENV, raising=False)
     result = CliRunner().invoke(app, ["list", "--domain", "a/b"])
-    assert isinstance(result.exception, CliError) and result.exception.code == ExitCode.BAD_INPUT
+    assert isinstance(result.exception, TurtlectlError) and exit_code(result.exception) == ExitCode.BAD_INPUT

@@ -5,6 +5,7 @@ from pathlib import Path
 import pytest
 
 from cli.launchfile import (
+    PACKAGED_LAUNCH,
     LaunchFileError,
     load_launch,
     node_config,
@@ -13,7 +14,6 @@ from cli.launchfile import (
     select_nodes,
     with_overrides,
 )
-from cli.main import PACKAGED_LAUNCH
 
 ROOT = Path(__file__).resolve().parent.parent
 

@@ -8,7 +8,7 @@ import time
 import pytest
 
 from cli import client, services, topics
-from cli.errors import CliError, ExitCode
+from cli.errors import ExitCode, TurtlectlError, exit_code
 from messages import NavigateToRequest
 from tests.integration.harness import free_port, running_system, turtlectl
 
@@ -28,12 +28,12 @@ def test_goto_bad_numbers_exit_2_before_sending(args):
     assert "must be a" in result.stderr and "Traceback" not in result.stderr
 
 
-def waited(call) -> tuple[CliError, float]:
-    """The CliError a client call ends with and how long it waited, measured in this process:
+def waited(call) -> tuple[TurtlectlError, float]:
+    """The error a client call ends with and how long it waited, measured in this process:
     what the command controls, without the interpreter's start-up (0.4-0.7 s here, more on a
     slower machine), which no test of behaviour should time."""
     started = time.monotonic()
-    with pytest.raises(CliError) as err:
+    with pytest.raises(TurtlectlError) as err:
         call()
     return err.value, time.monotonic() - started
 
@@ -49,7 +49,7 @@ def test_with_nothing_running_the_wait_is_under_3_seconds():
     error, seconds = waited(
         lambda: services.navigate(endpoint, NavigateToRequest(x=1, y=1, theta=0), services.NO_LIMIT)
     )
-    assert error.code == ExitCode.UNREACHABLE and "no turtlectl system at" in error.message
+    assert exit_code(error) == ExitCode.UNREACHABLE and "no turtlectl system at" in error.message
     assert seconds < 3.0, seconds  # nothing listens on the port: reported at once, not after OPEN_TIMEOUT
 
 
@@ -99,7 +99,7 @@ def test_goto_with_no_navigator_exits_3_within_3_seconds(tmp_path):
         assert "nothing serves navigate_to" in result.stderr
         request = NavigateToRequest(x=1, y=1, theta=0)
         error, seconds = waited(lambda: services.navigate(system.endpoint, request, services.NO_LIMIT))
-        assert error.code == ExitCode.UNREACHABLE and "nothing serves navigate_to" in error.message
+        assert exit_code(error) == ExitCode.UNREACHABLE and "nothing serves navigate_to" in error.message
         assert seconds < 3.0, seconds
 
 
@@ -110,7 +110,7 @@ def test_a_malformed_endpoint_is_bad_input_at_once(endpoint):
     result = run("list", "--connect", endpoint)
     assert result.returncode == 2 and "write it as tcp/HOST:PORT" in result.stderr, result.stderr
     error, seconds = waited(lambda: topics.graph(endpoint))
-    assert error.code == ExitCode.BAD_INPUT
+    assert exit_code(error) == ExitCode.BAD_INPUT
     assert seconds < client.OPEN_TIMEOUT / 2, seconds  # refused before any connection attempt
 
 

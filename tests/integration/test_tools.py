@@ -12,7 +12,7 @@ import pyte
 import pytest
 
 from cli import services
-from cli.errors import CliError, ExitCode
+from cli.errors import ExitCode, TurtlectlError, exit_code
 from messages import TurtleStatus
 from messages.keys import GRAPH, STATUS
 from tests.integration.harness import NODES, pump, running_system, set_winsize, turtlectl, view_in_pty
@@ -157,9 +157,9 @@ def test_call_any_service(system):
     missing = system.run_cli("call", "no/such/service")
     assert missing.returncode == 3 and "nothing serves no/such/service" in missing.stderr, missing.stderr
     started = time.monotonic()  # the wait itself, in this process: not the CLI's start-up
-    with pytest.raises(CliError) as err:
+    with pytest.raises(TurtlectlError) as err:
         list(services.call_service(system.endpoint, "no/such/service", b"{}", 5.0))
-    assert err.value.code == ExitCode.UNREACHABLE and time.monotonic() - started < 3.0
+    assert exit_code(err.value) == ExitCode.UNREACHABLE and time.monotonic() - started < 3.0
     bad = system.run_cli("call", "turtle1/teleport_absolute", '{"x": 2}')
     assert bad.returncode == 2 and "missing required field `y`" in bad.stderr
 

@@ -1,0 +1,76 @@
+"""Checks of what users type on the command line that Typer's own types cannot express.
+
+Pure (no zenoh, nothing printed): each check returns the value to use or raises BadInput
+with the one-line message for the user.
+"""
+
+from __future__ import annotations
+
+import ipaddress
+import math
+import re
+
+from cli.errors import BadInput
+
+#: ``--domain``: one key chunk; a number like ROS_DOMAIN_ID is fine
+DOMAIN_RE = re.compile(r"^[A-Za-z0-9_\-]+$")
+#: ``--connect``: a Zenoh endpoint, ``PROTOCOL/HOST:PORT`` ([..] around an IPv6 address)
+ENDPOINT_RE = re.compile(r"^(tcp|udp|tls|quic|ws)/(\[[0-9A-Fa-f:.]+\]|[^\s/:\[\]]+):(\d{1,5})$")
+
+
+def finite_number(text: str, name: str) -> float:
+    """``text`` as a finite float (goto's and teleport's X Y THETA: negative values are fine,
+    so they are read as text, not as Typer options)."""
+    try:
+        value = float(text.replace("_", "?"))  # Python reads 1_0 as 10; a user did not mean that
+    except ValueError:
+        raise BadInput(f"{name} must be a number, got {text!r}") from None
+    if not math.isfinite(value):
+        raise BadInput(f"{name} must be a finite number, got {text!r}")
+    return value
+
+
+def domain(text: str) -> str:
+    """``--domain``: empty (no domain) or letters, digits, _ and -."""
+    if text and not DOMAIN_RE.match(text):
+        raise BadInput(f"--domain {text!r}: use letters, digits, _ and - (like lab1 or 42)")
+    return text
+
+
+def endpoint(connect: str) -> str:
+    """``connect`` if it is a Zenoh endpoint (``tcp/HOST:PORT``)."""
+    match = ENDPOINT_RE.match(connect)
+    if not match or not 0 < int(match.group(3)) <= 65535:
+        raise BadInput(
+            f"{connect!r} is not an endpoint: write it as tcp/HOST:PORT (from --connect or TURTLECTL_CONNECT)"
+        )
+    return connect
+
+
+def listen_address(text: str) -> str:
+    """``--listen``: an IP address to listen on, as an endpoint writes it ([..] around IPv6)."""
+    try:
+        address = ipaddress.ip_address(text)
+    except ValueError:
+        raise BadInput(f"--listen {text!r} is not an IP address") from None
+    return f"[{address}]" if address.version == 6 else str(address)
+
+
+def one_format(json: bool, csv: bool) -> None:
+    """echo prints JSON lines or CSV, not both."""
+    if json and csv:
+        raise BadInput("--json and --csv do not go together")
+
+
+def echo_limit(once: bool, count: int | None) -> int | None:
+    """How many messages echo prints before it exits (None: until stopped)."""
+    if once and count is not None:
+        raise BadInput("--once and --count do not go together")
+    return 1 if once else count
+
+
+def publish_count(once: bool, rate: float | None, times: int | None) -> int | None:
+    """How many messages pub sends (None: at ``rate`` until stopped); one by default."""
+    if once and (rate is not None or times is not None):
+        raise BadInput("--once does not go with --rate or --times")
+    return times if times is not None else (None if rate is not None else 1)

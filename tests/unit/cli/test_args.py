@@ -1,0 +1,80 @@
+"""cli.args: checks of what users type, pure (each returns the value to use or raises BadInput)."""
+
+from __future__ import annotations
+
+import pytest
+
+from cli import args
+from cli.errors import BadInput
+
+
+@pytest.mark.parametrize("text, value", [("1", 1.0), ("-2.5", -2.5), ("1e3", 1000.0), (" 7 ", 7.0)])
+def test_finite_numbers(text, value):
+    assert args.finite_number(text, "x") == value
+
+
+@pytest.mark.parametrize("text", ["nan", "inf", "-Infinity", "1e999"])
+def test_infinite_or_nan_is_refused(text):
+    with pytest.raises(BadInput, match=f"x must be a finite number, got {text!r}"):
+        args.finite_number(text, "x")
+
+
+@pytest.mark.parametrize("text", ["north", "1_0", "", "0x10"])
+def test_text_is_not_a_number(text):
+    with pytest.raises(BadInput, match="theta must be a number"):
+        args.finite_number(text, "theta")
+
+
+@pytest.mark.parametrize("name", ["", "lab1", "42", "a-b_c"])
+def test_domains(name):
+    assert args.domain(name) == name
+
+
+@pytest.mark.parametrize("name", ["a/b", "a b", "*", "lab1/", "é"])
+def test_a_domain_is_one_key_chunk(name):
+    with pytest.raises(BadInput, match="use letters, digits, _ and -"):
+        args.domain(name)
+
+
+@pytest.mark.parametrize("text", ["tcp/127.0.0.1:7447", "tcp/[::1]:7447", "tcp/robot.local:1", "udp/10.0.0.1:65535"])
+def test_endpoints(text):
+    assert args.endpoint(text) == text
+
+
+@pytest.mark.parametrize("text", ["tcp/127.0.0.1", "tcp/127.0.0.1:abc", "tcp/h:0", "tcp/h:99999", "127.0.0.1:7447"])
+def test_an_endpoint_is_protocol_host_port(text):
+    with pytest.raises(BadInput, match="write it as tcp/HOST:PORT"):
+        args.endpoint(text)
+
+
+@pytest.mark.parametrize("text, host", [("127.0.0.1", "127.0.0.1"), ("0.0.0.0", "0.0.0.0"), ("::1", "[::1]")])
+def test_listen_addresses_are_written_as_an_endpoint_writes_them(text, host):
+    assert args.listen_address(text) == host
+
+
+def test_listen_takes_an_ip_address_not_a_name():
+    with pytest.raises(BadInput, match="--listen 'localhost' is not an IP address"):
+        args.listen_address("localhost")
+
+
+def test_echo_limit_and_formats():
+    assert args.echo_limit(False, None) is None and args.echo_limit(True, None) == 1 and args.echo_limit(False, 3) == 3
+    with pytest.raises(BadInput, match="--once and --count"):
+        args.echo_limit(True, 3)
+    args.one_format(True, False)
+    with pytest.raises(BadInput, match="--json and --csv"):
+        args.one_format(True, True)
+
+
+@pytest.mark.parametrize(
+    "once, rate, times, count",
+    [(False, None, None, 1), (True, None, None, 1), (False, 5.0, None, None), (False, 5.0, 3, 3), (False, None, 3, 3)],
+)
+def test_publish_count(once, rate, times, count):
+    assert args.publish_count(once, rate, times) == count
+
+
+@pytest.mark.parametrize("rate, times", [(5.0, None), (None, 2), (5.0, 2)])
+def test_publish_once_goes_alone(rate, times):
+    with pytest.raises(BadInput, match="--once does not go with --rate or --times"):
+        args.publish_count(True, rate, times)

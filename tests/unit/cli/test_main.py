@@ -1,0 +1,316 @@
+"""The command surface in this process (Typer's CliRunner, no binary started): every check of
+what users type gives exit code 2 and its message before anything is sent or started; errors
+become exit codes in ``main`` only; ``turtlectl --help`` imports nothing heavy."""
+
+from __future__ import annotations
+
+import signal
+import subprocess
+import sys
+
+import pytest
+from typer.testing import CliRunner
+
+from cli.errors import ExitCode, TurtlectlError, exit_code
+from cli.launchfile import PACKAGED_LAUNCH
+from cli.main import app, error_line, main
+from runtime.session import CONNECT_ENV, DOMAIN_ENV
+
+#: modules `turtlectl --help` must not load: they are for the commands that use them
+HEAVY = [
+    "numpy",
+    "curses",
+    "cli.view",
+    "cli.client",
+    "cli.services",
+    "cli.topics",
+    "cli.launchfile",
+    "cli.supervisor.manager",
+    "cli.supervisor.router",
+    "runtime.node",
+    "runtime.lifecycle",
+    "nodes.kinds",
+]
+
+ENDPOINT_ERROR = (
+    "turtlectl: error: 'garbage' is not an endpoint: write it as tcp/HOST:PORT (from --connect or TURTLECTL_CONNECT)"
+)
+DOMAIN_ERROR = "turtlectl: error: --domain 'a/b': use letters, digits, _ and - (like lab1 or 42)"
+
+
+@pytest.fixture(autouse=True)
+def plain_environment(monkeypatch, tmp_path):
+    """No domain or endpoint from the environment, no ./launch.toml: the packaged one is used.
+    (The commands set TURTLECTL_DOMAIN/CONNECT for the sessions they open; monkeypatch undoes it.)"""
+    for name in (DOMAIN_ENV, CONNECT_ENV, "TURTLECTL_LOG_DIR"):
+        monkeypatch.delenv(name, raising=False)
+    monkeypatch.chdir(tmp_path)
+
+
+def invoke(*argv: str) -> tuple[int, str]:
+    """The exit code and what the user reads for ``turtlectl ARGV``: an error of ours as ``main``
+    turns it into both (the one table, the one wording), Typer's own as Click prints it."""
+    result = CliRunner().invoke(app, list(argv))
+    if isinstance(result.exception, TurtlectlError):
+        return int(exit_code(result.exception)), error_line(result.exception)
+    assert result.exception is None or isinstance(result.exception, SystemExit), result.exception
+    return result.exit_code, result.output
+
+
+def bad_input(*argv: str) -> str:
+    code, text = invoke(*argv)
+    assert code == ExitCode.BAD_INPUT, (code, text)
+    return text
+
+
+# -- numbers: X Y THETA of goto and teleport -----------------------------------------------
+@pytest.mark.parametrize("command", ["goto", "teleport"])
+@pytest.mark.parametrize(
+    "xyz, message",
+    [
+        (("nan", "1", "0"), "x must be a finite number, got 'nan'"),
+        (("1", "inf", "0"), "y must be a finite number, got 'inf'"),
+        (("1", "2", "-infinity"), "theta must be a finite number, got '-infinity'"),
+        (("1", "2", "north"), "theta must be a number, got 'north'"),
+        (("one", "2", "3"), "x must be a number, got 'one'"),
+        (("1_0", "2", "3"), "x must be a number, got '1_0'"),
+        (("", "2", "3"), "x must be a number, got ''"),
+    ],
+)
+def test_coordinates_must_be_finite_numbers(command, xyz, message):
+    assert bad_input(command, *xyz, "--connect", "tcp/127.0.0.1:1") == f"turtlectl: error: {message}"
+
+
+@pytest.mark.parametrize("command", ["goto", "teleport"])
+def test_negative_coordinates_are_numbers_not_options(command):
+    # they pass the number checks and reach the next one: the endpoint
+    assert bad_input(command, "-1", "-2.5", "-90", "--connect", "garbage") == ENDPOINT_ERROR
+
+
+def test_a_missing_coordinate_is_a_usage_error():
+    assert "Missing argument 'THETA'" in bad_input("goto", "1", "2")
+
+
+# -- ranges Typer checks -----------------------------------------------------------------
+@pytest.mark.parametrize(
+    "argv, option",
+    [
+        (("goto", "1", "1", "0", "--timeout", "0"), "--timeout"),
+        (("goto", "1", "1", "0", "--timeout", "soon"), "--timeout"),
+        (("call", "navigate_to", "--timeout", "0.05"), "--timeout"),
+        (("echo", "robot/status", "--count", "0"), "--count"),
+        (("echo", "robot/status", "--count", "two"), "--count"),
+        (("echo", "robot/status", "--timeout", "0"), "--timeout"),
+        (("hz", "robot/status", "--window", "1"), "--window"),
+        (("hz", "robot/status", "--duration", "0.1"), "--duration"),
+        (("pub", "turtle1/cmd_vel", "{}", "--rate", "0"), "--rate"),
+        (("pub", "turtle1/cmd_vel", "{}", "--times", "0"), "--times"),
+        (("launch", "--port", "0"), "--port"),
+        (("launch", "--port", "65536"), "--port"),
+        (("router", "--port", "0"), "--port"),
+        (("router", "--port", "http"), "--port"),
+    ],
+)
+def test_out_of_range_or_not_a_number_is_a_usage_error(argv, option):
+    assert f"Invalid value for '{option}'" in bad_input(*argv)
+
+
+# -- incompatible flags ------------------------------------------------------------------
+def test_echo_json_and_csv_do_not_go_together():
+    text = bad_input("echo", "robot/status", "--json", "--csv", "--connect", "tcp/127.0.0.1:1")
+    assert text == "turtlectl: error: --json and --csv do not go together"
+
+
+def test_echo_once_and_count_do_not_go_together():
+    text = bad_input("echo", "robot/status", "--once", "--count", "2", "--connect", "tcp/127.0.0.1:1")
+    assert text == "turtlectl: error: --once and --count do not go together"
+
+
+@pytest.mark.parametrize("extra", [("--rate", "5"), ("--times", "2"), ("--rate", "5", "--times", "2")])
+def test_pub_once_does_not_go_with_rate_or_times(extra):
+    text = bad_input("pub", "turtle1/cmd_vel", "{}", "--once", *extra, "--connect", "tcp/127.0.0.1:1")
+    assert text == "turtlectl: error: --once does not go with --rate or --times"
+
+
+# -- --domain and --connect, before or after the command, or from the environment -----------
+@pytest.mark.parametrize(
+    "argv",
+    [
+        ("--domain", "a/b", "list"),
+        ("list", "--domain", "a/b"),
+        ("goto", "1", "1", "0", "--domain", "a/b"),
+        ("launch", "--check", "--domain", "a/b"),
+        ("--domain", "a b", "list"),
+    ],
+)
+def test_a_domain_is_one_key_chunk(argv):
+    expected = DOMAIN_ERROR.replace("'a/b'", repr(argv[argv.index("--domain") + 1]))
+    assert bad_input(*argv) == expected
+
+
+def test_a_domain_from_the_environment_is_checked_too(monkeypatch):
+    monkeypatch.setenv(DOMAIN_ENV, "a/b")
+    assert bad_input("list") == DOMAIN_ERROR
+
+
+@pytest.mark.parametrize(
+    "argv",
+    [
+        ("list", "--connect", "garbage"),
+        ("--connect", "garbage", "list"),
+        ("cancel", "--connect", "garbage"),
+        ("reset", "--connect", "garbage"),
+        ("goto", "1", "1", "0", "--connect", "garbage"),
+        ("echo", "robot/status", "--connect", "garbage"),
+        ("hz", "robot/status", "--connect", "garbage"),
+        ("pub", "turtle1/cmd_vel", "{}", "--connect", "garbage"),
+        ("call", "navigate_to/cancel", "--connect", "garbage"),
+        ("view", "--connect", "garbage"),
+        ("run", "sim", "--connect", "garbage"),
+        ("launch", "--connect", "garbage"),
+    ],
+)
+def test_an_endpoint_is_protocol_host_port(argv):
+    assert bad_input(*argv) == ENDPOINT_ERROR
+
+
+def test_an_endpoint_from_the_environment_is_checked_too(monkeypatch):
+    monkeypatch.setenv(CONNECT_ENV, "garbage")
+    assert bad_input("list") == ENDPOINT_ERROR
+
+
+@pytest.mark.parametrize("command", ["launch", "router"])
+@pytest.mark.parametrize("address", ["localhost", "127.0.0.1:7447", "300.1.1.1", ""])
+def test_listen_takes_an_ip_address(command, address):
+    assert bad_input(command, "--listen", address) == f"turtlectl: error: --listen {address!r} is not an IP address"
+
+
+# -- keys and payloads -------------------------------------------------------------------
+@pytest.mark.parametrize(
+    "argv",
+    [
+        ("echo", "robot//status"),
+        ("hz", "robot/status", "a//b"),
+        ("call", "a//b"),
+    ],
+)
+def test_a_key_must_be_a_key_expression(argv):
+    assert "is not a valid key expression (like robot/status or turtle1/*)" in bad_input(
+        *argv, "--connect", "tcp/127.0.0.1:1"
+    )
+
+
+@pytest.mark.parametrize("key", ["turtle1/*", "@turtlectl/node/sim/1", "**"])
+def test_pub_refuses_wildcards_and_internal_keys(key):
+    text = bad_input("pub", key, '{"linear": 1}', "--type", "Twist", "--connect", "tcp/127.0.0.1:1")
+    assert text == f"turtlectl: error: {key!r}: publish on one plain key, without wildcards or '@'"
+
+
+@pytest.mark.parametrize(
+    "argv, message",
+    [
+        (("pub", "turtle1/cmd_vel", '{"linear": "x"}'), "not a valid Twist: linear: Expected `float`, got `str`"),
+        (("pub", "turtle1/cmd_vel", "{"), "not valid JSON: "),
+        (("pub", "turtle1/cmd_vel", "{}", "--type", "Pose"), "turtle1/cmd_vel carries Twist, not Pose"),
+        (("pub", "some/key", "{}"), "no known message type for 'some/key': give one with --type"),
+        (("pub", "some/key", "{}", "--type", "Nope"), "unknown message type 'Nope' (known: "),
+        (("call", "turtle1/teleport_absolute", '{"x": 1}'), "missing required field `y`"),
+        (("call", "navigate_to/cancel", "{}", "--type", "Pose"), "navigate_to/cancel takes Cancel, not Pose"),
+        (("call", "any/key", "{"), "not valid JSON: "),
+    ],
+)
+def test_a_payload_is_checked_before_anything_is_sent(argv, message):
+    assert message in bad_input(*argv, "--connect", "tcp/127.0.0.1:1")
+
+
+# -- launch files, --set, --only/--exclude, run -p -----------------------------------------
+def test_launch_check_prints_the_plan_and_starts_nothing():
+    code, text = invoke("launch", "--check", "--set", "navigator.goal_timeout=60")
+    assert code == ExitCode.OK and text.startswith(f"{PACKAGED_LAUNCH}: valid\n") and '"goal_timeout":60' in text
+
+
+@pytest.mark.parametrize(
+    "argv, message",
+    [
+        (("--set", "navigator"), "--set 'navigator': write it as NODE.PARAM=VALUE or TABLE.KEY=VALUE"),
+        (("--set", "navigator.goal_timeot=3"), "--set navigator.goal_timeot: unknown key; did you mean goal_timeout?"),
+        (("--set", "world.size=-1"), "--set world.size: Expected `float` > 0.0"),
+        (("--set", "nosuch.x=1"), "--set 'nosuch.x=1': no node or table named 'nosuch'"),
+        (("--only", "nosuch"), "--only nosuch: no node named 'nosuch'"),
+        (("--exclude", "nosuch"), "--exclude nosuch: no node named 'nosuch'"),
+        (
+            (
+                "--exclude",
+                "sim",
+                "--exclude",
+                "navigator",
+                "--exclude",
+                "status_monitor",
+                "--exclude",
+                "obstacle_detector",
+            ),
+            "--only/--exclude leave no node to run",
+        ),
+    ],
+)
+def test_launch_options_are_validated_like_the_file(argv, message):
+    assert message in bad_input("launch", "--check", *argv)
+
+
+def test_a_launch_file_that_cannot_be_read_is_bad_input(tmp_path):
+    missing = tmp_path / "none.toml"
+    assert bad_input("launch", str(missing)).startswith(f"turtlectl: error: {missing}: cannot read: ")
+
+
+def test_a_malformed_launch_file_names_the_key_path(tmp_path):
+    bad = tmp_path / "bad.toml"
+    bad.write_text('[[node]]\nname = "sim"\nrun = "sim"\n[node.params]\ncmd_timeout = "soon"\n')
+    assert bad_input("launch", str(bad)) == (
+        f"turtlectl: error: {bad}: node[0] (sim).params.cmd_timeout: Expected `float`, got `str`"
+    )
+
+
+@pytest.mark.parametrize(
+    "argv, message",
+    [
+        (("nosuch",), f"{PACKAGED_LAUNCH}: no node named 'nosuch'"),
+        (("navigator", "-p", "goal_timeout=0"), "--param navigator.goal_timeout: Expected `float` >= 0.1"),
+        (("navigator", "-p", "goal_timeout"), "--param 'goal_timeout': write it as KEY=VALUE"),
+        (("navigator", "--file", "none.toml"), "none.toml: cannot read: "),
+    ],
+)
+def test_run_checks_the_node_and_its_overrides_before_it_starts(argv, message):
+    assert message in bad_input("run", *argv)
+
+
+# -- the one place where errors become exit codes ------------------------------------------
+def test_main_prints_the_error_and_exits_with_its_code(monkeypatch, capsys):
+    monkeypatch.setattr(sys, "argv", ["turtlectl", "echo", "robot/status", "--json", "--csv"])
+    monkeypatch.setattr(sys, "unraisablehook", sys.unraisablehook)
+    previous = signal.getsignal(signal.SIGINT)
+    try:
+        with pytest.raises(SystemExit) as ended:
+            main()
+    finally:
+        signal.signal(signal.SIGINT, previous)
+    assert ended.value.code == ExitCode.BAD_INPUT
+    assert capsys.readouterr().err == "turtlectl: error: --json and --csv do not go together\n"
+
+
+def test_help_lists_the_commands_and_the_exit_codes():
+    code, text = invoke("--help")
+    assert code == ExitCode.OK and "goto" in text and "3 nothing to talk to" in " ".join(text.split())
+
+
+def test_importing_the_command_line_loads_nothing_heavy():
+    """`turtlectl --help` stays quick: numpy, curses, sessions, launch files and the supervisor
+    are imported by the commands that use them."""
+    code = f"import cli.main, sys; print([m for m in {HEAVY!r} if m in sys.modules])"
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
+    assert out.strip() == "[]"
+
+
+def test_importing_the_command_line_does_not_import_numpy():
+    code = "import cli.main, sys; print('numpy' in sys.modules)"
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
+    assert out.strip() == "False"
