@@ -1,9 +1,11 @@
 """The command surface in this process (Typer's CliRunner, no binary started): every check of
 what users type gives exit code 2 and its message before anything is sent or started; errors
-become exit codes in ``main`` only; ``turtlectl --help`` imports nothing heavy."""
+become exit codes in ``main`` only; ``turtlectl --help`` imports nothing heavy; --domain and
+--connect work before and after the command."""
 
 from __future__ import annotations
 
+import os
 import signal
 import subprocess
 import sys
@@ -16,7 +18,6 @@ from cli.launchfile import PACKAGED_LAUNCH
 from cli.main import app, error_line, main
 from runtime.session import CONNECT_ENV, DOMAIN_ENV
 
-#: modules `turtlectl --help` must not load: they are for the commands that use them
 HEAVY = [
     "numpy",
     "curses",
@@ -32,9 +33,12 @@ HEAVY = [
     "nodes.kinds",
 ]
 
+
 ENDPOINT_ERROR = (
     "turtlectl: error: 'garbage' is not an endpoint: write it as tcp/HOST:PORT (from --connect or TURTLECTL_CONNECT)"
 )
+
+
 DOMAIN_ERROR = "turtlectl: error: --domain 'a/b': use letters, digits, _ and - (like lab1 or 42)"
 
 
@@ -63,7 +67,6 @@ def bad_input(*argv: str) -> str:
     return text
 
 
-# -- numbers: X Y THETA of goto and teleport -----------------------------------------------
 @pytest.mark.parametrize("command", ["goto", "teleport"])
 @pytest.mark.parametrize(
     "xyz, message",
@@ -91,7 +94,6 @@ def test_a_missing_coordinate_is_a_usage_error():
     assert "Missing argument 'THETA'" in bad_input("goto", "1", "2")
 
 
-# -- ranges Typer checks -----------------------------------------------------------------
 @pytest.mark.parametrize(
     "argv, option",
     [
@@ -115,7 +117,6 @@ def test_out_of_range_or_not_a_number_is_a_usage_error(argv, option):
     assert f"Invalid value for '{option}'" in bad_input(*argv)
 
 
-# -- incompatible flags ------------------------------------------------------------------
 def test_echo_json_and_csv_do_not_go_together():
     text = bad_input("echo", "robot/status", "--json", "--csv", "--connect", "tcp/127.0.0.1:1")
     assert text == "turtlectl: error: --json and --csv do not go together"
@@ -132,7 +133,6 @@ def test_pub_once_does_not_go_with_rate_or_times(extra):
     assert text == "turtlectl: error: --once does not go with --rate or --times"
 
 
-# -- --domain and --connect, before or after the command, or from the environment -----------
 @pytest.mark.parametrize(
     "argv",
     [
@@ -185,7 +185,6 @@ def test_listen_takes_an_ip_address(command, address):
     assert bad_input(command, "--listen", address) == f"turtlectl: error: --listen {address!r} is not an IP address"
 
 
-# -- keys and payloads -------------------------------------------------------------------
 @pytest.mark.parametrize(
     "argv",
     [
@@ -223,7 +222,6 @@ def test_a_payload_is_checked_before_anything_is_sent(argv, message):
     assert message in bad_input(*argv, "--connect", "tcp/127.0.0.1:1")
 
 
-# -- launch files, --set, --only/--exclude, run -p -----------------------------------------
 def test_launch_check_prints_the_plan_and_starts_nothing():
     code, text = invoke("launch", "--check", "--set", "navigator.goal_timeout=60")
     assert code == ExitCode.OK and text.startswith(f"{PACKAGED_LAUNCH}: valid\n") and '"goal_timeout":60' in text
@@ -283,7 +281,6 @@ def test_run_checks_the_node_and_its_overrides_before_it_starts(argv, message):
     assert message in bad_input("run", *argv)
 
 
-# -- the one place where errors become exit codes ------------------------------------------
 def test_main_prints_the_error_and_exits_with_its_code(monkeypatch, capsys):
     monkeypatch.setattr(sys, "argv", ["turtlectl", "echo", "robot/status", "--json", "--csv"])
     monkeypatch.setattr(sys, "unraisablehook", sys.unraisablehook)
@@ -314,3 +311,29 @@ def test_importing_the_command_line_does_not_import_numpy():
     code = "import cli.main, sys; print('numpy' in sys.modules)"
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
     assert out.strip() == "False"
+
+
+@pytest.mark.parametrize(
+    "args",
+    [
+        ["list", "--domain", "lab9", "--connect", "tcp/127.0.0.1:1"],
+        ["--domain", "lab9", "list", "--connect", "tcp/127.0.0.1:1"],
+        ["--domain", "lab9", "--connect", "tcp/127.0.0.1:1", "list"],
+        ["goto", "1", "1", "0", "--domain", "lab9", "--connect", "tcp/127.0.0.1:1"],
+    ],
+)
+def test_domain_and_connect_work_before_and_after_the_command(args, monkeypatch):
+    """A review found `turtlectl goto 5 5 0 --domain lab1` refused ("unexpected extra argument")
+    right after a hint told the user to add --domain, and `turtlectl --connect ... list` refused."""
+    monkeypatch.delenv(DOMAIN_ENV, raising=False)
+    monkeypatch.delenv(CONNECT_ENV, raising=False)
+    result = CliRunner().invoke(app, args)
+    assert isinstance(result.exception, TurtlectlError), result.output  # it ran: nothing listens on port 1
+    assert exit_code(result.exception) == ExitCode.UNREACHABLE and "tcp/127.0.0.1:1" in result.exception.message
+    assert os.environ[DOMAIN_ENV] == "lab9"
+
+
+def test_a_bad_domain_after_the_command_is_bad_input(monkeypatch):
+    monkeypatch.delenv(DOMAIN_ENV, raising=False)
+    result = CliRunner().invoke(app, ["list", "--domain", "a/b"])
+    assert isinstance(result.exception, TurtlectlError) and exit_code(result.exception) == ExitCode.BAD_INPUT

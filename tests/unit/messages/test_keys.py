@@ -1,4 +1,4 @@
-"""Criterion 7 (unit part): every message type round-trips; malformed payloads are rejected clearly."""
+"""messages.keys: every key has a type; node, entity, domain and client tokens round-trip."""
 
 from messages import (
     NavigateToRequest,
@@ -9,8 +9,11 @@ from messages.keys import (
     TOPICS,
     EntityInfo,
     NodeInfo,
+    client_token,
+    domain_token,
     entity_token,
     node_token,
+    parse_domain_token,
     parse_entity_token,
     parse_node_token,
 )
@@ -34,3 +37,9 @@ def test_entity_token_round_trip_keeps_slashes_in_the_key():
     entity = EntityInfo(node="sim", pid=7, role="pub", type_name="Pose", key="turtle1/pose")
     assert parse_entity_token(entity_token(entity)) == entity
     assert parse_entity_token("@turtlectl/entity/sim/7/bad/Pose/k") is None
+
+
+def test_domain_and_client_tokens():
+    assert domain_token("lab1") == "@turtlectl/domain/lab1" and parse_domain_token("@turtlectl/domain/lab1") == "lab1"
+    assert parse_domain_token("@turtlectl/domain/a/b") is None and parse_domain_token("@turtlectl/node/x") is None
+    assert client_token("42-abcd") == "@turtlectl/client/42-abcd"

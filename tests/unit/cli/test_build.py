@@ -1,0 +1,39 @@
+"""cli.build: messages and requests from JSON, with the bad field named."""
+
+import pytest
+
+from cli.build import message_from_json, service_request, topic_message
+from cli.errors import BadInput, ExitCode, TurtlectlError, exit_code
+from messages import (
+    Cancel,
+    Pose,
+    TeleportAbsolute,
+    Twist,
+)
+
+
+def test_messages_from_json_name_the_bad_field():
+    assert topic_message("turtle1/cmd_vel", '{"linear": 1}') == Twist(linear=1.0)
+    with pytest.raises(BadInput, match="linear: Expected `float`, got `str`"):
+        topic_message("turtle1/cmd_vel", '{"linear": "x"}')
+    with pytest.raises(BadInput, match="unknown field `boost`"):
+        message_from_json('{"boost": 1}', Twist)
+    with pytest.raises(BadInput, match="--type"):
+        topic_message("some/key", "{}")
+    assert service_request("turtle1/teleport_absolute", '{"x":1,"y":2,"theta":0}') == TeleportAbsolute(
+        x=1, y=2, theta=0
+    )
+    assert service_request("turtlectl/params/sim", "{}") == b"{}"
+    with pytest.raises(BadInput, match="not valid JSON"):
+        service_request("any/key", "{")
+
+
+def test_a_known_key_keeps_its_type():
+    assert type(topic_message("turtle1/cmd_vel", "{}", "Twist")) is Twist
+    assert type(topic_message("some/topic", '{"x": 1, "y": 2, "theta": 0}', "Pose")) is Pose
+    with pytest.raises(TurtlectlError) as err:
+        topic_message("turtle1/cmd_vel", '{"x": 1, "y": 2, "theta": 0}', "Pose")
+    assert exit_code(err.value) == ExitCode.BAD_INPUT and "turtle1/cmd_vel carries Twist, not Pose" in err.value.message
+    with pytest.raises(TurtlectlError, match="navigate_to/cancel takes Cancel, not Pose"):
+        service_request("navigate_to/cancel", '{"x": 1, "y": 2, "theta": 0}', "Pose")
+    assert type(service_request("navigate_to/cancel", "{}", "Cancel")) is Cancel

@@ -1,0 +1,52 @@
+"""cli.topics: what a silent topic says."""
+
+from cli.graph import build_graph
+from cli.topics import silence_text
+from messages.keys import (
+    EntityInfo,
+    NodeInfo,
+    entity_token,
+    node_token,
+)
+
+
+def _graph_with(*entities: EntityInfo, nodes: bool = True):
+    keys = [entity_token(e) for e in entities]
+    if nodes:
+        keys.append(node_token(NodeInfo(name="navigator", pid=2)))
+    return build_graph(keys, now_ns=0)
+
+
+def test_silence_says_when_a_topic_is_published():
+    feedback_pub = EntityInfo(
+        node="navigator", pid=2, role="pub", type_name="NavigateToFeedback", key="navigate_to/feedback"
+    )
+    graph = _graph_with(feedback_pub)
+    text = silence_text("navigate_to/feedback", graph, lambda: "")
+    assert "navigator publishes it only while a goal runs" in text and "launch" not in text
+    assert "navigator publishes it only while a goal runs" in silence_text("navigate_to/*", graph, lambda: "")
+    status_pub = EntityInfo(node="status_monitor", pid=3, role="pub", type_name="TurtleStatus", key="robot/status")
+    assert "for 3 s although status_monitor publishes it" in silence_text(
+        "robot/status", _graph_with(status_pub), lambda: ""
+    )
+    assert "no running node publishes it" in silence_text("nosuch", graph, lambda: "")
+    nothing = silence_text("robot/status", build_graph([], 0), lambda: "; systems run in domain lab1")
+    assert "no turtlectl node runs on this router" in nothing and nothing.endswith("; systems run in domain lab1")
+    assert "no turtlectl node runs in domain lab2" in silence_text(
+        "robot/status", build_graph([], 0), lambda: "", "lab2"
+    )
+
+
+def test_silence_outside_a_domain_points_into_the_domain_that_publishes():
+    keys = [
+        "lab1/" + node_token(NodeInfo(name="status_monitor", pid=3)),
+        "lab1/"
+        + entity_token(
+            EntityInfo(node="status_monitor", pid=3, role="pub", type_name="TurtleStatus", key="robot/status")
+        ),
+    ]
+    text = silence_text("robot/status", build_graph(keys, 0), lambda: "")
+    assert (
+        text
+        == "nothing published on robot/status here: it is published in domain lab1: add it before the command, `turtlectl --domain lab1 ...` (or use lab1/robot/status)"
+    )

@@ -1,0 +1,72 @@
+"""cli.view: the picture drawn from the latest messages (no terminal needed)."""
+
+import math
+
+from cli.view import Scene, render
+from messages import (
+    LaserScan,
+    NavigateToFeedback,
+    Pose,
+    TurtleStatus,
+)
+from messages.world import Obstacle, World
+
+
+def test_view_draws_walls_obstacles_turtle_goal_and_status():
+    world = World(size=10.0, obstacles=[Obstacle(x=8.0, y=8.0, radius=1.0)])
+    scene = Scene(
+        world=world,
+        pose=Pose(x=5.0, y=5.0, theta=math.pi / 2),
+        status=TurtleStatus(x=5, y=5, theta=90, vel_x=0, vel_y=0, battery=77.0),
+        feedback=NavigateToFeedback(
+            state="driving",
+            distance_remaining=2,
+            heading_remaining=0,
+            eta=1,
+            elapsed=0,
+            x=5,
+            y=5,
+            theta=90,
+            goal_x=2,
+            goal_y=2,
+        ),
+        trail=[(4.0, 4.0)],
+    )
+    lines = render(scene, 60, 24)
+    assert len(lines) == 24 and all(len(line) <= 60 for line in lines)
+    assert lines[0].startswith("+-") and lines[0].endswith("+")
+    grid = "\n".join(lines[1:-3])
+    assert "↑" in grid and "X" in grid and "o" in grid and "." in grid
+    assert "x  5.00 y  5.00 heading  90.0 deg" in lines[-2]
+    assert "battery 77.0 %" in lines[-1] and "goal (2.00, 2.00) driving" in lines[-1] and "q quits" in lines[-1]
+    assert "^" in "\n".join(render(scene, 60, 24, unicode=False))
+    assert render(scene, 10, 3) == ["terminal too small"]
+
+
+def test_the_view_has_a_legend_scan_hits_and_says_when_the_router_is_lost():
+    scan = LaserScan(  # one beam straight ahead of a turtle facing +y: the hit is above it
+        angle_min=0.0,
+        angle_max=0.0,
+        angle_increment=0.0,
+        range_min=0.0,
+        range_max=10.0,
+        ranges=[3.0],
+        origin_x=5.0,
+        origin_y=2.0,
+        origin_theta=math.pi / 2,
+    )
+    scene = Scene(world=World(size=10.0), pose=Pose(x=5.0, y=2.0, theta=math.pi / 2), scan=scan)
+    lines = render(scene, 60, 24)
+    grid = lines[1:-4]
+    (hit_row,) = [i for i, row in enumerate(grid) if "*" in row]
+    (turtle_row,) = [i for i, row in enumerate(grid) if "↑" in row]
+    assert hit_row < turtle_row and grid[hit_row].index("*") == grid[turtle_row].index("↑")
+    assert any(
+        "o obstacle" in line and "* scan hit" in line and ". trail" in line and "X goal" in line for line in lines
+    )
+    assert any("c clears the trail" in line for line in lines)
+    scene.router = "tcp/127.0.0.1:7447"
+    assert "no router at tcp/127.0.0.1:7447" in render(scene, 80, 24)[-2]
+    status = TurtleStatus(x=5, y=5, theta=0, vel_x=0, vel_y=0, battery=50)
+    heading = render(Scene(world=World(size=10.0), pose=Pose(x=5.0, y=5.0, theta=-1e-9), status=status), 80, 24)[-2]
+    assert "heading   0.0 deg" in heading
