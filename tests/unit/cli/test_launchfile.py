@@ -15,7 +15,7 @@ from cli.launchfile import (
     with_overrides,
 )
 
-ROOT = Path(__file__).resolve().parent.parent
+ROOT = Path(__file__).resolve().parents[3]
 
 MINIMAL = '[[node]]\nname = "sim"\nrun = "sim"\n'
 
