@@ -41,7 +41,7 @@ from messages import (
 )
 from messages.angles import degrees_0_360, heading_degrees, heading_radians
 from messages.keys import CANCEL, CLIENT_TOKEN_PREFIX, CMD_VEL, FEEDBACK, NAVIGATE_TO, OBSTACLES, POSE, STATUS
-from nodes.control import Phase, choose_direction, control_step, remaining_time
+from nodes.control import Phase, Pose2D, Tolerances, choose_direction, control_step, remaining_time
 from nodes.goal import allowed_speed, goal_problem, heading_error_deg, path_problem
 from nodes.params import NavigatorParams
 from nodes.scan import circles_corridor_clearance, corridor_clearance, hit_points, off_walls
@@ -57,9 +57,10 @@ class Goal:
         self.x, self.y = body.x, body.y
         self.theta_deg = degrees_0_360(body.theta)  # reduced in degrees, exactly, before anything else
         self.theta = heading_radians(self.theta_deg)
+        self.target = Pose2D(self.x, self.y, self.theta)
         self.client = f"{CLIENT_TOKEN_PREFIX}/{body.client}" if body.client else ""
         self.start = time.monotonic()
-        self.phase = Phase.DRIVE
+        self.phase = Phase.POSITION
         self.direction = 0  # chosen with the first pose
         self.state = "turning"
         self.blocked_since: float | None = None
@@ -176,7 +177,7 @@ class Navigator:
         if goal is None or pose is None:
             return
         limits = self.node.limits
-        eta = remaining_time(pose.x, pose.y, pose.theta, goal.x, goal.y, goal.theta, goal.direction or 1, limits)
+        eta = remaining_time(pose, goal.target, goal.direction or 1, limits)
         progress = self.feedback_pub.publish(  # for observers; the same, stamped, to the caller
             NavigateToFeedback(
                 state=goal.state,
@@ -203,20 +204,15 @@ class Navigator:
         p = self.node.params
         limits = self.node.limits
         if goal.direction == 0:
-            goal.direction = choose_direction(pose.x, pose.y, pose.theta, goal.x, goal.y, goal.theta, limits)
+            goal.direction = choose_direction(pose, goal.target, limits)
         cmd = control_step(
-            pose.x,
-            pose.y,
-            pose.theta,
-            goal.x,
-            goal.y,
-            goal.theta,
-            goal.phase,
-            goal.direction,
-            limits,
-            p.gains,
-            p.position_tolerance,
-            math.radians(p.heading_tolerance),
+            pose,
+            goal.target,
+            phase=goal.phase,
+            direction=goal.direction,
+            limits=limits,
+            gains=p.gains,
+            tolerances=Tolerances(position=p.position_tolerance, heading=math.radians(p.heading_tolerance)),
         )
         goal.phase = cmd.phase
         if cmd.phase is Phase.DONE:
