@@ -28,7 +28,7 @@ from sim.kinematics import STEP, wrap_angle
 class Phase(enum.Enum):
     """Which part of the goal the law works on: its POSITION first, then its HEADING
     (turning in place); DONE once both are within the tolerances.  Not what the turtle is
-    seen doing (turning, driving, blocked: the feedback's state): the law turns while it
+    seen doing (turning, driving, blocked: messages.GoalState): the law turns while it
     works on the position, too."""
 
     POSITION = "position"

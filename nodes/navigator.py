@@ -31,6 +31,7 @@ import numpy as np
 from messages import (
     Ack,
     Cancel,
+    GoalState,
     LaserScan,
     NavigateToFeedback,
     NavigateToRequest,
@@ -62,7 +63,7 @@ class Goal:
         self.start = time.monotonic()
         self.phase = Phase.POSITION
         self.direction = 0  # chosen with the first pose
-        self.state = "turning"
+        self.state = GoalState.TURNING
         self.blocked_since: float | None = None
 
 
@@ -228,7 +229,7 @@ class Navigator:
         if goal.blocked_since is not None:
             goal.blocked_since = None
             self.node.log.info("way clear: resuming")
-        goal.state = "driving" if linear != 0.0 else "turning"
+        goal.state = GoalState.DRIVING if linear != 0.0 else GoalState.TURNING
         self.cmd_pub.publish(Twist(linear=linear, angular=cmd.angular))
 
     def blocked(self, goal: Goal, angular: float, what: str) -> None:
@@ -239,7 +240,7 @@ class Navigator:
         if goal.blocked_since is None:
             goal.blocked_since = now
             self.node.log.info("%s within %.2f m in the direction of travel: stopped", what, p.safety_distance)
-        goal.state = "blocked"
+        goal.state = GoalState.BLOCKED
         self.cmd_pub.publish(Twist(linear=0.0, angular=angular))
         if now - goal.blocked_since > p.blocked_timeout:
             self.finish(
