@@ -47,11 +47,11 @@ from messages import (
     TurtleStatus,
     Twist,
 )
-from messages.angles import degrees_0_360, heading_degrees, heading_radians
+from messages.angles import degrees_0_360, heading_degrees, heading_difference_degrees, heading_radians
 from messages.keys import CLIENT_TOKEN_PREFIX, POSE
 from messages.world import Limits, World
 from nodes.control import Phase, Pose2D, Tolerances, choose_direction, control_step, remaining_time
-from nodes.goal import allowed_speed, goal_problem, heading_error_deg, path_problem
+from nodes.goal import allowed_speed, goal_problem, path_problem
 from nodes.params import NavigatorParams
 from nodes.scan import circles_corridor_clearance, corridor_clearance, hit_points, off_walls
 
@@ -213,7 +213,7 @@ class GoalMachine(Generic[C]):
         return goal.caller, NavigateToFeedback(
             state=goal.state,
             distance_remaining=math.hypot(target.x - pose.x, target.y - pose.y),
-            heading_remaining=heading_error_deg(target.theta, pose.theta),
+            heading_remaining=heading_difference_degrees(target.theta, pose.theta),
             eta=remaining_time(pose, target, goal.direction or 1, self.limits),
             elapsed=now - goal.start,
             x=pose.x,
@@ -314,7 +314,7 @@ class GoalMachine(Generic[C]):
         if pose is not None:
             final = {
                 "position_error": math.hypot(target.x - pose.x, target.y - pose.y),
-                "heading_error": heading_error_deg(target.theta, pose.theta),
+                "heading_error": heading_difference_degrees(target.theta, pose.theta),
                 "x": pose.x,
                 "y": pose.y,
                 "theta": heading_degrees(pose.theta),
