@@ -22,7 +22,7 @@ ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
 from cli.launchfile import load_launch  # noqa: E402
-from nodes.control import rotate_drive_rotate_time  # noqa: E402
+from nodes.control import Pose2D, rotate_drive_rotate_time  # noqa: E402
 from tests.integration.harness import NODES, running_system  # noqa: E402  (the tests' launcher)
 
 LAUNCH = ROOT / "bench" / "navigation.toml"
@@ -53,7 +53,7 @@ def main() -> None:
         for start, goal in cases:
             system.teleport(*start)
             response, elapsed, _ = system.navigate(*goal, timeout=30.0)
-            baseline = rotate_drive_rotate_time(*start, goal[0], goal[1], math.radians(goal[2]), limits)
+            baseline = rotate_drive_rotate_time(Pose2D(*start), Pose2D(goal[0], goal[1], math.radians(goal[2])), limits)
             rows.append((response, elapsed, baseline))
 
     ok = [r for r, _, _ in rows if r.success]

@@ -25,7 +25,7 @@ ROOT = Path(__file__).resolve().parents[1]
 if str(ROOT) not in sys.path:
     sys.path.insert(0, str(ROOT))
 
-from messages import ALL_TYPES, keys  # noqa: E402
+from messages import ALL_TYPES, GoalState, keys  # noqa: E402
 from messages.codec import MEDIA_TYPE  # noqa: E402
 from messages.world import Limits, Obstacle, World  # noqa: E402
 from nodes.kinds import KINDS  # noqa: E402
@@ -113,7 +113,7 @@ FIELDS: dict[str, dict[str, tuple[str, str, str]]] = {
         ),
     },
     "NavigateToFeedback": {
-        "state": ("-", '"turning", "driving", "blocked"', "what the turtle does now"),
+        "state": ("-", ", ".join(f'"{s.value}"' for s in GoalState), "what the turtle does now"),
         "distance_remaining": ("m", ">= 0", "straight-line distance to the goal position"),
         "heading_remaining": (
             "degrees",
@@ -287,6 +287,8 @@ def _type_name(t: msgspec.inspect.Type) -> str:
         return "bool"
     if isinstance(t, msgspec.inspect.StrType):
         return "str"
+    if isinstance(t, msgspec.inspect.EnumType) and issubclass(t.cls, str):
+        return "str"  # on the wire, the value; the range column lists the values
     if isinstance(t, msgspec.inspect.ListType):
         return f"list[{_type_name(t.item_type)}]"
     if isinstance(t, msgspec.inspect.StructType):

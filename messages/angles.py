@@ -1,7 +1,8 @@
 """Angles as people and the wire see them: the one place headings are reduced.
 
 Degrees are what people type and read (``goto``, ``TurtleStatus.theta``, feedback);
-radians are what the kinematics use.  A heading that enters the system in degrees is
+radians are what the kinematics use.  No other module converts or reduces them (a unit
+test reads the source for ``math.degrees``, ``% 360`` and ``fmod`` elsewhere).  A heading that enters the system in degrees is
 reduced in degrees first (``math.fmod`` is exact), so ``1e16`` or ``1e308`` degrees
 become an ordinary heading instead of a radian value whose last bits are noise.
 """
@@ -24,6 +25,11 @@ def degrees_0_360(degrees: float) -> float:
 def heading_degrees(radians: float) -> float:
     """A heading in rad as people read it: degrees in [0, 360)."""
     return degrees_0_360(math.degrees(radians))
+
+
+def heading_difference_degrees(a: float, b: float) -> float:
+    """How far apart two headings in rad are: degrees in [0, 180]."""
+    return abs(math.degrees(wrap_radians(a - b)))
 
 
 def heading_radians(degrees: float) -> float:

@@ -16,6 +16,7 @@ since the Unix epoch, ``seq`` a per-publisher counter starting at 0.
 
 from __future__ import annotations
 
+import enum
 import math
 
 import msgspec
@@ -117,11 +118,22 @@ class NavigateToRequest(Message, tag="NavigateToRequest"):
     client: str = ""
 
 
+class GoalState(enum.StrEnum):
+    """What the turtle does for a running goal (``NavigateToFeedback.state``); on the wire,
+    the value: ``"turning"`` (in place, or on the way with too large a heading error to drive),
+    ``"driving"`` (moving towards the goal position), ``"blocked"`` (something within the
+    safety distance ahead: it only turns)."""
+
+    TURNING = "turning"
+    DRIVING = "driving"
+    BLOCKED = "blocked"
+
+
 class NavigateToFeedback(Message, tag="NavigateToFeedback"):
     """Progress of a running goal, replied to its caller about 10 times a second.
 
     Also published on ``navigate_to/feedback`` for observers (``turtlectl view``).
-    state: "turning", "driving" or "blocked".  distance_remaining: m.
+    state: a GoalState, "turning", "driving" or "blocked".  distance_remaining: m.
     heading_remaining: degrees.  eta: estimated s to arrival.  elapsed: s.
     x, y, theta: current pose (m, m, degrees [0, 360)).
     goal_x, goal_y, goal_theta: the goal (m, m, degrees [0, 360)).
@@ -129,7 +141,7 @@ class NavigateToFeedback(Message, tag="NavigateToFeedback"):
         declared obstacles of the world.
     """
 
-    state: str
+    state: GoalState
     distance_remaining: float
     heading_remaining: float
     eta: float

@@ -1,7 +1,7 @@
 """The navigator's control law as pure functions: no I/O, no clock, no zenoh.
 
-A goal is reached in two phases: DRIVE to the position, then ALIGN to the
-final heading in place.  At the start of a goal the law picks the direction of
+A goal is reached in two phases: its POSITION, then its HEADING, turning in
+place.  At the start of a goal the law picks the direction of
 travel (forwards or backwards) that needs the least turning in all, and it
 turns while driving: the speed fades with the heading error and is zero beyond
 ``drive_cone``.  Speeds follow a "brake in time" profile,
@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import enum
 import math
+from typing import Protocol
 
 import msgspec
 
@@ -24,10 +25,45 @@ from messages.world import Limits
 from sim.kinematics import STEP, wrap_angle
 
 
-class Phase(enum.StrEnum):
-    DRIVE = "driving"
-    ALIGN = "aligning"
+class Phase(enum.Enum):
+    """Which part of the goal the law works on: its POSITION first, then its HEADING
+    (turning in place); DONE once both are within the tolerances.  Not what the turtle is
+    seen doing (turning, driving, blocked: messages.GoalState): the law turns while it
+    works on the position, too."""
+
+    POSITION = "position"
+    HEADING = "heading"
     DONE = "done"
+
+
+class Planar(Protocol):
+    """Anything with a planar pose: x, y (m) and theta (rad), such as a Pose message,
+    the simulator's TurtleState or a Pose2D."""
+
+    @property
+    def x(self) -> float: ...
+
+    @property
+    def y(self) -> float: ...
+
+    @property
+    def theta(self) -> float: ...
+
+
+class Pose2D(msgspec.Struct, frozen=True):
+    """A planar pose: x, y in m, theta in rad (a goal, as the law pursues it)."""
+
+    x: float
+    y: float
+    theta: float
+
+
+class Tolerances(msgspec.Struct, frozen=True, kw_only=True):
+    """What the caller calls success: within ``position`` m of the goal position and
+    ``heading`` rad of its heading.  The law aims at half of each."""
+
+    position: float
+    heading: float
 
 
 class Gains(msgspec.Struct, forbid_unknown_fields=True, kw_only=True):
@@ -69,70 +105,64 @@ def trapezoid_time(distance: float, v_max: float, accel: float) -> float:
     return distance / v_max + v_max / accel
 
 
-def rotate_drive_rotate_time(
-    x: float, y: float, theta: float, goal_x: float, goal_y: float, goal_theta: float, limits: Limits
-) -> float:
+def rotate_drive_rotate_time(start: Planar, goal: Planar, limits: Limits) -> float:
     """Time (s) of the naive plan under ``limits``: turn to face the goal, drive straight,
     turn to the final heading, each from rest to rest with a trapezoidal speed profile."""
-    distance = math.hypot(goal_x - x, goal_y - y)
-    turn = trapezoid_time
+    distance = math.hypot(goal.x - start.x, goal.y - start.y)
+    w, a = limits.max_angular_speed, limits.max_angular_accel
     if distance == 0.0:
-        return turn(wrap_angle(goal_theta - theta), limits.max_angular_speed, limits.max_angular_accel)
-    bearing = math.atan2(goal_y - y, goal_x - x)
+        return trapezoid_time(wrap_angle(goal.theta - start.theta), w, a)
+    bearing = math.atan2(goal.y - start.y, goal.x - start.x)
     return (
-        turn(wrap_angle(bearing - theta), limits.max_angular_speed, limits.max_angular_accel)
+        trapezoid_time(wrap_angle(bearing - start.theta), w, a)
         + trapezoid_time(distance, limits.max_linear_speed, limits.max_linear_accel)
-        + turn(wrap_angle(goal_theta - bearing), limits.max_angular_speed, limits.max_angular_accel)
+        + trapezoid_time(wrap_angle(goal.theta - bearing), w, a)
     )
 
 
-def choose_direction(
-    x: float, y: float, theta: float, goal_x: float, goal_y: float, goal_theta: float, limits: Limits
-) -> int:
+def choose_direction(pose: Planar, goal: Planar, limits: Limits) -> int:
     """+1 to drive forwards, -1 backwards: whichever needs less time turning in all."""
-    bearing = math.atan2(goal_y - y, goal_x - x)
+    bearing = math.atan2(goal.y - pose.y, goal.x - pose.x)
 
     def turning(facing: float) -> float:
         w, a = limits.max_angular_speed, limits.max_angular_accel
-        return trapezoid_time(wrap_angle(facing - theta), w, a) + trapezoid_time(wrap_angle(goal_theta - facing), w, a)
+        return trapezoid_time(wrap_angle(facing - pose.theta), w, a) + trapezoid_time(
+            wrap_angle(goal.theta - facing), w, a
+        )
 
     return 1 if turning(bearing) <= turning(bearing + math.pi) else -1
 
 
 def control_step(
-    x: float,
-    y: float,
-    theta: float,
-    goal_x: float,
-    goal_y: float,
-    goal_theta: float,
+    pose: Planar,
+    goal: Planar,
+    *,
     phase: Phase,
     direction: int,
     limits: Limits,
     gains: Gains,
-    position_tolerance: float,
-    heading_tolerance: float,
+    tolerances: Tolerances,
 ) -> Command:
-    """One step of the control law from the current pose (m, m, rad) to the goal (m, m, rad).
+    """One step of the control law from the current ``pose`` to ``goal`` (m, m, rad).
 
-    ``direction`` is the one chosen for the goal (choose_direction).
-    ``position_tolerance`` (m) and ``heading_tolerance`` (rad) are what the
-    caller calls success; the law aims at half of each so that it finishes
-    well inside them.  Returns DONE with zero speeds once both hold.
+    ``phase`` is the one the last step returned (POSITION to begin with); ``direction``
+    the one chosen for the goal (choose_direction).  The law aims at half of each of
+    ``tolerances`` so that it finishes well inside them.  Returns DONE with zero speeds
+    once both hold.
     """
-    dx, dy = goal_x - x, goal_y - y
+    dx, dy = goal.x - pose.x, goal.y - pose.y
     distance = math.hypot(dx, dy)
     if phase is Phase.DONE:
-        phase = Phase.ALIGN
-    if phase is Phase.ALIGN and distance > position_tolerance:
-        phase = Phase.DRIVE
-    if phase is Phase.DRIVE and distance <= 0.5 * position_tolerance:
-        phase = Phase.ALIGN
+        phase = Phase.HEADING
+    if phase is Phase.HEADING and distance > tolerances.position:
+        phase = Phase.POSITION
+    if phase is Phase.POSITION and distance <= 0.5 * tolerances.position:
+        phase = Phase.HEADING
 
     a_lin = gains.brake_fraction * limits.max_linear_accel
     a_ang = gains.brake_fraction * limits.max_angular_accel
-    if phase is Phase.DRIVE:
-        alpha = wrap_angle(math.atan2(dy, dx) - theta)
+    if phase is Phase.POSITION:
+        alpha = wrap_angle(math.atan2(dy, dx) - pose.theta)
         if distance < gains.near:  # close in: never turn around, back up or creep on
             direction = 1 if abs(alpha) <= math.pi / 2 else -1
         if direction < 0:
@@ -144,23 +174,25 @@ def control_step(
             speed *= max(0.0, math.cos(alpha)) * (1.0 - abs(alpha) / gains.drive_cone)
         return Command(linear=direction * speed, angular=angular, phase=phase, direction=direction)
 
-    error = wrap_angle(goal_theta - theta)
-    if abs(error) <= 0.5 * heading_tolerance:
+    error = wrap_angle(goal.theta - pose.theta)
+    if abs(error) <= 0.5 * tolerances.heading:
         return Command(linear=0.0, angular=0.0, phase=Phase.DONE, direction=direction)
     angular = math.copysign(profile(abs(error), limits.max_angular_speed, a_ang, gains.k_angular), error)
-    return Command(linear=0.0, angular=angular, phase=Phase.ALIGN, direction=direction)
+    return Command(linear=0.0, angular=angular, phase=Phase.HEADING, direction=direction)
 
 
-def remaining_time(
-    x: float, y: float, theta: float, goal_x: float, goal_y: float, goal_theta: float, direction: int, limits: Limits
-) -> float:
-    """Estimated s to finish from the current pose: drive the remaining distance
-    (travelling ``direction``), then turn to the final heading, each trapezoidal."""
-    distance = math.hypot(goal_x - x, goal_y - y)
-    facing = theta if distance < 1e-3 else math.atan2(goal_y - y, goal_x - x) + (0.0 if direction > 0 else math.pi)
+def remaining_time(pose: Planar, goal: Planar, direction: int, limits: Limits) -> float:
+    """Estimated s to finish from ``pose``: drive the remaining distance (travelling
+    ``direction``), then turn to the final heading, each trapezoidal."""
+    distance = math.hypot(goal.x - pose.x, goal.y - pose.y)
+    facing = (
+        pose.theta
+        if distance < 1e-3
+        else math.atan2(goal.y - pose.y, goal.x - pose.x) + (0.0 if direction > 0 else math.pi)
+    )
     w, a = limits.max_angular_speed, limits.max_angular_accel
     return (
-        trapezoid_time(wrap_angle(facing - theta), w, a)
+        trapezoid_time(wrap_angle(facing - pose.theta), w, a)
         + trapezoid_time(distance, limits.max_linear_speed, limits.max_linear_accel)
-        + trapezoid_time(wrap_angle(goal_theta - facing), w, a)
+        + trapezoid_time(wrap_angle(goal.theta - facing), w, a)
     )

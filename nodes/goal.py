@@ -59,11 +59,6 @@ def allowed_speed(clearance: float, distance_to_goal: float, safety_distance: fl
     return clearance_speed(clearance, safety_distance, decel)
 
 
-def heading_error_deg(goal_theta: float, theta: float) -> float:
-    """Absolute difference between two headings in rad, in degrees [0, 180]."""
-    return abs(math.degrees(math.remainder(goal_theta - theta, 2.0 * math.pi)))
-
-
 def clearance_speed(clearance: float, safety_distance: float, decel: float) -> float:
     """Fastest speed (m/s) from which braking at ``decel`` m/s^2 still stops
     ``safety_distance`` m short of an obstacle ``clearance`` m away."""

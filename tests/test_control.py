@@ -10,6 +10,8 @@ from messages.world import TURTLESIM_SIZE, Limits
 from nodes.control import (
     Gains,
     Phase,
+    Pose2D,
+    Tolerances,
     choose_direction,
     control_step,
     remaining_time,
@@ -22,16 +24,22 @@ LIMITS = Limits()
 GAINS = Gains()
 POS_TOL = 0.01
 HEAD_TOL = math.radians(0.5)
+TOLERANCES = Tolerances(position=POS_TOL, heading=HEAD_TOL)
+
+
+def step_law(pose, goal, phase, direction):
+    return control_step(pose, goal, phase=phase, direction=direction, limits=LIMITS, gains=GAINS, tolerances=TOLERANCES)
 
 
 def drive(start: TurtleState, goal: tuple[float, float, float], max_time: float = 10.0):
     """Closed loop as in the system: a command per 16 ms step from the latest pose,
     followed by the simulator within its speed and acceleration limits."""
-    s, phase, t = start, Phase.DRIVE, 0.0
-    direction = choose_direction(s.x, s.y, s.theta, *goal, LIMITS)
+    s, phase, t = start, Phase.POSITION, 0.0
+    target = Pose2D(*goal)
+    direction = choose_direction(s, target, LIMITS)
     trace = []
     while t < max_time:
-        cmd = control_step(s.x, s.y, s.theta, *goal, phase, direction, LIMITS, GAINS, POS_TOL, HEAD_TOL)
+        cmd = step_law(s, target, phase, direction)
         phase = cmd.phase
         if phase is Phase.DONE:
             return s, t, trace
@@ -69,7 +77,7 @@ def test_goals_across_the_world_beat_rotate_drive_rotate():
         end, t, _ = drive(TurtleState(x=sx, y=sy, theta=st), goal)
         pos_err, head_err = errors(end, goal)
         assert pos_err <= POS_TOL and head_err <= HEAD_TOL
-        ratios.append(t / rotate_drive_rotate_time(sx, sy, st, *goal, LIMITS))
+        ratios.append(t / rotate_drive_rotate_time(Pose2D(sx, sy, st), Pose2D(*goal), LIMITS))
     assert sum(ratios) / len(ratios) <= 0.85
 
 
@@ -116,14 +124,15 @@ def test_commands_stay_within_limits():
         rng = random.Random(seed)
         s = TurtleState(x=rng.uniform(0, 11), y=rng.uniform(0, 11), theta=rng.uniform(-3, 3))
         goal = (rng.uniform(0, 11), rng.uniform(0, 11), rng.uniform(-3, 3))
-        cmd = control_step(s.x, s.y, s.theta, *goal, Phase.DRIVE, 1, LIMITS, GAINS, POS_TOL, HEAD_TOL)
+        cmd = step_law(s, Pose2D(*goal), Phase.POSITION, 1)
         assert abs(cmd.linear) <= LIMITS.max_linear_speed and abs(cmd.angular) <= LIMITS.max_angular_speed
 
 
 def test_goal_behind_is_driven_in_reverse():
-    assert choose_direction(5.0, 5.0, 0.0, 3.0, 5.0, 0.0, LIMITS) == -1
-    assert choose_direction(5.0, 5.0, 0.0, 3.0, 5.0, math.pi, LIMITS) == 1  # unless it must face it
-    cmd = control_step(5.0, 5.0, 0.0, 3.0, 5.0, 0.0, Phase.DRIVE, -1, LIMITS, GAINS, POS_TOL, HEAD_TOL)
+    here = Pose2D(5.0, 5.0, 0.0)
+    assert choose_direction(here, Pose2D(3.0, 5.0, 0.0), LIMITS) == -1
+    assert choose_direction(here, Pose2D(3.0, 5.0, math.pi), LIMITS) == 1  # unless it must face it
+    cmd = step_law(here, Pose2D(3.0, 5.0, 0.0), Phase.POSITION, -1)
     assert cmd.linear < 0 and cmd.angular == pytest.approx(0.0, abs=1e-9)
 
 
@@ -131,9 +140,9 @@ def test_trapezoid_and_triangle_times():
     assert trapezoid_time(4.0, 4.0, 10.0) == pytest.approx(4.0 / 4.0 + 4.0 / 10.0)
     assert trapezoid_time(0.4, 4.0, 10.0) == pytest.approx(2 * math.sqrt(0.04))
     assert trapezoid_time(-0.4, 4.0, 10.0) == trapezoid_time(0.4, 4.0, 10.0)
-    assert rotate_drive_rotate_time(0, 0, 0, 4, 0, 0, LIMITS) == pytest.approx(trapezoid_time(4, 4, 10))
+    assert rotate_drive_rotate_time(Pose2D(0, 0, 0), Pose2D(4, 0, 0), LIMITS) == pytest.approx(trapezoid_time(4, 4, 10))
 
 
 def test_remaining_time_is_zero_at_the_goal():
-    assert remaining_time(1, 1, 0.3, 1, 1, 0.3, 1, LIMITS) == 0.0
-    assert remaining_time(1, 1, 0.0, 5, 1, 0.0, 1, LIMITS) == pytest.approx(trapezoid_time(4, 4, 10))
+    assert remaining_time(Pose2D(1, 1, 0.3), Pose2D(1, 1, 0.3), 1, LIMITS) == 0.0
+    assert remaining_time(Pose2D(1, 1, 0.0), Pose2D(5, 1, 0.0), 1, LIMITS) == pytest.approx(trapezoid_time(4, 4, 10))

@@ -5,9 +5,10 @@ import math
 import pytest
 
 from messages import NavigateToRequest, Pose
+from messages.angles import heading_difference_degrees
 from messages.world import Obstacle, World
 from nodes.battery import drain, make_status, travelled
-from nodes.goal import allowed_speed, clearance_speed, goal_problem, heading_error_deg, path_problem
+from nodes.goal import allowed_speed, clearance_speed, goal_problem, path_problem
 from runtime.node import _Timer
 
 WORLD = World(size=10.0, obstacles=[Obstacle(x=8.0, y=8.0, radius=0.5)])
@@ -46,7 +47,7 @@ def test_valid_goals():
 
 
 def test_heading_error():
-    assert heading_error_deg(math.radians(179), math.radians(-179)) == pytest.approx(2.0)
+    assert heading_difference_degrees(math.radians(179), math.radians(-179)) == pytest.approx(2.0)
 
 
 def test_clearance_speed_brakes_to_the_safety_distance():

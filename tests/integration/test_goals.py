@@ -36,6 +36,7 @@ name = "navigator"
 run = "navigator"
 [node.params]
 blocked_timeout = 3.0
+scan_timeout = 60.0  # a scan is remembered until the next one: only a clear scan can clear the way
 [[node]]
 name = "status_monitor"
 run = "status_monitor"
@@ -162,19 +163,24 @@ def test_a_caller_that_goes_away_does_not_leave_the_turtle_driving(lifecycle, si
 
 
 def test_blocked_then_cleared_resumes_by_itself(lifecycle):
+    """The navigator remembers the blocking scan for its scan_timeout of 60 s, far longer
+    than the test: the way can only clear because the clearing scans say so."""
     lifecycle.teleport(2.0, 5.0, 0.0)
     pub = lifecycle.session.declare_publisher(OBSTACLES)
-    goal = Background(lifecycle, 8.0, 5.0, 0.0)
-    lifecycle.wait_moving()
-    for _ in range(5):  # 1 s of "something 0.3 m ahead" at 5 Hz
-        pub.put(encode(scan(True)))
-        time.sleep(0.2)  # pacing: the sensor's 5 Hz
-    stopped = lifecycle.wait_stopped()
-    for _ in range(3):
-        pub.put(encode(scan(False)))
-        time.sleep(0.2)  # pacing: the sensor's 5 Hz
-    response, _, feedback = goal.outcome()
-    pub.undeclare()
+    try:
+        goal = Background(lifecycle, 8.0, 5.0, 0.0)
+        lifecycle.wait_moving()
+        for _ in range(5):  # 1 s of "something 0.3 m ahead" at 5 Hz
+            pub.put(encode(scan(True)))
+            time.sleep(0.2)  # pacing: the sensor's 5 Hz
+        stopped = lifecycle.wait_stopped()
+        for _ in range(3):
+            pub.put(encode(scan(False)))
+            time.sleep(0.2)  # pacing: the sensor's 5 Hz
+        response, _, feedback = goal.outcome()
+    finally:
+        pub.put(encode(scan(False)))  # whatever happened, the next test starts with a clear way
+        pub.undeclare()
     assert response.success, response
     states = [f.state for f in feedback]
     assert "blocked" in states and states.index("blocked") < len(states) - 1

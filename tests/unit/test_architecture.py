@@ -27,6 +27,7 @@ PURE = [
     "nodes.control",
     "nodes.scan",
     "nodes.goal",
+    "nodes.goal_machine",
     "nodes.battery",
     "nodes.params",
     "nodes.kinds",

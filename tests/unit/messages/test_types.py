@@ -1,4 +1,4 @@
-"""Criterion 7 (unit part): every message type round-trips; malformed payloads are rejected clearly."""
+"""messages.types: every type has a sample, defaults for new fields, frozen Structs with explicit wire tags; NavigateToFeedback.state is a GoalState, not free text, and the wire does not notice."""
 
 import inspect
 import math
@@ -10,7 +10,9 @@ from messages import (
     ALL_TYPES,
     Ack,
     Cancel,
+    DecodeError,
     ErrorReply,
+    GoalState,
     LaserScan,
     Message,
     NavigateToFeedback,
@@ -24,6 +26,7 @@ from messages import (
     decode,
     encode,
     encoding_for,
+    to_json,
 )
 
 SAMPLES = [
@@ -83,3 +86,29 @@ def test_every_message_is_frozen_and_names_its_wire_tag_explicitly():
 
     assert encoding_for(RenamedTwist) == "application/msgpack;Twist"
     assert b"Twist" in encode(RenamedTwist(linear=1.0)) and b"Renamed" not in encode(RenamedTwist())
+
+
+def feedback(state) -> NavigateToFeedback:
+    return NavigateToFeedback(
+        state=state, distance_remaining=1.0, heading_remaining=2.0, eta=0.5, elapsed=0.1, x=1.0, y=2.0, theta=3.0
+    )
+
+
+def test_the_states_are_exactly_the_words_the_wire_always_carried():
+    assert [s.value for s in GoalState] == ["turning", "driving", "blocked"]
+
+
+@pytest.mark.parametrize("state", list(GoalState))
+def test_a_state_travels_as_its_word_and_comes_back_as_the_enum(state):
+    payload = encode(feedback(state))
+    assert payload == encode(feedback(state.value))  # the same bytes as the plain string
+    back = decode(payload, NavigateToFeedback)
+    assert back.state is state
+    assert f'"state":"{state.value}"' in to_json(back).decode()
+    assert f"{back.state:8s}" == f"{state.value:8s}"  # what `goto` prints
+
+
+def test_a_state_outside_the_vocabulary_is_refused():
+    payload = encode(feedback("dancing"))
+    with pytest.raises(DecodeError, match=r"Invalid enum value 'dancing' - at `\$.state`"):
+        decode(payload, NavigateToFeedback)

@@ -1,0 +1,441 @@
+"""The navigator's goal lifecycle, every transition, as scripted histories of events on a
+fake clock (plain floats): no processes, no Zenoh, no sleeping."""
+
+from __future__ import annotations
+
+import logging
+import math
+
+import msgspec
+import pytest
+
+from messages import Ack, GoalState, LaserScan, NavigateToRequest, Pose, TurtleStatus, Twist
+from messages.world import Limits, Obstacle, World
+from nodes.goal_machine import GoalMachine, Note, Reply
+from nodes.params import NavigatorParams
+from sim.kinematics import STEP, TurtleState, accelerate, effective_command, step
+
+PARAMS = NavigatorParams(blocked_timeout=3.0, goal_timeout=30.0, pose_timeout=0.5, scan_timeout=1.0)
+WORLD = World(size=11.0)
+LIMITS = Limits()
+
+
+def machine(world: World = WORLD, **params) -> GoalMachine[str]:
+    return GoalMachine(msgspec.structs.replace(PARAMS, **params), world, LIMITS)
+
+
+def goal(x=8.0, y=5.0, theta=0.0, client="") -> NavigateToRequest:
+    return NavigateToRequest(x=x, y=y, theta=theta, client=client)
+
+
+def pose(x=2.0, y=5.0, theta=0.0) -> Pose:
+    return Pose(x=x, y=y, theta=theta)
+
+
+def scan(blocking: bool, at: Pose | None = None) -> LaserScan:
+    """A full-circle scan; with ``blocking``, something 0.3 m in every direction.  Taken
+    at ``at`` (None: the scan does not say where)."""
+    n = 72
+    where = {} if at is None else {"origin_x": at.x, "origin_y": at.y, "origin_theta": at.theta}
+    return LaserScan(
+        angle_min=-math.pi,
+        angle_max=math.pi - 2 * math.pi / n,
+        angle_increment=2 * math.pi / n,
+        range_min=0.0,
+        range_max=10.0,
+        ranges=[0.3 if blocking else math.inf] * n,
+        **where,
+    )
+
+
+def replies(actions) -> list[Reply]:
+    return [a for a in actions if isinstance(a, Reply)]
+
+
+def twists(actions) -> list[Twist]:
+    return [a for a in actions if isinstance(a, Twist)]
+
+
+def notes(actions) -> list[str]:
+    return [a.text for a in actions if isinstance(a, Note)]
+
+
+def only_reply(actions) -> Reply:
+    (reply,) = replies(actions)
+    return reply
+
+
+def running(m: GoalMachine[str], now: float = 0.0, request=None, caller="caller") -> list:
+    """Start a goal from (2, 5) facing it, with a pose known."""
+    m.pose(pose(), now)
+    actions = m.start(request or goal(), caller, now)
+    assert m.goal is not None, actions
+    return actions
+
+
+# -- accepted or refused ------------------------------------------------------
+def test_a_goal_is_accepted_and_driven_at_once_from_the_latest_pose():
+    m = machine()
+    m.pose(pose(), 0.0)
+    actions = m.start(goal(), "caller", 0.0)
+    assert m.goal is not None and m.goal.caller == "caller" and m.goal.start == 0.0
+    assert notes(actions) == [
+        "goal (8.000, 5.000, 0.0 deg)",
+        "no recent scan: avoiding only the declared obstacles of the world",
+    ]
+    (cmd,) = twists(actions)
+    assert cmd.linear > 0.0 and replies(actions) == []
+
+
+def test_a_goal_without_a_pose_waits_for_one():
+    m = machine()
+    actions = m.start(goal(), "caller", 0.0)
+    assert m.goal is not None and twists(actions) == []
+    assert m.feedback(0.1) is None  # nothing to say without a pose
+    assert twists(m.pose(pose(), 0.1))[0].linear > 0.0
+
+
+def test_with_a_recent_scan_no_warning_at_the_start():
+    m = machine()
+    m.pose(pose(), 0.0)
+    m.scan(scan(False, pose()), 0.0)
+    assert notes(m.start(goal(), "caller", 0.5)) == ["goal (8.000, 5.000, 0.0 deg)"]
+
+
+@pytest.mark.parametrize(
+    "request_, starts",
+    [
+        (goal(x=math.nan), "invalid goal: x is nan"),
+        (goal(theta=math.inf), "invalid goal: theta is inf"),
+        (goal(x=20.0), "invalid goal: (20, 5) is outside the world"),
+    ],
+)
+def test_an_invalid_goal_is_refused_at_once(request_, starts):
+    m = machine()
+    actions = m.start(request_, "caller", 3.0)
+    reply = only_reply(actions)
+    assert reply.to == "caller" and reply.response.refused and not reply.response.success
+    assert reply.response.reason.startswith(starts) and reply.response.time_taken == 0.0
+    assert (reply.response.x, reply.response.y) == (0.0, 0.0)  # no pose known: no position
+    assert notes(actions)[0].startswith("refused goal (") and m.goal is None and twists(actions) == []
+
+
+def test_a_goal_behind_a_declared_obstacle_is_refused_with_the_pose():
+    m = machine(World(size=11.0, obstacles=[Obstacle(x=5.0, y=5.0, radius=0.5)]))
+    m.pose(pose(theta=math.pi / 2), 0.0)
+    reply = only_reply(m.start(goal(), "caller", 0.0))
+    assert reply.response.refused and reply.response.reason.startswith("unreachable: ")
+    assert (reply.response.x, reply.response.y, reply.response.theta) == pytest.approx((2.0, 5.0, 90.0))
+
+
+def test_battery_low_refuses_and_a_refusal_leaves_the_running_goal_alone():
+    m = machine()
+    running(m)
+    m.status(TurtleStatus(x=2, y=5, theta=0, vel_x=0, vel_y=0, battery=3.0))
+    actions = m.start(goal(x=3.0), "second", 1.0)
+    reply = only_reply(actions)
+    assert reply.to == "second" and reply.response.reason == "battery low"
+    assert reply.response.detail == (
+        "battery at 3.0 %, below the navigator's min_battery 5 %: `turtlectl reset` recharges it"
+    )
+    assert notes(actions) == ["refused goal (3, 5, 0.0 deg): battery low"]
+    assert m.goal is not None and m.goal.caller == "caller"
+
+
+def test_the_goal_heading_is_reduced_in_degrees():
+    m = machine()
+    running(m, request=goal(theta=1e16))
+    assert m.goal.theta_deg == pytest.approx(280.0)
+    _, fb = m.feedback(0.0)
+    assert fb.goal_theta == pytest.approx(280.0)
+
+
+# -- reached ------------------------------------------------------------------
+def test_a_goal_reached_stops_the_turtle_then_answers():
+    m = machine()
+    running(m, now=10.0)
+    actions = m.pose(pose(x=8.0), 11.25)
+    assert actions[0] == Twist()  # the stop comes before the answer
+    reply = only_reply(actions)
+    assert reply.to == "caller" and reply.response.success and reply.response.reason == ""
+    assert reply.response.time_taken == 1.25 and reply.response.position_error == 0.0
+    assert notes(actions) == ["goal reached in 1.250 s (error 0.0000 m, 0.00 deg)"]
+    assert m.goal is None and m.pose(pose(x=8.0), 11.3) == []  # idle: no more commands
+
+
+def test_a_goal_where_the_turtle_stands_is_reached_on_start():
+    m = machine()
+    m.pose(pose(x=8.0), 0.0)
+    actions = m.start(goal(), "caller", 0.0)
+    assert only_reply(actions).response.success and m.goal is None
+
+
+def test_closed_loop_on_the_kinematics_reaches_the_goal_turning_then_driving():
+    """The machine against the simulator's kinematics, a pose every 16 ms of fake time."""
+    m = machine()
+    s, now = TurtleState(x=2.0, y=5.0, theta=math.pi), 0.0
+    m.start(goal(theta=90.0), "caller", now)
+    states, outcome = [], None
+    while outcome is None and now < 5.0:
+        actions = m.pose(Pose(x=s.x, y=s.y, theta=s.theta), now)
+        if m.goal is not None:
+            states.append(m.feedback(now)[1].state)
+        outcome = next(iter(replies(actions)), None)
+        cmd = twists(actions)[-1]
+        v, w = effective_command(cmd.linear, cmd.angular, 0.0, LIMITS)
+        s = step(s, *accelerate(s, v, w, STEP, LIMITS), STEP, WORLD.size)
+        now += STEP
+    assert outcome is not None and outcome.response.success, outcome
+    assert outcome.response.position_error <= PARAMS.position_tolerance
+    assert outcome.response.heading_error <= PARAMS.heading_tolerance
+    assert GoalState.DRIVING in states and GoalState.TURNING in states
+
+
+# -- preempted, canceled, caller gone, teleported, reset, shut down -----------
+def test_a_new_goal_preempts_the_running_one():
+    m = machine()
+    running(m, caller="first")
+    actions = m.start(goal(x=3.0, y=3.0, theta=-180.0), "second", 2.0)
+    old = only_reply(actions)
+    assert old.to == "first" and old.response.reason == "preempted" and old.response.time_taken == 2.0
+    assert old.response.detail == "a new goal replaced it"
+    assert m.goal.caller == "second"
+    # the old goal ends (stop, log, answer), then the new one starts and drives at once
+    assert [type(a).__name__ for a in actions] == ["Twist", "Note", "Reply", "Note", "Note", "Twist"]
+    assert actions[0] == Twist() and actions[-1] != Twist()
+    assert notes(actions)[1:] == [
+        "goal (3.000, 3.000, 180.0 deg)",
+        "no recent scan: avoiding only the declared obstacles of the world",
+    ]
+
+
+def test_cancel_ends_the_goal_and_acknowledges():
+    m = machine()
+    running(m)
+    ack, actions = m.cancel("", 1.5)
+    assert ack == Ack(detail="canceled the goal (8, 5, 0 deg)")
+    assert actions[0] == Twist()
+    reply = only_reply(actions)
+    assert reply.response.reason == "canceled" and reply.response.detail == "" and reply.response.time_taken == 1.5
+    assert notes(actions) == ["goal failed in 1.500 s (error 6.0000 m, 0.00 deg): canceled"]
+    assert m.goal is None
+
+
+def test_cancel_without_a_goal_says_so():
+    ack, actions = machine().cancel("", 0.0)
+    assert ack == Ack(ok=False, detail="no goal is running") and actions == []
+
+
+@pytest.mark.parametrize("how", ["teleported", "reset"])
+def test_teleport_and_reset_cancel_with_their_reason(how):
+    m = machine()
+    running(m)
+    ack, actions = m.cancel(how, 1.0)
+    assert ack.ok
+    reply = only_reply(actions)
+    assert reply.response.reason == how and reply.response.detail == f"the turtle was {how} while it drove"
+
+
+def test_a_caller_that_goes_away_has_its_goal_canceled():
+    m = machine()
+    running(m, request=goal(client="abc"))
+    assert m.caller_gone("@turtlectl/client/other", 1.0) == []
+    actions = m.caller_gone("@turtlectl/client/abc", 1.0)
+    reply = only_reply(actions)
+    assert reply.response.reason == "caller gone"
+    assert reply.response.detail == "its caller went away: Ctrl-C, killed, or its own --timeout"
+    assert actions[0] == Twist() and m.goal is None
+
+
+def test_a_goal_without_a_client_is_not_tied_to_any_token():
+    m = machine()
+    running(m)
+    assert m.caller_gone("@turtlectl/client/", 1.0) == [] and m.goal is not None
+
+
+def test_shutdown_ends_the_goal_and_stops_the_turtle():
+    m = machine()
+    running(m)
+    actions = m.shutdown(0.2)
+    assert actions[0] == Twist()
+    assert only_reply(actions).response.reason == "navigator shut down"
+    assert machine().shutdown(0.0) == []
+
+
+# -- no pose, timeout ---------------------------------------------------------
+def test_no_pose_for_pose_timeout_ends_the_goal():
+    m = machine()
+    m.start(goal(), "caller", 10.0)
+    assert m.tick(10.5) == []  # pose_timeout 0.5 s, counted from the start
+    actions = m.tick(10.51)
+    reply = only_reply(actions)
+    assert reply.response.reason == "no pose"
+    assert reply.response.detail == "no turtle1/pose for 0.5 s: is the simulator running?"
+    assert actions[0] == Twist() and m.goal is None
+
+
+def test_poses_that_stop_arriving_end_the_goal():
+    m = machine()
+    running(m)
+    for t in (0.4, 0.8, 1.2):
+        m.pose(pose(), t)
+        assert m.tick(t + 0.1) == []
+    assert m.tick(1.7) == [] and m.goal is not None  # 0.5 s after the last pose
+    assert only_reply(m.tick(1.71)).response.reason == "no pose"
+
+
+def test_goal_timeout():
+    m = machine(goal_timeout=2.0)
+    running(m)
+    t = 0.0
+    while t < 2.0:  # poses keep coming, the turtle never gets there
+        t = round(t + 0.05, 2)
+        m.pose(pose(), t)
+        assert m.tick(t) == []
+    actions = m.tick(2.01)
+    reply = only_reply(actions)
+    assert reply.response.reason == "timeout" and reply.response.time_taken == 2.01
+    assert reply.response.detail == "not there after the navigator's goal_timeout of 2 s"
+
+
+def test_the_watchdog_is_quiet_while_idle():
+    assert machine().tick(1e6) == []
+
+
+# -- blocked ------------------------------------------------------------------
+def blocked_machine():
+    m = machine()
+    running(m)
+    m.scan(scan(True, pose()), 0.0)
+    actions = m.pose(pose(), 0.0)
+    assert m.goal.state is GoalState.BLOCKED
+    return m, actions
+
+
+def test_something_close_ahead_stops_driving_but_not_turning():
+    m, actions = blocked_machine()
+    assert notes(actions) == ["something the scan sees within 0.40 m in the direction of travel: stopped"]
+    (cmd,) = twists(actions)
+    assert cmd.linear == 0.0 and replies(actions) == []
+    assert m.feedback(0.1)[1].state is GoalState.BLOCKED
+
+
+def test_blocked_for_blocked_timeout_ends_the_goal():
+    m, _ = blocked_machine()
+    actions = sensor(m, 0.05, 3.0, blocking=True)
+    assert replies(actions) == [] and m.goal.state is GoalState.BLOCKED
+    assert notes(actions) == []  # said once, when it stopped
+    assert {(a.linear == 0.0) for a in twists(actions)} == {True}
+    actions = m.pose(pose(), 3.01)
+    reply = only_reply(actions)
+    assert reply.response.reason == "blocked" and reply.response.time_taken == 3.01
+    assert reply.response.detail == (
+        "something the scan sees stayed within the safety distance (0.4 m) ahead for the "
+        "navigator's blocked_timeout of 3 s"
+    )
+    assert twists(actions)[-1] == Twist() and isinstance(actions[-1], Reply) and m.goal is None
+
+
+def sensor(m: GoalMachine[str], start: float, end: float, blocking: bool) -> list:
+    """From ``start`` to ``end`` s, the sensor at 5 Hz (``blocking`` or not) and a pose every
+    50 ms (the turtle stays put); every action in order."""
+    actions, t = [], start
+    while t <= end + 1e-9:
+        if round(t * 5, 6).is_integer():
+            m.scan(scan(blocking, pose()), t)
+        actions += m.pose(pose(), t)
+        t = round(t + 0.05, 2)
+    return actions
+
+
+def test_blocked_then_cleared_resumes_and_the_blocked_time_starts_again():
+    m, _ = blocked_machine()
+    assert replies(sensor(m, 0.05, 2.4, blocking=True)) == [] and m.goal.state is GoalState.BLOCKED
+    m.scan(scan(False, pose()), 2.5)  # long before the last blocking scan would go stale
+    actions = m.pose(pose(), 2.5)
+    assert notes(actions) == ["way clear: resuming"]
+    assert twists(actions)[0].linear > 0.0 and m.goal.state is GoalState.DRIVING
+    actions = sensor(m, 2.6, 5.6, blocking=True)  # blocked again: 3 s from 2.6, not from 0
+    assert notes(actions)[0].endswith("stopped") and replies(actions) == []
+    assert only_reply(sensor(m, 5.65, 5.65, blocking=True)).response.reason == "blocked"
+
+
+def test_a_declared_obstacle_blocks_without_any_scan():
+    m = machine(World(size=11.0, obstacles=[Obstacle(x=2.4, y=5.0, radius=0.1)]))
+    m.start(goal(), "caller", 0.0)  # no pose yet: nothing to judge the way from
+    actions = m.pose(pose(), 0.0)
+    assert notes(actions) == ["the obstacle at (2.4, 5) within 0.40 m in the direction of travel: stopped"]
+    assert m.goal.state is GoalState.BLOCKED
+    assert only_reply(m.pose(pose(), 3.01)).response.detail.startswith("the obstacle at (2.4, 5) stayed within")
+
+
+def test_an_obstacle_beyond_the_goal_does_not_block():
+    m = machine()
+    running(m, request=goal(x=3.0))
+    ahead = LaserScan(angle_min=0.0, angle_max=0.0, angle_increment=0.1, range_min=0.0, range_max=10.0, ranges=[1.1])
+    m.scan(ahead, 0.0)  # 1.1 m ahead, the goal 1 m ahead
+    assert twists(m.pose(pose(), 0.0))[0].linear > 0.0 and m.goal.state is GoalState.DRIVING
+    m.scan(msgspec.structs.replace(ahead, ranges=[0.9]), 0.1)  # short of the goal: it slows down
+    assert 0.0 < twists(m.pose(pose(), 0.1))[0].linear < LIMITS.max_linear_speed
+
+
+# -- scans --------------------------------------------------------------------
+def test_a_stale_scan_is_forgotten_and_the_feedback_says_so():
+    m, _ = blocked_machine()
+    assert notes(m.tick(0.05)) == ["scans are back"]  # stale was the last word: none at the start
+    assert m.tick(0.1) == []
+    assert m.feedback(1.0)[1].scan_stale is False
+    actions = m.pose(pose(), 1.01)  # only the declared obstacles now: none
+    assert notes(actions) == ["way clear: resuming"] and m.goal.state is GoalState.DRIVING
+    assert m.feedback(1.01)[1].scan_stale is True
+    assert notes(m.tick(1.05)) == ["scans stopped: avoiding only the declared obstacles of the world"]
+    assert notes(m.tick(1.10)) == []  # said once
+    m.scan(scan(False, pose()), 1.2)
+    assert notes(m.tick(1.25)) == ["scans are back"]
+
+
+def test_scan_staleness_is_said_only_while_a_goal_runs():
+    m = machine()
+    m.scan(scan(False, pose()), 0.0)
+    assert m.tick(0.1) == [] and m.tick(5.0) == []
+
+
+def test_a_scan_without_its_origin_is_placed_at_the_latest_pose():
+    m = machine()
+    m.scan(scan(True), 0.0)  # no pose yet: ignored
+    assert m.scan_points.shape == (0, 2) and not m.scans_fresh(0.0)
+    m.pose(pose(), 0.0)
+    m.scan(scan(True), 0.1)
+    assert m.scans_fresh(0.1) and len(m.scan_points) == 72
+    assert min(math.hypot(x - 2.0, y - 5.0) for x, y in m.scan_points) == pytest.approx(0.3)
+
+
+def test_hits_on_the_walls_are_not_obstacles():
+    m = machine()
+    at = pose(x=0.3, y=5.0, theta=math.pi)
+    beam = LaserScan(angle_min=0.0, angle_max=0.0, angle_increment=0.1, range_min=0.0, range_max=10.0, ranges=[0.3])
+    m.scan(msgspec.structs.replace(beam, origin_x=at.x, origin_y=at.y, origin_theta=at.theta), 0.0)
+    assert m.scan_points.shape == (0, 2)
+
+
+# -- feedback -----------------------------------------------------------------
+def test_feedback_tells_the_caller_how_it_goes():
+    m = machine()
+    running(m, now=1.0, request=goal(theta=-90.0), caller="me")
+    m.pose(pose(x=4.0, theta=math.pi / 2), 1.4)
+    caller, fb = m.feedback(1.5)
+    assert caller == "me"
+    assert fb.distance_remaining == pytest.approx(4.0) and fb.elapsed == pytest.approx(0.5)
+    assert (fb.x, fb.y, fb.theta) == pytest.approx((4.0, 5.0, 90.0))
+    assert (fb.goal_x, fb.goal_y, fb.goal_theta) == (8.0, 5.0, 270.0)
+    assert fb.heading_remaining == pytest.approx(180.0) and fb.eta > 0.0 and fb.scan_stale
+    assert machine().feedback(0.0) is None
+
+
+def test_log_levels_say_success_and_trouble():
+    m = machine()
+    running(m)
+    ack, actions = m.cancel("", 1.0)
+    assert [a.level for a in actions if isinstance(a, Note)] == [logging.WARNING]
+    running(m)
+    assert [a.level for a in m.pose(pose(x=8.0), 2.0) if isinstance(a, Note)] == [logging.INFO]
