@@ -32,6 +32,10 @@ PURE = [
     "nodes.params",
     "nodes.kinds",
     "cli.launchfile",
+    "cli.args",
+    "cli.format",
+    "cli.graph",
+    "cli.rates",
     "cli.supervisor.supervision",  # the supervision policy: processes and clock come from outside
 ]
 
