@@ -12,15 +12,21 @@ import signal
 import sys
 from types import FrameType
 
+from cli.errors import ExitCode
+
 #: commands for which Ctrl-C is the normal way to stop: exit 0, as README's exit codes say
 STOPPED_BY_CTRL_C = ("launch", "router")
+
+
+#: root options whose value is the next word (``--domain=x`` needs nothing skipped)
+_ROOT_OPTIONS_WITH_VALUE = ("--domain", "--connect")
 
 
 def command_of(argv: list[str]) -> str:
     """The command word of a turtlectl command line (after root options), or ''."""
     args = iter(argv)
     for arg in args:
-        if arg == "--domain":  # the one root option that takes a separate value
+        if arg in _ROOT_OPTIONS_WITH_VALUE:
             next(args, None)
         elif not arg.startswith("-"):
             return arg
@@ -30,7 +36,7 @@ def command_of(argv: list[str]) -> str:
 def _interrupted_while_starting(_signum: int, _frame: FrameType | None) -> None:
     command = command_of(sys.argv[1:])
     os.write(2, b"turtlectl: interrupted while starting; nothing was started\n")
-    os._exit(0 if command in STOPPED_BY_CTRL_C else 130)
+    os._exit(ExitCode.OK if command in STOPPED_BY_CTRL_C else ExitCode.INTERRUPTED)
 
 
 def entry() -> None:

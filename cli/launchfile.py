@@ -7,7 +7,7 @@ and the exact key path, with the node's name when there is one, e.g.
 ``launch.toml: node[1] (navigator).params.goal_timeot: unknown key; did you mean goal_timeout?``.
 
 Besides each value's own type and range (the Structs in nodes/params.py,
-sim/params.py and sim/world.py), the file is checked as a whole: the spawn lies
+sim/params.py and messages/world.py), the file is checked as a whole: the spawn lies
 in the world and outside every obstacle, no obstacle covers the world or lies
 outside it, at most one node of each kind (they use fixed keys), and the
 navigator's scan_timeout outlasts the scan period.

@@ -22,7 +22,7 @@ from pathlib import Path
 import typer
 
 from cli import STOPPED_BY_CTRL_C, args, format
-from cli.errors import ExitCode, Failed, Interrupted, TurtlectlError, Unreachable, exit_code
+from cli.errors import BadInput, ExitCode, Failed, Interrupted, TurtlectlError, Unreachable, exit_code
 from cli.sigint import ignore_sigint, quiet_unraisable
 from messages import Cancel, NavigateToFeedback, NavigateToRequest, Reset, TeleportAbsolute, keys
 from messages.angles import heading_radians
@@ -83,7 +83,10 @@ def root(
     ctx: typer.Context,
     domain: str = DomainOption,
     connect: str | None = typer.Option(
-        None, "--connect", help="Router endpoint for the client commands (as after the command; launch has its own)."
+        None,
+        "--connect",
+        help=f"Router endpoint for the client commands (default ${CONNECT_ENV}, else {DEFAULT_ENDPOINT}); "
+        "launch joins it instead of running a router; before or after the command.",
     ),
     _version: bool = typer.Option(
         False, "--version", is_eager=True, callback=_print_version, help="Print turtlectl's version and exit."
@@ -96,12 +99,14 @@ def root(
         signal.signal(signal.SIGINT, signal.default_int_handler)
     if connect is not None:  # the commands read it as their --connect default (before their own options)
         os.environ[CONNECT_ENV] = connect
+        ctx.obj = {"connect": connect}  # launch joins it, as with its own --connect; router refuses it
 
 
 @app.command()
 def launch(
+    ctx: typer.Context,
     file: Path | None = typer.Argument(
-        None, metavar="[FILE]", help="Launch file (default: ./launch.toml, else the packaged one)."
+        None, metavar="FILE", help="Launch file (default: ./launch.toml, else the packaged one)."
     ),
     port: int = typer.Option(DEFAULT_PORT, "--port", min=1, max=65535, help="Router port."),
     listen: str = typer.Option("127.0.0.1", "--listen", help="Address the router listens on (other hosts: theirs)."),
@@ -130,6 +135,8 @@ def launch(
     from cli.supervisor.manager import Supervisor
     from cli.supervisor.printer import Printer
 
+    if join is None:  # `turtlectl --connect E launch` joins E, as `turtlectl launch --connect E`
+        join = (ctx.obj or {}).get("connect")
     plan = launch_plan(file or default_launch_file(), only, exclude, set_)
     if check:
         typer.echo(format.plan_text(plan))
@@ -149,6 +156,7 @@ def launch(
 
 @app.command()
 def router(
+    ctx: typer.Context,
     port: int = typer.Option(DEFAULT_PORT, "--port", min=1, max=65535, help="Port to listen on."),
     listen: str = typer.Option("127.0.0.1", "--listen", help="Address to listen on (loopback by default)."),
 ) -> None:
@@ -158,6 +166,8 @@ def router(
     """
     from cli.supervisor.router import run_router
 
+    if (ctx.obj or {}).get("connect") is not None:
+        raise BadInput("router takes no --connect: it is the router the others connect to (see --port, --listen)")
     host = args.listen_address(listen)
     run_router(port, host, lambda: typer.echo(f"router listening on tcp/{host}:{port}; Ctrl-C stops it", err=False))
 
@@ -339,7 +349,7 @@ def list_graph(
 
 @app.command()
 def hz(
-    names: list[str] = typer.Argument(..., metavar="TOPIC...", help="One or more key expressions."),
+    names: list[str] = typer.Argument(..., metavar="TOPIC", help="One or more key expressions."),
     window: int = typer.Option(100, "--window", min=2, help="Messages per statistic."),
     duration: float | None = typer.Option(None, "--duration", min=0.5, help="Stop after S seconds."),
     json: bool = typer.Option(False, "--json", help="JSON lines."),
@@ -404,7 +414,7 @@ def pub(
 @app.command()
 def call(
     service: str = typer.Argument(..., metavar="SERVICE", help="Key of the queryable."),
-    request: str = typer.Argument("{}", metavar="[JSON]", help="The request's fields as JSON."),
+    request: str = typer.Argument("{}", metavar="JSON", help="The request's fields as JSON."),
     timeout: float | None = typer.Option(
         None,
         "--timeout",
@@ -484,8 +494,8 @@ def view(connect: str = ConnectOption, domain: str = DomainOption) -> None:
 
 
 def error_line(error: TurtlectlError) -> str:
-    """What the user reads on stderr for ``error``."""
-    return f"turtlectl: error: {error.message}"
+    """What the user reads on stderr for ``error`` (a Ctrl-C is no error: its message says what happened)."""
+    return f"turtlectl: {error.message}" if isinstance(error, Interrupted) else f"turtlectl: error: {error.message}"
 
 
 def main() -> None:

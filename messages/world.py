@@ -14,7 +14,7 @@ from messages.units import Finite, Positive
 TURTLESIM_SIZE = (500.0 - 1.0) / 45.0
 
 
-class Obstacle(msgspec.Struct, forbid_unknown_fields=True, kw_only=True):
+class Obstacle(msgspec.Struct, frozen=True, forbid_unknown_fields=True, kw_only=True):
     """A circular obstacle: centre (x, y) in m, radius in m."""
 
     x: Finite
@@ -22,7 +22,7 @@ class Obstacle(msgspec.Struct, forbid_unknown_fields=True, kw_only=True):
     radius: Positive
 
 
-class World(msgspec.Struct, forbid_unknown_fields=True, kw_only=True):
+class World(msgspec.Struct, frozen=True, forbid_unknown_fields=True, kw_only=True):
     """A square world from (0, 0) to (size, size), in m, with circular obstacles."""
 
     size: Positive = TURTLESIM_SIZE
@@ -33,7 +33,7 @@ class World(msgspec.Struct, forbid_unknown_fields=True, kw_only=True):
         return 0.0 <= x <= self.size and 0.0 <= y <= self.size
 
 
-class Limits(msgspec.Struct, forbid_unknown_fields=True, kw_only=True):
+class Limits(msgspec.Struct, frozen=True, forbid_unknown_fields=True, kw_only=True):
     """The robot's motion limits; the simulator enforces them, the navigator plans within them.
 
     max_linear_speed: m/s (either direction).  max_angular_speed: rad/s.

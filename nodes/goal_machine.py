@@ -107,7 +107,7 @@ class GoalMachine(Generic[C]):
         self.battery: float | None = None
         self.scan_points = np.zeros((0, 2))  # world coordinates of the latest scan's hits, walls left out
         self.scan_time = -math.inf
-        self.scans_stale = True  # as said last in the log
+        self.scans_stale: bool | None = None  # as said last in the log; None: no scan yet, nothing said
         self._out: list[Action] = []
 
     # -- events -------------------------------------------------------------
@@ -196,7 +196,9 @@ class GoalMachine(Generic[C]):
         elif now - max(self.pose_time, goal.start) > p.pose_timeout:
             self._finish(now, False, "no pose", f"no {POSE} for {p.pose_timeout:g} s: is the simulator running?")
         stale = not self.scans_fresh(now)
-        if stale != self.scans_stale:
+        if self.scans_stale is None:  # before the first scan nothing has stopped; the first one is no news
+            self.scans_stale = False if not stale else None
+        elif stale != self.scans_stale:
             self.scans_stale = stale
             if stale:
                 self._note(logging.WARNING, "scans stopped: avoiding only the declared obstacles of the world")

@@ -1,5 +1,6 @@
-"""The node runtime every turtlectl process uses: session, params, timers,
-liveliness, a single logic thread, and a clean, bounded shutdown.
+"""The node API every turtlectl process uses: publishers, subscriptions, services,
+timers, liveliness and claims, on a single logic thread (the process around it is
+``runtime.lifecycle``).
 
 A node is written as a class whose constructor takes a ``Node`` and declares
 what it needs through it::
@@ -10,7 +11,7 @@ what it needs through it::
             node.timer(0.1, self.tick)
 
     if __name__ == "__main__":
-        run(Talker, TalkerParams)
+        run_main(Talker, TalkerParams)  # runtime.lifecycle: runs the node, then exits with its code
 
 Threading: Zenoh delivers samples and queries on its own threads; the runtime
 only queues them there.  Every callback, timer and handler of the node runs on

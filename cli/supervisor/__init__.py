@@ -1,1 +1,4 @@
-"""The launch supervisor: ``process`` (one child), ``printer`` (output), ``manager`` (the system)."""
+"""The launch supervisor, split as honcho's: ``process`` (one child and the command it runs),
+``supervision`` (the policy: start, respawn, give-up, shutdown; no Zenoh), ``manager`` (the
+Zenoh and signal shell around it), ``router`` (opening or joining a router), ``printer``
+(prefixed output) and ``logs`` (run folders)."""

@@ -27,6 +27,7 @@ class Child:
         self.printer = printer
         self.proc: subprocess.Popen[bytes] | None = None
         self._reader: threading.Thread | None = None
+        self._group_killed = False
 
     @property
     def pid(self) -> int | None:
@@ -43,6 +44,7 @@ class Child:
             process_group=0,
             close_fds=True,
         )
+        self._group_killed = False
         self._reader = threading.Thread(target=self._pump, args=(self.proc,), name=f"out-{self.name}", daemon=True)
         self._reader.start()
 
@@ -53,11 +55,21 @@ class Child:
         proc.stdout.close()
 
     def poll(self) -> int | None:
-        """The exit code if the child has exited (reaping it), else None."""
-        return None if self.proc is None else self.proc.poll()
+        """The exit code if the child has exited (reaping it), else None.  Once it has, whatever
+        it started is killed with it (its process group), so a crashed node leaves nothing behind."""
+        if self.proc is None:
+            return None
+        code = self.proc.poll()
+        if code is not None and not self._group_killed:
+            self._group_killed = True
+            try:  # the group outlives its leader while members remain; the pgid is not reused meanwhile
+                os.killpg(self.proc.pid, signal.SIGKILL)
+            except (ProcessLookupError, PermissionError):
+                pass
+        return code
 
     def running(self) -> bool:
-        return self.proc is not None and self.proc.poll() is None
+        return self.proc is not None and self.poll() is None
 
     def send(self, sig: signal.Signals) -> None:
         """Signal the child's whole process group (it leads its own), as honcho and mirakuru do:

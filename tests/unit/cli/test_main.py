@@ -7,13 +7,14 @@ from __future__ import annotations
 
 import os
 import signal
+import socket
 import subprocess
 import sys
 
 import pytest
 from typer.testing import CliRunner
 
-from cli.errors import ExitCode, TurtlectlError, exit_code
+from cli.errors import BadInput, ExitCode, Interrupted, TurtlectlError, exit_code
 from cli.launchfile import PACKAGED_LAUNCH
 from cli.main import app, error_line, main
 from runtime.session import CONNECT_ENV, DOMAIN_ENV
@@ -337,3 +338,28 @@ def test_a_bad_domain_after_the_command_is_bad_input(monkeypatch):
     monkeypatch.delenv(DOMAIN_ENV, raising=False)
     result = CliRunner().invoke(app, ["list", "--domain", "a/b"])
     assert isinstance(result.exception, TurtlectlError) and exit_code(result.exception) == ExitCode.BAD_INPUT
+
+
+def test_connect_before_launch_joins_that_router_as_after_it(tmp_path):
+    """Review of issue 9: `turtlectl --connect E launch` ran its own router and ignored E."""
+    with socket.socket() as busy, socket.socket() as probe:
+        busy.bind(("127.0.0.1", 0))
+        busy.listen()
+        probe.bind(("127.0.0.1", 0))
+        dead = f"tcp/127.0.0.1:{probe.getsockname()[1]}"  # bound, not listening: nobody answers there
+        port = str(busy.getsockname()[1])  # a router of its own would fail on this busy port (exit 4)
+        for argv in (["--connect", dead, "launch"], ["launch", "--connect", dead]):
+            code, text = invoke(*argv, "--port", port, "--log-dir", str(tmp_path))
+            assert (code, text) == (ExitCode.UNREACHABLE, f"turtlectl: error: no router at {dead} to join"), argv
+
+
+def test_connect_before_router_is_refused():
+    assert "router takes no --connect" in bad_input("--connect", "tcp/127.0.0.1:7447", "router")
+
+
+def test_a_ctrl_c_is_reported_as_what_happened_not_as_an_error():
+    """Review of issue 9: Ctrl-C on goto read 'turtlectl: error: interrupted: …'."""
+    assert error_line(Interrupted("interrupted: the navigator cancels the goal")) == (
+        "turtlectl: interrupted: the navigator cancels the goal"
+    )
+    assert error_line(BadInput("x")) == "turtlectl: error: x"

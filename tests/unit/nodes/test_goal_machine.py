@@ -382,7 +382,8 @@ def test_an_obstacle_beyond_the_goal_does_not_block():
 # -- scans --------------------------------------------------------------------
 def test_a_stale_scan_is_forgotten_and_the_feedback_says_so():
     m, _ = blocked_machine()
-    assert notes(m.tick(0.05)) == ["scans are back"]  # stale was the last word: none at the start
+    # review of issue 9: the first scan said "scans are back" though nothing had said they stopped
+    assert notes(m.tick(0.05)) == []
     assert m.tick(0.1) == []
     assert m.feedback(1.0)[1].scan_stale is False
     actions = m.pose(pose(), 1.01)  # only the declared obstacles now: none
@@ -439,3 +440,16 @@ def test_log_levels_say_success_and_trouble():
     assert [a.level for a in actions if isinstance(a, Note)] == [logging.WARNING]
     running(m)
     assert [a.level for a in m.pose(pose(x=8.0), 2.0) if isinstance(a, Note)] == [logging.INFO]
+
+
+def test_no_scan_yet_is_not_scans_stopping_and_the_first_scan_is_not_scans_coming_back():
+    m = GoalMachine(NavigatorParams(goal_timeout=100.0), WORLD, LIMITS)
+    m.pose(pose(), 0.0)
+    m.start(NavigateToRequest(x=9.0, y=5.0, theta=0.0), "caller", 0.0)
+    for t in (0.05, 3.0):  # no scan ever: the goal's start said so once, the watchdog says nothing
+        m.pose(pose(), t)
+        assert notes(m.tick(t)) == []
+    m.scan(scan(False, pose()), 3.1)
+    assert notes(m.tick(3.15)) == []
+    m.pose(pose(), 5.0)
+    assert notes(m.tick(5.0)) == ["scans stopped: avoiding only the declared obstacles of the world"]

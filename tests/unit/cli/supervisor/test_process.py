@@ -69,3 +69,32 @@ def _alive(pid: int) -> bool:
             return f.read().split(") ", 1)[1][0] != "Z"
     except OSError:
         return False
+
+
+def test_a_child_that_exits_takes_its_own_children_with_it():
+    """Review of issue 9: a node that crashed (and was respawned) left what it had started
+    running, because signals went to the group only while the node itself ran."""
+    script = (
+        "import subprocess, sys\n"
+        "grandchild = subprocess.Popen([sys.executable, '-c', 'import time; time.sleep(60)'])\n"  # pacing: ok
+        "print(grandchild.pid, flush=True)\n"
+        "sys.exit(1)\n"
+    )
+    printer = Printer(["crasher"], stream=io.StringIO())
+    child = Child("crasher", [sys.executable, "-c", script], dict(os.environ), printer)
+    child.start()
+    grandchild = None
+    try:
+        deadline = time.monotonic() + 10
+        while child.poll() is None:
+            assert time.monotonic() < deadline, "the child never exited"
+            time.sleep(0.02)  # pacing: polling process state under a deadline
+        child.flush_output()
+        grandchild = int(printer.stream.getvalue().split("|")[-1])
+        deadline = time.monotonic() + 5
+        while _alive(grandchild):
+            assert time.monotonic() < deadline, "the exited child's own child is still running"
+            time.sleep(0.02)  # pacing: polling process state under a deadline
+    finally:
+        if grandchild is not None and _alive(grandchild):
+            os.kill(grandchild, signal.SIGKILL)
