@@ -40,6 +40,7 @@ EXIT_CONFLICT = 4  # another running node already holds what this one would clai
 _PR_SET_PDEATHSIG = 1
 _PARENT_CHECK_PERIOD = 0.5  # s
 _ROUTER_CHECK_PERIOD = 1.0  # s
+_ROUTER_WAIT = 0.25  # s a new session may take to reach the router before the node starts anyway
 
 
 def _router_watch(node: Node[Any], endpoint: str) -> Callable[[], None]:
@@ -59,6 +60,15 @@ def _router_watch(node: Node[Any], endpoint: str) -> Callable[[], None]:
                 node.log.warning("lost the router at %s; still running, reconnecting", endpoint)
 
     return check
+
+
+def _await_router(session: zenoh.Session, timeout: float) -> None:
+    """Give the session up to ``timeout`` s to reach the router: it opens without waiting
+    (scouting/delay 0), the router is usually reached within a few ms, and the router watch
+    then starts from what is true (connected, or not yet)."""
+    deadline = time.monotonic() + timeout
+    while not session.info.routers_zid() and time.monotonic() < deadline:
+        time.sleep(0.002)  # pacing: polling the session's connection state under a deadline
 
 
 def _watch_parent() -> Callable[[], bool]:
@@ -111,6 +121,7 @@ def run(node_class: Callable[[Node[P]], Any], params_type: type[P]) -> int:
         log.error("cannot open a Zenoh session to %s: %s", config.connect, exc)
         return EXIT_SESSION
 
+    _await_router(session, _ROUTER_WAIT)
     try:
         node = Node(config, params, session)
         signal.signal(signal.SIGINT, node.stop)

@@ -33,6 +33,10 @@ def _base(mode: str, domain: str = "") -> zenoh.Config:
     conf = zenoh.Config()
     conf.insert_json5("mode", json.dumps(mode))
     conf.insert_json5("scouting/multicast/enabled", "false")
+    # open returns at once instead of waiting up to 500 ms for scouting (zenoh 1.10 waited the whole
+    # delay in a router, and in about half of the peer opens here, multicast off or not); declarations
+    # made before the router is reached are sent when it is
+    conf.insert_json5("scouting/delay", "0")
     if domain:  # every key this session uses is put under "<domain>/": systems on one router never mix
         conf.insert_json5("namespace", json.dumps(domain))
     return conf
