@@ -1,33 +1,65 @@
-"""Baseline for bench/system.py: raw zenoh-python, no turtlectl code on the data path.
+"""Baselines for bench/system.py: raw zenoh-python, no turtlectl code on the data path.
 
-A peer that joins the router at ENDPOINT and publishes its wall clock (int64 ns,
-little endian) on KEY at RATE Hz for SECONDS, on an absolute schedule.
-Usage: python bench/raw_pub.py ENDPOINT KEY RATE SECONDS
+  python bench/raw_pub.py pub ENDPOINT KEY RATE SECONDS   publish the wall clock (int64 ns, little
+                                                         endian) on KEY at RATE Hz, absolute schedule
+  python bench/raw_pub.py sub ENDPOINT KEY SECONDS        a callback subscriber that counts samples
+  python bench/raw_pub.py idle ENDPOINT SECONDS           an open session doing nothing
+  python bench/raw_pub.py once ENDPOINT KEY               a client that prints one sample's size and
+                                                         exits (the floor of `turtlectl echo --once`)
+
+Each is a peer that joins the router at ENDPOINT (`once`: a client, as the CLI), configured as
+turtlectl's sessions are (multicast scouting off, scouting/delay 0).
 """
 
 import json
 import struct
 import sys
+import threading
 import time
 
 import zenoh
 
 
-def main() -> None:
-    endpoint, key, rate, seconds = sys.argv[1], sys.argv[2], float(sys.argv[3]), float(sys.argv[4])
+def config(mode: str, endpoint: str) -> zenoh.Config:
     conf = zenoh.Config()
-    conf.insert_json5("mode", '"peer"')
+    conf.insert_json5("mode", json.dumps(mode))
     conf.insert_json5("scouting/multicast/enabled", "false")
+    conf.insert_json5("scouting/delay", "0")
     conf.insert_json5("connect/endpoints", json.dumps([endpoint]))
-    conf.insert_json5("listen/endpoints", json.dumps(["tcp/127.0.0.1:0"]))
-    with zenoh.open(conf) as session:
-        pub = session.declare_publisher(key)
-        start = time.monotonic()
-        k = 0
-        while time.monotonic() - start < seconds:
-            k += 1
-            time.sleep(max(0.0, start + k / rate - time.monotonic()))  # pacing: absolute schedule
-            pub.put(struct.pack("<q", time.time_ns()))
+    if mode == "peer":
+        conf.insert_json5("listen/endpoints", json.dumps(["tcp/127.0.0.1:0"]))
+    return conf
+
+
+def main() -> None:
+    what, endpoint = sys.argv[1], sys.argv[2]
+    if what == "once":
+        with zenoh.open(config("client", endpoint)) as session:
+            got = threading.Event()
+            size = []
+            sub = session.declare_subscriber(sys.argv[3], lambda s: (size.append(len(s.payload)), got.set()))
+            got.wait(10.0)
+            sub.undeclare()
+            print(size[0] if size else "nothing")
+        return
+    with zenoh.open(config("peer", endpoint)) as session:
+        if what == "pub":
+            key, rate, seconds = sys.argv[3], float(sys.argv[4]), float(sys.argv[5])
+            pub = session.declare_publisher(key)
+            start = time.monotonic()
+            k = 0
+            while time.monotonic() - start < seconds:
+                k += 1
+                time.sleep(max(0.0, start + k / rate - time.monotonic()))  # pacing: absolute schedule
+                pub.put(struct.pack("<q", time.time_ns()))
+        elif what == "sub":
+            key, seconds = sys.argv[3], float(sys.argv[4])
+            count = [0]
+            sub = session.declare_subscriber(key, lambda _s: count.__setitem__(0, count[0] + 1))
+            time.sleep(seconds)  # pacing: the measured window
+            sub.undeclare()
+        else:
+            time.sleep(float(sys.argv[3]))  # pacing: an idle session for the measured window
 
 
 if __name__ == "__main__":

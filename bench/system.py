@@ -1,12 +1,16 @@
-"""Benchmark of the whole system, measured side by side in one run.
+"""Benchmark of the whole system, measured side by side with raw baselines in one run.
 
-Reports: launch-to-ready time; status period jitter at a subscriber; goal time
-as the client sees it vs the navigator's time_taken; one-way latency of
-robot/status next to raw zenoh-python pub/sub in the same topology; CPU and
-memory per process, idle and navigating; with --minutes N, a soak that sends
-goals back to back for N minutes and counts errors and memory growth.
+Reports: launch-to-ready time next to a bare interpreter importing the same libraries;
+`turtlectl --help` next to importing typer; `turtlectl echo robot/status --once` next
+to a raw zenoh-python client; status period at the publisher (stamps) and at a
+subscriber; goal time as the client sees it vs the navigator's time_taken; one-way
+latency of robot/status next to raw zenoh-python pub/sub in the same topology; CPU and
+memory per process, idle and navigating, next to a raw 62.5 Hz publisher, a raw 62.5 Hz
+callback subscriber and an idle session; with --minutes N, a soak that sends goals back
+to back for N minutes and counts errors and memory growth.  Ends with the table of
+issue 10: each figure, its baseline, the ratio and the target.
 
-Usage: python bench/system.py [--minutes N] [--launches N] [--periods N]
+Usage: python bench/system.py [--minutes N] [--launches N] [--periods N] [--goals N]
 """
 
 from __future__ import annotations
@@ -31,7 +35,7 @@ sys.path.insert(0, str(ROOT))
 
 from cli.launchfile import load_launch  # noqa: E402
 from messages import NavigateToResponse, TurtleStatus, decode  # noqa: E402
-from messages.keys import STATUS  # noqa: E402
+from messages.keys import POSE, STATUS  # noqa: E402
 from nodes.goal import path_problem  # noqa: E402
 from runtime.session import close_session, peer_config  # noqa: E402
 from tests.integration.harness import NODES, System  # noqa: E402  (the same launcher as the tests)
@@ -78,19 +82,49 @@ def launch_to_ready(launches: int) -> list[float]:
 
 
 class Stamped:
-    """A peer subscriber that records (arrival monotonic, one-way latency s, payload)."""
+    """A peer subscriber that records (arrival monotonic s, one-way latency s) and the stamps (ns)."""
 
     def __init__(self, session: zenoh.Session, key: str, stamp_of):
         self.samples: list[tuple[float, float]] = []
+        self.stamps: list[int] = []
         self._stamp_of = stamp_of
         self._sub = session.declare_subscriber(key, self._on)
 
     def _on(self, sample: zenoh.Sample) -> None:
         now_wall, now = time.time_ns(), time.monotonic()
-        self.samples.append((now, (now_wall - self._stamp_of(sample.payload.to_bytes())) / 1e9))
+        stamp = self._stamp_of(sample.payload.to_bytes())
+        self.stamps.append(stamp)
+        self.samples.append((now, (now_wall - stamp) / 1e9))
 
     def close(self) -> None:
         self._sub.undeclare()
+
+
+def wall(argv: list[str], runs: int) -> list[float]:
+    """Wall time (s) of ``argv`` run to its end, ``runs`` times."""
+    times = []
+    for _ in range(runs):
+        started = time.monotonic()
+        subprocess.run(argv, capture_output=True, timeout=60, check=False)
+        times.append(time.monotonic() - started)
+    return times
+
+
+RAW = [sys.executable, str(ROOT / "bench" / "raw_pub.py")]
+
+
+def raw_cpu(args: list[str], warmup: float = 1.5, window: float = 5.0) -> tuple[float, float]:
+    """CPU % of one core and RSS MiB of a raw zenoh-python process (bench/raw_pub.py ``args``)."""
+    proc = subprocess.Popen([*RAW, *args])
+    try:
+        time.sleep(warmup)  # pacing: the process imports, opens its session and settles
+        ps = psutil.Process(proc.pid)
+        ps.cpu_percent(None)
+        time.sleep(window)  # pacing: the measured window
+        return ps.cpu_percent(None), ps.memory_info().rss / 2**20
+    finally:
+        proc.terminate()
+        proc.wait(10)
 
 
 def goal(system: System, x: float, y: float, theta: float) -> tuple[NavigateToResponse | None, float]:
@@ -142,8 +176,16 @@ def main() -> None:
     rng = random.Random(42)
 
     print(f"machine: {machine()}")
+    turtlectl = [str(Path(sys.executable).parent / "turtlectl")]
     ready = launch_to_ready(args.launches)
     print(f"launch-to-ready (turtlectl launch -> 4 liveliness tokens): {summary(ready, 'ms', 1e3)}")
+    bare = wall([sys.executable, "-c", "import zenoh, numpy, msgspec"], 5)
+    print(f"bare interpreter importing zenoh, numpy, msgspec: {summary(bare, 'ms', 1e3)}")
+    help_wall = wall([*turtlectl, "--help"], 7)
+    typer_wall = wall([sys.executable, "-c", "import typer"], 7)
+    print(
+        f"turtlectl --help: {summary(help_wall, 'ms', 1e3)}; python -c 'import typer': {summary(typer_wall, 'ms', 1e3)}"
+    )
 
     system = System()
     try:
@@ -153,9 +195,7 @@ def main() -> None:
             status = Stamped(session, STATUS, lambda b: decode(b, TurtleStatus).stamp)
             raw = Stamped(session, "bench/raw", lambda b: struct.unpack("<q", b)[0])
             seconds = args.periods / 10.0 + 2.0
-            raw_pub = subprocess.Popen(
-                [sys.executable, str(ROOT / "bench" / "raw_pub.py"), system.endpoint, "bench/raw", "10", str(seconds)]
-            )
+            raw_pub = subprocess.Popen([*RAW, "pub", system.endpoint, "bench/raw", "10", str(seconds)])
 
             # while both streams run: goals for client time vs time_taken, and CPU/RSS
             procs = processes(system)
@@ -171,6 +211,11 @@ def main() -> None:
                 diffs.append(elapsed - response.time_taken)
                 goal_times.append(elapsed)
 
+            raw_pub_cpu = raw_cpu(["pub", system.endpoint, "bench/raw62", "62.5", "8"])
+            raw_sub_cpu = raw_cpu(["sub", system.endpoint, POSE, "8"])  # the sim's 62.5 Hz poses
+            raw_idle = raw_cpu(["idle", system.endpoint, "8"])
+            echo_wall = wall([*turtlectl, "echo", STATUS, "--once", "--connect", system.endpoint], 5)
+            raw_once_wall = wall([*RAW, "once", system.endpoint, STATUS], 5)
             busy = cpu_and_memory(procs, 10.0, one_goal)
             while len(goal_times) + failures < args.goals:
                 one_goal()
@@ -183,6 +228,9 @@ def main() -> None:
         finally:
             close_session(session)
 
+        stamps = status.stamps[: args.periods + 1]
+        published = [abs((b - a) / 1e9 - 0.1) for a, b in zip(stamps, stamps[1:], strict=False)]
+        print(f"status period |period - 100 ms| at the publisher (stamps): {summary(published, 'ms', 1e3)}")
         arrivals = [t for t, _ in status.samples[: args.periods + 1]]
         jitter = [abs((b - a) - 0.1) for a, b in zip(arrivals, arrivals[1:], strict=False)]
         periods = [b - a for a, b in zip(arrivals, arrivals[1:], strict=False)]
@@ -198,6 +246,71 @@ def main() -> None:
         print("process               idle CPU %   idle RSS MiB   navigating CPU %   navigating RSS MiB")
         for name in procs:
             print(f"{name:20s} {idle[name][0]:11.1f} {idle[name][1]:14.1f} {busy[name][0]:18.1f} {busy[name][1]:20.1f}")
+        print(
+            f"raw zenoh-python: 62.5 Hz publisher {raw_pub_cpu[0]:.1f} %, 62.5 Hz callback subscriber "
+            f"{raw_sub_cpu[0]:.1f} %, idle session {raw_idle[0]:.1f} % and {raw_idle[1]:.1f} MiB"
+        )
+        idle_cpu = sum(c for c, _ in idle.values())
+        idle_rss = sum(r for _, r in idle.values())
+        rows = [
+            (
+                "launch -> all nodes ready, p50",
+                f"{pct(ready, 50):.2f} s",
+                f"bare imports {pct(bare, 50):.2f} s",
+                pct(ready, 50) / pct(bare, 50),
+                "<= 0.4 s",
+            ),
+            (
+                "`turtlectl --help`, p50",
+                f"{pct(help_wall, 50):.2f} s",
+                f"import typer {pct(typer_wall, 50):.2f} s",
+                pct(help_wall, 50) / pct(typer_wall, 50),
+                "<= 0.15 s",
+            ),
+            (
+                "`echo robot/status --once`, p50",
+                f"{pct(echo_wall, 50):.2f} s",
+                f"raw client {pct(raw_once_wall, 50):.2f} s",
+                pct(echo_wall, 50) / pct(raw_once_wall, 50),
+                "<= 0.3 s",
+            ),
+            (
+                "idle CPU, whole system",
+                f"{idle_cpu:.1f} %",
+                f"raw 62.5 Hz pub {raw_pub_cpu[0]:.1f} %",
+                idle_cpu / max(raw_pub_cpu[0], 0.1),
+                "<= 5 %",
+            ),
+            (
+                "RSS, whole system",
+                f"{idle_rss:.0f} MiB",
+                f"raw session {raw_idle[1]:.0f} MiB",
+                idle_rss / raw_idle[1],
+                "<= 200 MiB",
+            ),
+            (
+                "robot/status latency p50",
+                f"{pct(lat_ours, 50) * 1e3:.3f} ms",
+                f"raw {pct(lat_raw, 50) * 1e3:.3f} ms",
+                pct(lat_ours, 50) / pct(lat_raw, 50),
+                "<= 1.1x",
+            ),
+            (
+                "robot/status latency p99",
+                f"{pct(lat_ours, 99) * 1e3:.3f} ms",
+                f"raw {pct(lat_raw, 99) * 1e3:.3f} ms",
+                pct(lat_ours, 99) / pct(lat_raw, 99),
+                "<= 1.1x",
+            ),
+            ("status period, publisher p99", f"{pct(published, 99) * 1e3:.2f} ms", "", math.nan, "<= 0.5 ms"),
+            ("status period, subscriber max", f"{max(jitter) * 1e3:.2f} ms", "", math.nan, "<= 10 ms"),
+        ]
+        print()
+        print("| figure | turtlectl | baseline, same run | ratio | target |")
+        print("|---|---|---|---|---|")
+        for figure, ours, baseline, ratio, target in rows:
+            shown = "" if math.isnan(ratio) else f"{ratio:.2f}x"
+            print(f"| {figure} | {ours} | {baseline} | {shown} | {target} |")
 
         if args.minutes > 0:
             soak(system, procs, args.minutes, rng)
