@@ -7,10 +7,11 @@ one line instead of a traceback from inside an import.
 
 from __future__ import annotations
 
+import importlib.util
 import os
 import signal
 import sys
-from types import FrameType
+from types import FrameType, ModuleType
 
 from cli.errors import ExitCode
 
@@ -20,6 +21,22 @@ STOPPED_BY_CTRL_C = ("launch", "router")
 
 #: root options whose value is the next word (``--domain=x`` needs nothing skipped)
 _ROOT_OPTIONS_WITH_VALUE = ("--domain", "--connect")
+
+
+def lazy_module(name: str) -> ModuleType:
+    """Module ``name``, imported on first attribute access (importlib's LazyLoader): what only
+    some commands use costs nothing to the others, ``--help`` included."""
+    if name in sys.modules:
+        return sys.modules[name]
+    spec = importlib.util.find_spec(name)
+    if spec is None or spec.loader is None:
+        raise ImportError(f"no module named {name!r}")
+    loader = importlib.util.LazyLoader(spec.loader)
+    spec.loader = loader
+    module = importlib.util.module_from_spec(spec)
+    sys.modules[name] = module
+    loader.exec_module(module)
+    return module
 
 
 def command_of(argv: list[str]) -> str:

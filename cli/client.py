@@ -27,7 +27,8 @@ from messages.keys import (
     client_token,
     parse_domain_token,
 )
-from runtime.session import client_config, close_session, default_domain
+from runtime.endpoint import default_domain
+from runtime.session import client_config, close_session
 
 OPEN_TIMEOUT = 2.5  # s to reach the router before reporting "nothing to talk to"
 

@@ -21,12 +21,14 @@ from pathlib import Path
 
 import typer
 
-from cli import STOPPED_BY_CTRL_C, args, format
+from cli import STOPPED_BY_CTRL_C, args, lazy_module
 from cli.errors import BadInput, ExitCode, Failed, Interrupted, TurtlectlError, Unreachable, exit_code
 from cli.sigint import ignore_sigint, quiet_unraisable
 from messages import Cancel, NavigateToFeedback, NavigateToRequest, Reset, TeleportAbsolute, keys
 from messages.angles import heading_radians
-from runtime.session import CONNECT_ENV, DEFAULT_ENDPOINT, DEFAULT_PORT, DOMAIN_ENV, default_domain
+from runtime.endpoint import CONNECT_ENV, DEFAULT_ENDPOINT, DEFAULT_PORT, DOMAIN_ENV, default_domain
+
+format = lazy_module("cli.format")  # msgspec and the message types load when a command prints one
 
 EXIT_CODES_HELP = """
 Exit codes: 0 success, or Ctrl-C on a command that runs until stopped (echo, hz,

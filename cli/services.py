@@ -38,7 +38,7 @@ from messages import (
 from messages.codec import MEDIA_TYPE
 from messages.keys import NAVIGATE_TO, WORLD_KEY
 from messages.world import World
-from runtime.session import default_domain
+from runtime.endpoint import default_domain
 
 ZENOH_GRACE = 1.0  # s: Zenoh's own query timeout is ours plus this; our deadline decides
 

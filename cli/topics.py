@@ -20,7 +20,7 @@ from cli.graph import Graph, build_graph
 from cli.rates import RateStats, rate_stats
 from messages import DecodeError, Message, decode, decode_any, encode, encoding_for, type_from_encoding
 from messages.keys import CMD_VEL, DOMAIN_GRAPHS, FEEDBACK, GRAPH
-from runtime.session import default_domain
+from runtime.endpoint import default_domain
 
 WHILE_A_GOAL_RUNS = (FEEDBACK, CMD_VEL)  # published by the navigator only while a goal runs
 

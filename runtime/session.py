@@ -13,20 +13,10 @@
 from __future__ import annotations
 
 import json
-import os
 import socket
 import threading
 
 import zenoh
-
-DEFAULT_PORT = 7447
-DEFAULT_ENDPOINT = f"tcp/127.0.0.1:{DEFAULT_PORT}"
-CONNECT_ENV = "TURTLECTL_CONNECT"
-DOMAIN_ENV = "TURTLECTL_DOMAIN"
-
-
-def default_domain() -> str:
-    return os.environ.get(DOMAIN_ENV, "")
 
 
 def _base(mode: str, domain: str = "") -> zenoh.Config:

@@ -17,7 +17,7 @@ from typer.testing import CliRunner
 from cli.errors import BadInput, ExitCode, Interrupted, TurtlectlError, exit_code
 from cli.launchfile import PACKAGED_LAUNCH
 from cli.main import app, error_line, main
-from runtime.session import CONNECT_ENV, DOMAIN_ENV
+from runtime.endpoint import CONNECT_ENV, DOMAIN_ENV
 
 HEAVY = [
     "numpy",
