@@ -21,6 +21,7 @@ LAYERS = ["messages", "runtime", "sim", "nodes", "cli"]
 PURE = [
     "messages",  # every module of the package
     "runtime.config",
+    "runtime.endpoint",
     "sim.kinematics",
     "sim.lidar",
     "sim.params",
