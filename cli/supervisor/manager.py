@@ -21,9 +21,9 @@ import zenoh
 
 from cli.errors import CannotStart, ExitCode, TurtlectlError
 from cli.launchfile import LaunchPlan, node_config
-from cli.supervisor import logs
+from cli.supervisor import logs, zygote
 from cli.supervisor.printer import Printer
-from cli.supervisor.process import Child, node_command
+from cli.supervisor.process import Child, ZygoteChild, node_command
 from cli.supervisor.router import join_router, open_router
 from cli.supervisor.supervision import Supervision
 from messages.keys import NODE_TOKEN_PREFIX, domain_token, parse_node_token
@@ -52,6 +52,7 @@ class Supervisor:
         self.domain = domain
         self.printer = printer
         self.supervision = Supervision(plan, printer, self._child)
+        self.zygote: zygote.Zygote | None = None
 
     # -- lifecycle ----------------------------------------------------------
     def _open(self) -> zenoh.Session:
@@ -81,11 +82,18 @@ class Supervisor:
 
     def run(self) -> int:
         """Run until stopped; returns the exit code. Raises a TurtlectlError if it cannot start."""
-        session = self._open()
+        # before any session opens: a process that has opened one is never forked
+        self.zygote = zygote.take()
+        try:
+            session = self._open()
+        except BaseException:
+            self._close_zygote()
+            raise
         try:
             self._open_logs()
         except TurtlectlError:
             close_session(session)
+            self._close_zygote()
             raise
         previous = {sig: signal.signal(sig, self._on_signal) for sig in (signal.SIGINT, signal.SIGTERM)}
         try:
@@ -108,8 +116,14 @@ class Supervisor:
                 signal.signal(sig, handler)
             if not close_session(session):
                 self.printer.system("router session did not close in time")
+            self._close_zygote()
         self.printer.system(f"stopped ({self.supervision.stop_reason}); exit code {int(code)}")
         return int(code)
+
+    def _close_zygote(self) -> None:
+        if self.zygote is not None:
+            self.zygote.close()
+            self.zygote = None
 
     def stop(self, reason: str, code: ExitCode = ExitCode.OK) -> None:
         self.supervision.stop(reason, code)
@@ -129,4 +143,6 @@ class Supervisor:
         """The Child for node ``name``: its command and environment, made once."""
         config = node_config(self.plan, name, self.endpoint, domain=self.domain)
         argv, env = node_command(config, supervisor_pid=os.getpid())
+        if self.zygote is not None:
+            return ZygoteChild(name, argv, env, self.printer, self.zygote)
         return Child(name, argv, env, self.printer)

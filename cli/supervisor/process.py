@@ -12,9 +12,10 @@ import signal
 import subprocess
 import sys
 import threading
-from typing import NoReturn
+from typing import BinaryIO, NoReturn
 
 from cli.supervisor.printer import Printer
+from cli.supervisor.zygote import Zygote, ZygoteUnavailable
 from nodes.kinds import KINDS
 from runtime.config import ENV_VAR, SUPERVISOR_PID_VAR, NodeConfig, encode_config
 
@@ -84,6 +85,76 @@ class Child:
         """Wait (bounded) for the rest of the child's output after it exited."""
         if self._reader is not None:
             self._reader.join(timeout)
+
+
+class ZygoteChild(Child):
+    """A Child forked by the zygote (cli.supervisor.zygote) rather than started by fork+exec:
+    the same interface and guarantees (own process group, output on a pipe read here, the
+    group killed once the node has exited), its exit code reported by the zygote.  If the
+    zygote cannot start it (gone, no answer), it is started as a Child is, and the supervisor
+    says so once."""
+
+    def __init__(self, name: str, argv: list[str], env: dict[str, str], printer: Printer, zygote: Zygote):
+        super().__init__(name, argv, env, printer)
+        self.zygote = zygote
+        self.module = argv[-1]  # node_command's argv ends with the kind's module
+        self._pid: int | None = None
+        self._code: int | None = None
+
+    @property
+    def pid(self) -> int | None:
+        return self._pid if self.proc is None else self.proc.pid
+
+    def start(self) -> None:
+        self.proc, self._pid, self._code = None, None, None
+        read, write = os.pipe()
+        try:
+            self._pid = self.zygote.spawn(self.module, self.env, write)
+        except ZygoteUnavailable as exc:
+            os.close(read)
+            if not self.zygote.reported:
+                self.zygote.reported = True
+                self.printer.system(f"zygote: {exc}; starting nodes as new processes")
+            super().start()
+            return
+        finally:
+            os.close(write)
+        self._group_killed = False
+        out = os.fdopen(read, "rb")
+        self._reader = threading.Thread(target=self._pump_file, args=(out,), name=f"out-{self.name}", daemon=True)
+        self._reader.start()
+
+    def _pump_file(self, out: BinaryIO) -> None:
+        with out:
+            for raw in out:
+                self.printer.line(self.name, raw.decode("utf-8", "replace"))
+
+    def poll(self) -> int | None:
+        if self.proc is not None:
+            return super().poll()
+        if self._pid is None:
+            return None
+        if self._code is None:
+            self._code = self.zygote.exit_code(self._pid)
+        if self._code is not None and not self._group_killed:
+            self._group_killed = True
+            try:  # as Child.poll: whatever the node started goes with it
+                os.killpg(self._pid, signal.SIGKILL)
+            except (ProcessLookupError, PermissionError):
+                pass
+        return self._code
+
+    def running(self) -> bool:
+        return self.pid is not None and self.poll() is None
+
+    def send(self, sig: signal.Signals) -> None:
+        if self.proc is not None:
+            super().send(sig)
+        elif self._pid is not None and self.running():
+            try:
+                os.killpg(self._pid, sig)
+            except ProcessLookupError:
+                pass
 
 
 def node_command(config: NodeConfig, supervisor_pid: int | None = None) -> tuple[list[str], dict[str, str]]:

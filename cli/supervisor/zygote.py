@@ -1,0 +1,348 @@
+"""The zygote: one helper process that imports every node module once, then forks a node per
+request, so that a launch pays for numpy, zenoh and msgspec once instead of once per node.
+
+Who forks what.  The supervisor forks the zygote (``start``) as early as it can (``cli.entry``,
+before typer is imported, or else ``Supervisor.run``), always before it opens a Zenoh session:
+a process that has opened one is never forked.  The zygote never opens a session either; it
+imports the node modules, then serves requests on a Unix socket (SOCK_SEQPACKET, one JSON
+message each): ``start`` (a node module and its environment, built by
+``process.node_command``, with the write end of the pipe its output goes to, passed with
+``send_fds``) answered with ``started`` (its pid) or ``failed``; and, as it reaps them,
+``exited`` (pid, code: minus the signal number when killed, as ``Popen.returncode``).
+
+Guarantees, as for a node started by ``subprocess``: each forked node leads its own process
+group (set by the node and by the zygote, so that it exists before its pid is told), has
+default signal handlers and an empty signal mask, stdin on /dev/null and stdout and stderr
+on the supervisor's pipe, and asks Linux for SIGTERM when the zygote dies; the zygote asks
+for SIGTERM when the supervisor dies and exits when the supervisor's end of the socket
+closes.  A node watches its parent (``TURTLECTL_SUPERVISOR_PID`` is the zygote's pid in a
+forked node), so killing the supervisor still stops every node.
+
+The supervisor side is ``Zygote`` (the socket, a reader thread, the pids and exit codes).
+"""
+
+from __future__ import annotations
+
+import atexit
+import importlib
+import io
+import json
+import os
+import select
+import signal
+import socket
+import sys
+import threading
+import traceback
+from typing import Any, NoReturn
+
+_PR_SET_PDEATHSIG = 1
+_MAX_MESSAGE = 1 << 20  # bytes: a request carries a whole environment
+START_TIMEOUT = 10.0  # s a request may wait for its answer (the zygote may still be importing)
+
+#: set in the early zygote, taken by the supervisor (``take``)
+_early: Zygote | None = None
+
+
+class ZygoteUnavailable(Exception):
+    """The zygote cannot start this node (it is gone, did not answer, or lacks the module)."""
+
+
+def _pdeathsig(sig: signal.Signals) -> None:
+    import ctypes  # here: the supervisor imports this module before typer, as early as it can
+
+    try:
+        ctypes.CDLL(None, use_errno=True).prctl(_PR_SET_PDEATHSIG, int(sig), 0, 0, 0)
+    except (OSError, AttributeError):
+        pass
+
+
+# -- the supervisor's side ------------------------------------------------------------------
+
+
+class Zygote:
+    """The supervisor's handle on a running zygote: ``spawn`` a node, ask for its exit code."""
+
+    def __init__(self, pid: int, sock: socket.socket):
+        self.pid = pid
+        self.sock = sock
+        self.reported = False  # whether the supervisor has said it is starting nodes without it
+        self._cond = threading.Condition()
+        self._answers: dict[int, dict[str, Any]] = {}
+        self._exits: dict[int, int] = {}
+        self._next = 0
+        self._alive = True
+        self._send_lock = threading.Lock()
+        self._reader = threading.Thread(target=self._read, name="zygote", daemon=True)
+        self._reader.start()
+
+    @property
+    def alive(self) -> bool:
+        return self._alive
+
+    def _read(self) -> None:
+        while True:
+            try:
+                data = self.sock.recv(_MAX_MESSAGE)
+            except OSError:
+                data = b""
+            if not data:
+                break
+            message = json.loads(data)
+            with self._cond:
+                if "exited" in message:
+                    self._exits[message["exited"]] = message["code"]
+                else:
+                    self._answers[message["id"]] = message
+                self._cond.notify_all()
+        with self._cond:
+            self._alive = False
+            self._cond.notify_all()
+        try:
+            os.waitpid(self.pid, 0)  # our child: reap it
+        except ChildProcessError:
+            pass
+
+    def spawn(self, module: str, env: dict[str, str], out: int, timeout: float = START_TIMEOUT) -> int:
+        """Fork a node running ``module``'s ``main()`` with ``env``, its output on fd ``out``; its pid."""
+        with self._cond:
+            if not self._alive:
+                raise ZygoteUnavailable(f"the zygote (pid {self.pid}) has exited")
+            self._next += 1
+            ident = self._next
+        request = json.dumps({"id": ident, "module": module, "env": env}).encode()
+        try:
+            with self._send_lock:
+                socket.send_fds(self.sock, [request], [out])
+        except OSError as exc:
+            raise ZygoteUnavailable(f"the zygote (pid {self.pid}) cannot be reached: {exc}") from None
+        with self._cond:
+            if not self._cond.wait_for(lambda: ident in self._answers or not self._alive, timeout):
+                raise ZygoteUnavailable(f"the zygote (pid {self.pid}) did not answer within {timeout:g} s")
+            answer = self._answers.pop(ident, None)
+        if answer is None:
+            raise ZygoteUnavailable(f"the zygote (pid {self.pid}) has exited")
+        if "pid" not in answer:
+            raise ZygoteUnavailable(answer.get("error", "the zygote could not start it"))
+        return int(answer["pid"])
+
+    def exit_code(self, pid: int) -> int | None:
+        """The exit code of node ``pid`` once the zygote has reaped it (minus the signal number
+        if killed); if the zygote is gone, its nodes died with it: -SIGTERM once ``pid`` is gone."""
+        with self._cond:
+            if pid in self._exits:
+                return self._exits.pop(pid)
+            if self._alive:
+                return None
+        return None if _alive(pid) else -int(signal.SIGTERM)
+
+    def close(self) -> None:
+        """Let it go: it exits once the socket closes (its nodes get SIGTERM from Linux)."""
+        try:
+            self.sock.shutdown(socket.SHUT_RDWR)
+        except OSError:
+            pass
+        self._reader.join(2.0)
+        self.sock.close()
+
+
+def _alive(pid: int) -> bool:
+    try:
+        with open(f"/proc/{pid}/stat") as f:
+            return f.read().rsplit(") ", 1)[1][0] != "Z"
+    except OSError:
+        return False
+
+
+def start() -> Zygote | None:
+    """Fork the zygote now; None if it cannot be.  The caller must have opened no Zenoh session
+    and must be single-threaded (only the calling thread is copied)."""
+    try:
+        ours, theirs = socket.socketpair(socket.AF_UNIX, socket.SOCK_SEQPACKET)
+        supervisor = os.getpid()
+        pid = os.fork()
+    except OSError:
+        return None
+    if pid == 0:  # the zygote: never returns into the caller's code (nor does a node it forks, see _become)
+        code = 1
+        try:
+            ours.close()
+            code = _serve(theirs, supervisor)
+        except BaseException:  # noqa: BLE001 - nothing of the zygote may unwind into the caller
+            traceback.print_exc()
+        finally:
+            os._exit(code)
+    theirs.close()
+    return Zygote(pid, ours)
+
+
+def start_early() -> None:
+    """``cli.entry`` for ``turtlectl launch``: the zygote starts importing while typer does."""
+    global _early
+    if _early is None:
+        _early = start()
+
+
+def take() -> Zygote | None:
+    """The zygote started early, or one started now (then the caller must not hold a session)."""
+    global _early
+    zygote, _early = _early, None
+    return zygote if zygote is not None and zygote.alive else start()
+
+
+# -- the zygote's side ------------------------------------------------------------------------
+
+
+def _serve(sock: socket.socket, supervisor: int) -> int:
+    """The zygote's life: import every node module, then fork nodes on request until the
+    supervisor goes away.  Returns its exit code."""
+    _pdeathsig(signal.SIGTERM)
+    if os.getppid() != supervisor:  # the supervisor died before the request for its death took
+        return 0
+    os.setpgid(0, 0)  # a Ctrl-C on the terminal is for the supervisor, which then signals the nodes
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    signal.signal(signal.SIGTERM, signal.SIG_DFL)
+    devnull = os.open(os.devnull, os.O_RDWR)
+    os.dup2(devnull, 0)
+    os.dup2(devnull, 1)  # stderr stays the supervisor's, for the zygote's own failures
+    os.close(devnull)
+
+    from nodes.kinds import KINDS
+
+    modules: dict[str, Any] = {}
+    broken: dict[str, str] = {}
+    for kind in KINDS.values():
+        try:
+            modules[kind.module] = importlib.import_module(kind.module)
+        except Exception as exc:  # noqa: BLE001 - such a node is started as a process, which reports it
+            broken[kind.module] = f"{type(exc).__name__}: {exc}"
+
+    wake_r, wake_w = os.pipe()
+    os.set_blocking(wake_w, False)
+    signal.set_wakeup_fd(wake_w)
+    signal.signal(signal.SIGCHLD, lambda *_: None)
+    children: set[int] = set()
+    try:
+        while True:
+            _reap(sock, children)
+            ready, _, _ = select.select([sock, wake_r], [], [])
+            if wake_r in ready:
+                os.read(wake_r, 4096)
+            if sock not in ready:
+                continue
+            try:
+                data, fds, _flags, _addr = socket.recv_fds(sock, _MAX_MESSAGE, 1)
+            except OSError:
+                data, fds = b"", []
+            if not data:
+                return 0  # the supervisor closed its end, or exited
+            request = json.loads(data)
+            answer: dict[str, Any] = {"id": request["id"]}
+            module = modules.get(request["module"])
+            if module is None or not fds:
+                answer["error"] = broken.get(request["module"], f"no module {request['module']!r} in the zygote")
+            else:
+                pid = os.fork()
+                if pid == 0:
+                    _become(module, request["env"], fds[0], sock, (wake_r, wake_w))
+                try:  # the group exists before anyone is told the pid (the node sets it too)
+                    os.setpgid(pid, pid)
+                except OSError:
+                    pass
+                children.add(pid)
+                answer["pid"] = pid
+            for fd in fds:
+                os.close(fd)
+            sock.send(json.dumps(answer).encode())
+    finally:
+        signal.set_wakeup_fd(-1)
+
+
+def _reap(sock: socket.socket, children: set[int]) -> None:
+    for pid in list(children):
+        try:
+            done, status = os.waitpid(pid, os.WNOHANG)
+        except ChildProcessError:
+            children.discard(pid)
+            continue
+        if done:
+            children.discard(pid)
+            code = os.waitstatus_to_exitcode(status)
+            try:
+                sock.send(json.dumps({"exited": pid, "code": code}).encode())
+            except OSError:
+                pass
+
+
+def _become(module: Any, env: dict[str, str], out: int, sock: socket.socket, pipes: tuple[int, int]) -> NoReturn:
+    """In a freshly forked child of the zygote: become the node, as ``python -u -m module`` would
+    be, run its ``main()``, and exit (never returning into the zygote's code)."""
+    zygote = os.getppid()
+    code = 1
+    try:
+        os.setpgid(0, 0)
+        _pdeathsig(signal.SIGTERM)
+        if os.getppid() != zygote:
+            os._exit(0)
+        signal.set_wakeup_fd(-1)
+        for sig in (signal.SIGTERM, signal.SIGCHLD, signal.SIGHUP, signal.SIGQUIT):
+            signal.signal(sig, signal.SIG_DFL)
+        signal.signal(signal.SIGINT, signal.default_int_handler)
+        signal.pthread_sigmask(signal.SIG_SETMASK, [])
+        sock.close()
+        for fd in pipes:
+            os.close(fd)
+        devnull = os.open(os.devnull, os.O_RDONLY)
+        os.dup2(devnull, 0)
+        os.close(devnull)
+        os.dup2(out, 1)
+        os.dup2(out, 2)
+        os.close(out)
+        sys.stdout = io.TextIOWrapper(open(1, "wb", 0, closefd=False), write_through=True)  # noqa: SIM115
+        sys.stderr = io.TextIOWrapper(
+            open(2, "wb", 0, closefd=False),  # noqa: SIM115
+            errors="backslashreplace",
+            write_through=True,
+        )
+        os.environ.clear()
+        os.environ.update(env)
+        from runtime.config import SUPERVISOR_PID_VAR
+
+        if SUPERVISOR_PID_VAR in os.environ:  # the node's parent, whose death ends it, is the zygote
+            os.environ[SUPERVISOR_PID_VAR] = str(zygote)
+        sys.argv = [getattr(module, "__file__", None) or module.__name__]
+        try:
+            module.main()
+            code = 0
+        except SystemExit as exc:
+            code = _exit_code(exc)
+        except BaseException:  # noqa: BLE001 - as the interpreter would: the traceback, exit 1
+            traceback.print_exc()
+            code = 1
+        _finalize()
+    finally:
+        os._exit(code)
+
+
+def _exit_code(exc: SystemExit) -> int:
+    if exc.code is None:
+        return 0
+    if isinstance(exc.code, int):
+        return exc.code
+    print(exc.code, file=sys.stderr)
+    return 1
+
+
+def _finalize() -> None:
+    """What the interpreter does at exit, for a process that must leave with ``os._exit``:
+    wait for its non-daemon threads, run the exit handlers, flush its output."""
+    try:
+        threading._shutdown()  # type: ignore[attr-defined]
+    except Exception:  # noqa: BLE001
+        pass
+    atexit._run_exitfuncs()
+    for stream in (sys.stdout, sys.stderr):
+        try:
+            stream.flush()
+        except (OSError, ValueError):
+            pass
