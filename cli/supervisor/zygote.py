@@ -37,6 +37,7 @@ import traceback
 from typing import Any, NoReturn
 
 _PR_SET_PDEATHSIG = 1
+_PR_SET_NAME = 15  # the name ps -o comm and top show (a forked node keeps the supervisor's argv)
 _MAX_MESSAGE = 1 << 20  # bytes: a request carries a whole environment
 START_TIMEOUT = 10.0  # s a request may wait for its answer (the zygote may still be importing)
 
@@ -48,13 +49,17 @@ class ZygoteUnavailable(Exception):
     """The zygote cannot start this node (it is gone, did not answer, or lacks the module)."""
 
 
-def _pdeathsig(sig: signal.Signals) -> None:
+def _prctl(option: int, arg: int | bytes) -> None:
     import ctypes  # here: the supervisor imports this module before typer, as early as it can
 
     try:
-        ctypes.CDLL(None, use_errno=True).prctl(_PR_SET_PDEATHSIG, int(sig), 0, 0, 0)
+        ctypes.CDLL(None, use_errno=True).prctl(option, arg, 0, 0, 0)
     except (OSError, AttributeError):
         pass
+
+
+def _pdeathsig(sig: signal.Signals) -> None:
+    _prctl(_PR_SET_PDEATHSIG, int(sig))
 
 
 # -- the supervisor's side ------------------------------------------------------------------
@@ -154,9 +159,10 @@ def _alive(pid: int) -> bool:
         return False
 
 
-def start() -> Zygote | None:
+def start(modules: list[str] | None = None) -> Zygote | None:
     """Fork the zygote now; None if it cannot be.  The caller must have opened no Zenoh session
-    and must be single-threaded (only the calling thread is copied)."""
+    and must be single-threaded (only the calling thread is copied).  ``modules``: what it
+    imports and can start (default: every kind's module, nodes.kinds.KINDS)."""
     try:
         ours, theirs = socket.socketpair(socket.AF_UNIX, socket.SOCK_SEQPACKET)
         supervisor = os.getpid()
@@ -167,7 +173,7 @@ def start() -> Zygote | None:
         code = 1
         try:
             ours.close()
-            code = _serve(theirs, supervisor)
+            code = _serve(theirs, supervisor, modules)
         except BaseException:  # noqa: BLE001 - nothing of the zygote may unwind into the caller
             traceback.print_exc()
         finally:
@@ -193,7 +199,7 @@ def take() -> Zygote | None:
 # -- the zygote's side ------------------------------------------------------------------------
 
 
-def _serve(sock: socket.socket, supervisor: int) -> int:
+def _serve(sock: socket.socket, supervisor: int, names: list[str] | None) -> int:
     """The zygote's life: import every node module, then fork nodes on request until the
     supervisor goes away.  Returns its exit code."""
     _pdeathsig(signal.SIGTERM)
@@ -206,16 +212,19 @@ def _serve(sock: socket.socket, supervisor: int) -> int:
     os.dup2(devnull, 0)
     os.dup2(devnull, 1)  # stderr stays the supervisor's, for the zygote's own failures
     os.close(devnull)
+    _prctl(_PR_SET_NAME, b"turtle-zygote")
 
-    from nodes.kinds import KINDS
+    if names is None:
+        from nodes.kinds import KINDS
 
+        names = [kind.module for kind in KINDS.values()]
     modules: dict[str, Any] = {}
     broken: dict[str, str] = {}
-    for kind in KINDS.values():
+    for name in names:
         try:
-            modules[kind.module] = importlib.import_module(kind.module)
+            modules[name] = importlib.import_module(name)
         except Exception as exc:  # noqa: BLE001 - such a node is started as a process, which reports it
-            broken[kind.module] = f"{type(exc).__name__}: {exc}"
+            broken[name] = f"cannot import {name}: {type(exc).__name__}: {exc}"
 
     wake_r, wake_w = os.pipe()
     os.set_blocking(wake_w, False)
@@ -311,6 +320,7 @@ def _become(module: Any, env: dict[str, str], out: int, sock: socket.socket, pip
         if SUPERVISOR_PID_VAR in os.environ:  # the node's parent, whose death ends it, is the zygote
             os.environ[SUPERVISOR_PID_VAR] = str(zygote)
         sys.argv = [getattr(module, "__file__", None) or module.__name__]
+        _prctl(_PR_SET_NAME, module.__name__.rpartition(".")[2].encode()[:15])
         try:
             module.main()
             code = 0

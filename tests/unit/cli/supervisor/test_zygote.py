@@ -1,0 +1,168 @@
+"""cli.supervisor.zygote with real processes: a forked node leads its own group with default
+signals, its environment and its output on the supervisor's pipe; exit codes and signals are
+reported; it dies with the zygote, the zygote with the supervisor; without a zygote, nodes
+start as new processes (said once)."""
+
+from __future__ import annotations
+
+import io
+import json
+import os
+import signal
+import subprocess
+import sys
+import textwrap
+import time
+from collections.abc import Callable, Iterator
+from pathlib import Path
+
+import pytest
+
+from cli.supervisor.printer import Printer
+from cli.supervisor.process import ZygoteChild
+from cli.supervisor.zygote import Zygote, start
+from runtime.config import SUPERVISOR_PID_VAR
+
+MODULE = "tests.unit.cli.supervisor.zygote_node"
+ROOT = Path(__file__).resolve().parents[4]
+
+
+def pid_alive(pid: int) -> bool:
+    """Alive and not a zombie."""
+    try:
+        with open(f"/proc/{pid}/stat") as f:
+            return f.read().rsplit(") ", 1)[1][0] != "Z"
+    except OSError:
+        return False
+
+
+@pytest.fixture
+def zygote() -> Iterator[Zygote]:
+    z = start([MODULE])
+    assert z is not None
+    yield z
+    z.close()
+    if pid_alive(z.pid):
+        os.kill(z.pid, signal.SIGKILL)
+
+
+def _child(zygote: Zygote, what: str, printer: Printer | None = None) -> ZygoteChild:
+    env = dict(os.environ, ZYGOTE_TEST=what, **{SUPERVISOR_PID_VAR: str(os.getpid())})
+    argv = [sys.executable, "-u", "-m", MODULE]
+    return ZygoteChild("node", argv, env, printer or Printer(["node"], stream=io.StringIO()), zygote)
+
+
+def _wait(condition: Callable[[], bool], what: str, timeout: float = 10.0) -> None:
+    deadline = time.monotonic() + timeout
+    while not condition():
+        assert time.monotonic() < deadline, f"timed out waiting for {what}"
+        time.sleep(0.02)  # pacing: polling process state under a deadline
+
+
+def _exit_of(child: ZygoteChild, timeout: float = 10.0) -> int:
+    _wait(lambda: child.poll() is not None, "the node's exit")
+    child.flush_output()
+    code = child.poll()
+    assert code is not None
+    return code
+
+
+def _lines(child: ZygoteChild) -> list[str]:
+    return [line.split("| ", 1)[1] for line in child.printer.stream.getvalue().splitlines()]
+
+
+def test_a_forked_node_leads_its_own_group_with_default_signals_and_its_own_environment(zygote):
+    child = _child(zygote, "describe")
+    child.start()
+    assert child.proc is None  # forked by the zygote, not started by subprocess
+    assert _exit_of(child) == 0
+    facts = json.loads(_lines(child)[-1])
+    assert facts["pid"] == child.pid and facts["pgid"] == child.pid  # it leads its own group
+    assert facts["ppid"] == zygote.pid
+    assert facts["env"]["ZYGOTE_TEST"] == "describe"
+    assert facts["env"][SUPERVISOR_PID_VAR] == str(zygote.pid)  # the parent it watches is the zygote
+    assert facts["sigint"] and facts["sigterm"] and facts["sigchld"] and facts["mask"] == []
+    assert facts["stdin"] == "" and facts["comm"] == "zygote_node"
+
+
+def test_exit_codes_and_both_output_streams_reach_the_supervisor(zygote):
+    child = _child(zygote, "exit:3")
+    child.start()
+    assert _exit_of(child) == 3
+    assert _lines(child) == ["about to exit", "on stderr"]
+
+    raising = _child(zygote, "raise")
+    raising.start()
+    assert _exit_of(raising) == 1
+    out = "\n".join(_lines(raising))
+    assert out.count("Traceback") == 1 and "RuntimeError: raised in main" in out
+
+
+def test_a_signal_is_reported_and_reaches_the_node_s_whole_group(zygote):
+    child = _child(zygote, "family")
+    child.start()
+    _wait(lambda: bool(_lines(child)), "the grandchild's pid")
+    grandchild = int(_lines(child)[0])
+    assert os.getpgid(grandchild) == child.pid
+    child.send(signal.SIGTERM)
+    assert _exit_of(child) == -signal.SIGTERM
+    _wait(lambda: not pid_alive(grandchild), "the grandchild's end")
+
+    killed = _child(zygote, "sleep")
+    killed.start()
+    os.kill(killed.pid, signal.SIGKILL)
+    assert _exit_of(killed) == -signal.SIGKILL
+
+
+def test_nodes_die_with_the_zygote_and_then_start_as_new_processes_said_once(zygote):
+    printer = Printer(["node"], stream=io.StringIO())
+    child = _child(zygote, "sleep", printer)
+    child.start()
+    pid = child.pid
+    os.kill(zygote.pid, signal.SIGKILL)
+    _wait(lambda: not zygote.alive, "the zygote's end to be seen")
+    assert _exit_of(child) == -signal.SIGTERM  # its parent-death signal
+    assert not pid_alive(pid)
+    for _ in range(2):  # respawned: a new process, as without a zygote
+        child.start()
+        try:
+            assert child.proc is not None and child.running()
+        finally:
+            child.send(signal.SIGKILL)
+            _exit_of(child)
+    said = [line for line in printer.stream.getvalue().splitlines() if "starting nodes as new processes" in line]
+    assert len(said) == 1, printer.stream.getvalue()
+
+
+SUPERVISOR = textwrap.dedent(
+    f"""
+    import os, sys, time
+    from cli.supervisor.zygote import start
+    zygote = start([{MODULE!r}])
+    read, write = os.pipe()
+    node = zygote.spawn({MODULE!r}, dict(os.environ, ZYGOTE_TEST="sleep", TURTLECTL_SUPERVISOR_PID="1"), write)
+    print(zygote.pid, node, flush=True)
+    time.sleep(60)  # pacing: ok (stays until killed)
+    """
+)
+
+
+def test_a_killed_supervisor_leaves_neither_zygote_nor_node():
+    supervisor = subprocess.Popen(
+        [sys.executable, "-c", SUPERVISOR], cwd=ROOT, stdout=subprocess.PIPE, text=True, start_new_session=True
+    )
+    pids: list[int] = []
+    try:
+        assert supervisor.stdout is not None
+        pids = [int(p) for p in supervisor.stdout.readline().split()]
+        assert len(pids) == 2 and all(pid_alive(p) for p in pids)
+        supervisor.kill()
+        supervisor.wait(5)
+        _wait(lambda: not any(pid_alive(p) for p in pids), "the zygote and its node to die with the supervisor")
+    finally:
+        for pid in [supervisor.pid, *pids]:
+            try:
+                os.kill(pid, signal.SIGKILL)
+            except ProcessLookupError:
+                pass
+        supervisor.wait(5)
