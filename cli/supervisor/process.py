@@ -109,7 +109,7 @@ class ZygoteChild(Child):
         self.proc, self._pid, self._code = None, None, None
         read, write = os.pipe()
         try:
-            self._pid = self.zygote.spawn(self.module, self.env, write)
+            self._pid = self.zygote.spawn(self.module, self.env, write, self.name)
         except ZygoteUnavailable as exc:
             os.close(read)
             if not self.zygote.reported:

@@ -23,18 +23,13 @@ The supervisor side is ``Zygote`` (the socket, a reader thread, the pids and exi
 
 from __future__ import annotations
 
-import atexit
-import importlib
-import io
-import json
+# Only what forking costs nothing to import: cli.entry imports this module before typer, and
+# every millisecond before the fork is one the zygote starts later; the rest is imported where used.
+import _socket
 import os
-import select
 import signal
-import socket
 import sys
-import threading
-import traceback
-from typing import Any, NoReturn
+from types import ModuleType
 
 _PR_SET_PDEATHSIG = 1
 _PR_SET_NAME = 15  # the name ps -o comm and top show (a forked node keeps the supervisor's argv)
@@ -68,12 +63,15 @@ def _pdeathsig(sig: signal.Signals) -> None:
 class Zygote:
     """The supervisor's handle on a running zygote: ``spawn`` a node, ask for its exit code."""
 
-    def __init__(self, pid: int, sock: socket.socket):
+    def __init__(self, pid: int, fd: int):
+        import socket
+        import threading
+
         self.pid = pid
-        self.sock = sock
+        self.sock = socket.socket(fileno=fd)
         self.reported = False  # whether the supervisor has said it is starting nodes without it
         self._cond = threading.Condition()
-        self._answers: dict[int, dict[str, Any]] = {}
+        self._answers: dict[int, dict[str, object]] = {}
         self._exits: dict[int, int] = {}
         self._next = 0
         self._alive = True
@@ -86,6 +84,8 @@ class Zygote:
         return self._alive
 
     def _read(self) -> None:
+        import json
+
         while True:
             try:
                 data = self.sock.recv(_MAX_MESSAGE)
@@ -108,14 +108,18 @@ class Zygote:
         except ChildProcessError:
             pass
 
-    def spawn(self, module: str, env: dict[str, str], out: int, timeout: float = START_TIMEOUT) -> int:
-        """Fork a node running ``module``'s ``main()`` with ``env``, its output on fd ``out``; its pid."""
+    def spawn(self, module: str, env: dict[str, str], out: int, name: str = "", timeout: float = START_TIMEOUT) -> int:
+        """Fork a node running ``module``'s ``main()`` with ``env``, its output on fd ``out``; its pid.
+        ``name``: what ``ps -o comm`` shows (the module's last part if empty)."""
+        import json
+        import socket
+
         with self._cond:
             if not self._alive:
                 raise ZygoteUnavailable(f"the zygote (pid {self.pid}) has exited")
             self._next += 1
             ident = self._next
-        request = json.dumps({"id": ident, "module": module, "env": env}).encode()
+        request = json.dumps({"id": ident, "module": module, "env": env, "name": name}).encode()
         try:
             with self._send_lock:
                 socket.send_fds(self.sock, [request], [out])
@@ -128,8 +132,8 @@ class Zygote:
         if answer is None:
             raise ZygoteUnavailable(f"the zygote (pid {self.pid}) has exited")
         if "pid" not in answer:
-            raise ZygoteUnavailable(answer.get("error", "the zygote could not start it"))
-        return int(answer["pid"])
+            raise ZygoteUnavailable(str(answer.get("error", "the zygote could not start it")))
+        return int(str(answer["pid"]))
 
     def exit_code(self, pid: int) -> int | None:
         """The exit code of node ``pid`` once the zygote has reaped it (minus the signal number
@@ -144,7 +148,7 @@ class Zygote:
     def close(self) -> None:
         """Let it go: it exits once the socket closes (its nodes get SIGTERM from Linux)."""
         try:
-            self.sock.shutdown(socket.SHUT_RDWR)
+            self.sock.shutdown(_socket.SHUT_RDWR)
         except OSError:
             pass
         self._reader.join(2.0)
@@ -164,7 +168,7 @@ def start(modules: list[str] | None = None) -> Zygote | None:
     and must be single-threaded (only the calling thread is copied).  ``modules``: what it
     imports and can start (default: every kind's module, nodes.kinds.KINDS)."""
     try:
-        ours, theirs = socket.socketpair(socket.AF_UNIX, socket.SOCK_SEQPACKET)
+        ours, theirs = (s.detach() for s in _socket.socketpair(_socket.AF_UNIX, _socket.SOCK_SEQPACKET))
         supervisor = os.getpid()
         pid = os.fork()
     except OSError:
@@ -172,13 +176,15 @@ def start(modules: list[str] | None = None) -> Zygote | None:
     if pid == 0:  # the zygote: never returns into the caller's code (nor does a node it forks, see _become)
         code = 1
         try:
-            ours.close()
+            os.close(ours)
             code = _serve(theirs, supervisor, modules)
         except BaseException:  # noqa: BLE001 - nothing of the zygote may unwind into the caller
+            import traceback
+
             traceback.print_exc()
         finally:
             os._exit(code)
-    theirs.close()
+    os.close(theirs)
     return Zygote(pid, ours)
 
 
@@ -199,9 +205,15 @@ def take() -> Zygote | None:
 # -- the zygote's side ------------------------------------------------------------------------
 
 
-def _serve(sock: socket.socket, supervisor: int, names: list[str] | None) -> int:
+def _serve(fd: int, supervisor: int, names: list[str] | None) -> int:
     """The zygote's life: import every node module, then fork nodes on request until the
     supervisor goes away.  Returns its exit code."""
+    import importlib
+    import json
+    import select
+    import socket
+
+    sock = socket.socket(fileno=fd)
     _pdeathsig(signal.SIGTERM)
     if os.getppid() != supervisor:  # the supervisor died before the request for its death took
         return 0
@@ -218,7 +230,7 @@ def _serve(sock: socket.socket, supervisor: int, names: list[str] | None) -> int
         from nodes.kinds import KINDS
 
         names = [kind.module for kind in KINDS.values()]
-    modules: dict[str, Any] = {}
+    modules: dict[str, ModuleType] = {}
     broken: dict[str, str] = {}
     for name in names:
         try:
@@ -246,14 +258,15 @@ def _serve(sock: socket.socket, supervisor: int, names: list[str] | None) -> int
             if not data:
                 return 0  # the supervisor closed its end, or exited
             request = json.loads(data)
-            answer: dict[str, Any] = {"id": request["id"]}
+            answer: dict[str, object] = {"id": request["id"]}
             module = modules.get(request["module"])
             if module is None or not fds:
                 answer["error"] = broken.get(request["module"], f"no module {request['module']!r} in the zygote")
             else:
+                request["zygote"] = os.getpid()
                 pid = os.fork()
                 if pid == 0:
-                    _become(module, request["env"], fds[0], sock, (wake_r, wake_w))
+                    _become(module, request, fds[0], sock, (wake_r, wake_w))
                 try:  # the group exists before anyone is told the pid (the node sets it too)
                     os.setpgid(pid, pid)
                 except OSError:
@@ -267,7 +280,9 @@ def _serve(sock: socket.socket, supervisor: int, names: list[str] | None) -> int
         signal.set_wakeup_fd(-1)
 
 
-def _reap(sock: socket.socket, children: set[int]) -> None:
+def _reap(sock: _socket.socket, children: set[int]) -> None:
+    import json
+
     for pid in list(children):
         try:
             done, status = os.waitpid(pid, os.WNOHANG)
@@ -283,10 +298,15 @@ def _reap(sock: socket.socket, children: set[int]) -> None:
                 pass
 
 
-def _become(module: Any, env: dict[str, str], out: int, sock: socket.socket, pipes: tuple[int, int]) -> NoReturn:
+def _become(
+    module: ModuleType, request: dict[str, object], out: int, sock: _socket.socket, pipes: tuple[int, int]
+) -> None:
     """In a freshly forked child of the zygote: become the node, as ``python -u -m module`` would
-    be, run its ``main()``, and exit (never returning into the zygote's code)."""
-    zygote = os.getppid()
+    be, run its ``main()``, and exit (never returns into the zygote's code: ``os._exit``)."""
+    import io
+    import traceback
+
+    zygote = int(str(request["zygote"]))  # not getppid(): it may be gone (and we adopted) already
     code = 1
     try:
         os.setpgid(0, 0)
@@ -314,13 +334,13 @@ def _become(module: Any, env: dict[str, str], out: int, sock: socket.socket, pip
             write_through=True,
         )
         os.environ.clear()
-        os.environ.update(env)
+        os.environ.update(request["env"])  # type: ignore[call-overload]
         from runtime.config import SUPERVISOR_PID_VAR
 
         if SUPERVISOR_PID_VAR in os.environ:  # the node's parent, whose death ends it, is the zygote
             os.environ[SUPERVISOR_PID_VAR] = str(zygote)
         sys.argv = [getattr(module, "__file__", None) or module.__name__]
-        _prctl(_PR_SET_NAME, module.__name__.rpartition(".")[2].encode()[:15])
+        _prctl(_PR_SET_NAME, str(request.get("name") or module.__name__.rpartition(".")[2]).encode()[:15])
         try:
             module.main()
             code = 0
@@ -346,6 +366,9 @@ def _exit_code(exc: SystemExit) -> int:
 def _finalize() -> None:
     """What the interpreter does at exit, for a process that must leave with ``os._exit``:
     wait for its non-daemon threads, run the exit handlers, flush its output."""
+    import atexit
+    import threading
+
     try:
         threading._shutdown()  # type: ignore[attr-defined]
     except Exception:  # noqa: BLE001

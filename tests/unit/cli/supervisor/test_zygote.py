@@ -82,7 +82,7 @@ def test_a_forked_node_leads_its_own_group_with_default_signals_and_its_own_envi
     assert facts["env"]["ZYGOTE_TEST"] == "describe"
     assert facts["env"][SUPERVISOR_PID_VAR] == str(zygote.pid)  # the parent it watches is the zygote
     assert facts["sigint"] and facts["sigterm"] and facts["sigchld"] and facts["mask"] == []
-    assert facts["stdin"] == "" and facts["comm"] == "zygote_node"
+    assert facts["stdin"] == "" and facts["comm"] == "node"  # its name in the launch file
 
 
 def test_exit_codes_and_both_output_streams_reach_the_supervisor(zygote):
