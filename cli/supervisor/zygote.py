@@ -34,6 +34,10 @@ from types import ModuleType
 _PR_SET_PDEATHSIG = 1
 _PR_SET_NAME = 15  # the name ps -o comm and top show (a forked node keeps the supervisor's argv)
 _MAX_MESSAGE = 1 << 20  # bytes: a request carries a whole environment
+#: what the nodes import on first use while they start, imported by the zygote once for all:
+#: the idna codec (getaddrinfo of a host name), numpy.random (numpy 2 loads it lazily; the
+#: obstacle detector's generator); about 35 ms of each node's start
+WARM = ("encodings.idna", "numpy.random")
 START_TIMEOUT = 10.0  # s a request may wait for its answer (the zygote may still be importing)
 
 #: set in the early zygote, taken by the supervisor (``take``)
@@ -237,6 +241,11 @@ def _serve(fd: int, supervisor: int, names: list[str] | None) -> int:
             modules[name] = importlib.import_module(name)
         except Exception as exc:  # noqa: BLE001 - such a node is started as a process, which reports it
             broken[name] = f"cannot import {name}: {type(exc).__name__}: {exc}"
+    for name in WARM:
+        try:
+            importlib.import_module(name)
+        except ImportError:
+            pass
 
     wake_r, wake_w = os.pipe()
     os.set_blocking(wake_w, False)
