@@ -180,6 +180,7 @@ def start(modules: list[str] | None = None) -> Zygote | None:
     if pid == 0:  # the zygote: never returns into the caller's code (nor does a node it forks, see _become)
         code = 1
         try:
+            signal.signal(signal.SIGINT, signal.SIG_IGN)  # first: a Ctrl-C is the supervisor's to handle
             os.close(ours)
             code = _serve(theirs, supervisor, modules)
         except BaseException:  # noqa: BLE001 - nothing of the zygote may unwind into the caller
