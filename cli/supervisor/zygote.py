@@ -130,8 +130,14 @@ class Zygote:
         except OSError as exc:
             raise ZygoteUnavailable(f"the zygote (pid {self.pid}) cannot be reached: {exc}") from None
         with self._cond:
-            if not self._cond.wait_for(lambda: ident in self._answers or not self._alive, timeout):
-                raise ZygoteUnavailable(f"the zygote (pid {self.pid}) did not answer within {timeout:g} s")
+            answered = self._cond.wait_for(lambda: ident in self._answers or not self._alive, timeout)
+        if not answered:  # hung: ended, so that no later start waits for it too (and a late node dies with it)
+            try:
+                os.kill(self.pid, signal.SIGKILL)
+            except ProcessLookupError:
+                pass
+            raise ZygoteUnavailable(f"the zygote (pid {self.pid}) did not answer within {timeout:g} s; ended it")
+        with self._cond:
             answer = self._answers.pop(ident, None)
         if answer is None:
             raise ZygoteUnavailable(f"the zygote (pid {self.pid}) has exited")

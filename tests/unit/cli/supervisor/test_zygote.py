@@ -20,7 +20,7 @@ import pytest
 
 from cli.supervisor.printer import Printer
 from cli.supervisor.process import ZygoteChild
-from cli.supervisor.zygote import Zygote, start
+from cli.supervisor.zygote import Zygote, ZygoteUnavailable, start
 from runtime.config import SUPERVISOR_PID_VAR
 
 MODULE = "tests.unit.cli.supervisor.zygote_node"
@@ -166,3 +166,31 @@ def test_a_killed_supervisor_leaves_neither_zygote_nor_node():
             except ProcessLookupError:
                 pass
         supervisor.wait(5)
+
+
+def test_a_zygote_that_does_not_answer_is_ended_and_one_without_the_module_says_why():
+    slow = start(["tests.unit.cli.supervisor.zygote_slow"])
+    assert slow is not None
+    read, write = os.pipe()
+    try:
+        with pytest.raises(ZygoteUnavailable, match="did not answer within 0.3 s"):
+            slow.spawn("tests.unit.cli.supervisor.zygote_slow", dict(os.environ), write, timeout=0.3)
+        _wait(lambda: not slow.alive, "the hung zygote's end")
+        with pytest.raises(ZygoteUnavailable, match="has exited"):
+            slow.spawn("tests.unit.cli.supervisor.zygote_slow", dict(os.environ), write)
+    finally:
+        os.close(read)
+        os.close(write)
+        slow.close()
+
+    lacking = start(["tests.unit.cli.supervisor.no_such_module", MODULE])
+    assert lacking is not None
+    read, write = os.pipe()
+    try:
+        with pytest.raises(ZygoteUnavailable, match="cannot import tests.unit.cli.supervisor.no_such_module"):
+            lacking.spawn("tests.unit.cli.supervisor.no_such_module", dict(os.environ), write)
+        assert lacking.alive  # the other modules still start by fork
+    finally:
+        os.close(read)
+        os.close(write)
+        lacking.close()
