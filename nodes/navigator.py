@@ -10,7 +10,8 @@ answered, lines logged.  It publishes ``turtle1/cmd_vel`` only while a goal runs
 refuses to start while another navigator serves ``navigate_to``.
 
 Only a running goal needs every pose (each one is a control step): while one runs, each
-``turtle1/pose`` is an event, and while none does no pose wakes this process.  The pose
+``turtle1/pose`` is an event, and while none does no pose wakes this process, nor do the
+watchdog and feedback timers (paused: their events do nothing without a goal).  The pose
 and ``robot/status`` are kept by Zenoh (``Node.latest``) and handed to the machine when it
 needs them: before a goal starts (where from, battery) and before a scan (its origin).
 """
@@ -50,9 +51,12 @@ class Navigator:
         node.serve(NAVIGATE_TO, NavigateToRequest, NavigateToResponse, self.on_goal)
         node.serve(CANCEL, Cancel, Ack, self.on_cancel)
         node.watch_liveliness(f"{CLIENT_TOKEN_PREFIX}/**", self.on_client)
-        node.timer(WATCHDOG_PERIOD, self.watchdog)
-        node.timer(1.0 / node.params.feedback_rate, self.feedback)
+        self.goal_timers = [  # their events do nothing while no goal runs: paused then
+            node.timer(WATCHDOG_PERIOD, self.watchdog),
+            node.timer(1.0 / node.params.feedback_rate, self.feedback),
+        ]
         node.on_shutdown(lambda: self.carry_out(self.machine.shutdown(time.monotonic())))
+        self.follow_goal()
 
     # -- inputs -------------------------------------------------------------
     def on_goal(self, request: Request[NavigateToRequest]) -> None:
@@ -101,7 +105,7 @@ class Navigator:
     # -- outputs ------------------------------------------------------------
     def carry_out(self, actions: list[Action]) -> None:
         """Do what the machine asks, in its order: commands, answers to callers, log lines;
-        then take every pose while a goal runs, and none while it does not."""
+        then follow the goal (it may have started or ended)."""
         for action in actions:
             if isinstance(action, Twist):
                 self.cmd_pub.publish(action)
@@ -109,7 +113,17 @@ class Navigator:
                 action.to.respond(action.response)
             else:
                 self.node.log.log(action.level, action.text)
-        self.pose.each(self.on_pose if self.machine.goal is not None else None)
+        self.follow_goal()
+
+    def follow_goal(self) -> None:
+        """While a goal runs: every pose, the watchdog and feedback; while none does, none of them."""
+        running = self.machine.goal is not None
+        self.pose.each(self.on_pose if running else None)
+        for timer in self.goal_timers:
+            if running:
+                timer.resume()
+            else:
+                timer.pause()
 
 
 def main() -> None:

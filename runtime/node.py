@@ -159,18 +159,37 @@ class Request(Generic[M]):
         self._query.drop()
 
 
-class _Timer:
+class Timer:
+    """A periodic callback on an absolute grid (tick k due at ``start + k * period``); a
+    paused timer is not due at all, so it does not wake the node."""
+
     def __init__(self, period: float, callback: Callable[[], None], start: float):
         self.period = period
         self.callback = callback
         self.start = start
         self.ticks = 1
         self.deadline = start + period
+        self.active = True
 
     def advance(self, now: float) -> None:
         """Next deadline on the absolute grid; missed ticks are skipped, not bunched."""
         self.ticks = max(self.ticks + 1, int((now - self.start) / self.period) + 1)
         self.deadline = self.start + self.ticks * self.period
+
+    def pause(self) -> None:
+        """No more ticks until ``resume``."""
+        self.active = False
+
+    def resume(self, now: float | None = None) -> None:
+        """Tick again, on the same grid: the next tick is the one due after ``now`` (the
+        ticks missed while paused are skipped, as a stalled timer's are)."""
+        if self.active:
+            return
+        self.active = True
+        now = time.monotonic() if now is None else now
+        if self.deadline <= now:
+            self.ticks = int((now - self.start) / self.period) + 1
+            self.deadline = self.start + self.ticks * self.period
 
 
 class Node(Generic[P]):
@@ -185,7 +204,7 @@ class Node(Generic[P]):
         self.session = session
         self.log = logging.getLogger(config.name)
         self._queue: queue.SimpleQueue[tuple[Callable[..., None], tuple[Any, ...]]] = queue.SimpleQueue()
-        self._timers: list[_Timer] = []
+        self._timers: list[Timer] = []
         self._entities: list[Any] = []
         self._bad_payloads: dict[str, int] = {}
         self._running = True
@@ -303,9 +322,11 @@ class Node(Generic[P]):
 
         self._entities.append(self.session.liveliness().declare_subscriber(key_expr, on_sample))
 
-    def timer(self, period: float, callback: Callable[[], None]) -> None:
-        """Call ``callback()`` every ``period`` s on an absolute schedule."""
-        self._timers.append(_Timer(period, callback, time.monotonic()))
+    def timer(self, period: float, callback: Callable[[], None]) -> Timer:
+        """Call ``callback()`` every ``period`` s on an absolute schedule (until paused)."""
+        timer = Timer(period, callback, time.monotonic())
+        self._timers.append(timer)
+        return timer
 
     def on_shutdown(self, callback: Callable[[], None]) -> None:
         """Run ``callback()`` on the node thread when the node stops (e.g. to stop the turtle)."""
@@ -367,10 +388,10 @@ class Node(Generic[P]):
             while self._running:
                 now = time.monotonic()
                 for t in self._timers:
-                    if now >= t.deadline:
+                    if t.active and now >= t.deadline:
                         t.advance(now)
                         t.callback()
-                timeout = min((t.deadline for t in self._timers), default=now + 1.0) - time.monotonic()
+                timeout = min((t.deadline for t in self._timers if t.active), default=now + 1.0) - time.monotonic()
                 try:
                     func, args = self._queue.get(timeout=max(0.0, timeout))
                 except queue.Empty:
