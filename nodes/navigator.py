@@ -8,6 +8,12 @@ and feedback timers, shutdown) becomes an event of the machine with ``time.monot
 and what the machine returns is carried out: ``turtle1/cmd_vel`` published, callers
 answered, lines logged.  It publishes ``turtle1/cmd_vel`` only while a goal runs, and
 refuses to start while another navigator serves ``navigate_to``.
+
+Only a running goal needs every pose (each one is a control step): while one runs, each
+``turtle1/pose`` is an event, and while none does no pose wakes this process, nor do the
+watchdog and feedback timers (paused: their events do nothing without a goal).  The pose
+and ``robot/status`` are kept by Zenoh (``Node.latest``) and handed to the machine when it
+needs them: before a goal starts (where from, battery) and before a scan (its origin).
 """
 
 from __future__ import annotations
@@ -39,18 +45,22 @@ class Navigator:
         self.machine: GoalMachine[Request[NavigateToRequest]] = GoalMachine(node.params, node.world, node.limits)
         self.cmd_pub = node.publisher(CMD_VEL, Twist)
         self.feedback_pub = node.publisher(FEEDBACK, NavigateToFeedback)
-        node.subscribe(POSE, Pose, self.on_pose)
+        self.pose = node.latest(POSE, Pose)  # every pose (self.on_pose) only while a goal runs
+        self.status = node.latest(STATUS, TurtleStatus)
         node.subscribe(OBSTACLES, LaserScan, self.on_scan)
-        node.subscribe(STATUS, TurtleStatus, self.machine.status)
         node.serve(NAVIGATE_TO, NavigateToRequest, NavigateToResponse, self.on_goal)
         node.serve(CANCEL, Cancel, Ack, self.on_cancel)
         node.watch_liveliness(f"{CLIENT_TOKEN_PREFIX}/**", self.on_client)
-        node.timer(WATCHDOG_PERIOD, self.watchdog)
-        node.timer(1.0 / node.params.feedback_rate, self.feedback)
+        self.goal_timers = [  # their events do nothing while no goal runs: paused then
+            node.timer(WATCHDOG_PERIOD, self.watchdog),
+            node.timer(1.0 / node.params.feedback_rate, self.feedback),
+        ]
         node.on_shutdown(lambda: self.carry_out(self.machine.shutdown(time.monotonic())))
+        self.follow_goal()
 
     # -- inputs -------------------------------------------------------------
     def on_goal(self, request: Request[NavigateToRequest]) -> None:
+        self.catch_up()
         self.carry_out(self.machine.start(request.body, request, time.monotonic()))
 
     def on_cancel(self, request: Request[Cancel]) -> None:
@@ -66,6 +76,7 @@ class Navigator:
         self.carry_out(self.machine.pose(pose, time.monotonic()))
 
     def on_scan(self, scan: LaserScan) -> None:
+        self.catch_up()
         self.machine.scan(scan, time.monotonic())
 
     def watchdog(self) -> None:
@@ -79,9 +90,22 @@ class Navigator:
                 self.feedback_pub.publish(fb), final=False
             )  # for observers; the same, stamped, to the caller
 
+    def catch_up(self) -> None:
+        """Hand the machine the newest status, and while no goal runs the newest pose (while
+        one runs, each pose is already an event).  While idle a pose only updates where the
+        turtle is (no control step), which is all the machine does with one then."""
+        status = self.status.get()
+        if status is not None:
+            self.machine.status(status)
+        if self.machine.goal is None:
+            pose = self.pose.get()
+            if pose is not None and pose is not self.machine.latest_pose:
+                self.carry_out(self.machine.pose(pose, time.monotonic()))
+
     # -- outputs ------------------------------------------------------------
     def carry_out(self, actions: list[Action]) -> None:
-        """Do what the machine asks, in its order: commands, answers to callers, log lines."""
+        """Do what the machine asks, in its order: commands, answers to callers, log lines;
+        then follow the goal (it may have started or ended)."""
         for action in actions:
             if isinstance(action, Twist):
                 self.cmd_pub.publish(action)
@@ -89,6 +113,17 @@ class Navigator:
                 action.to.respond(action.response)
             else:
                 self.node.log.log(action.level, action.text)
+        self.follow_goal()
+
+    def follow_goal(self) -> None:
+        """While a goal runs: every pose, the watchdog and feedback; while none does, none of them."""
+        running = self.machine.goal is not None
+        self.pose.each(self.on_pose if running else None)
+        for timer in self.goal_timers:
+            if running:
+                timer.resume()
+            else:
+                timer.pause()
 
 
 def main() -> None:

@@ -1,6 +1,7 @@
 """The obstacle detector process: a mock laser scanner at 5 Hz.
 
-Casts rays from the turtle's pose (``turtle1/pose``) against the world's
+Casts rays from the turtle's pose (``turtle1/pose``, the newest one read at each
+tick: the 62.5 Hz poses in between never wake this process) against the world's
 circles and walls, plus short-lived phantom detections if asked for
 (sim.lidar, numpy), and publishes ``obstacles`` (LaserScan).
 """
@@ -27,14 +28,11 @@ class ObstacleDetector:
         self.angles = beam_angles(math.radians(p.angle_min), math.radians(p.angle_max), p.beams)
         self.increment = float(self.angles[1] - self.angles[0]) if p.beams > 1 else 0.0
         self.pose: Pose | None = None
+        self.latest_pose = node.latest(POSE, Pose)
         self.rng = np.random.default_rng(p.phantom_seed)
         self.phantoms: list[tuple[float, Obstacle]] = []  # (expiry, monotonic s), obstacle
         self.pub = node.publisher(OBSTACLES, LaserScan)
-        node.subscribe(POSE, Pose, self.on_pose)
         node.timer(1.0 / p.rate, self.tick)
-
-    def on_pose(self, pose: Pose) -> None:
-        self.pose = pose
 
     def world(self) -> World:
         """The declared world plus the phantoms alive now (new ones spawned for this tick)."""
@@ -49,6 +47,7 @@ class ObstacleDetector:
         return World(size=self.node.world.size, obstacles=self.node.world.obstacles + [o for _, o in self.phantoms])
 
     def tick(self) -> None:
+        self.pose = self.latest_pose.get()
         if self.pose is None:
             return
         p = self.node.params

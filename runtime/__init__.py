@@ -13,15 +13,17 @@ from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:
     from runtime.lifecycle import run, run_main
-    from runtime.node import Node, NodeConflict, Publisher, Request
+    from runtime.node import Latest, Node, NodeConflict, Publisher, Request, Timer
 
-__all__ = ["Node", "NodeConflict", "Publisher", "Request", "run", "run_main"]
+__all__ = ["Latest", "Node", "NodeConflict", "Publisher", "Request", "Timer", "run", "run_main"]
 
 _HOME = {
+    "Latest": "runtime.node",
     "Node": "runtime.node",
     "NodeConflict": "runtime.node",
     "Publisher": "runtime.node",
     "Request": "runtime.node",
+    "Timer": "runtime.node",
     "run": "runtime.lifecycle",
     "run_main": "runtime.lifecycle",
 }

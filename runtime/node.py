@@ -15,7 +15,9 @@ what it needs through it::
 
 Threading: Zenoh delivers samples and queries on its own threads; the runtime
 only queues them there.  Every callback, timer and handler of the node runs on
-the main thread, one at a time, so node code needs no locks.
+the main thread, one at a time, so node code needs no locks.  A node that needs only
+the newest message at its own rate reads it with ``node.latest(key, type).get()``
+at its tick: Zenoh keeps that sample, and no thread wakes up for each one.
 
 Timers run on an absolute-deadline schedule (tick k is due at start + k*period),
 so the period does not drift with the time the callbacks take.
@@ -81,6 +83,54 @@ class Publisher(Generic[M]):
         return stamped
 
 
+class Latest(Generic[M]):
+    """The newest valid message of one type on one key, read when the node wants it.
+
+    Zenoh keeps only the latest sample (a ring channel of one, in Rust): no Python thread
+    wakes up when one arrives, so a node that needs a 62.5 Hz pose only at its own 10 Hz
+    tick pays for 10 decodes a second, not 62.5 wake-ups.  ``get()`` decodes a new sample
+    if there is one and returns the newest valid message, or None before the first; a
+    malformed payload is counted and logged as ``Node.subscribe`` does, and the previous
+    valid message is kept."""
+
+    def __init__(self, node: Node[Any], key: str, msg_type: type[M]):
+        self.key = key
+        self._node = node
+        self._type = msg_type
+        self._ring = node.session.declare_subscriber(key, zenoh.handlers.RingChannel(1))
+        self._value: M | None = None
+        self._each: zenoh.Subscriber[Any] | None = None
+        self._callback: Callable[[M], None] | None = None
+
+    def get(self) -> M | None:
+        """The newest valid message received so far (None: none yet)."""
+        sample = self._ring.try_recv()
+        if sample is not None:
+            try:
+                self._value = decode(sample.payload.to_bytes(), self._type)
+            except ValueError as exc:
+                self._node._rejected(self.key, str(exc))
+        return self._value
+
+    def each(self, callback: Callable[[M], None] | None) -> None:
+        """While ``callback`` is set, also call it on the node thread for every valid message,
+        as ``Node.subscribe`` does (a callback subscriber is declared for as long as it is set:
+        the navigator needs every pose only while a goal runs); None stops it, and messages
+        already queued are then dropped.  ``get()`` works either way."""
+        self._callback = callback
+        if callback is not None and self._each is None:
+            self._each = self._node.session.declare_subscriber(
+                self.key, self._node._queuing(self.key, self._type, self._dispatch)
+            )
+        elif callback is None and self._each is not None:
+            self._each.undeclare()
+            self._each = None
+
+    def _dispatch(self, msg: M) -> None:
+        if self._callback is not None:
+            self._callback(msg)
+
+
 class Request(Generic[M]):
     """A service request being handled; reply once, now or later, with ``respond``."""
 
@@ -109,18 +159,37 @@ class Request(Generic[M]):
         self._query.drop()
 
 
-class _Timer:
+class Timer:
+    """A periodic callback on an absolute grid (tick k due at ``start + k * period``); a
+    paused timer is not due at all, so it does not wake the node."""
+
     def __init__(self, period: float, callback: Callable[[], None], start: float):
         self.period = period
         self.callback = callback
         self.start = start
         self.ticks = 1
         self.deadline = start + period
+        self.active = True
 
     def advance(self, now: float) -> None:
         """Next deadline on the absolute grid; missed ticks are skipped, not bunched."""
         self.ticks = max(self.ticks + 1, int((now - self.start) / self.period) + 1)
         self.deadline = self.start + self.ticks * self.period
+
+    def pause(self) -> None:
+        """No more ticks until ``resume``."""
+        self.active = False
+
+    def resume(self, now: float | None = None) -> None:
+        """Tick again, on the same grid: the next tick is the one due after ``now`` (the
+        ticks missed while paused are skipped, as a stalled timer's are)."""
+        if self.active:
+            return
+        self.active = True
+        now = time.monotonic() if now is None else now
+        if self.deadline <= now:
+            self.ticks = int((now - self.start) / self.period) + 1
+            self.deadline = self.start + self.ticks * self.period
 
 
 class Node(Generic[P]):
@@ -135,7 +204,7 @@ class Node(Generic[P]):
         self.session = session
         self.log = logging.getLogger(config.name)
         self._queue: queue.SimpleQueue[tuple[Callable[..., None], tuple[Any, ...]]] = queue.SimpleQueue()
-        self._timers: list[_Timer] = []
+        self._timers: list[Timer] = []
         self._entities: list[Any] = []
         self._bad_payloads: dict[str, int] = {}
         self._running = True
@@ -157,11 +226,16 @@ class Node(Generic[P]):
     def subscribe(self, key: str, msg_type: type[M], callback: Callable[[M], None]) -> None:
         """Call ``callback(msg)`` on the node thread for each valid ``msg_type`` on ``key``."""
 
-        def on_sample(sample: zenoh.Sample) -> None:  # Zenoh thread: queue only
-            self._queue.put((self._deliver, (key, msg_type, sample.payload.to_bytes(), callback)))
-
-        self._entities.append(self.session.declare_subscriber(key, on_sample))
+        self._entities.append(self.session.declare_subscriber(key, self._queuing(key, msg_type, callback)))
         self._announce("sub", msg_type, key)
+
+    def latest(self, key: str, msg_type: type[M]) -> Latest[M]:
+        """Keep the newest ``msg_type`` on ``key`` for the node to read at its own pace
+        (``.get()``), without waking the node for each message (see ``Latest``)."""
+        latest = Latest(self, key, msg_type)
+        self._entities.append(latest)
+        self._announce("sub", msg_type, key)
+        return latest
 
     def serve(
         self,
@@ -248,15 +322,25 @@ class Node(Generic[P]):
 
         self._entities.append(self.session.liveliness().declare_subscriber(key_expr, on_sample))
 
-    def timer(self, period: float, callback: Callable[[], None]) -> None:
-        """Call ``callback()`` every ``period`` s on an absolute schedule."""
-        self._timers.append(_Timer(period, callback, time.monotonic()))
+    def timer(self, period: float, callback: Callable[[], None]) -> Timer:
+        """Call ``callback()`` every ``period`` s on an absolute schedule (until paused)."""
+        timer = Timer(period, callback, time.monotonic())
+        self._timers.append(timer)
+        return timer
 
     def on_shutdown(self, callback: Callable[[], None]) -> None:
         """Run ``callback()`` on the node thread when the node stops (e.g. to stop the turtle)."""
         self._on_shutdown.append(callback)
 
     # -- internals ----------------------------------------------------------
+    def _queuing(self, key: str, msg_type: type[M], callback: Callable[[M], None]) -> Callable[[zenoh.Sample], None]:
+        """A Zenoh sample callback that only queues ``callback``'s delivery for the node thread."""
+
+        def on_sample(sample: zenoh.Sample) -> None:  # Zenoh thread: queue only
+            self._queue.put((self._deliver, (key, msg_type, sample.payload.to_bytes(), callback)))
+
+        return on_sample
+
     def _rejected(self, key: str, reason: str) -> None:
         """Count a bad payload; log the first per key and then every 100th."""
         count = self._bad_payloads.get(key, 0) + 1
@@ -300,17 +384,23 @@ class Node(Generic[P]):
         hooks.  Returns False if node code raised: the traceback is logged once and the
         node stops as if asked to (its hooks still run, so a navigator still stops the turtle)."""
         ok = True
+        # this loop runs at the fastest timer's rate (the simulator's 62.5 Hz): names bound once,
+        # no generator per turn
+        timers, get, monotonic, empty = self._timers, self._queue.get, time.monotonic, queue.Empty
         try:
             while self._running:
-                now = time.monotonic()
-                for t in self._timers:
-                    if now >= t.deadline:
+                now = monotonic()
+                for t in timers:
+                    if t.active and now >= t.deadline:
                         t.advance(now)
                         t.callback()
-                timeout = min((t.deadline for t in self._timers), default=now + 1.0) - time.monotonic()
+                wake = now + 1.0
+                for t in timers:  # after every callback: one may have paused or resumed a timer
+                    if t.active and t.deadline < wake:
+                        wake = t.deadline
                 try:
-                    func, args = self._queue.get(timeout=max(0.0, timeout))
-                except queue.Empty:
+                    func, args = get(timeout=max(0.0, wake - monotonic()))
+                except empty:
                     continue
                 func(*args)
         except Exception:  # node code: a defect, reported once; stop cleanly and let respawn apply

@@ -1,26 +1,33 @@
-"""The node runtime's lifecycle with a real router and a real node process: an exception in
-node code is logged once, the shutdown hooks still run (a navigator's stop command is sent),
-the session closes and the process exits 1, so the supervisor's respawn applies."""
+"""The node runtime with a real router: an exception in node code is logged once, the shutdown
+hooks still run (a navigator's stop command is sent), the session closes and the process
+exits 1, so the supervisor's respawn applies; a latest-value subscription (``Node.latest``)
+keeps the newest valid message without queuing work for each one."""
 
 from __future__ import annotations
 
+import logging
 import os
 import queue
 import subprocess
 import sys
 import textwrap
+import time
 
+import msgspec
 import pytest
 import zenoh
 
-from messages import Twist, decode
+from messages import Pose, Twist, decode, encode
+from messages.keys import ENTITY_TOKEN_PREFIX, parse_entity_token
 from runtime.config import ENV_VAR, NodeConfig, encode_config
-from runtime.session import client_config, close_session, router_config
+from runtime.node import Node
+from runtime.session import client_config, close_session, peer_config, router_config
 from tests.integration.harness import ROOT, free_port
 
 pytestmark = pytest.mark.integration
 
 STOP_KEY = "test/raising/cmd_vel"
+LATEST_KEY = "test/latest/pose"
 
 #: a node kind that raises: its shutdown hook publishes a stop command, as the navigator's does
 RAISING_NODE = textwrap.dedent(
@@ -81,3 +88,96 @@ def test_an_exception_in_node_code_runs_the_shutdown_hooks_and_exits_1(where):
     if where == "timer":  # ready for 0.5 s: the router knows the subscriber, so the stop command arrives
         stop = stops.get(timeout=5)
         assert (stop.linear, stop.angular) == (0.0, 0.0)
+
+
+@pytest.fixture
+def node_and_client():
+    """A node (peer) and a client, both on a router opened here."""
+    port = free_port()
+    endpoint = f"tcp/127.0.0.1:{port}"
+    router = zenoh.open(router_config(port))
+    peer = zenoh.open(peer_config(endpoint))
+    client = zenoh.open(client_config(endpoint, 5.0))
+    node = Node(NodeConfig(name="reader", kind="test", connect=endpoint), Params(), peer)
+    try:
+        yield node, client
+    finally:
+        for session in (client, peer, router):
+            close_session(session)
+
+
+class Params(msgspec.Struct):
+    pass
+
+
+def _pose(x: float) -> bytes:
+    return encode(Pose(x=x, y=0.0, theta=0.0))
+
+
+def _until(condition, timeout: float = 5.0, act=lambda: None):
+    """Do ``act`` until ``condition()`` is true (its value returned), under a deadline."""
+    deadline = time.monotonic() + timeout
+    while time.monotonic() < deadline:
+        act()
+        value = condition()
+        if value:
+            return value
+        time.sleep(0.01)  # pacing: Zenoh delivers on its own threads
+    raise AssertionError("not within the deadline")
+
+
+def test_latest_keeps_the_newest_valid_message_and_wakes_nobody(node_and_client, caplog):
+    node, client = node_and_client
+    latest = node.latest(LATEST_KEY, Pose)
+    assert latest.get() is None
+    pub = client.declare_publisher(LATEST_KEY)
+    _until(lambda: latest.get(), act=lambda: pub.put(_pose(-1.0)))
+    for x in range(1, 51):
+        pub.put(_pose(float(x)))
+    _until(lambda: latest.get().x == 50.0)
+    assert latest.get().x == 50.0  # read again: still the newest
+    assert node._queue.empty()  # nothing was queued for the node thread: no per-message wake-up
+
+    with caplog.at_level(logging.WARNING):
+        pub.put(b"\xc1 not msgpack")
+        _until(lambda: node._bad_payloads.get(LATEST_KEY) == 1, act=latest.get)
+    assert latest.get().x == 50.0  # the previous valid message is kept
+    assert f"dropped malformed payload #1 on {LATEST_KEY}" in caplog.text
+
+    tokens = _until(
+        lambda: [
+            parse_entity_token(str(r.ok.key_expr))
+            for r in client.liveliness().get(f"{ENTITY_TOKEN_PREFIX}/**", timeout=1.0)
+            if r.ok is not None
+        ]
+    )
+    entities = [(t.node, t.role, t.key, t.type_name) for t in tokens if t is not None]
+    assert ("reader", "sub", LATEST_KEY, "Pose") in entities  # `turtlectl list` shows it as a subscriber
+
+
+def test_latest_each_calls_back_for_every_message_only_while_set(node_and_client):
+    node, client = node_and_client
+    latest = node.latest(LATEST_KEY, Pose)
+    pub = client.declare_publisher(LATEST_KEY)
+    seen: list[float] = []
+
+    def run_queued() -> None:
+        while not node._queue.empty():
+            func, args = node._queue.get()
+            func(*args)
+
+    latest.each(lambda pose: seen.append(pose.x))
+    _until(lambda: seen, act=lambda: (pub.put(_pose(-1.0)), run_queued()))
+    seen.clear()
+    for x in range(1, 21):
+        pub.put(_pose(float(x)))
+    _until(lambda: seen[-1:] == [20.0], act=run_queued)
+    assert [x for x in seen if x > 0] == [float(x) for x in range(1, 21)]  # each, in order, on the node thread
+    assert latest.get().x == 20.0
+
+    latest.each(None)
+    seen.clear()
+    pub.put(_pose(99.0))
+    _until(lambda: latest.get().x == 99.0)
+    run_queued()
+    assert seen == []  # no callback once unset

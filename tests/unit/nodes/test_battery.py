@@ -29,3 +29,18 @@ def test_teleports_and_resets_are_not_travel():
     assert travelled(before, jumped, 4.0) == 0.0
     # a lost pose in between: twice the time, twice the distance, still travel
     assert travelled(before, Pose(x=1.12, y=1.0, theta=0.0, stamp=1_032_000_000), 4.0) == pytest.approx(0.12)
+
+
+def test_poses_read_at_10_hz_still_measure_travel():
+    """The status monitor reads the newest pose at its 10 Hz tick: 0.1 s apart."""
+    before = Pose(x=1.0, y=1.0, theta=0.0, stamp=1_000_000_000)
+    driven = Pose(x=1.4, y=1.0, theta=0.0, stamp=1_096_000_000)  # six poses later: 0.4 m in 96 ms
+    jumped = Pose(x=3.0, y=1.0, theta=0.0, stamp=1_096_000_000)  # 2 m in 96 ms: no drive does that
+    assert travelled(before, driven, 4.0) == pytest.approx(0.4)
+    assert travelled(before, jumped, 4.0) == 0.0
+    # an arc at 4 m/s turning at 2 pi rad/s for 0.1 s: the chord is within 1.7 % of the arc
+    radius, angle = 4.0 / (2 * math.pi), 2 * math.pi * 0.1
+    arc_end = Pose(
+        x=1.0 + radius * math.sin(angle), y=1.0 + radius * (1 - math.cos(angle)), theta=angle, stamp=1_100_000_000
+    )
+    assert travelled(before, arc_end, 4.0) == pytest.approx(0.4, rel=0.017)

@@ -1,14 +1,27 @@
-"""runtime.node: timers keep an absolute grid."""
+"""runtime.node: timers keep an absolute grid, paused or not."""
 
 import pytest
 
-from runtime.node import _Timer
+from runtime.node import Timer
 
 
 def test_timer_keeps_an_absolute_grid_and_skips_missed_ticks():
-    t = _Timer(0.1, lambda: None, start=100.0)
+    t = Timer(0.1, lambda: None, start=100.0)
     assert t.deadline == pytest.approx(100.1)
     t.advance(100.1003)  # on time, callback took 0.3 ms
     assert t.deadline == pytest.approx(100.2)
     t.advance(100.4501)  # a 250 ms stall: next tick back on the grid, not bunched
     assert t.deadline == pytest.approx(100.5)
+
+
+def test_a_resumed_timer_ticks_on_its_grid():
+    t = Timer(0.1, lambda: None, start=100.0)
+    t.pause()
+    assert not t.active
+    t.resume(100.05)  # paused and resumed within a period: the pending tick stays
+    assert t.active and t.deadline == pytest.approx(100.1)
+    t.pause()
+    t.resume(100.73)  # paused across ticks: the next one on the grid after now
+    assert t.deadline == pytest.approx(100.8)
+    t.advance(100.8001)
+    assert t.deadline == pytest.approx(100.9)
