@@ -86,49 +86,47 @@ class Publisher(Generic[M]):
 class Latest(Generic[M]):
     """The newest valid message of one type on one key, read when the node wants it.
 
-    Zenoh keeps only the latest sample (a ring channel of one, in Rust): no Python thread
-    wakes up when one arrives, so a node that needs a 62.5 Hz pose only at its own 10 Hz
-    tick pays for 10 decodes a second, not 62.5 wake-ups.  ``get()`` decodes a new sample
-    if there is one and returns the newest valid message, or None before the first; a
-    malformed payload is counted and logged as ``Node.subscribe`` does, and the previous
-    valid message is kept."""
+    Each sample is decoded where Zenoh delivers it and only kept (no queue, no wake-up of
+    the node thread), so a node that needs a 62.5 Hz pose only at its own 10 Hz tick is not
+    woken 62.5 times a second.  Every malformed payload still reaches the node thread, to be
+    counted and logged as ``Node.subscribe`` does: a newer valid sample never hides one (a
+    ring channel of one in Zenoh would have dropped it unseen), and the previous valid
+    message is kept.  ``get()`` returns the newest valid message, or None before the first."""
 
     def __init__(self, node: Node[Any], key: str, msg_type: type[M]):
         self.key = key
         self._node = node
         self._type = msg_type
-        self._ring = node.session.declare_subscriber(key, zenoh.handlers.RingChannel(1))
         self._value: M | None = None
-        self._each: zenoh.Subscriber[Any] | None = None
         self._callback: Callable[[M], None] | None = None
+        self._sub = node.session.declare_subscriber(key, self._on_sample)
+
+    def _on_sample(self, sample: zenoh.Sample) -> None:  # Zenoh thread: decode and keep, or queue the garbage
+        try:
+            msg = decode(sample.payload.to_bytes(), self._type)
+        except ValueError as exc:
+            self._node._queue.put((self._node._rejected, (self.key, str(exc))))
+            return
+        self._value = msg  # one reference swapped: the node thread reads whole messages only
+        if self._callback is not None:
+            self._node._queue.put((self._dispatch, (msg,)))
 
     def get(self) -> M | None:
         """The newest valid message received so far (None: none yet)."""
-        sample = self._ring.try_recv()
-        if sample is not None:
-            try:
-                self._value = decode(sample.payload.to_bytes(), self._type)
-            except ValueError as exc:
-                self._node._rejected(self.key, str(exc))
         return self._value
 
     def each(self, callback: Callable[[M], None] | None) -> None:
         """While ``callback`` is set, also call it on the node thread for every valid message,
-        as ``Node.subscribe`` does (a callback subscriber is declared for as long as it is set:
-        the navigator needs every pose only while a goal runs); None stops it, and messages
-        already queued are then dropped.  ``get()`` works either way."""
+        as ``Node.subscribe`` does (the navigator needs every pose only while a goal runs);
+        None stops it, and messages already queued are then dropped.  ``get()`` works either way."""
         self._callback = callback
-        if callback is not None and self._each is None:
-            self._each = self._node.session.declare_subscriber(
-                self.key, self._node._queuing(self.key, self._type, self._dispatch)
-            )
-        elif callback is None and self._each is not None:
-            self._each.undeclare()
-            self._each = None
 
     def _dispatch(self, msg: M) -> None:
         if self._callback is not None:
             self._callback(msg)
+
+    def undeclare(self) -> None:
+        self._sub.undeclare()
 
 
 class Request(Generic[M]):
