@@ -30,6 +30,7 @@ from pathlib import Path
 from typing import Any, TypeVar
 
 import numpy as np
+import psutil
 import zenoh
 
 from messages import (
@@ -155,11 +156,19 @@ class System:
             text=True,
             env={**os.environ, "PYTHONUNBUFFERED": "1", "TURTLECTL_LOG_DIR": str(self.log_dir)},
         )
-        self.child_pids: set[int] = set()
+        self.child_pids: dict[int, float] = {}  # pid -> its start time, so a reused pid is never killed
         self.session: zenoh.Session | None = None
         self.alive: dict[str, int] = {}  # node -> pid, from liveliness
         self._token_events: queue.SimpleQueue[tuple[bool, str, int]] = queue.SimpleQueue()
         threading.Thread(target=self._read, daemon=True).start()
+
+    def _remember(self, pid: int) -> None:
+        """Note a child of the system with its start time (gone already: nothing to kill later)."""
+        if pid not in self.child_pids:
+            try:
+                self.child_pids[pid] = psutil.Process(pid).create_time()
+            except psutil.Error:
+                pass
 
     # -- output ---------------------------------------------------------------
     def _read(self) -> None:
@@ -167,7 +176,7 @@ class System:
         for line in self.proc.stdout:
             m = re.search(r"started \S+ \(pid (\d+)\)", line)
             if m:
-                self.child_pids.add(int(m.group(1)))
+                self._remember(int(m.group(1)))
             with self._line_event:
                 self.lines.append(line.rstrip("\n"))
                 self._line_event.notify_all()
@@ -235,7 +244,7 @@ class System:
             up, name, pid = item
             if up:
                 self.alive[name] = pid
-                self.child_pids.add(pid)
+                self._remember(pid)
             elif self.alive.get(name) == pid:
                 del self.alive[name]
             try:
@@ -366,13 +375,15 @@ class System:
         if self.session is not None:
             close_session(self.session)
             self.session = None
-        for pid in [self.proc.pid, *self.child_pids]:
-            try:
-                if pid == self.proc.pid:
-                    os.killpg(pid, signal.SIGKILL)
-                else:
+        try:
+            os.killpg(self.proc.pid, signal.SIGKILL)
+        except (ProcessLookupError, PermissionError):
+            pass
+        for pid, started in self.child_pids.items():
+            try:  # only the process seen then: after hours of tests a pid is reused (pid_max 32768 here)
+                if psutil.Process(pid).create_time() == started:
                     os.kill(pid, signal.SIGKILL)
-            except (ProcessLookupError, PermissionError):
+            except (psutil.Error, ProcessLookupError, PermissionError):
                 pass
         try:
             self.proc.wait(5)
