@@ -25,6 +25,7 @@ from messages import (
     TurtleStatus,
     Twist,
 )
+from tests.unit.messages.samples import FEEDBACK
 
 
 def test_formats():
@@ -40,21 +41,6 @@ def test_formats():
         select_field(status, "nope")
     assert csv_header(status) == "x,y,theta,vel_x,vel_y,battery,stamp,seq"
     assert csv_row(status).startswith("1.0,2.0,3.0,")
-
-
-FEEDBACK = NavigateToFeedback(
-    state="driving",
-    distance_remaining=10.123,
-    heading_remaining=179.9,
-    eta=12.3,
-    elapsed=14.5,
-    x=11.08,
-    y=11.08,
-    theta=359.96,
-    goal_x=1,
-    goal_y=1,
-    goal_theta=0,
-)
 
 
 @pytest.mark.parametrize(
