@@ -26,10 +26,9 @@ def travelled(before: Pose, after: Pose, max_speed: float) -> float:
     ``max_speed`` m/s could make in the time between their stamps (ns), such as a teleport
     or a reset, which are not travel.  Poses without stamps are taken 0.1 s apart.
 
-    The status monitor calls it with the poses it reads at its ticks (10 Hz by default: the
-    newest of about six 62.5 Hz poses), and that still measures travel: the jump test scales
-    with the stamps' interval, so a 0.1 s drive at the speed limit is travel and a teleport
-    is not; the straight chord between the two poses is shorter than the arc driven only
+    The status monitor calls it with consecutive 62.5 Hz poses.  Poses further apart still
+    measure driving (the jump test scales with the stamps' interval, so a 0.1 s drive at the
+    speed limit is travel) but let shorter teleports pass as travel; the straight chord between the two poses is shorter than the arc driven only
     while turning, by under 1.7 % at the limits (4 m/s while turning at 2 pi rad/s;
     0.04 % between 62.5 Hz poses); a teleport or reset inside an interval takes that
     interval's driving with it (at most 0.1 s of travel, instead of 16 ms)."""

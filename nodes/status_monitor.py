@@ -1,10 +1,10 @@
 """The status monitor process: ``turtle1/pose`` -> ``robot/status`` (TurtleStatus) at 10 Hz.
 
 Publishes on an absolute-deadline schedule (the runtime's timer), so the
-period stays 100 ms without drift.  The pose is read at each tick, the newest
-one (``Node.latest``): the 62.5 Hz poses in between never wake this process.
-The battery drains with time and with distance travelled between the poses
-read at consecutive ticks (nodes.battery); jumps (teleport, reset) are not travel.
+period stays 100 ms without drift.  The battery drains with time and with
+distance travelled between consecutive 62.5 Hz poses (nodes.battery); jumps
+(teleport, reset) are not travel.  Every pose is taken, not the newest at each
+tick: 0.1 s apart, a 0.5 m teleport looked like driving (a review of issue 10).
 """
 
 from __future__ import annotations
@@ -28,7 +28,7 @@ class StatusMonitor:
         self.travelled = 0.0  # m since the last status
         self.last_tick = time.monotonic()
         self.pub = node.publisher(STATUS, TurtleStatus)
-        self.latest_pose = node.latest(POSE, Pose)
+        node.subscribe(POSE, Pose, self.on_pose)
         node.serve(RESET, Reset, Ack, self.on_reset)
         node.timer(1.0 / node.params.rate, self.tick)
 
@@ -36,13 +36,13 @@ class StatusMonitor:
         self.battery, self.travelled = FULL, 0.0
         request.respond(Ack(detail="battery full"))
 
+    def on_pose(self, pose: Pose) -> None:
+        if self.pose is not None:
+            self.travelled += travelled(self.pose, pose, self.node.limits.max_linear_speed)
+        self.pose = pose
+
     def tick(self) -> None:
         now = time.monotonic()
-        pose = self.latest_pose.get()
-        if pose is not None and pose is not self.pose:  # a new pose since the last tick
-            if self.pose is not None:
-                self.travelled += travelled(self.pose, pose, self.node.limits.max_linear_speed)
-            self.pose = pose
         p = self.node.params
         self.battery = drain(self.battery, now - self.last_tick, self.travelled, p.drain_per_second, p.drain_per_metre)
         self.last_tick, self.travelled = now, 0.0

@@ -187,6 +187,17 @@ def test_teleports_are_not_charged_to_the_battery(no_scans):
         assert before - after.battery < 0.01, (before, after.battery)  # 9 m would cost 0.9 %
 
 
+def test_small_teleports_are_not_charged_to_the_battery_either(no_scans):
+    """Review of issue 10: poses read 0.1 s apart let 0.5 m teleports count as travel (1 % of battery
+    for twenty of them; time alone drains about 0.1 %)."""
+    before = no_scans.collect(STATUS, TurtleStatus, 1, timeout=2.0)[0][1].battery
+    for k in range(20):
+        no_scans.teleport(3.0 + 0.5 * (k % 2), 3.0, 0.0)
+        no_scans.collect(STATUS, TurtleStatus, 2, timeout=2.0)  # a status tick after each teleport
+    after = no_scans.collect(STATUS, TurtleStatus, 3, timeout=2.0)[-1][1].battery
+    assert before - after < 0.5, (before, after)  # 10 m of teleports would cost 1 %
+
+
 def test_a_node_run_in_another_domain_joins_that_domain_not_this_system(no_scans):
     """A review found `turtlectl --domain lab3 run navigator` joining the plain system (and so
     refused as a second navigator): run must start the node in its --domain."""
