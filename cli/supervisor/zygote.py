@@ -188,6 +188,7 @@ def start(modules: list[str] | None = None) -> Zygote | None:
         try:
             signal.signal(signal.SIGINT, signal.SIG_IGN)  # first: a Ctrl-C is the supervisor's to handle
             os.close(ours)
+            _close_inherited(keep=theirs)
             code = _serve(theirs, supervisor, modules)
         except BaseException:  # noqa: BLE001 - nothing of the zygote may unwind into the caller
             import traceback
@@ -197,6 +198,14 @@ def start(modules: list[str] | None = None) -> Zygote | None:
             os._exit(code)
     os.close(theirs)
     return Zygote(pid, ours)
+
+
+def _close_inherited(keep: int) -> None:
+    """Close every descriptor above stderr but ``keep``: what the shell or the supervisor had open
+    must not live on in the zygote and its nodes (a Popen child gets close_fds=True; a review of
+    issue 10 found a shell's fd 9 held open by every node)."""
+    os.closerange(3, keep)
+    os.closerange(keep + 1, os.sysconf("SC_OPEN_MAX"))
 
 
 def start_early() -> None:

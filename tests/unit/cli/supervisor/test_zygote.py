@@ -85,6 +85,25 @@ def test_a_forked_node_leads_its_own_group_with_default_signals_and_its_own_envi
     assert facts["stdin"] == "" and facts["comm"] == "node"  # its name in the launch file
 
 
+def test_a_forked_node_holds_none_of_the_descriptors_its_supervisor_had_open():
+    """Review of issue 10: a shell's fd 9 (and the supervisor's own) lived on in every node."""
+    read, write = os.pipe()
+    z = start([MODULE])
+    assert z is not None
+    try:
+        child = _child(z, "describe")
+        child.start()
+        assert _exit_of(child) == 0
+        fds = json.loads(_lines(child)[-1])["fds"]
+        assert read not in fds and write not in fds, fds
+    finally:
+        z.close()
+        os.close(read)
+        os.close(write)
+        if pid_alive(z.pid):
+            os.kill(z.pid, signal.SIGKILL)
+
+
 def test_exit_codes_and_both_output_streams_reach_the_supervisor(zygote):
     child = _child(zygote, "exit:3")
     child.start()
