@@ -86,9 +86,8 @@ class Navigator:
         progress = self.machine.feedback(time.monotonic())
         if progress is not None:
             caller, fb = progress
-            caller.respond(
-                self.feedback_pub.publish(fb), final=False
-            )  # for observers; the same, stamped, to the caller
+            stamped = self.feedback_pub.publish(fb)  # for observers
+            caller.respond(stamped, final=False)  # the same, stamped, to the caller
 
     def catch_up(self) -> None:
         """Hand the machine the newest status, and while no goal runs the newest pose (while

@@ -17,7 +17,8 @@ Threading: Zenoh delivers samples and queries on its own threads; the runtime
 only queues them there.  Every callback, timer and handler of the node runs on
 the main thread, one at a time, so node code needs no locks.  A node that needs only
 the newest message at its own rate reads it with ``node.latest(key, type).get()``
-at its tick: Zenoh keeps that sample, and no thread wakes up for each one.
+at its tick: each sample is decoded and kept where Zenoh delivers it, and the node's
+thread is not woken for it.
 
 Timers run on an absolute-deadline schedule (tick k is due at start + k*period),
 so the period does not drift with the time the callbacks take.
@@ -210,9 +211,11 @@ class Node(Generic[P]):
         self.answer_json(params_key(self.name), msgspec.json.encode(params))
 
     # -- declarations -------------------------------------------------------
-    def _announce(self, role: str, msg_type: type[Message], key: str) -> None:
-        """A liveliness token for the graph (``turtlectl list``): this node's role on ``key``."""
-        entity = EntityInfo(node=self.name, pid=os.getpid(), role=role, type_name=type_name(msg_type), key=key)
+    def _announce(self, role: str, msg_type: type[Message] | str, key: str) -> None:
+        """A liveliness token for the graph (``turtlectl list``): this node's role on ``key``
+        with a message type (or a type's name, such as "JSON")."""
+        name = msg_type if isinstance(msg_type, str) else type_name(msg_type)
+        entity = EntityInfo(node=self.name, pid=os.getpid(), role=role, type_name=name, key=key)
         self._entities.append(self.session.liveliness().declare_token(entity_token(entity)))
 
     def publisher(self, key: str, msg_type: type[M]) -> Publisher[M]:
@@ -309,8 +312,7 @@ class Node(Generic[P]):
             query.reply(key, document, encoding=zenoh.Encoding.APPLICATION_JSON)
 
         self._entities.append(self.session.declare_queryable(key, on_query))
-        entity = EntityInfo(node=self.name, pid=os.getpid(), role="srv", type_name="JSON", key=key)
-        self._entities.append(self.session.liveliness().declare_token(entity_token(entity)))
+        self._announce("srv", "JSON", key)
 
     def watch_liveliness(self, key_expr: str, callback: Callable[[str, bool], None]) -> None:
         """Call ``callback(key, alive)`` on the node thread when a matching token appears or vanishes."""

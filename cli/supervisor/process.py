@@ -45,39 +45,45 @@ class Child:
             process_group=0,
             close_fds=True,
         )
+        assert self.proc.stdout is not None  # set by Popen(stdout=PIPE)
+        self._read_output(self.proc.stdout)
+
+    def _read_output(self, out: BinaryIO) -> None:
+        """Stream the new child's output (a pipe) to the printer, on a thread of its own."""
         self._group_killed = False
-        self._reader = threading.Thread(target=self._pump, args=(self.proc,), name=f"out-{self.name}", daemon=True)
+        self._reader = threading.Thread(target=self._pump, args=(out,), name=f"out-{self.name}", daemon=True)
         self._reader.start()
 
-    def _pump(self, proc: subprocess.Popen[bytes]) -> None:
-        assert proc.stdout is not None  # set by Popen(stdout=PIPE)
-        for raw in proc.stdout:
-            self.printer.line(self.name, raw.decode("utf-8", "replace"))
-        proc.stdout.close()
+    def _pump(self, out: BinaryIO) -> None:
+        with out:
+            for raw in out:
+                self.printer.line(self.name, raw.decode("utf-8", "replace"))
 
     def poll(self) -> int | None:
-        """The exit code if the child has exited (reaping it), else None.  Once it has, whatever
-        it started is killed with it (its process group), so a crashed node leaves nothing behind."""
-        if self.proc is None:
-            return None
-        code = self.proc.poll()
+        """The exit code if the child has exited (reaping it), else None."""
+        return None if self.proc is None else self._reaped(self.proc.pid, self.proc.poll())
+
+    def _reaped(self, pid: int, code: int | None) -> int | None:
+        """``code``; once the child has exited, whatever it started is killed with it (its process
+        group), so a crashed node leaves nothing behind."""
         if code is not None and not self._group_killed:
             self._group_killed = True
             try:  # the group outlives its leader while members remain; the pgid is not reused meanwhile
-                os.killpg(self.proc.pid, signal.SIGKILL)
+                os.killpg(pid, signal.SIGKILL)
             except (ProcessLookupError, PermissionError):
                 pass
         return code
 
     def running(self) -> bool:
-        return self.proc is not None and self.poll() is None
+        return self.pid is not None and self.poll() is None
 
     def send(self, sig: signal.Signals) -> None:
         """Signal the child's whole process group (it leads its own), as honcho and mirakuru do:
         whatever the node itself started gets the signal too and never outlives it."""
-        if self.proc is not None and self.running():
+        pid = self.pid
+        if pid is not None and self.running():
             try:
-                os.killpg(self.proc.pid, sig)
+                os.killpg(pid, sig)
             except ProcessLookupError:
                 pass
 
@@ -119,15 +125,7 @@ class ZygoteChild(Child):
             return
         finally:
             os.close(write)
-        self._group_killed = False
-        out = os.fdopen(read, "rb")
-        self._reader = threading.Thread(target=self._pump_file, args=(out,), name=f"out-{self.name}", daemon=True)
-        self._reader.start()
-
-    def _pump_file(self, out: BinaryIO) -> None:
-        with out:
-            for raw in out:
-                self.printer.line(self.name, raw.decode("utf-8", "replace"))
+        self._read_output(os.fdopen(read, "rb"))
 
     def poll(self) -> int | None:
         if self.proc is not None:
@@ -136,25 +134,7 @@ class ZygoteChild(Child):
             return None
         if self._code is None:
             self._code = self.zygote.exit_code(self._pid)
-        if self._code is not None and not self._group_killed:
-            self._group_killed = True
-            try:  # as Child.poll: whatever the node started goes with it
-                os.killpg(self._pid, signal.SIGKILL)
-            except (ProcessLookupError, PermissionError):
-                pass
-        return self._code
-
-    def running(self) -> bool:
-        return self.pid is not None and self.poll() is None
-
-    def send(self, sig: signal.Signals) -> None:
-        if self.proc is not None:
-            super().send(sig)
-        elif self._pid is not None and self.running():
-            try:
-                os.killpg(self._pid, sig)
-            except ProcessLookupError:
-                pass
+        return self._reaped(self._pid, self._code)
 
 
 def node_command(config: NodeConfig, supervisor_pid: int | None = None) -> tuple[list[str], dict[str, str]]:
