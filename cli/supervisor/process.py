@@ -96,9 +96,10 @@ class Child:
 class ZygoteChild(Child):
     """A Child forked by the zygote (cli.supervisor.zygote) rather than started by fork+exec:
     the same interface and guarantees (own process group, output on a pipe read here, the
-    group killed once the node has exited), its exit code reported by the zygote.  If the
-    zygote cannot start it (gone, no answer), it is started as a Child is, and the supervisor
-    says so once."""
+    group killed once the node has exited); it is this process's child all the same (the
+    zygote hands it over), reaped here.  If the zygote cannot start it (gone, no answer,
+    its module failed to import there), it is started as a Child is, and the supervisor says
+    why, once for each reason."""
 
     def __init__(self, name: str, argv: list[str], env: dict[str, str], printer: Printer, zygote: Zygote):
         super().__init__(name, argv, env, printer)
@@ -118,9 +119,10 @@ class ZygoteChild(Child):
             self._pid = self.zygote.spawn(self.module, self.env, write, self.name)
         except ZygoteUnavailable as exc:
             os.close(read)
-            if not self.zygote.reported:
-                self.zygote.reported = True
-                self.printer.system(f"zygote: {exc}; starting nodes as new processes")
+            if str(exc) not in self.zygote.reported:
+                self.zygote.reported.add(str(exc))
+                which = f"nodes running {exc.starts}" if exc.starts else "nodes"
+                self.printer.system(f"zygote: {exc}; starting {which} as new processes")
             super().start()
             return
         finally:
@@ -133,7 +135,12 @@ class ZygoteChild(Child):
         if self._pid is None:
             return None
         if self._code is None:
-            self._code = self.zygote.exit_code(self._pid)
+            try:
+                done, status = os.waitpid(self._pid, os.WNOHANG)
+            except ChildProcessError:  # reaped already: it can only have been here
+                done, status = self._pid, 1 << 8
+            if done:
+                self._code = os.waitstatus_to_exitcode(status)
         return self._reaped(self._pid, self._code)
 
 

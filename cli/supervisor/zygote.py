@@ -7,18 +7,22 @@ a process that has opened one is never forked.  The zygote never opens a session
 imports the node modules, then serves requests on a Unix socket (SOCK_SEQPACKET, one JSON
 message each): ``start`` (a node module and its environment, built by
 ``process.node_command``, with the write end of the pipe its output goes to, passed with
-``send_fds``) answered with ``started`` (its pid) or ``failed``; and, as it reaps them,
-``exited`` (pid, code: minus the signal number when killed, as ``Popen.returncode``).
+``send_fds``) answered with ``started`` (its pid) or ``failed``.
+
+Whose child a node is.  The zygote forks twice: a short-lived middle process forks the node and
+exits, and Linux hands the node to the nearest "child subreaper" above it, the supervisor
+(``start`` makes it one).  So every node is the supervisor's own child, as one started by
+``subprocess`` is: the supervisor reaps it and reads its real exit code, the node's
+parent-death signal and parent watch point at the supervisor, and killing the zygote ends no
+node (it only means the next starts are by exec; the first zygote design tied nodes to it).
 
 Guarantees, as for a node started by ``subprocess``: each forked node leads its own process
-group (set by the node and by the zygote, so that it exists before its pid is told), has
-default signal handlers and an empty signal mask, stdin on /dev/null and stdout and stderr
-on the supervisor's pipe, and asks Linux for SIGTERM when the zygote dies; the zygote asks
-for SIGTERM when the supervisor dies and exits when the supervisor's end of the socket
-closes.  A node watches its parent (``TURTLECTL_SUPERVISOR_PID`` is the zygote's pid in a
-forked node), so killing the supervisor still stops every node.
+group (set by the node and by the middle process, so that it exists before its pid is told),
+has default signal handlers and an empty signal mask, stdin on /dev/null and stdout and stderr
+on the supervisor's pipe, and asks Linux for SIGTERM when the supervisor dies; the zygote asks
+for SIGTERM when the supervisor dies and exits when the supervisor's end of the socket closes.
 
-The supervisor side is ``Zygote`` (the socket, a reader thread, the pids and exit codes).
+The supervisor side is ``Zygote`` (the socket, a reader thread, the answers).
 """
 
 from __future__ import annotations
@@ -33,6 +37,7 @@ from types import ModuleType
 
 _PR_SET_PDEATHSIG = 1
 _PR_SET_NAME = 15  # the name ps -o comm and top show (a forked node keeps the supervisor's argv)
+_PR_SET_CHILD_SUBREAPER = 36  # orphans below this process become its children (Linux 3.4+)
 _MAX_MESSAGE = 1 << 20  # bytes: a request carries a whole environment
 #: what the nodes import on first use while they start, imported by the zygote once for all:
 #: the idna codec (getaddrinfo of a host name), numpy.random (numpy 2 loads it lazily; the
@@ -45,16 +50,22 @@ _early: Zygote | None = None
 
 
 class ZygoteUnavailable(Exception):
-    """The zygote cannot start this node (it is gone, did not answer, or lacks the module)."""
+    """The zygote cannot start this node (it is gone, did not answer, or lacks the module).
+    ``starts``: what will start as new processes instead ("" for every node)."""
+
+    def __init__(self, message: str, starts: str = ""):
+        super().__init__(message)
+        self.starts = starts
 
 
-def _prctl(option: int, arg: int | bytes) -> None:
+def _prctl(option: int, arg: int | bytes) -> bool:
+    """Linux's prctl; whether it succeeded."""
     import ctypes  # here: the supervisor imports this module before typer, as early as it can
 
     try:
-        ctypes.CDLL(None, use_errno=True).prctl(option, arg, 0, 0, 0)
+        return int(ctypes.CDLL(None, use_errno=True).prctl(option, arg, 0, 0, 0)) == 0
     except (OSError, AttributeError):
-        pass
+        return False
 
 
 def _pdeathsig(sig: signal.Signals) -> None:
@@ -73,10 +84,9 @@ class Zygote:
 
         self.pid = pid
         self.sock = socket.socket(fileno=fd)
-        self.reported = False  # whether the supervisor has said it is starting nodes without it
+        self.reported: set[str] = set()  # why nodes start without it, each said once by the supervisor
         self._cond = threading.Condition()
         self._answers: dict[int, dict[str, object]] = {}
-        self._exits: dict[int, int] = {}
         self._next = 0
         self._alive = True
         self._send_lock = threading.Lock()
@@ -99,10 +109,7 @@ class Zygote:
                 break
             message = json.loads(data)
             with self._cond:
-                if "exited" in message:
-                    self._exits[message["exited"]] = message["code"]
-                else:
-                    self._answers[message["id"]] = message
+                self._answers[message["id"]] = message
                 self._cond.notify_all()
         with self._cond:
             self._alive = False
@@ -131,7 +138,7 @@ class Zygote:
             raise ZygoteUnavailable(f"the zygote (pid {self.pid}) cannot be reached: {exc}") from None
         with self._cond:
             answered = self._cond.wait_for(lambda: ident in self._answers or not self._alive, timeout)
-        if not answered:  # hung: ended, so that no later start waits for it too (and a late node dies with it)
+        if not answered:  # hung: ended, so that no later start waits for it too
             try:
                 os.kill(self.pid, signal.SIGKILL)
             except ProcessLookupError:
@@ -142,21 +149,11 @@ class Zygote:
         if answer is None:
             raise ZygoteUnavailable(f"the zygote (pid {self.pid}) has exited")
         if "pid" not in answer:
-            raise ZygoteUnavailable(str(answer.get("error", "the zygote could not start it")))
+            raise ZygoteUnavailable(str(answer.get("error", "the zygote could not start it")), starts=module)
         return int(str(answer["pid"]))
 
-    def exit_code(self, pid: int) -> int | None:
-        """The exit code of node ``pid`` once the zygote has reaped it (minus the signal number
-        if killed); if the zygote is gone, its nodes died with it: -SIGTERM once ``pid`` is gone."""
-        with self._cond:
-            if pid in self._exits:
-                return self._exits.pop(pid)
-            if self._alive:
-                return None
-        return None if _alive(pid) else -int(signal.SIGTERM)
-
     def close(self) -> None:
-        """Let it go: it exits once the socket closes (its nodes get SIGTERM from Linux)."""
+        """Let it go: it exits once the socket closes (its nodes are the supervisor's to stop)."""
         try:
             self.sock.shutdown(_socket.SHUT_RDWR)
         except OSError:
@@ -175,8 +172,10 @@ def _alive(pid: int) -> bool:
 
 def start(modules: list[str] | None = None) -> Zygote | None:
     """Fork the zygote now; None if it cannot be.  The caller must have opened no Zenoh session
-    and must be single-threaded (only the calling thread is copied).  ``modules``: what it
-    imports and can start (default: every kind's module, nodes.kinds.KINDS)."""
+    and must be single-threaded (only the calling thread is copied); it becomes a child
+    subreaper, so that the nodes forked below it become its children (see the module
+    docstring) and must reap them.  ``modules``: what it imports and can start (default:
+    every kind's module, nodes.kinds.KINDS)."""
     try:
         ours, theirs = (s.detach() for s in _socket.socketpair(_socket.AF_UNIX, _socket.SOCK_SEQPACKET))
         supervisor = os.getpid()
@@ -197,6 +196,9 @@ def start(modules: list[str] | None = None) -> Zygote | None:
         finally:
             os._exit(code)
     os.close(theirs)
+    if not _prctl(_PR_SET_CHILD_SUBREAPER, 1):  # after the fork: the zygote imports meanwhile
+        os.close(ours)  # without it, forked nodes would be orphans: no zygote (it exits on EOF)
+        return None
     return Zygote(pid, ours)
 
 
@@ -230,7 +232,6 @@ def _serve(fd: int, supervisor: int, names: list[str] | None) -> int:
     supervisor goes away.  Returns its exit code."""
     import importlib
     import json
-    import select
     import socket
 
     sock = socket.socket(fileno=fd)
@@ -263,89 +264,85 @@ def _serve(fd: int, supervisor: int, names: list[str] | None) -> int:
         except ImportError:
             pass
 
-    wake_r, wake_w = os.pipe()
-    os.set_blocking(wake_w, False)
-    signal.set_wakeup_fd(wake_w)
-    signal.signal(signal.SIGCHLD, lambda *_: None)
-    children: set[int] = set()
-    try:
-        while True:
-            _reap(sock, children)
-            ready, _, _ = select.select([sock, wake_r], [], [])
-            if wake_r in ready:
-                os.read(wake_r, 4096)
-            if sock not in ready:
-                continue
-            try:
-                data, fds, _flags, _addr = socket.recv_fds(sock, _MAX_MESSAGE, 1)
-            except OSError:
-                data, fds = b"", []
-            if not data:
-                return 0  # the supervisor closed its end, or exited
-            request = json.loads(data)
-            answer: dict[str, object] = {"id": request["id"]}
-            module = modules.get(request["module"])
-            if module is None or not fds:
-                answer["error"] = broken.get(request["module"], f"no module {request['module']!r} in the zygote")
-            else:
-                request["zygote"] = os.getpid()
-                pid = os.fork()
-                if pid == 0:
-                    _become(module, request, fds[0], sock, (wake_r, wake_w))
-                try:  # the group exists before anyone is told the pid (the node sets it too)
-                    os.setpgid(pid, pid)
-                except OSError:
-                    pass
-                children.add(pid)
-                answer["pid"] = pid
-            for fd in fds:
-                os.close(fd)
-            sock.send(json.dumps(answer).encode())
-    finally:
-        signal.set_wakeup_fd(-1)
-
-
-def _reap(sock: _socket.socket, children: set[int]) -> None:
-    import json
-
-    for pid in list(children):
+    while True:
         try:
-            done, status = os.waitpid(pid, os.WNOHANG)
-        except ChildProcessError:
-            children.discard(pid)
-            continue
-        if done:
-            children.discard(pid)
-            code = os.waitstatus_to_exitcode(status)
+            data, fds, _flags, _addr = socket.recv_fds(sock, _MAX_MESSAGE, 1)
+        except OSError:
+            data, fds = b"", []
+        if not data:
+            return 0  # the supervisor closed its end, or exited
+        request = json.loads(data)
+        answer: dict[str, object] = {"id": request["id"]}
+        module = modules.get(request["module"])
+        if module is None or not fds:
+            answer["error"] = broken.get(request["module"], f"no module {request['module']!r} in the zygote")
+        else:
             try:
-                sock.send(json.dumps({"exited": pid, "code": code}).encode())
+                answer["pid"] = _fork_node(module, request, fds[0], sock, supervisor)
+            except OSError as exc:
+                answer["error"] = f"the zygote could not fork: {exc}"
+        for fd in fds:
+            os.close(fd)
+        sock.send(json.dumps(answer).encode())
+
+
+def _fork_node(module: ModuleType, request: dict[str, object], out: int, sock: _socket.socket, supervisor: int) -> int:
+    """Fork the node through a middle process that exits at once, so that the node becomes the
+    supervisor's child (it is a subreaper); the node's pid, its process group already made."""
+    read, write = os.pipe()
+    middle = os.fork()
+    if middle == 0:
+        code = 1
+        try:
+            os.close(read)
+            pid = os.fork()
+            if pid == 0:
+                os.close(write)
+                _become(module, request, out, sock, supervisor)
+            try:  # the group exists before anyone is told the pid (the node sets it too)
+                os.setpgid(pid, pid)
             except OSError:
                 pass
+            os.write(write, str(pid).encode())
+            code = 0
+        finally:
+            os._exit(code)
+    os.close(write)
+    try:
+        told = b""
+        while chunk := os.read(read, 32):
+            told += chunk
+    finally:
+        os.close(read)
+        os.waitpid(middle, 0)
+    if not told:
+        raise OSError("the middle process did not fork the node")
+    return int(told)
 
 
-def _become(
-    module: ModuleType, request: dict[str, object], out: int, sock: _socket.socket, pipes: tuple[int, int]
-) -> None:
-    """In a freshly forked child of the zygote: become the node, as ``python -u -m module`` would
-    be, run its ``main()``, and exit (never returns into the zygote's code: ``os._exit``)."""
+def _become(module: ModuleType, request: dict[str, object], out: int, sock: _socket.socket, supervisor: int) -> None:
+    """In a freshly forked grandchild of the zygote: become the node, as ``python -u -m module``
+    would be, run its ``main()``, and exit (never returns into the zygote's code: ``os._exit``)."""
     import io
+    import time
     import traceback
 
-    zygote = int(str(request["zygote"]))  # not getppid(): it may be gone (and we adopted) already
     code = 1
     try:
         os.setpgid(0, 0)
+        middle = os.getppid()
+        deadline = time.monotonic() + 2.0
+        while os.getppid() == middle and time.monotonic() < deadline:
+            time.sleep(0.0002)  # pacing: the middle process exits right after forking us
+        # only now: a parent-death signal asked for earlier would fire as the middle process exits
         _pdeathsig(signal.SIGTERM)
-        if os.getppid() != zygote:
+        if os.getppid() != supervisor:  # the supervisor died meanwhile (or is no subreaper)
             os._exit(0)
-        signal.set_wakeup_fd(-1)
         for sig in (signal.SIGTERM, signal.SIGCHLD, signal.SIGHUP, signal.SIGQUIT):
             signal.signal(sig, signal.SIG_DFL)
         signal.signal(signal.SIGINT, signal.default_int_handler)
         signal.pthread_sigmask(signal.SIG_SETMASK, [])
         sock.close()
-        for fd in pipes:
-            os.close(fd)
         devnull = os.open(os.devnull, os.O_RDONLY)
         os.dup2(devnull, 0)
         os.close(devnull)
@@ -360,10 +357,6 @@ def _become(
         )
         os.environ.clear()
         os.environ.update(request["env"])  # type: ignore[call-overload]
-        from runtime.config import SUPERVISOR_PID_VAR
-
-        if SUPERVISOR_PID_VAR in os.environ:  # the node's parent, whose death ends it, is the zygote
-            os.environ[SUPERVISOR_PID_VAR] = str(zygote)
         sys.argv = [getattr(module, "__file__", None) or module.__name__]
         _prctl(_PR_SET_NAME, str(request.get("name") or module.__name__.rpartition(".")[2]).encode()[:15])
         try:

@@ -1,5 +1,6 @@
-"""The zygote in a real launch: nodes are forked by it (not started by exec), and when it dies
-its nodes die with it and come back as new processes, supervision going on (said once)."""
+"""The zygote in a real launch: nodes are forked by it (not started by exec) and handed to the
+supervisor as its children; when it dies its nodes go on, and later starts are new processes,
+supervision going on (said once)."""
 
 from __future__ import annotations
 
@@ -9,6 +10,8 @@ from pathlib import Path
 
 import pytest
 
+from messages import TurtleStatus
+from messages.keys import STATUS
 from tests.integration.harness import pid_alive, running_system
 
 pytestmark = pytest.mark.integration
@@ -47,18 +50,23 @@ def _parent_of(pid: int) -> int:
     return int(Path(f"/proc/{pid}/stat").read_text().rsplit(") ", 1)[1].split()[1])
 
 
-def test_nodes_are_forked_by_the_zygote_and_outlive_its_death_as_new_processes(tmp_path):
+def test_nodes_are_forked_by_the_zygote_and_outlive_its_death(tmp_path):
+    """Issue 10: killing the zygote killed every node it had forked."""
     path = tmp_path / "both.toml"
     path.write_text(BOTH_RESPAWN)
     with running_system(path, ready=("sim", "status_monitor")) as system:
         zygote = _zygote_of(system.proc.pid)
         first = dict(system.alive)
-        assert all(_parent_of(pid) == zygote for pid in first.values())
+        assert all(_parent_of(pid) == system.proc.pid for pid in first.values())  # handed over
+        assert all(Path(f"/proc/{pid}/comm").read_text().strip() == name for name, pid in first.items())  # forked
         os.kill(zygote, signal.SIGKILL)
-        system.wait_until(lambda: all(system.alive.get(n, p) != p for n, p in first.items()), 20.0, "both nodes back")
-        assert not [p for p in first.values() if pid_alive(p)]  # they died with the zygote
-        assert all(_parent_of(pid) == system.proc.pid for pid in system.alive.values())  # started by exec now
+        system.wait_until(lambda: not pid_alive(zygote), 5.0, "the zygote's end")
+        system.collect(STATUS, TurtleStatus, 3, timeout=5.0)  # the system goes on as it was
+        assert dict(system.alive) == first and all(pid_alive(p) for p in first.values())
+        os.kill(first["sim"], signal.SIGKILL)  # a node's end is still seen, with its real cause
+        system.wait_until(lambda: system.alive.get("sim", first["sim"]) != first["sim"], 20.0, "sim back")
+        assert _parent_of(system.alive["sim"]) == system.proc.pid
         out = system.output()
         assert out.count("starting nodes as new processes") == 1, out
-        assert "sim was killed by SIGTERM; respawning" in out
+        assert "sim was killed by SIGKILL; respawning" in out
         assert "Traceback" not in out

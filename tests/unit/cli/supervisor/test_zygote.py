@@ -1,7 +1,7 @@
-"""cli.supervisor.zygote with real processes: a forked node leads its own group with default
-signals, its environment and its output on the supervisor's pipe; exit codes and signals are
-reported; it dies with the zygote, the zygote with the supervisor; without a zygote, nodes
-start as new processes (said once)."""
+"""cli.supervisor.zygote with real processes: a forked node is the supervisor's child, leads its
+own group with default signals, its environment and its output on the supervisor's pipe; exit
+codes and signals are reported; it outlives the zygote and dies with the supervisor; without a
+zygote, nodes start as new processes (said once for each reason)."""
 
 from __future__ import annotations
 
@@ -78,9 +78,9 @@ def test_a_forked_node_leads_its_own_group_with_default_signals_and_its_own_envi
     assert _exit_of(child) == 0
     facts = json.loads(_lines(child)[-1])
     assert facts["pid"] == child.pid and facts["pgid"] == child.pid  # it leads its own group
-    assert facts["ppid"] == zygote.pid
+    assert facts["ppid"] == os.getpid()  # handed over to the supervisor, a child subreaper
     assert facts["env"]["ZYGOTE_TEST"] == "describe"
-    assert facts["env"][SUPERVISOR_PID_VAR] == str(zygote.pid)  # the parent it watches is the zygote
+    assert facts["env"][SUPERVISOR_PID_VAR] == str(os.getpid())  # the parent it watches
     assert facts["sigint"] and facts["sigterm"] and facts["sigchld"] and facts["mask"] == []
     assert facts["stdin"] == "" and facts["comm"] == "node"  # its name in the launch file
 
@@ -133,15 +133,19 @@ def test_a_signal_is_reported_and_reaches_the_node_s_whole_group(zygote):
     assert _exit_of(killed) == -signal.SIGKILL
 
 
-def test_nodes_die_with_the_zygote_and_then_start_as_new_processes_said_once(zygote):
+def test_nodes_outlive_the_zygote_and_later_ones_start_as_new_processes_said_once(zygote):
+    """Issue 10: killing the zygote ended every node it had forked (a required sim without
+    respawn stopped the system), and their exit codes were guessed as SIGTERM."""
     printer = Printer(["node"], stream=io.StringIO())
     child = _child(zygote, "sleep", printer)
     child.start()
     pid = child.pid
     os.kill(zygote.pid, signal.SIGKILL)
     _wait(lambda: not zygote.alive, "the zygote's end to be seen")
-    assert _exit_of(child) == -signal.SIGTERM  # its parent-death signal
-    assert not pid_alive(pid)
+    time.sleep(0.3)  # pacing: a parent-death signal would have arrived by now (it is immediate)
+    assert child.poll() is None and pid_alive(pid)  # still running, still supervised
+    os.kill(pid, signal.SIGKILL)
+    assert _exit_of(child) == -signal.SIGKILL  # its real end, reaped here
     for _ in range(2):  # respawned: a new process, as without a zygote
         child.start()
         try:
@@ -153,13 +157,40 @@ def test_nodes_die_with_the_zygote_and_then_start_as_new_processes_said_once(zyg
     assert len(said) == 1, printer.stream.getvalue()
 
 
+def test_a_module_the_zygote_could_not_import_is_said_once_and_the_others_are_still_forked():
+    printer = Printer(["node"], stream=io.StringIO())
+    lacking = start(["tests.unit.cli.supervisor.no_such_module", MODULE])
+    assert lacking is not None
+    broken = ZygoteChild(
+        "node",
+        [sys.executable, "-u", "-m", "tests.unit.cli.supervisor.no_such_module"],
+        dict(os.environ),
+        printer,
+        lacking,
+    )
+    try:
+        for _ in range(2):
+            broken.start()
+            assert broken.proc is not None  # started by exec, which reports the import error itself
+            assert _exit_of(broken) == 1
+        forked = _child(lacking, "exit:0", printer)
+        forked.start()
+        assert forked.proc is None and _exit_of(forked) == 0
+    finally:
+        lacking.close()
+    out = printer.stream.getvalue()
+    said = [line for line in out.splitlines() if "zygote:" in line]
+    assert len(said) == 1 and "cannot import tests.unit.cli.supervisor.no_such_module" in said[0], out
+    assert "starting nodes running tests.unit.cli.supervisor.no_such_module as new processes" in said[0]
+
+
 SUPERVISOR = textwrap.dedent(
     f"""
     import os, sys, time
     from cli.supervisor.zygote import start
     zygote = start([{MODULE!r}])
     read, write = os.pipe()
-    node = zygote.spawn({MODULE!r}, dict(os.environ, ZYGOTE_TEST="sleep", TURTLECTL_SUPERVISOR_PID="1"), write)
+    node = zygote.spawn({MODULE!r}, dict(os.environ, ZYGOTE_TEST="sleep", TURTLECTL_SUPERVISOR_PID=str(os.getpid())), write)
     print(zygote.pid, node, flush=True)
     time.sleep(60)  # pacing: ok (stays until killed)
     """
