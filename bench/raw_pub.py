@@ -3,6 +3,8 @@
   python bench/raw_pub.py pub ENDPOINT KEY RATE SECONDS   publish the wall clock (int64 ns, little
                                                          endian) on KEY at RATE Hz, absolute schedule
   python bench/raw_pub.py sub ENDPOINT KEY SECONDS        a callback subscriber that counts samples
+  python bench/raw_pub.py ring ENDPOINT KEY SECONDS       a subscriber keeping only the newest sample in
+                                                         Zenoh (a ring channel of one), read at 10 Hz
   python bench/raw_pub.py idle ENDPOINT SECONDS           an open session doing nothing
   python bench/raw_pub.py once ENDPOINT KEY               a client that prints one sample's size and
                                                          exits (the floor of `turtlectl echo --once`)
@@ -57,6 +59,16 @@ def main() -> None:
             count = [0]
             sub = session.declare_subscriber(key, lambda _s: count.__setitem__(0, count[0] + 1))
             time.sleep(seconds)  # pacing: the measured window
+            sub.undeclare()
+        elif what == "ring":
+            key, seconds = sys.argv[3], float(sys.argv[4])
+            sub = session.declare_subscriber(key, zenoh.handlers.RingChannel(1))
+            start = time.monotonic()
+            k = 0
+            while time.monotonic() - start < seconds:
+                k += 1
+                time.sleep(max(0.0, start + k / 10 - time.monotonic()))  # pacing: the reader's own 10 Hz tick
+                sub.try_recv()
             sub.undeclare()
         else:
             time.sleep(float(sys.argv[3]))  # pacing: an idle session for the measured window

@@ -330,9 +330,8 @@ def _become(module: ModuleType, request: dict[str, object], out: int, sock: _soc
     code = 1
     try:
         os.setpgid(0, 0)
-        middle = os.getppid()
-        deadline = time.monotonic() + 2.0
-        while os.getppid() == middle and time.monotonic() < deadline:
+        deadline = time.monotonic() + 2.0  # not the parent seen now: the middle may be gone already
+        while os.getppid() != supervisor and time.monotonic() < deadline:
             time.sleep(0.0002)  # pacing: the middle process exits right after forking us
         # only now: a parent-death signal asked for earlier would fire as the middle process exits
         _pdeathsig(signal.SIGTERM)
