@@ -11,9 +11,14 @@ import importlib.util
 import os
 import signal
 import sys
+import time
 from types import FrameType, ModuleType
 
 from cli.errors import ExitCode
+
+#: when this command began (time.monotonic, s): the first thing the console script runs, so that
+#: `launch` can say how long its nodes took to be ready from the user's point of view
+STARTED = time.monotonic()
 
 #: commands for which Ctrl-C is the normal way to stop: exit 0, as README's exit codes say
 STOPPED_BY_CTRL_C = ("launch", "router")

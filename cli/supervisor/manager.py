@@ -19,6 +19,7 @@ from typing import Any
 
 import zenoh
 
+import cli
 from cli.errors import CannotStart, ExitCode, TurtlectlError
 from cli.launchfile import LaunchPlan, node_config
 from cli.supervisor import logs, zygote
@@ -51,7 +52,7 @@ class Supervisor:
         self.endpoint = f"tcp/{host}:{port}" if port is not None else connect
         self.domain = domain
         self.printer = printer
-        self.supervision = Supervision(plan, printer, self._child)
+        self.supervision = Supervision(plan, printer, self._child, since=cli.STARTED)
         self.zygote: zygote.Zygote | None = None
 
     # -- lifecycle ----------------------------------------------------------

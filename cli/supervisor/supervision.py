@@ -69,7 +69,9 @@ class Supervision:
         spawn: Callable[[str], ChildProcess],
         clock: Callable[[], float] = time.monotonic,
         sleep: Callable[[float], None] = time.sleep,
+        since: float | None = None,
     ):
+        """``since``: when the launch began, on ``clock`` (default: now), the start of "ready in"."""
         self.entries = {e.name: e for e in plan.launch.node}
         self.settings = plan.launch.supervisor
         self.printer = printer
@@ -86,7 +88,7 @@ class Supervision:
         self._events: queue.SimpleQueue[tuple[bool, str, int]] = queue.SimpleQueue()
         self._alive: dict[str, int] = {}  # node name -> pid announced
         self._ready_reported = False
-        self._t0 = clock()
+        self._t0 = clock() if since is None else since
 
     # -- input ----------------------------------------------------------------
     def announce(self, alive: bool, name: str, pid: int) -> None:
@@ -191,7 +193,10 @@ class Supervision:
                 self._ready_reported = True
                 elapsed = self.clock() - self._t0
                 count = len(self.entries)
-                self.printer.system(f"{'all ' * (count > 1)}{count} node{'s' * (count != 1)} ready in {elapsed:.2f} s")
+                self.printer.system(
+                    f"{'all ' * (count > 1)}{count} node{'s' * (count != 1)} ready in {elapsed:.2f} s"
+                    " (since turtlectl started)"
+                )
 
     def ready(self, name: str) -> bool:
         """True once this very process of node ``name`` has announced itself."""

@@ -121,7 +121,9 @@ class FakeProcess:
 class System:
     """A Supervision of ``nodes`` (launch-file [[node]] tables) on a fake clock."""
 
-    def __init__(self, nodes: str, sigint_timeout: float = 2.0, sigterm_timeout: float = 1.0):
+    def __init__(
+        self, nodes: str, sigint_timeout: float = 2.0, sigterm_timeout: float = 1.0, since: float | None = None
+    ):
         text = f"[supervisor]\nsigint_timeout = {sigint_timeout}\nsigterm_timeout = {sigterm_timeout}\n{nodes}"
         plan = parse_launch(text)
         self.clock = Clock()
@@ -130,7 +132,9 @@ class System:
         self.spawned: list[str] = []
         names = [e.name for e in plan.launch.node]
         printer = Printer(names, self.out, colour=False)
-        self.supervision = Supervision(plan, printer, self._spawn, clock=self.clock, sleep=self.clock.sleep)
+        self.supervision = Supervision(
+            plan, printer, self._spawn, clock=self.clock, sleep=self.clock.sleep, since=since
+        )
 
     def process(self, name: str, **how) -> FakeProcess:
         self.processes[name] = FakeProcess(name, self, **how)
@@ -286,8 +290,19 @@ def test_all_nodes_ready_is_reported_once_when_the_last_one_announces_itself():
     system.run()
     ready = [line for line in system.lines() if "ready in" in line]
     assert len(ready) == 1
-    seconds = float(re.fullmatch(r"all 2 nodes ready in (\S+) s", ready[0])[1])
+    seconds = float(re.fullmatch(r"all 2 nodes ready in (\S+) s \(since turtlectl started\)", ready[0])[1])
     assert 1.2 <= seconds <= 1.2 + LAG
+
+
+def test_ready_counts_from_when_the_command_began_not_from_the_first_start():
+    """Issue 10: "ready in" left out everything before the supervision began (imports, router)."""
+    system = System(node("sim"), since=-0.7)
+    system.process("sim", ready_after=0.4)
+    system.stop_at(2.0)
+    system.run()
+    ready = [line for line in system.lines() if "ready in" in line]
+    seconds = float(re.fullmatch(r"1 node ready in (\S+) s \(since turtlectl started\)", ready[0])[1])
+    assert 1.1 <= seconds <= 1.1 + LAG
 
 
 def test_a_respawned_node_is_ready_only_once_its_new_process_announces_itself():
