@@ -24,8 +24,6 @@ import typer
 from cli import STOPPED_BY_CTRL_C, args, lazy_module
 from cli.errors import BadInput, ExitCode, Failed, Interrupted, TurtlectlError, Unreachable, exit_code
 from cli.sigint import ignore_sigint, quiet_unraisable
-from messages import Cancel, NavigateToFeedback, NavigateToRequest, Reset, TeleportAbsolute, keys
-from messages.angles import heading_radians
 from runtime.endpoint import CONNECT_ENV, DEFAULT_ENDPOINT, DEFAULT_PORT, DOMAIN_ENV, default_domain
 
 format = lazy_module("cli.format")  # msgspec and the message types load when a command prints one
@@ -204,6 +202,7 @@ def goto(
     Example: turtlectl goto 8 5 90
     """
     from cli import services
+    from messages import NavigateToFeedback, NavigateToRequest
 
     request = NavigateToRequest(
         x=args.finite_number(x, "x"), y=args.finite_number(y, "y"), theta=args.finite_number(theta, "theta")
@@ -235,6 +234,7 @@ def cancel(connect: str = ConnectOption, domain: str = DomainOption) -> None:
     Example: turtlectl cancel
     """
     from cli import services
+    from messages import Cancel, keys
 
     (ack,) = services.simple_call(connect, keys.CANCEL, Cancel())
     _result(ack.detail)
@@ -254,6 +254,8 @@ def teleport(
     Example: turtlectl teleport 2 2 45
     """
     from cli import services
+    from messages import TeleportAbsolute, keys
+    from messages.angles import heading_radians
 
     degrees = args.finite_number(theta, "theta")
     request = TeleportAbsolute(
@@ -272,6 +274,7 @@ def reset(connect: str = ConnectOption, domain: str = DomainOption) -> None:
     Example: turtlectl reset
     """
     from cli import services
+    from messages import Reset, keys
 
     acks = services.simple_call(connect, keys.RESET, Reset(), everyone=True)
     _result(format.ack_lines(acks))
@@ -438,6 +441,7 @@ def call(
     Example: turtlectl call turtle1/teleport_absolute '{"x": 2, "y": 2, "theta": 0}'
     """
     from cli import build, client, services
+    from messages import NavigateToFeedback
 
     key = client.check_key(service)
     body = build.service_request(client.base_key(key), request, type_name)

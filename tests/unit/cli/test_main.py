@@ -32,6 +32,7 @@ HEAVY = [
     "runtime.node",
     "runtime.lifecycle",
     "nodes.kinds",
+    "msgspec",  # issue 10: the message types cost --help 25 ms; the commands that send one import them
 ]
 
 
