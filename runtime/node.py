@@ -100,6 +100,7 @@ class Latest(Generic[M]):
         self._type = msg_type
         self._value: M | None = None
         self._callback: Callable[[M], None] | None = None
+        self._generation = 0  # which callback a queued message was received for
         self._sub = node.session.declare_subscriber(key, self._on_sample)
 
     def _on_sample(self, sample: zenoh.Sample) -> None:  # Zenoh thread: decode and keep, or queue the garbage
@@ -109,8 +110,9 @@ class Latest(Generic[M]):
             self._node._queue.put((self._node._rejected, (self.key, str(exc))))
             return
         self._value = msg  # one reference swapped: the node thread reads whole messages only
+        generation = self._generation  # read before the callback: a change in between drops msg
         if self._callback is not None:
-            self._node._queue.put((self._dispatch, (msg,)))
+            self._node._queue.put((self._dispatch, (msg, generation)))
 
     def get(self) -> M | None:
         """The newest valid message received so far (None: none yet)."""
@@ -119,11 +121,13 @@ class Latest(Generic[M]):
     def each(self, callback: Callable[[M], None] | None) -> None:
         """While ``callback`` is set, also call it on the node thread for every valid message,
         as ``Node.subscribe`` does (the navigator needs every pose only while a goal runs);
-        None stops it, and messages already queued are then dropped.  ``get()`` works either way."""
+        None stops it; messages received before a call (still queued) reach no callback set by
+        it.  ``get()`` works either way."""
+        self._generation += 1
         self._callback = callback
 
-    def _dispatch(self, msg: M) -> None:
-        if self._callback is not None:
+    def _dispatch(self, msg: M, generation: int) -> None:
+        if self._callback is not None and generation == self._generation:
             self._callback(msg)
 
     def undeclare(self) -> None:

@@ -191,3 +191,14 @@ def test_latest_each_calls_back_for_every_message_only_while_set(node_and_client
     _until(lambda: latest.get().x == 99.0)
     run_queued()
     assert seen == []  # no callback once unset
+
+    # a callback set anew gets nothing received before it was set (the navigator's next goal
+    # must not be fed the last goal's poses still queued)
+    latest.each(lambda pose: seen.append(pose.x))
+    pub.put(_pose(7.0))
+    _until(lambda: not node._queue.empty())  # queued for the first callback, not yet run
+    later: list[float] = []
+    latest.each(None)
+    latest.each(lambda pose: later.append(pose.x))
+    run_queued()
+    assert later == [] and seen == []
