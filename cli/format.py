@@ -166,3 +166,63 @@ def plan_text(plan: LaunchPlan) -> str:
             how.append(f"respawn after {e.respawn_delay:g} s doubling to {e.respawn_delay_max:g} s, {limit}")
         lines.append(f"  {e.name} (run {e.run}; {'; '.join(how)}): {json_value(plan.params[e.name])}")
     return "\n".join(lines)
+
+
+def size_text(size: int) -> str:
+    """A byte count for people: B, KiB, MiB or GiB."""
+    value = float(size)
+    for unit in ("B", "KiB", "MiB"):
+        if value < 1024:
+            return f"{value:.0f} {unit}" if unit == "B" else f"{value:.1f} {unit}"
+        value /= 1024
+    return f"{value:.2f} GiB"
+
+
+def _local_time(ns: int) -> str:
+    import datetime
+
+    when = datetime.datetime.fromtimestamp(ns / 1e9).astimezone()
+    return f"{when:%Y-%m-%d %H:%M:%S}.{when.microsecond // 1000:03d} {when:%Z}"
+
+
+def recording_line(elapsed: float, messages: int, size: int) -> str:
+    """The live line of `record`: elapsed time, messages written, file size."""
+    return f"recording: {elapsed:7.1f} s, {messages} messages, {size_text(size)}"
+
+
+def info_text(info: Any) -> str:
+    """`turtlectl info`, as `ros2 bag info` prints a bag (``info``: cli.bag.Info)."""
+    lines = [
+        f"File:      {info.path}",
+        f"Size:      {size_text(info.size)}",
+        f"Closed:    {'yes' if info.closed else 'NO: the recorder did not finish it (killed?); what is complete was read'}",
+    ]
+    if info.count:
+        lines += [
+            f"Duration:  {info.duration:.3f} s",
+            f"Start:     {_local_time(info.start)}",
+            f"End:       {_local_time(info.end)}",
+        ]
+    lines.append(f"Messages:  {info.count}")
+    if info.topics:
+        rows = [("topic", "type", "count", "rate", "encoding")]
+        rows += [(t.key, t.type_name or "(raw)", str(t.count), f"{t.rate:.2f} Hz", t.encoding) for t in info.topics]
+        widths = [max(len(r[i]) for r in rows) for i in range(5)]
+        lines.append("Topics:")
+        for r in rows:
+            lines.append(
+                "  "
+                + "  ".join(
+                    c.rjust(w) if i in (2, 3) else c.ljust(w) for i, (c, w) in enumerate(zip(r, widths, strict=True))
+                ).rstrip()
+            )
+    return "\n".join(lines)
+
+
+def info_json(info: Any) -> str:
+    """`turtlectl info --json`: one object (times in ns since the epoch, duration in s)."""
+    import dataclasses
+
+    data = dataclasses.asdict(info)
+    data["duration"] = info.duration
+    return msgspec.json.encode(data).decode()

@@ -499,6 +499,132 @@ def view(connect: str = ConnectOption, domain: str = DomainOption) -> None:
         pass
 
 
+@app.command()
+def record(
+    topics: list[str] = typer.Argument(
+        None, metavar="[TOPIC]...", help="Key expressions to record, e.g. robot/status turtle1/*."
+    ),
+    all_topics: bool = typer.Option(False, "-a", "--all", help="Record every topic (streams and feedback)."),
+    output: Path | None = typer.Option(
+        None, "-o", "--output", help="The MCAP file to write (must not exist).  [default: turtlectl_<date>-<time>.mcap]"
+    ),
+    duration: float | None = typer.Option(None, "--duration", min=0.1, help="Stop after S seconds."),
+    exclude: list[str] = typer.Option(
+        [], "--exclude", metavar="KEY_EXPR", help="Leave out keys matching this (repeatable)."
+    ),
+    connect: str = ConnectOption,
+    domain: str = DomainOption,
+) -> None:
+    """Record topics into an MCAP file that Foxglove opens, as `ros2 bag record`.
+
+    Each message keeps its receive time, its own stamp, its key and its type.  Ctrl-C or
+    SIGTERM finishes the file; if the recorder is killed, at most the last second is lost.
+
+    Example: turtlectl record -a -o run.mcap
+    """
+    import threading
+
+    from cli import record as recording
+    from cli.version import version
+
+    keys, excluded = recording.keys_to_record(topics or [], all_topics, exclude)
+    path = output or recording.default_path()
+    stop = threading.Event()
+    for sig in (signal.SIGINT, signal.SIGTERM):
+        signal.signal(sig, lambda *_: stop.set())
+    live = sys.stderr.isatty()
+    typer.echo(
+        f"recording {', '.join(keys)} into {path}" + (f" (not {', '.join(excluded)})" if excluded else ""), err=True
+    )
+    last = None
+    for last in recording.record(connect, keys, excluded, path, duration, stop, f"turtlectl {version()}"):
+        if live and not last.done:
+            typer.echo("\r\033[K" + format.recording_line(last.elapsed, last.messages, last.size), nl=False, err=True)
+    if live:
+        typer.echo("\r\033[K", nl=False, err=True)
+    if last is not None:
+        _result(
+            f"recorded {last.messages} messages in {last.elapsed:.1f} s into {path} ({format.size_text(last.size)})"
+        )
+
+
+@app.command()
+def info(
+    file: Path = typer.Argument(..., metavar="FILE", help="A recording (MCAP file)."),
+    json: bool = typer.Option(False, "--json", help="One JSON object."),
+) -> None:
+    """What a recording holds, as `ros2 bag info`: size, duration, start and end, messages per
+    topic with type, rate and encoding, and whether the recorder closed the file.
+
+    Example: turtlectl info run.mcap
+    """
+    from cli.bag import Recording
+
+    details = Recording(file).info()
+    _result(format.info_json(details) if json else format.info_text(details))
+
+
+@app.command()
+def play(
+    file: Path = typer.Argument(..., metavar="FILE", help="A recording (MCAP file)."),
+    rate: float = typer.Option(1.0, "--rate", min=0.01, help="Speed factor (2 = twice as fast)."),
+    loop: bool = typer.Option(False, "--loop", help="Play again and again until Ctrl-C."),
+    start_offset: float = typer.Option(0.0, "--start-offset", min=0.0, help="Start S seconds into the recording."),
+    topics: list[str] = typer.Option([], "--topics", metavar="KEY", help="Play only this key (repeatable)."),
+    remap: list[str] = typer.Option(
+        [], "--remap", metavar="OLD:=NEW", help="Publish OLD's messages on NEW (repeatable)."
+    ),
+    keep_stamps: bool = typer.Option(
+        False, "--keep-stamps", help="Keep the recorded stamps (default: stamp when sent)."
+    ),
+    connect: str = ConnectOption,
+    domain: str = DomainOption,
+) -> None:
+    """Publish a recording again, each message at its recorded time (divided by --rate), as
+    `ros2 bag play`.  On a terminal, space pauses and resumes; Ctrl-C stops (exit code 0).
+
+    Example: turtlectl play run.mcap --rate 2
+    """
+    import threading
+
+    from cli import play as player
+    from cli.bag import Recording
+
+    remaps = player.parse_remaps(remap)
+    keys = [client_key(t) for t in topics] or None
+    recording = Recording(file)
+    if not recording.closed:
+        typer.echo(f"warning: {file} was not closed (the recorder was killed?): playing what is complete", err=True)
+    stop = threading.Event()
+    for sig in (signal.SIGINT, signal.SIGTERM):
+        signal.signal(sig, lambda *_: stop.set())
+    live = sys.stdin.isatty() and sys.stderr.isatty()
+    played = 0
+    with player.space_toggles(live) as paused:
+        for item in player.play(
+            connect, recording, rate, start_offset, keys, remaps, keep_stamps, loop, paused, stop.is_set
+        ):
+            played += 1
+            if live and (item.index % 25 == 0 or item.index + 1 == item.total):
+                state = "paused" if paused() else "playing"
+                typer.echo(
+                    f"\r\033[K{state} {item.offset:8.2f} s  {item.index + 1}/{item.total}"
+                    + (f"  loop {item.loop + 1}" if loop else "")
+                    + "  (space: pause)",
+                    nl=False,
+                    err=True,
+                )
+    if live:
+        typer.echo("\r\033[K", nl=False, err=True)
+    _result(f"played {played} messages from {file}")
+
+
+def client_key(text: str) -> str:
+    from cli.client import check_key
+
+    return check_key(text, publish=True)
+
+
 def error_line(error: TurtlectlError) -> str:
     """What the user reads on stderr for ``error`` (a Ctrl-C is no error: its message says what happened)."""
     return f"turtlectl: {error.message}" if isinstance(error, Interrupted) else f"turtlectl: error: {error.message}"

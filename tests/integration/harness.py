@@ -124,6 +124,31 @@ def view_in_pty(endpoint: str) -> tuple[int, int]:
     return pid, fd
 
 
+class Router:
+    """`turtlectl router` on a free port, restartable."""
+
+    def __init__(self):
+        self.port = free_port()
+        self.endpoint = f"tcp/127.0.0.1:{self.port}"
+        self.proc: subprocess.Popen | None = None
+
+    def start(self) -> None:
+        self.proc = subprocess.Popen(
+            [*turtlectl(), "router", "--port", str(self.port)],
+            stdout=subprocess.PIPE,
+            stderr=subprocess.STDOUT,
+            text=True,
+        )
+        assert self.proc.stdout is not None
+        line = self.proc.stdout.readline()  # an event: the router says it listens
+        assert "router listening" in line, line
+
+    def kill(self) -> None:
+        if self.proc is not None and self.proc.poll() is None:
+            self.proc.kill()
+            self.proc.wait(5)
+
+
 class SupervisorDied(AssertionError):
     pass
 

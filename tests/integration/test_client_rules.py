@@ -23,6 +23,7 @@ import pytest
 from messages import Twist
 from tests.integration.harness import (
     ROOT,
+    Router,
     free_port,
     pump,
     read_until_closed,
@@ -295,30 +296,10 @@ def test_the_raw_client_of_the_interface_reference_runs(system):
 # -- a router shared by domains; the router lost mid-goal ----------------------------------
 
 
-class Router:
-    """`turtlectl router` on a free port."""
-
-    def __init__(self) -> None:
-        self.port = free_port()
-        self.endpoint = f"tcp/127.0.0.1:{self.port}"
-        self.proc = subprocess.Popen(
-            [*turtlectl(), "router", "--port", str(self.port)],
-            stdout=subprocess.PIPE,
-            stderr=subprocess.STDOUT,
-            text=True,
-        )
-        assert self.proc.stdout is not None
-        assert "router listening" in self.proc.stdout.readline()  # an event: it listens
-
-    def kill(self) -> None:
-        if self.proc.poll() is None:
-            self.proc.kill()
-            self.proc.wait(5)
-
-
 @pytest.fixture()
 def router():
     r = Router()
+    r.start()
     yield r
     r.kill()
 

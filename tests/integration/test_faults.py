@@ -17,7 +17,7 @@ import pytest
 
 from messages import TurtleStatus
 from messages.keys import STATUS
-from tests.integration.harness import NODES, free_port, pid_alive, running_system, turtlectl
+from tests.integration.harness import NODES, Router, pid_alive, running_system, turtlectl
 
 pytestmark = pytest.mark.integration
 
@@ -86,31 +86,6 @@ def test_check_only_exclude_and_set():
         assert {n["name"] for n in graph["nodes"]} == {"sim", "navigator"}
         params = json.loads(system.run_cli("call", "turtlectl/params/navigator").stdout)
         assert params["goal_timeout"] == 42.0
-
-
-class Router:
-    """`turtlectl router` on a free port, restartable."""
-
-    def __init__(self):
-        self.port = free_port()
-        self.endpoint = f"tcp/127.0.0.1:{self.port}"
-        self.proc: subprocess.Popen | None = None
-
-    def start(self) -> None:
-        self.proc = subprocess.Popen(
-            [*turtlectl(), "router", "--port", str(self.port)],
-            stdout=subprocess.PIPE,
-            stderr=subprocess.STDOUT,
-            text=True,
-        )
-        assert self.proc.stdout is not None
-        line = self.proc.stdout.readline()  # an event: the router says it listens
-        assert "router listening" in line, line
-
-    def kill(self) -> None:
-        if self.proc is not None and self.proc.poll() is None:
-            self.proc.kill()
-            self.proc.wait(5)
 
 
 @pytest.fixture()

@@ -37,6 +37,7 @@ PURE = [
     "cli.format",
     "cli.graph",
     "cli.rates",
+    "cli.bag",  # recordings: MCAP files, read and written without a session
     "cli.supervisor.supervision",  # the supervision policy: processes and clock come from outside
 ]
 

@@ -1,0 +1,93 @@
+"""Messages as JSON, losslessly, for what reads JSON rather than msgpack: MCAP recordings that
+Foxglove opens, and tools.
+
+JSON has no infinity and no NaN (msgspec and ``turtlectl echo --json`` write ``null``, which
+cannot be told apart on the way back: a LaserScan's ``inf`` ranges and its ``NaN`` origin
+would both come back as null).  Here a non-finite float is written as the string
+``"Infinity"``, ``"-Infinity"`` or ``"NaN"`` (JavaScript's own spellings), and the JSON Schema
+of each type says so (``json_schema``), so ``from_json(to_json(m)) == m`` for every message,
+and its msgpack bytes are the original's.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any, Union
+
+import msgspec
+
+from messages.codec import type_name
+from messages.types import ALL_TYPES, Message
+
+#: how each non-finite float is spelled in JSON here
+NON_FINITE = ("Infinity", "-Infinity", "NaN")
+
+_encoder = msgspec.json.Encoder()
+_any = Union[ALL_TYPES]  # type: ignore[valid-type]  # noqa: UP007 (a tuple of types)
+
+
+class JsonFormError(ValueError):
+    """JSON that is not a message of a known type (or not of the type expected)."""
+
+
+def _spelled(value: Any) -> Any:
+    """``value`` (msgspec builtins) with each non-finite float replaced by its spelling."""
+    if isinstance(value, float):
+        if math.isfinite(value):
+            return value
+        return "NaN" if math.isnan(value) else ("Infinity" if value > 0 else "-Infinity")
+    if isinstance(value, dict):
+        return {k: _spelled(v) for k, v in value.items()}
+    if isinstance(value, list):
+        return [_spelled(v) for v in value]
+    return value
+
+
+def to_json(msg: Message) -> bytes:
+    """``msg`` as one JSON object (UTF-8), its ``type`` field naming its type."""
+    data = _encoder.encode(msg)
+    if b"null" not in data:  # no field is None or non-finite: msgspec's bytes are already ours
+        return data
+    return _encoder.encode(_spelled(msgspec.to_builtins(msg)))
+
+
+def from_json(data: bytes, msg_type: type[Message] | None = None) -> Message:
+    """The message ``to_json`` wrote: of ``msg_type``, or of the type its ``type`` field names.
+    Raises JsonFormError with a readable reason."""
+    try:
+        obj = msgspec.json.decode(data)
+        # strict=False turns the spelled non-finite floats back into floats (and only numbers'
+        # strings: a str field keeps "NaN" as text)
+        return msgspec.convert(obj, msg_type or _any, strict=False)
+    except msgspec.DecodeError as exc:  # ValidationError included
+        what = msg_type.__name__ if msg_type is not None else "message"
+        raise JsonFormError(f"not a valid {what} in JSON: {exc}") from None
+
+
+def _allow_non_finite(schema: Any) -> Any:
+    """Every ``{"type": "number"}`` of a msgspec JSON Schema also allows the three spellings."""
+    if isinstance(schema, list):
+        return [_allow_non_finite(s) for s in schema]
+    if not isinstance(schema, dict):
+        return schema
+    out = {k: _allow_non_finite(v) for k, v in schema.items()}
+    if out.get("type") == "number":
+        number = {k: v for k, v in out.items() if k not in ("title", "description", "default")}
+        out = {k: v for k, v in out.items() if k in ("title", "description", "default")}
+        out["anyOf"] = [number, {"enum": list(NON_FINITE)}]
+    return out
+
+
+def json_schema(msg_type: type[Message]) -> dict[str, Any]:
+    """The JSON Schema (draft 2020-12) of ``to_json``'s output for ``msg_type``: an object at the
+    top (as Foxglove expects), titled with the type's wire name, nested types under ``$defs``."""
+    generated = msgspec.json.schema(msg_type)
+    defs = dict(generated.get("$defs", {}))
+    name = generated.get("$ref", "").rpartition("/")[2]
+    top = dict(defs.pop(name, generated))
+    top["title"] = type_name(msg_type)
+    if defs:
+        top["$defs"] = defs
+    top = _spelled(_allow_non_finite(top))  # a NaN default too: JSON has no NaN
+    top["$schema"] = "https://json-schema.org/draft/2020-12/schema"
+    return top

@@ -1,0 +1,211 @@
+"""record / info / play against the real system: a recorded goal holds every message that was
+sent meanwhile; play into a router without any system gives back the same messages at the
+same intervals; a recorder killed with SIGKILL leaves a file that plays; bad files are one
+clear error with exit code 2."""
+
+from __future__ import annotations
+
+import collections
+import os
+import queue
+import signal
+import statistics
+import subprocess
+import time
+from pathlib import Path
+
+import msgspec
+import pytest
+import zenoh
+
+from cli.bag import Recording
+from messages import decode_any, encode
+from runtime.session import client_config, close_session
+from tests.integration.harness import Router, running_system, turtlectl
+
+pytestmark = pytest.mark.integration
+
+STREAMS = ("turtle1/pose", "robot/status", "obstacles", "navigate_to/feedback", "turtle1/cmd_vel")
+
+
+def _recorder(path: Path, endpoint: str, *args: str) -> subprocess.Popen[str]:
+    return subprocess.Popen(
+        [*turtlectl(), "record", *args, "-o", str(path), "--connect", endpoint],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        stdin=subprocess.DEVNULL,
+        text=True,
+    )
+
+
+def _wait(condition, what: str, timeout: float = 15.0) -> None:
+    deadline = time.monotonic() + timeout
+    while not condition():
+        assert time.monotonic() < deadline, f"timed out waiting for {what}"
+        time.sleep(0.05)  # pacing: polling a file under a deadline
+
+
+def _unstamped(msg):
+    return encode(msgspec.structs.replace(msg, stamp=0)) if "stamp" in type(msg).__struct_fields__ else encode(msg)
+
+
+@pytest.fixture(scope="module")
+def goal_recording(tmp_path_factory):
+    """A goal recorded with -a, and the sequence numbers a subscriber saw meanwhile, per key."""
+    path = tmp_path_factory.mktemp("rec") / "goal.mcap"
+    with running_system() as system:
+        system.wait_ready()
+        seen: dict[str, set[int]] = collections.defaultdict(set)
+        sub = system.session.declare_subscriber(
+            "**", lambda s: seen[str(s.key_expr)].add(decode_any(s.payload.to_bytes()).seq)
+        )
+        recorder = _recorder(path, system.endpoint, "-a")
+        try:
+            _wait(lambda: path.exists() and Recording(path).info().count > 50, "the recorder to write")
+            response, _, _ = system.navigate(8.0, 5.0, 90.0)
+            assert response.success, response
+            recorder.send_signal(signal.SIGINT)
+            out, err = recorder.communicate(timeout=15)
+        finally:
+            if recorder.poll() is None:
+                recorder.kill()
+        sub.undeclare()
+    return path, seen, recorder.returncode, out, err
+
+
+def test_a_recorded_goal_holds_every_message_sent_meanwhile(goal_recording):
+    path, seen, code, out, err = goal_recording
+    assert code == 0, err
+    assert f"into {path}" in err and "recorded" in out and "Traceback" not in err
+    recording = Recording(path)
+    assert recording.closed  # SIGINT finished the file
+    recorded: dict[str, list[int]] = collections.defaultdict(list)
+    for record in recording.records():
+        message = record.message()
+        assert message is not None and record.type_name == type(message).__struct_config__.tag
+        assert record.publish_time == message.stamp and record.sequence == message.seq
+        recorded[record.key].append(message.seq)
+    assert set(STREAMS) <= set(recorded), sorted(recorded)
+    for key in STREAMS:
+        seqs = recorded[key]
+        assert seqs == list(range(seqs[0], seqs[0] + len(seqs))), f"{key}: a gap in the recorded seq"
+        meanwhile = {s for s in seen[key] if seqs[0] <= s <= seqs[-1]}
+        assert meanwhile <= set(seqs), f"{key}: seen but not recorded {sorted(meanwhile - set(seqs))[:5]}"
+    counts = {t.key: t.count for t in recording.info().topics}
+    assert counts == {k: len(v) for k, v in recorded.items()}
+
+
+def test_info_says_what_the_file_holds(goal_recording):
+    path = goal_recording[0]
+    result = subprocess.run([*turtlectl(), "info", str(path)], capture_output=True, text=True, timeout=30)
+    assert result.returncode == 0, result.stderr
+    assert "Closed:    yes" in result.stdout
+    for key, type_name in (("turtle1/pose", "Pose"), ("robot/status", "TurtleStatus"), ("obstacles", "LaserScan")):
+        assert any(line.split()[:2] == [key, type_name] for line in result.stdout.splitlines()), result.stdout
+    data = msgspec.json.decode(
+        subprocess.run([*turtlectl(), "info", str(path), "--json"], capture_output=True, timeout=30).stdout
+    )
+    assert data["closed"] is True and data["count"] == sum(t["count"] for t in data["topics"])
+
+
+def test_play_into_a_router_without_a_system_gives_back_the_same_messages_at_the_same_intervals(goal_recording):
+    path = goal_recording[0]
+    expected = [r for r in Recording(path).records() if r.key in ("robot/status", "obstacles")]
+    router = Router()
+    router.start()
+    try:
+        session = zenoh.open(client_config(router.endpoint, 3.0))
+        got: queue.SimpleQueue[tuple[float, str, bytes]] = queue.SimpleQueue()
+        subs = [
+            session.declare_subscriber(k, lambda s: got.put((time.monotonic(), str(s.key_expr), s.payload.to_bytes())))
+            for k in ("robot/status", "obstacles")
+        ]
+        result = subprocess.run(
+            [*turtlectl(), "play", str(path), "--topics", "robot/status", "--topics", "obstacles"]
+            + ["--connect", router.endpoint],
+            capture_output=True,
+            text=True,
+            timeout=60,
+        )
+        assert result.returncode == 0, result.stderr
+        assert f"played {len(expected)} messages" in result.stdout
+        received = []
+        deadline = time.monotonic() + 5
+        while len(received) < len(expected) and time.monotonic() < deadline:
+            try:
+                received.append(got.get(timeout=0.1))
+            except queue.Empty:
+                pass
+        for sub in subs:
+            sub.undeclare()
+        close_session(session)
+    finally:
+        router.kill()
+    assert [key for _, key, _ in received] == [r.key for r in expected]
+    played = [decode_any(payload) for _, _, payload in received]
+    assert [_unstamped(m) for m in played] == [_unstamped(r.message()) for r in expected]  # equal but the stamp
+    assert all(m.stamp > r.message().stamp for m, r in zip(played, expected, strict=True))  # stamped anew
+    gaps = [
+        abs((b[0] - a[0]) - (rb.log_time - ra.log_time) / 1e9)
+        for a, b, ra, rb in zip(received, received[1:], expected, expected[1:], strict=False)
+    ]
+    assert statistics.median(gaps) < 0.002 and max(gaps) < 0.1, (statistics.median(gaps), max(gaps))
+
+
+def test_a_recorder_killed_with_sigkill_leaves_a_file_that_plays(tmp_path):
+    path = tmp_path / "killed.mcap"
+    with running_system() as system:
+        system.wait_ready()
+        recorder = _recorder(path, system.endpoint, "robot/status", "turtle1/pose")
+
+        def span() -> float:
+            info = Recording(path).info() if path.exists() else None
+            return info.duration if info is not None and info.count else 0.0
+
+        try:
+            _wait(lambda: span() >= 2.0, "two seconds of messages in the file")
+            killed = time.time_ns()
+            os.kill(recorder.pid, signal.SIGKILL)
+            recorder.wait(5)
+        finally:
+            if recorder.poll() is None:
+                recorder.kill()
+        recording = Recording(path)
+        assert not recording.closed
+        last = max(r.log_time for r in recording.records())
+        assert killed - last < 1.3e9, f"{(killed - last) / 1e9:.2f} s lost"  # at most about the last second
+
+        info = subprocess.run([*turtlectl(), "info", str(path)], capture_output=True, text=True, timeout=30)
+        assert info.returncode == 0 and "Closed:    NO" in info.stdout, info.stdout + info.stderr
+        replayed: queue.SimpleQueue[bytes] = queue.SimpleQueue()
+        sub = system.session.declare_subscriber("replay/status", lambda s: replayed.put(s.payload.to_bytes()))
+        result = subprocess.run(
+            [*turtlectl(), "play", str(path), "--rate", "10", "--topics", "robot/status"]
+            + ["--remap", "robot/status:=replay/status", "--connect", system.endpoint],
+            capture_output=True,
+            text=True,
+            timeout=60,
+        )
+        assert result.returncode == 0, result.stderr
+        assert "was not closed" in result.stderr
+        expected = sum(1 for r in recording.records() if r.key == "robot/status")
+        _wait(lambda: replayed.qsize() >= expected, "the replayed status", timeout=5)
+        sub.undeclare()
+        messages = [decode_any(replayed.get()) for _ in range(replayed.qsize())]
+        assert len(messages) == expected and all(type(m).__name__ == "TurtleStatus" for m in messages)
+
+
+@pytest.mark.parametrize(
+    ("content", "error"),
+    [
+        (b"just some text", "is not an MCAP file"),
+        (b"\x89MCAP0\r\n\x01", "is truncated"),
+    ],
+)
+def test_a_bad_file_is_one_clear_error_and_exit_code_2(tmp_path, content, error):
+    path = tmp_path / "bad.mcap"
+    path.write_bytes(content)
+    for command in ("info", "play"):
+        result = subprocess.run([*turtlectl(), command, str(path)], capture_output=True, text=True, timeout=30)
+        assert result.returncode == 2, result
+        assert result.stderr.count("\n") == 1 and error in result.stderr and "Traceback" not in result.stderr

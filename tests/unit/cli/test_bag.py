@@ -1,0 +1,162 @@
+"""cli.bag with real files: what is written reads back (typed messages equal, raw payloads as
+they came, times and sequence numbers kept); a file never closed reads up to its last complete
+chunk and says so; files that are not recordings are refused with one clear error (exit 2)."""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+import subprocess
+import sys
+import textwrap
+
+import pytest
+
+from cli.bag import BagWriter, Recording, RecordingError
+from cli.errors import ExitCode, exit_code
+from messages import LaserScan, Pose, TurtleStatus, decode_any, encode, encoding_for
+from tests.unit.messages.samples import SAMPLES as WRITTEN
+
+SAMPLES = [decode_any(encode(m)) for m in WRITTEN]  # as received: floats where the samples wrote ints
+
+T0 = 1_700_000_000_000_000_000
+
+
+def _pose(i: int) -> Pose:
+    return Pose(x=float(i), y=1.0, theta=0.5, stamp=T0 + i * 16_000_000, seq=i)
+
+
+def test_typed_and_raw_messages_read_back_as_written(tmp_path):
+    path = tmp_path / "run.mcap"
+    writer = BagWriter(path)
+    for i, msg in enumerate(SAMPLES):
+        writer.add(f"k/{i}", encoding_for(type(msg)), encode(msg), T0 + i)
+    writer.add("raw/bytes", "zenoh/bytes", b"\x00\x01", T0 + 100)
+    writer.add("turtle1/pose", encoding_for(Pose), b"garbage", T0 + 101)  # named Pose, but not one
+    writer.close()
+    recording = Recording(path)
+    assert recording.closed
+    records = list(recording.records())
+    assert [encode(r.message()) for r in records[: len(SAMPLES)]] == [encode(m) for m in SAMPLES]
+    assert [r.type_name for r in records[: len(SAMPLES)]] == [type(m).__struct_config__.tag for m in SAMPLES]
+    raw = records[len(SAMPLES) :]
+    assert [(r.key, r.type_name, r.encoding, r.data) for r in raw] == [
+        ("raw/bytes", "", "zenoh/bytes", b"\x00\x01"),
+        ("turtle1/pose", "", encoding_for(Pose), b"garbage"),
+    ]
+    assert all(r.message() is None for r in raw)
+    pose = records[1]
+    assert (pose.log_time, pose.publish_time, pose.sequence) == (T0 + 1, SAMPLES[1].stamp, SAMPLES[1].seq)
+
+
+def test_info_counts_each_topic_with_its_type_rate_and_encoding(tmp_path):
+    path = tmp_path / "run.mcap"
+    writer = BagWriter(path)
+    for i in range(63):  # 62 intervals of 16 ms: 0.992 s
+        writer.add("turtle1/pose", encoding_for(Pose), encode(_pose(i)), T0 + i * 16_000_000)
+    status = TurtleStatus(x=1, y=2, theta=3, vel_x=0, vel_y=0, battery=50)
+    writer.add("robot/status", encoding_for(TurtleStatus), encode(status), T0 + 500_000_000)
+    writer.close()
+    info = Recording(path).info()
+    assert info.closed and info.count == 64 and info.size == path.stat().st_size
+    assert info.start == T0 and info.end == T0 + 62 * 16_000_000
+    topics = {t.key: t for t in info.topics}
+    assert topics["turtle1/pose"].type_name == "Pose" and topics["turtle1/pose"].count == 63
+    assert topics["turtle1/pose"].encoding == "json"
+    assert topics["turtle1/pose"].rate == pytest.approx(63 / 0.992)
+
+
+def test_the_schema_in_the_file_is_the_types_json_schema(tmp_path):
+    from mcap.reader import make_reader
+
+    path = tmp_path / "run.mcap"
+    writer = BagWriter(path)
+    writer.add("obstacles", encoding_for(LaserScan), encode(SAMPLES[3]), T0)
+    writer.close()
+    with open(path, "rb") as f:
+        summary = make_reader(f).get_summary()
+    (schema,) = summary.schemas.values()
+    (channel,) = summary.channels.values()
+    assert (schema.name, schema.encoding, channel.message_encoding) == ("LaserScan", "jsonschema", "json")
+    assert json.loads(schema.data)["title"] == "LaserScan"
+    assert channel.topic == "obstacles"
+
+
+KILLED_WRITER = textwrap.dedent(
+    """
+    import os, sys, time
+    from pathlib import Path
+    from cli.bag import BagWriter
+    from messages import Pose, encode, encoding_for
+    writer = BagWriter(Path(sys.argv[1]))
+    start = time.monotonic()
+    i = 0
+    while time.monotonic() - start < 2.5:
+        writer.add("turtle1/pose", encoding_for(Pose), encode(Pose(x=float(i), y=0.0, theta=0.0, seq=i)), time.time_ns())
+        writer.tick()
+        i += 1
+        time.sleep(0.01)  # pacing: about 100 messages a second
+    print(i, flush=True)
+    os.kill(os.getpid(), 9)
+    """
+)
+
+
+def test_a_killed_recorder_leaves_every_message_but_the_last_second(tmp_path):
+    path = tmp_path / "killed.mcap"
+    root = os.path.dirname(os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)))))
+    done = subprocess.run([sys.executable, "-c", KILLED_WRITER, str(path)], cwd=root, capture_output=True, text=True)
+    assert done.returncode == -9, done.stderr
+    written = int(done.stdout)
+    recording = Recording(path)
+    assert not recording.closed
+    seqs = [r.message().seq for r in recording.records()]
+    assert seqs == list(range(len(seqs)))  # what is there is whole and in order
+    assert written - len(seqs) <= 110  # at most about one second of ~100 messages a second is lost
+    assert len(seqs) >= 100
+    info = recording.info()
+    assert not info.closed and info.count == len(seqs)
+
+
+def test_files_that_are_no_recordings_are_refused_with_one_clear_error(tmp_path):
+    not_mcap = tmp_path / "notes.txt"
+    not_mcap.write_text("hello")
+    with pytest.raises(RecordingError, match="is not an MCAP file") as refused:
+        Recording(not_mcap)
+    assert exit_code(refused.value) == ExitCode.BAD_INPUT
+    with pytest.raises(RecordingError, match="no such file"):
+        Recording(tmp_path / "missing.mcap")
+
+    whole = tmp_path / "whole.mcap"
+    writer = BagWriter(whole)
+    writer.add("turtle1/pose", encoding_for(Pose), encode(_pose(0)), T0)
+    writer.close()
+    cut = tmp_path / "cut.mcap"
+    cut.write_bytes(whole.read_bytes()[:12])
+    with pytest.raises(RecordingError, match="truncated"):
+        Recording(cut)
+
+
+def test_a_channel_of_an_unknown_type_is_refused_naming_it(tmp_path):
+    from mcap.writer import Writer
+
+    path = tmp_path / "foreign.mcap"
+    with open(path, "wb") as f:
+        writer = Writer(f)
+        writer.start()
+        schema = writer.register_schema("Odometry", "jsonschema", b"{}")
+        channel = writer.register_channel("odom", "json", schema)
+        writer.add_message(channel, log_time=T0, publish_time=T0, data=b"{}")
+        writer.finish()
+    with pytest.raises(RecordingError, match=r"channel odom has an unknown type \(Odometry\); turtlectl knows Ack"):
+        Recording(path)
+
+
+def test_an_existing_file_is_never_overwritten(tmp_path):
+    path = tmp_path / "run.mcap"
+    path.write_bytes(b"precious")
+    with pytest.raises(RecordingError.__mro__[1], match="already exists"):
+        BagWriter(path)
+    assert path.read_bytes() == b"precious"
+    assert math.isfinite(1.0)
