@@ -7,7 +7,9 @@ lossless: ``inf`` and ``NaN`` survive), so Foxglove opens the file as it is.  Pe
 ``log_time`` is when the recorder received it, ``publish_time`` its own ``stamp`` (its log
 time if it has none), ``sequence`` its ``seq``.  A payload that is not a known message (a
 raw publisher, garbage) is kept as it came: a channel without schema whose message encoding
-is the sample's Zenoh encoding, the bytes unchanged.
+is the sample's Zenoh encoding, the bytes unchanged.  The world the run happened in (the
+simulator's ``turtlectl/world`` answer) is attached as ``turtlectl/world`` (JSON), so that a
+replay can draw it.
 
 Crash safety.  The writer closes its chunk at least once a second (``BagWriter.tick``), so a
 recorder killed with SIGKILL loses at most the last second; a file that was never closed has
@@ -31,6 +33,7 @@ from messages.jsonform import JsonFormError, from_json, json_schema, to_json
 PROFILE = ""  # no MCAP profile: our own JSON messages (ros1/ros2 profiles mean their encodings)
 JSON = "json"  # MCAP's well-known message encoding
 JSON_SCHEMA = "jsonschema"  # MCAP's well-known schema encoding
+WORLD = "turtlectl/world"  # the attachment holding the world the run happened in (JSON)
 FLUSH_PERIOD = 1.0  # s: at most this much is lost when the recorder is killed
 CHUNK_SIZE = 1 << 20  # bytes (uncompressed) a chunk may reach before it is closed anyway
 
@@ -139,6 +142,13 @@ class BagWriter:
             )
         self.messages += 1
 
+    def attach_world(self, document: bytes, when: int) -> None:
+        """Keep the world the run happens in (``turtlectl/world``'s JSON), on disk at once."""
+        self._writer.add_attachment(
+            create_time=when, log_time=when, name=WORLD, media_type="application/json", data=document
+        )
+        self._writer.flush()
+
     def tick(self, now: float | None = None) -> None:
         """Close the open chunk if ``FLUSH_PERIOD`` has passed since the last time (monotonic s)."""
         now = time.monotonic() if now is None else now
@@ -182,7 +192,12 @@ class Info:
         return (self.end - self.start) / 1e9
 
 
-_DAMAGE: tuple[type[BaseException], ...] = (struct.error, ValueError, EOFError, OSError)  # OSError: a seek before the start
+_DAMAGE: tuple[type[BaseException], ...] = (
+    struct.error,
+    ValueError,
+    EOFError,
+    OSError,
+)  # OSError: a seek before the start
 
 
 class Recording:
@@ -274,6 +289,20 @@ class Recording:
         for schema, channel, message in self._scan():
             if keys is None or channel.topic in keys:
                 yield _record(schema, channel, message)
+
+    def world(self) -> bytes | None:
+        """The world attached to the recording (JSON), or None."""
+        from mcap.records import Attachment
+        from mcap.stream_reader import StreamReader
+
+        with open(self.path, "rb") as f:
+            try:
+                for record in StreamReader(f, emit_chunks=True).records:  # chunks skipped whole
+                    if isinstance(record, Attachment) and record.name == WORLD:
+                        return bytes(record.data)
+            except self._damage:
+                pass
+        return None
 
     def info(self) -> Info:
         counts: dict[int, int] = {}

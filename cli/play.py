@@ -24,6 +24,7 @@ from cli.bag import Record, Recording
 from cli.client import check_key, client_session
 from cli.errors import BadInput
 from messages import Message, encode, encoding_for
+from messages.keys import WORLD_KEY
 
 SPIN = 0.0015  # s before a message is due when sleeping stops and the wait spins (timer slack)
 
@@ -68,6 +69,18 @@ def _payload(record: Record, message: Message | None, keep_stamps: bool) -> tupl
     return encode(message), encoding_for(type(message))
 
 
+def serve_world(session: zenoh.Session, document: bytes | None) -> zenoh.Queryable | None:
+    """Answer ``turtlectl/world`` with the recorded world while playing, unless a simulator
+    answers it already (``turtlectl view`` draws it; the queryable ends with the session)."""
+    if document is None or any(r.ok is not None for r in session.get(WORLD_KEY, timeout=0.5)):
+        return None
+
+    def on_query(query: zenoh.Query) -> None:
+        query.reply(WORLD_KEY, document, encoding=zenoh.Encoding.APPLICATION_JSON)
+
+    return session.declare_queryable(WORLD_KEY, on_query)
+
+
 def play(
     connect: str,
     recording: Recording,
@@ -90,6 +103,7 @@ def play(
         raise BadInput(f"nothing to play in {recording.path}" + (f" on {', '.join(keys)}" if keys else ""))
     first = records[0].log_time
     with client_session(connect) as session:
+        world = serve_world(session, recording.world())  # kept: a queryable lives while referenced
         publishers: dict[tuple[str, str], zenoh.Publisher] = {}
         round_ = 0
         try:
@@ -128,6 +142,8 @@ def play(
         finally:
             for pub in publishers.values():
                 pub.undeclare()
+            if world is not None:
+                world.undeclare()
 
 
 @contextlib.contextmanager

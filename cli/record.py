@@ -20,6 +20,7 @@ import zenoh
 
 from cli.bag import BagWriter
 from cli.client import check_key, client_session
+from messages.keys import WORLD_KEY
 
 ALL = "**"  # every key (not turtlectl's liveliness tokens: keys under @ are not matched by **)
 PROGRESS_PERIOD = 0.5  # s between two progress reports
@@ -83,6 +84,10 @@ def record(
     with client_session(connect) as session:
         writer = BagWriter(path, library)
         try:
+            for reply in session.get(WORLD_KEY, timeout=1.0):  # the world, for a replay to draw
+                if reply.ok is not None:
+                    writer.attach_world(reply.ok.payload.to_bytes(), time.time_ns())
+                    break
             subs = [session.declare_subscriber(k, taker(i)) for i, k in enumerate(keys)]
             started = time.monotonic()
             next_report = started

@@ -20,6 +20,7 @@ import zenoh
 
 from cli.bag import Recording
 from messages import decode_any, encode
+from messages.keys import WORLD_KEY
 from runtime.session import client_config, close_session
 from tests.integration.harness import Router, running_system, turtlectl
 
@@ -120,15 +121,22 @@ def test_play_into_a_router_without_a_system_gives_back_the_same_messages_at_the
             session.declare_subscriber(k, lambda s: got.put((time.monotonic(), str(s.key_expr), s.payload.to_bytes())))
             for k in ("robot/status", "obstacles")
         ]
-        result = subprocess.run(
+        player = subprocess.Popen(
             [*turtlectl(), "play", str(path), "--topics", "robot/status", "--topics", "obstacles"]
             + ["--connect", router.endpoint],
-            capture_output=True,
+            stdout=subprocess.PIPE,
+            stderr=subprocess.PIPE,
             text=True,
-            timeout=60,
         )
-        assert result.returncode == 0, result.stderr
-        assert f"played {len(expected)} messages" in result.stdout
+        world: list[bytes] = []  # while it plays, it answers turtlectl/world with the recorded world (view draws it)
+        _wait(
+            lambda: bool(world.extend(r.ok.payload.to_bytes() for r in session.get(WORLD_KEY) if r.ok)) or bool(world),
+            "the recorded world to be served",
+        )
+        out, err = player.communicate(timeout=60)
+        assert player.returncode == 0, err
+        assert f"played {len(expected)} messages" in out
+        assert world[0] == Recording(path).world() and b"obstacles" in world[0]
         received = []
         deadline = time.monotonic() + 5
         while len(received) < len(expected) and time.monotonic() < deadline:
