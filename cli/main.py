@@ -619,6 +619,55 @@ def play(
     _result(f"played {played} messages from {file}")
 
 
+@app.command()
+def foxglove(
+    port: int = typer.Option(8765, "--port", min=0, max=65535, help="WebSocket port (0: any free one)."),
+    host: str = typer.Option("127.0.0.1", "--host", help="Address to listen on (loopback by default)."),
+    layout: Path | None = typer.Option(None, "--layout", help="Write the Foxglove layout file here and exit."),
+    connect: str = ConnectOption,
+    domain: str = DomainOption,
+) -> None:
+    """Serve the running system to the Foxglove app (open the printed URL, or connect the app
+    to ws://HOST:PORT): every topic, a ready-made 3D scene (world, obstacles, turtle, trail,
+    scan, goal), and navigate_to, cancel, reset and teleport as services.
+
+    Example: turtlectl foxglove   (then in Foxglove: Open connection, ws://127.0.0.1:8765)
+    """
+    import threading
+    from importlib import resources
+
+    if layout is not None:
+        text = resources.files("cli").joinpath("foxglove_layout.json").read_text()
+        try:
+            layout.write_text(text)
+        except OSError as exc:
+            raise BadInput(f"cannot write {layout}: {exc.strerror or exc}") from None
+        _result(f"wrote {layout}: in Foxglove, Layouts > Import from file")
+        return
+    import ipaddress
+
+    try:
+        address = str(ipaddress.ip_address(host))
+    except ValueError:
+        raise BadInput(f"--host {host!r} is not an IP address (e.g. 127.0.0.1)") from None
+    from cli import bridge
+
+    stop = threading.Event()
+    for sig in (signal.SIGINT, signal.SIGTERM):
+        signal.signal(sig, lambda *_: stop.set())
+
+    def started(server) -> None:
+        where = f"ws://{address}:{server.port}"
+        typer.echo(f"serving Foxglove on {where}; open {server.app_url()} or connect the app to {where}", err=True)
+        if not ipaddress.ip_address(address).is_loopback:
+            typer.echo(
+                f"warning: anyone who can reach {address}:{server.port} sees the robot and can send it goals", err=True
+            )
+
+    for _ in bridge.serve(connect, address, port, stop, started):
+        pass
+
+
 def client_key(text: str) -> str:
     from cli.client import check_key
 

@@ -104,7 +104,7 @@ def silence_text(key: str, current: Graph, hint: Callable[[], str], domain: str 
 
 
 def _silence(session: zenoh.Session, connect: str, key: str) -> Silence:
-    return Silence(key, silence_text(key, _graph(session), lambda: domain_hint(connect), default_domain()))
+    return Silence(key, silence_text(key, live_graph(session), lambda: domain_hint(connect), default_domain()))
 
 
 def stream(connect: str, topic: str, count: int | None, timeout: float | None) -> Iterator[Received | Silence]:
@@ -205,7 +205,7 @@ def publish(connect: str, topic: str, message: Message, rate: float | None, time
     return sent
 
 
-def _graph(session: zenoh.Session) -> Graph:
+def live_graph(session: zenoh.Session) -> Graph:
     """The live graph as this session sees it.  Outside any domain that includes every
     domain's graph, its names and keys prefixed with the domain (``lab1/sim``): tokens
     declared in a namespace are ``lab1/@turtlectl/...``, which ``@turtlectl/**`` cannot match
@@ -220,7 +220,7 @@ def _graph(session: zenoh.Session) -> Graph:
 def graph(connect: str) -> Graph:
     """The live graph: asked of the router's liveliness table now, never cached."""
     with client_session(connect) as session:
-        current = _graph(session)
+        current = live_graph(session)
     if not current.nodes:
         current.hint = domain_hint(connect).removeprefix("; ")
     return current
