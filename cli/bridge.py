@@ -144,6 +144,11 @@ class Bridge:
         self.scan = LaserScanChannel(SCAN)
         self.maker = SceneMaker(world_of(session))
         self.inbox: queue.SimpleQueue[tuple[str, str, bytes, int]] = queue.SimpleQueue()
+        self.world_wanted = threading.Event()  # a viewer subscribed to the scene: draw the world now
+
+    def on_subscribe(self, _client: Any, channel: Any) -> None:  # the server's thread: flag only
+        if channel.topic == SCENE:
+            self.world_wanted.set()
 
     def refresh(self) -> None:
         """Channels for the topics the graph has now (a publisher and a known type), and none
@@ -198,6 +203,7 @@ def serve(
                 capabilities=[Capability.Services],
                 supported_encodings=["json"],
                 services=_services(session),
+                server_listener=bridge,
             )
         except RuntimeError as exc:
             bridge.close()
@@ -214,7 +220,8 @@ def serve(
                     next_graph = now + GRAPH_PERIOD
                     bridge.refresh()
                     yield len(bridge.channels)
-                if now >= next_world:
+                if now >= next_world or bridge.world_wanted.is_set():
+                    bridge.world_wanted.clear()
                     next_world = now + WORLD_PERIOD
                     bridge.send_world()
                 try:
