@@ -9,7 +9,9 @@ time if it has none), ``sequence`` its ``seq``.  A payload that is not a known m
 raw publisher, garbage) is kept as it came: a channel without schema whose message encoding
 is the sample's Zenoh encoding, the bytes unchanged.  The world the run happened in (the
 simulator's ``turtlectl/world`` answer) is attached as ``turtlectl/world`` (JSON), so that a
-replay can draw it.
+replay can draw it.  With ``record --scene`` the file also holds the Foxglove scene
+(cli.scene: channels ``scene`` and ``scene/scan``, Foxglove's well-known protobuf schemas),
+which ``play`` leaves out (it is drawn from the other messages).
 
 Crash safety.  The writer closes its chunk at least once a second (``BagWriter.tick``), so a
 recorder killed with SIGKILL loses at most the last second; a file that was never closed has
@@ -33,6 +35,7 @@ from messages.jsonform import JsonFormError, from_json, json_schema, to_json
 PROFILE = ""  # no MCAP profile: our own JSON messages (ros1/ros2 profiles mean their encodings)
 JSON = "json"  # MCAP's well-known message encoding
 JSON_SCHEMA = "jsonschema"  # MCAP's well-known schema encoding
+PROTOBUF = "protobuf"  # the scene's encoding (Foxglove's well-known schemas)
 WORLD = "turtlectl/world"  # the attachment holding the world the run happened in (JSON)
 FLUSH_PERIOD = 1.0  # s: at most this much is lost when the recorder is killed
 CHUNK_SIZE = 1 << 20  # bytes (uncompressed) a chunk may reach before it is closed anyway
@@ -55,10 +58,11 @@ class Record:
     publish_time: int  # ns since the epoch: the message's own stamp
     sequence: int
     data: bytes
+    scene: bool = False  # a drawing for Foxglove (record --scene), not a message of the system
 
     def message(self) -> Message | None:
         """The message, or None for a raw payload.  Raises RecordingError if the JSON is bad."""
-        if not self.type_name:
+        if not self.type_name or self.scene:
             return None
         try:
             return from_json(self.data, TYPES_BY_NAME[self.type_name])
@@ -120,8 +124,9 @@ class BagWriter:
             self._channels[ident] = channel
         return channel
 
-    def add(self, key: str, encoding: str, payload: bytes, received: int) -> None:
-        """One sample on ``key`` as received at ``received`` (ns since the epoch)."""
+    def add(self, key: str, encoding: str, payload: bytes, received: int) -> Message | None:
+        """One sample on ``key`` as received at ``received`` (ns since the epoch); the message
+        it holds (None if it is kept raw)."""
         msg_type = type_from_encoding(encoding)
         message: Message | None = None
         if msg_type is not None:
@@ -141,6 +146,18 @@ class BagWriter:
                 channel, log_time=received, publish_time=stamp, data=to_json(message), sequence=seq
             )
         self.messages += 1
+        return message
+
+    def add_scene(self, topic: str, drawing: Any, when: int) -> None:
+        """A Foxglove well-known message (``drawing``: foxglove.messages) on ``topic`` at ``when``."""
+        schema = drawing.get_schema()
+        ident = (topic, schema.name, PROTOBUF)
+        channel = self._channels.get(ident)
+        if channel is None:
+            sid = self._schemas.get(schema.name, 0) or self._writer.register_schema(schema.name, PROTOBUF, schema.data)
+            self._schemas[schema.name] = sid
+            channel = self._channels[ident] = self._writer.register_channel(topic, PROTOBUF, sid)
+        self._writer.add_message(channel, log_time=when, publish_time=when, data=drawing.encode())
 
     def attach_world(self, document: bytes, when: int) -> None:
         """Keep the world the run happens in (``turtlectl/world``'s JSON), on disk at once."""
@@ -244,7 +261,10 @@ class Recording:
 
     def _check_schemas(self) -> None:
         for schema, channel in self._channels():
-            if channel.message_encoding == JSON and (schema is None or schema.name not in TYPES_BY_NAME):
+            if channel.message_encoding == PROTOBUF and schema is not None and schema.name.startswith("foxglove."):
+                continue  # the scene of record --scene
+            unknown = schema is None or schema.name not in TYPES_BY_NAME
+            if channel.message_encoding == PROTOBUF or (channel.message_encoding == JSON and unknown):
                 name = schema.name if schema is not None else "no schema"
                 known = ", ".join(sorted(TYPES_BY_NAME))
                 raise RecordingError(
@@ -350,6 +370,7 @@ def _record(schema: Any, channel: Any, message: Any) -> Record:
         publish_time=message.publish_time,
         sequence=message.sequence,
         data=message.data,
+        scene=channel.message_encoding == PROTOBUF,
     )
 
 

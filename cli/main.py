@@ -512,6 +512,9 @@ def record(
     exclude: list[str] = typer.Option(
         [], "--exclude", metavar="KEY_EXPR", help="Leave out keys matching this (repeatable)."
     ),
+    scene: bool = typer.Option(
+        False, "--scene", help="Also record the Foxglove 3D scene (as `turtlectl foxglove` draws it)."
+    ),
     connect: str = ConnectOption,
     domain: str = DomainOption,
 ) -> None:
@@ -537,7 +540,7 @@ def record(
         f"recording {', '.join(keys)} into {path}" + (f" (not {', '.join(excluded)})" if excluded else ""), err=True
     )
     last = None
-    for last in recording.record(connect, keys, excluded, path, duration, stop, f"turtlectl {version()}"):
+    for last in recording.record(connect, keys, excluded, path, duration, stop, f"turtlectl {version()}", scene):
         if live and not last.done:
             typer.echo("\r\033[K" + format.recording_line(last.elapsed, last.messages, last.size), nl=False, err=True)
     if live:

@@ -52,7 +52,7 @@ def parse_remaps(remaps: list[str]) -> dict[str, str]:
 
 def plan(records: Iterable[Record], start_offset: float) -> list[Record]:
     """The records to play, those from ``start_offset`` s after the first one on."""
-    chosen = list(records)
+    chosen = [r for r in records if not r.scene]  # the scene is drawn from the rest
     if not chosen:
         return chosen
     first = chosen[0].log_time

@@ -16,11 +16,13 @@ import time
 from collections.abc import Iterator
 from pathlib import Path
 
+import msgspec
 import zenoh
 
 from cli.bag import BagWriter
 from cli.client import check_key, client_session
 from messages.keys import WORLD_KEY
+from messages.world import World
 
 ALL = "**"  # every key (not turtlectl's liveliness tokens: keys under @ are not matched by **)
 PROGRESS_PERIOD = 0.5  # s between two progress reports
@@ -53,6 +55,28 @@ def keys_to_record(topics: list[str], everything: bool, exclude: list[str]) -> t
     return keys, [check_key(e) for e in exclude]
 
 
+class _Drawing:
+    """The scene for ``record --scene``: drawn from each message, the world once a second."""
+
+    def __init__(self, writer: BagWriter, world: World):
+        from cli.scene import SceneMaker  # foxglove: only when asked for
+
+        self.writer = writer
+        self.maker = SceneMaker(world)
+        self._next_world = 0
+
+    def draw(self, key: str, message: object, when: int) -> None:
+        for topic, drawn in self.maker.on_message(key, message, when):
+            self.writer.add_scene(topic, drawn, when)
+
+    def tick(self) -> None:
+        now = time.time_ns()
+        if now >= self._next_world:
+            self._next_world = now + 1_000_000_000
+            topic, drawn = self.maker.world_update(now)
+            self.writer.add_scene(topic, drawn, now)
+
+
 def record(
     connect: str,
     keys: list[str],
@@ -61,9 +85,11 @@ def record(
     duration: float | None,
     stop: threading.Event,
     library: str = "turtlectl",
+    scene: bool = False,
 ) -> Iterator[Progress]:
     """Record ``keys`` (minus ``exclude``) into ``path`` until ``stop`` is set or ``duration`` s
-    have passed; yields a Progress about twice a second and a last one once the file is closed."""
+    have passed; yields a Progress about twice a second and a last one once the file is closed.
+    With ``scene``, the Foxglove scene drawn from the messages is recorded too (cli.scene)."""
     exprs = [zenoh.KeyExpr(k) for k in keys]
     excluded = [zenoh.KeyExpr(k) for k in exclude]
     inbox: queue.SimpleQueue[tuple[str, str, bytes, int]] = queue.SimpleQueue()
@@ -84,20 +110,28 @@ def record(
     with client_session(connect) as session:
         writer = BagWriter(path, library)
         try:
+            world = World()
             for reply in session.get(WORLD_KEY, timeout=1.0):  # the world, for a replay to draw
                 if reply.ok is not None:
                     writer.attach_world(reply.ok.payload.to_bytes(), time.time_ns())
+                    world = msgspec.json.decode(reply.ok.payload.to_bytes(), type=World)
                     break
+            drawing = _Drawing(writer, world) if scene else None
             subs = [session.declare_subscriber(k, taker(i)) for i, k in enumerate(keys)]
             started = time.monotonic()
             next_report = started
             try:
                 while not stop.is_set() and (duration is None or time.monotonic() - started < duration):
                     try:
-                        writer.add(*inbox.get(timeout=0.05))
+                        sample = inbox.get(timeout=0.05)
+                        message = writer.add(*sample)
+                        if drawing is not None and message is not None:
+                            drawing.draw(sample[0], message, sample[3])
                     except queue.Empty:
                         pass
                     now = time.monotonic()
+                    if drawing is not None:
+                        drawing.tick()
                     writer.tick(now)
                     if now >= next_report:
                         next_report = now + PROGRESS_PERIOD

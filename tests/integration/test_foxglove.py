@@ -26,13 +26,18 @@ SUBPROTOCOL = "foxglove.sdk.v1"
 TOPICS = ("turtle1/pose", "robot/status", "obstacles", "scene", "scene/scan")
 
 
-def _protobuf_class(channel: dict):
-    """The message class of a protobuf channel, from the FileDescriptorSet it advertises."""
-    files = descriptor_pb2.FileDescriptorSet.FromString(base64.b64decode(channel["schema"]))
+def protobuf_class(descriptors: bytes, name: str):
+    """The message class ``name`` from a FileDescriptorSet (a Foxglove well-known schema)."""
+    files = descriptor_pb2.FileDescriptorSet.FromString(descriptors)
     pool = descriptor_pool.DescriptorPool()
     for file in files.file:
         pool.Add(file)
-    return message_factory.GetMessageClass(pool.FindMessageTypeByName(channel["schemaName"]))
+    return message_factory.GetMessageClass(pool.FindMessageTypeByName(name))
+
+
+def _protobuf_class(channel: dict):
+    """The message class of a protobuf channel, from the descriptors it advertises (base64)."""
+    return protobuf_class(base64.b64decode(channel["schema"]), channel["schemaName"])
 
 
 class Client:

@@ -19,10 +19,11 @@ import pytest
 import zenoh
 
 from cli.bag import Recording
+from cli.launchfile import load_launch
 from messages import decode_any, encode
 from messages.keys import WORLD_KEY
 from runtime.session import client_config, close_session
-from tests.integration.harness import Router, running_system, turtlectl
+from tests.integration.harness import ROOT, Router, running_system, turtlectl
 
 pytestmark = pytest.mark.integration
 
@@ -60,7 +61,7 @@ def goal_recording(tmp_path_factory):
         sub = system.session.declare_subscriber(
             "**", lambda s: seen[str(s.key_expr)].add(decode_any(s.payload.to_bytes()).seq)
         )
-        recorder = _recorder(path, system.endpoint, "-a")
+        recorder = _recorder(path, system.endpoint, "-a", "--scene")
         try:
             _wait(lambda: path.exists() and Recording(path).info().count > 50, "the recorder to write")
             response, _, _ = system.navigate(8.0, 5.0, 90.0)
@@ -81,7 +82,11 @@ def test_a_recorded_goal_holds_every_message_sent_meanwhile(goal_recording):
     recording = Recording(path)
     assert recording.closed  # SIGINT finished the file
     recorded: dict[str, list[int]] = collections.defaultdict(list)
+    scene = []
     for record in recording.records():
+        if record.scene:
+            scene.append(record)
+            continue
         message = record.message()
         assert message is not None and record.type_name == type(message).__struct_config__.tag
         assert record.publish_time == message.stamp and record.sequence == message.seq
@@ -92,8 +97,24 @@ def test_a_recorded_goal_holds_every_message_sent_meanwhile(goal_recording):
         assert seqs == list(range(seqs[0], seqs[0] + len(seqs))), f"{key}: a gap in the recorded seq"
         meanwhile = {s for s in seen[key] if seqs[0] <= s <= seqs[-1]}
         assert meanwhile <= set(seqs), f"{key}: seen but not recorded {sorted(meanwhile - set(seqs))[:5]}"
-    counts = {t.key: t.count for t in recording.info().topics}
+    counts = {t.key: t.count for t in recording.info().topics if t.encoding == "json"}
     assert counts == {k: len(v) for k, v in recorded.items()}
+
+    # --scene: Foxglove's 3D scene is in the file too, the world with the launch file's obstacles
+    assert {r.key for r in scene} == {"scene", "scene/scan"}
+    types = {t.key: t.type_name for t in recording.info().topics}
+    assert types["scene"] == "foxglove.SceneUpdate" and types["scene/scan"] == "foxglove.LaserScan"
+    from mcap.reader import make_reader
+
+    from tests.integration.test_foxglove import protobuf_class
+
+    with open(path, "rb") as f:
+        summary = make_reader(f).get_summary()
+    schema = next(s for s in summary.schemas.values() if s.name == "foxglove.SceneUpdate")
+    update = protobuf_class(schema.data, schema.name)
+    worlds = [e for r in scene if r.key == "scene" for e in update.FromString(r.data).entities if e.id == "world"]
+    world = load_launch(ROOT / "launch.toml").launch.world
+    assert worlds and len(worlds[0].cylinders) == len(world.obstacles)
 
 
 def test_info_says_what_the_file_holds(goal_recording):
