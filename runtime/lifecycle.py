@@ -4,7 +4,8 @@ the node's spin, and a bounded close.
 ``run_main(node_class, params_type)`` is what a node module calls; ``run`` does the
 work and returns the exit code, and ``run_main`` is the one place that exits:
 
-* 0 stopped by a signal or because the supervisor went away;
+* 0 stopped by a signal or because the supervisor went away (a SIGTERM that comes before the
+  node has claimed what it owns ends it at once instead: killed by SIGTERM, nothing to save);
 * 1 the node's own code raised (traceback logged once, shutdown hooks run, so the
   navigator still commands a stop; the supervisor's respawn applies);
 * 2 the configuration could not be used; 3 no Zenoh session; 4 another node
@@ -99,9 +100,11 @@ def run(node_class: Callable[[Node[P]], Any], params_type: type[P]) -> int:
     started = time.time_ns()
     logging.basicConfig(level=logging.INFO, format="%(levelname)s %(message)s", stream=sys.stderr)
     log = logging.getLogger("runtime")
-    early_stop: list[int] = []  # a stop asked for before the node exists is kept, not lost
-    for sig in (signal.SIGINT, signal.SIGTERM):
-        signal.signal(sig, lambda signum, _frame: early_stop.append(signum))
+    early_stop: list[int] = []  # a Ctrl-C before the node exists is kept, not lost (nor a traceback)
+    signal.signal(signal.SIGINT, lambda signum, _frame: early_stop.append(signum))
+    # until the node has claimed what it owns, a SIGTERM (the supervisor's death included) ends it
+    # at once: it has nothing to save yet, and a claim may wait up to 1 s for a router now gone
+    signal.signal(signal.SIGTERM, signal.SIG_DFL)
     parent_gone = _watch_parent()
     if parent_gone():
         return EXIT_OK
@@ -123,9 +126,10 @@ def run(node_class: Callable[[Node[P]], Any], params_type: type[P]) -> int:
 
     _await_router(session, _ROUTER_WAIT)
     try:
+        if early_stop or parent_gone():  # stopped while starting (the supervisor died): build nothing
+            return EXIT_OK
         node = Node(config, params, session)
         signal.signal(signal.SIGINT, node.stop)
-        signal.signal(signal.SIGTERM, node.stop)
         node.timer(_PARENT_CHECK_PERIOD, lambda: parent_gone() and node.stop())
         node.timer(_ROUTER_CHECK_PERIOD, _router_watch(node, config.connect))
         if early_stop:
@@ -133,6 +137,10 @@ def run(node_class: Callable[[Node[P]], Any], params_type: type[P]) -> int:
         try:
             for claim in config.claims:
                 node.claim(claim)
+            signal.signal(signal.SIGTERM, node.stop)
+            if node.stopping:  # stopped while it claimed: build nothing
+                node.shutdown()
+                return EXIT_OK
             node_class(node)
         except NodeConflict as exc:
             log.error("%s", exc)

@@ -264,7 +264,10 @@ class Node(Generic[P]):
         node's kind, before the node declares anything."""
         # Asked through a short client session: the router knows every token and answers a client
         # at once, while a peer's own liveliness get, just after opening, often answers only part
-        # of them (zenoh 1.10).  No router yet: nothing to ask, nothing known to conflict with.
+        # of them (zenoh 1.10).  No router yet: nothing to ask, nothing known to conflict with
+        # (and a router that went away, with the supervisor, would only make the node wait).
+        if not self.session.info.routers_zid():
+            return
         try:
             asker = zenoh.open(client_config(self._connect, _CLAIM_TIMEOUT, self._domain))
         except zenoh.ZError:
@@ -377,6 +380,11 @@ class Node(Generic[P]):
             Request(key, query, None).fail(str(exc))
             return
         handler(Request(key, query, body))
+
+    @property
+    def stopping(self) -> bool:
+        """Whether ``stop`` was asked for (a signal, the parent's death, the node itself)."""
+        return not self._running
 
     def stop(self, *_: Any) -> None:
         """Ask the node to stop (safe from signal handlers and other threads)."""

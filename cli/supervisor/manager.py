@@ -85,6 +85,8 @@ class Supervisor:
         """Run until stopped; returns the exit code. Raises a TurtlectlError if it cannot start."""
         # before any session opens: a process that has opened one is never forked
         self.zygote = zygote.take()
+        if self.zygote is not None:
+            self.zygote.on_exit = self.printer.system
         try:
             session = self._open()
         except BaseException:

@@ -122,14 +122,18 @@ class ZygoteChild(Child):
             if str(exc) not in self.zygote.reported:
                 self.zygote.reported.add(str(exc))
                 which = f"nodes running {exc.starts}" if exc.starts else "nodes"
-                self.printer.system(f"zygote: {exc}; starting {which} as new processes")
+                self.printer.system(f"{exc}; starting {which} as new processes")
             super().start()
+            assert self.proc is not None  # set by Child.start
+            self.zygote.handed.add(self.proc.pid)  # known: not a stray to reap
             return
         finally:
             os.close(write)
         self._read_output(os.fdopen(read, "rb"))
 
     def poll(self) -> int | None:
+        if not self.zygote.alive:  # a start it died in may have left zombies: no Child knows them
+            self.zygote.reap_strays()
         if self.proc is not None:
             return super().poll()
         if self._pid is None:

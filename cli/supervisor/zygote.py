@@ -6,8 +6,8 @@ before typer is imported, or else ``Supervisor.run``), always before it opens a 
 a process that has opened one is never forked.  The zygote never opens a session either; it
 imports the node modules, then serves requests on a Unix socket (SOCK_SEQPACKET, one JSON
 message each): ``start`` (a node module and its environment, built by
-``process.node_command``, with the write end of the pipe its output goes to, passed with
-``send_fds``) answered with ``started`` (its pid) or ``failed``.
+``process.node_command``, with the write end of the pipe its output goes to and the read end
+of its "go" pipe, passed with ``send_fds``) answered with ``started`` (its pid) or ``failed``.
 
 Whose child a node is.  The zygote forks twice: a short-lived middle process forks the node and
 exits, and Linux hands the node to the nearest "child subreaper" above it, the supervisor
@@ -15,6 +15,13 @@ exits, and Linux hands the node to the nearest "child subreaper" above it, the s
 ``subprocess`` is: the supervisor reaps it and reads its real exit code, the node's
 parent-death signal and parent watch point at the supervisor, and killing the zygote ends no
 node (it only means the next starts are by exec; the first zygote design tied nodes to it).
+
+A node runs only once the supervisor knows it.  A forked node waits for one byte on its "go"
+pipe, which the supervisor writes once the zygote has told it the node's pid (by then the
+node is its child), and closes unwritten if the start failed; a node that reads end-of-file
+(the zygote died while forking it, or the supervisor died) exits at once, without running.
+So killing the zygote or the supervisor mid-fork leaves no node running untracked, and the
+zombies of such starts are reaped (``reap_strays``).
 
 Guarantees, as for a node started by ``subprocess``: each forked node leads its own process
 group (set by the node and by the middle process, so that it exists before its pid is told),
@@ -33,6 +40,7 @@ import _socket
 import os
 import signal
 import sys
+from collections.abc import Callable
 from types import ModuleType
 
 _PR_SET_PDEATHSIG = 1
@@ -76,7 +84,8 @@ def _pdeathsig(sig: signal.Signals) -> None:
 
 
 class Zygote:
-    """The supervisor's handle on a running zygote: ``spawn`` a node, ask for its exit code."""
+    """The supervisor's handle on a running zygote: ``spawn`` a node.  ``on_exit(text)``, if
+    set, is told on the zygote's own thread when the zygote ends other than by ``close``."""
 
     def __init__(self, pid: int, fd: int):
         import socket
@@ -85,11 +94,16 @@ class Zygote:
         self.pid = pid
         self.sock = socket.socket(fileno=fd)
         self.reported: set[str] = set()  # why nodes start without it, each said once by the supervisor
+        self.handed: set[int] = set()  # pids of the nodes it started (and of their replacements by exec)
         self._cond = threading.Condition()
         self._answers: dict[int, dict[str, object]] = {}
         self._next = 0
         self._alive = True
+        self._closing = False
+        self.ended = "has exited"  # how, once it has: "was killed by SIGKILL", "exited with code 1"
+        self.on_exit: Callable[[str], None] | None = None
         self._send_lock = threading.Lock()
+        self._strays_checked = 0.0
         self._reader = threading.Thread(target=self._read, name="zygote", daemon=True)
         self._reader.start()
 
@@ -111,13 +125,19 @@ class Zygote:
             with self._cond:
                 self._answers[message["id"]] = message
                 self._cond.notify_all()
+        try:
+            _, status = os.waitpid(self.pid, 0)  # our child: reap it
+            code = os.waitstatus_to_exitcode(status)
+            self.ended = f"was killed by {signal.Signals(-code).name}" if code < 0 else f"exited with code {code}"
+        except (ChildProcessError, ValueError):
+            pass
         with self._cond:
             self._alive = False
             self._cond.notify_all()
-        try:
-            os.waitpid(self.pid, 0)  # our child: reap it
-        except ChildProcessError:
-            pass
+        if not self._closing and self.on_exit is not None:
+            gone = f"the zygote (pid {self.pid}) {self.ended}"
+            self.reported.add(gone)  # said now, not again when a node next starts
+            self.on_exit(f"{gone}; running nodes go on, the next ones start as new processes")
 
     def spawn(self, module: str, env: dict[str, str], out: int, name: str = "", timeout: float = START_TIMEOUT) -> int:
         """Fork a node running ``module``'s ``main()`` with ``env``, its output on fd ``out``; its pid.
@@ -127,15 +147,30 @@ class Zygote:
 
         with self._cond:
             if not self._alive:
-                raise ZygoteUnavailable(f"the zygote (pid {self.pid}) has exited")
+                raise ZygoteUnavailable(f"the zygote (pid {self.pid}) {self.ended}")
             self._next += 1
             ident = self._next
         request = json.dumps({"id": ident, "module": module, "env": env, "name": name}).encode()
+        go_read, go_write = os.pipe()
         try:
-            with self._send_lock:
-                socket.send_fds(self.sock, [request], [out])
-        except OSError as exc:
-            raise ZygoteUnavailable(f"the zygote (pid {self.pid}) cannot be reached: {exc}") from None
+            try:
+                with self._send_lock:
+                    socket.send_fds(self.sock, [request], [out, go_read])
+            except OSError as exc:
+                raise ZygoteUnavailable(f"the zygote (pid {self.pid}) cannot be reached: {exc}") from None
+            finally:
+                os.close(go_read)
+            pid = self._answer(ident, module, timeout)
+            self.handed.add(pid)
+            try:
+                os.write(go_write, b"g")  # it is known now: let it run
+            except OSError:
+                pass  # it is gone already: its exit code tells why
+            return pid
+        finally:
+            os.close(go_write)  # unwritten: the node, if any, exits without running
+
+    def _answer(self, ident: int, module: str, timeout: float) -> int:
         with self._cond:
             answered = self._cond.wait_for(lambda: ident in self._answers or not self._alive, timeout)
         if not answered:  # hung: ended, so that no later start waits for it too
@@ -147,13 +182,37 @@ class Zygote:
         with self._cond:
             answer = self._answers.pop(ident, None)
         if answer is None:
-            raise ZygoteUnavailable(f"the zygote (pid {self.pid}) has exited")
+            raise ZygoteUnavailable(f"the zygote (pid {self.pid}) {self.ended}")
         if "pid" not in answer:
             raise ZygoteUnavailable(str(answer.get("error", "the zygote could not start it")), starts=module)
         return int(str(answer["pid"]))
 
+    def reap_strays(self) -> None:
+        """Reap the children of this process that no Child knows (the middle process and the
+        node of a start the zygote died in); those still running are left alone."""
+        import pathlib
+        import time
+
+        now = time.monotonic()
+        if now - self._strays_checked < 1.0:  # at most once a second: it reads /proc
+            return
+        self._strays_checked = now
+        known = self.handed | {self.pid}
+        for task in pathlib.Path("/proc/self/task").iterdir():
+            try:
+                children = [int(c) for c in (task / "children").read_text().split()]
+            except OSError:
+                continue
+            for pid in children:
+                if pid not in known and not _alive(pid):
+                    try:
+                        os.waitpid(pid, os.WNOHANG)
+                    except ChildProcessError:
+                        pass
+
     def close(self) -> None:
         """Let it go: it exits once the socket closes (its nodes are the supervisor's to stop)."""
+        self._closing = True
         try:
             self.sock.shutdown(_socket.SHUT_RDWR)
         except OSError:
@@ -257,7 +316,7 @@ def _serve(fd: int, supervisor: int, names: list[str] | None) -> int:
         try:
             modules[name] = importlib.import_module(name)
         except Exception as exc:  # noqa: BLE001 - such a node is started as a process, which reports it
-            broken[name] = f"cannot import {name}: {type(exc).__name__}: {exc}"
+            broken[name] = f"the zygote cannot import {name}: {type(exc).__name__}: {exc}"
     for name in WARM:
         try:
             importlib.import_module(name)
@@ -266,7 +325,7 @@ def _serve(fd: int, supervisor: int, names: list[str] | None) -> int:
 
     while True:
         try:
-            data, fds, _flags, _addr = socket.recv_fds(sock, _MAX_MESSAGE, 1)
+            data, fds, _flags, _addr = socket.recv_fds(sock, _MAX_MESSAGE, 2)
         except OSError:
             data, fds = b"", []
         if not data:
@@ -274,11 +333,11 @@ def _serve(fd: int, supervisor: int, names: list[str] | None) -> int:
         request = json.loads(data)
         answer: dict[str, object] = {"id": request["id"]}
         module = modules.get(request["module"])
-        if module is None or not fds:
+        if module is None or len(fds) != 2:
             answer["error"] = broken.get(request["module"], f"no module {request['module']!r} in the zygote")
         else:
             try:
-                answer["pid"] = _fork_node(module, request, fds[0], sock, supervisor)
+                answer["pid"] = _fork_node(module, request, fds, sock, supervisor)
             except OSError as exc:
                 answer["error"] = f"the zygote could not fork: {exc}"
         for fd in fds:
@@ -286,7 +345,9 @@ def _serve(fd: int, supervisor: int, names: list[str] | None) -> int:
         sock.send(json.dumps(answer).encode())
 
 
-def _fork_node(module: ModuleType, request: dict[str, object], out: int, sock: _socket.socket, supervisor: int) -> int:
+def _fork_node(
+    module: ModuleType, request: dict[str, object], fds: list[int], sock: _socket.socket, supervisor: int
+) -> int:
     """Fork the node through a middle process that exits at once, so that the node becomes the
     supervisor's child (it is a subreaper); the node's pid, its process group already made."""
     read, write = os.pipe()
@@ -298,7 +359,7 @@ def _fork_node(module: ModuleType, request: dict[str, object], out: int, sock: _
             pid = os.fork()
             if pid == 0:
                 os.close(write)
-                _become(module, request, out, sock, supervisor)
+                _become(module, request, fds, sock, supervisor)
             try:  # the group exists before anyone is told the pid (the node sets it too)
                 os.setpgid(pid, pid)
             except OSError:
@@ -320,20 +381,25 @@ def _fork_node(module: ModuleType, request: dict[str, object], out: int, sock: _
     return int(told)
 
 
-def _become(module: ModuleType, request: dict[str, object], out: int, sock: _socket.socket, supervisor: int) -> None:
-    """In a freshly forked grandchild of the zygote: become the node, as ``python -u -m module``
-    would be, run its ``main()``, and exit (never returns into the zygote's code: ``os._exit``)."""
+def _become(
+    module: ModuleType, request: dict[str, object], fds: list[int], sock: _socket.socket, supervisor: int
+) -> None:
+    """In a freshly forked grandchild of the zygote: wait for the supervisor's go, become the
+    node, as ``python -u -m module`` would be, run its ``main()``, and exit (never returns into
+    the zygote's code: ``os._exit``)."""
     import io
-    import time
     import traceback
 
+    out, go = fds
     code = 1
     try:
         os.setpgid(0, 0)
-        deadline = time.monotonic() + 2.0  # not the parent seen now: the middle may be gone already
-        while os.getppid() != supervisor and time.monotonic() < deadline:
-            time.sleep(0.0002)  # pacing: the middle process exits right after forking us
-        # only now: a parent-death signal asked for earlier would fire as the middle process exits
+        sock.close()
+        if os.read(go, 1) != b"g":  # the supervisor gave up on this start, or is gone: never run
+            os._exit(0)
+        os.close(go)
+        # the go comes after the middle process has exited, so the supervisor is our parent now
+        # (a parent-death signal asked for earlier would have fired as the middle process exited)
         _pdeathsig(signal.SIGTERM)
         if os.getppid() != supervisor:  # the supervisor died meanwhile (or is no subreaper)
             os._exit(0)
@@ -341,7 +407,6 @@ def _become(module: ModuleType, request: dict[str, object], out: int, sock: _soc
             signal.signal(sig, signal.SIG_DFL)
         signal.signal(signal.SIGINT, signal.default_int_handler)
         signal.pthread_sigmask(signal.SIG_SETMASK, [])
-        sock.close()
         devnull = os.open(os.devnull, os.O_RDONLY)
         os.dup2(devnull, 0)
         os.close(devnull)

@@ -5,6 +5,7 @@ zygote, nodes start as new processes (said once for each reason)."""
 
 from __future__ import annotations
 
+import contextlib
 import io
 import json
 import os
@@ -12,6 +13,7 @@ import signal
 import subprocess
 import sys
 import textwrap
+import threading
 import time
 from collections.abc import Callable, Iterator
 from pathlib import Path
@@ -179,7 +181,7 @@ def test_a_module_the_zygote_could_not_import_is_said_once_and_the_others_are_st
     finally:
         lacking.close()
     out = printer.stream.getvalue()
-    said = [line for line in out.splitlines() if "zygote:" in line]
+    said = [line for line in out.splitlines() if "the zygote" in line]
     assert len(said) == 1 and "cannot import tests.unit.cli.supervisor.no_such_module" in said[0], out
     assert "starting nodes running tests.unit.cli.supervisor.no_such_module as new processes" in said[0]
 
@@ -226,7 +228,7 @@ def test_a_zygote_that_does_not_answer_is_ended_and_one_without_the_module_says_
         with pytest.raises(ZygoteUnavailable, match="did not answer within 0.3 s"):
             slow.spawn("tests.unit.cli.supervisor.zygote_slow", dict(os.environ), write, timeout=0.3)
         _wait(lambda: not slow.alive, "the hung zygote's end")
-        with pytest.raises(ZygoteUnavailable, match="has exited"):
+        with pytest.raises(ZygoteUnavailable, match=r"the zygote \(pid \d+\) was killed by SIGKILL"):
             slow.spawn("tests.unit.cli.supervisor.zygote_slow", dict(os.environ), write)
     finally:
         os.close(read)
@@ -244,3 +246,104 @@ def test_a_zygote_that_does_not_answer_is_ended_and_one_without_the_module_says_
         os.close(read)
         os.close(write)
         lacking.close()
+
+
+def _children_of(pid: int) -> set[int]:
+    found: set[int] = set()
+    for task in Path(f"/proc/{pid}/task").iterdir():
+        try:
+            found |= {int(c) for c in (task / "children").read_text().split()}
+        except OSError:
+            pass
+    return found
+
+
+def _kill_when_it_forks(zygote_pid: int, stop: threading.Event) -> None:
+    """Kill the zygote the moment it has a child (the middle process of a fork)."""
+    while not stop.is_set():
+        if _children_of(zygote_pid):
+            os.kill(zygote_pid, signal.SIGKILL)
+            return
+
+
+def test_a_node_forked_as_the_zygote_dies_never_runs_untracked():
+    """Review of issue 10: a zygote killed while forking left that node running as the
+    supervisor's untracked child while the supervisor started another (two sims: exit 4)."""
+    z = start([MODULE])
+    assert z is not None
+    before = _children_of(os.getpid())
+    stop = threading.Event()
+    killer = threading.Thread(target=_kill_when_it_forks, args=(z.pid, stop))
+    killer.start()
+    read, write = os.pipe()
+    try:
+        env = dict(os.environ, ZYGOTE_TEST="sleep", **{SUPERVISOR_PID_VAR: str(os.getpid())})
+        with pytest.raises(ZygoteUnavailable):
+            z.spawn(MODULE, env, write, timeout=10.0)
+        _wait(lambda: not z.alive, "the zygote's end")
+
+        def strays() -> list[int]:
+            return [p for p in _children_of(os.getpid()) - before if pid_alive(p)]
+
+        _wait(lambda: not strays(), "no untracked node left running")  # old: a node sleeping 60 s
+        z.reap_strays()
+        assert not (_children_of(os.getpid()) - before)  # nor a zombie left behind
+    finally:
+        stop.set()
+        killer.join(5)
+        os.close(read)
+        os.close(write)
+        z.close()
+        for pid in _children_of(os.getpid()) - before:
+            with contextlib.suppress(OSError):
+                os.kill(pid, signal.SIGKILL)
+                os.waitpid(pid, 0)
+
+
+SUPERVISOR_MID_FORK = textwrap.dedent(
+    f"""
+    import os, sys, threading
+    from cli.supervisor.zygote import start
+    zygote = start([{MODULE!r}])
+    print(zygote.pid, flush=True)
+    read, write = os.pipe()
+    zygote.spawn({MODULE!r}, dict(os.environ, ZYGOTE_TEST="sleep", TURTLECTL_SUPERVISOR_PID=str(os.getpid())), write)
+    threading.Event().wait(60)  # pacing: ok (stays until killed)
+    """
+)
+
+
+def _session_members(sid: int) -> list[int]:
+    """Live (not zombie) processes of session ``sid``: a supervisor started with
+    start_new_session and everything it ever started, wherever they were reparented."""
+    members = []
+    for entry in Path("/proc").iterdir():
+        if entry.name.isdigit():
+            try:
+                fields = (entry / "stat").read_text().rsplit(") ", 1)[1].split()
+            except OSError:
+                continue
+            if int(fields[3]) == sid and fields[0] != "Z":
+                members.append(int(entry.name))
+    return members
+
+
+def test_a_supervisor_killed_while_a_node_is_forked_leaves_nothing_within_a_second():
+    """Review of issue 10: the node being forked waited out 2 s for a parent that was gone."""
+    supervisor = subprocess.Popen(
+        [sys.executable, "-c", SUPERVISOR_MID_FORK], cwd=ROOT, stdout=subprocess.PIPE, text=True, start_new_session=True
+    )
+    try:
+        assert supervisor.stdout is not None
+        zygote = int(supervisor.stdout.readline())
+        while not _children_of(zygote):  # the fork has begun: the middle process exists
+            assert supervisor.poll() is None
+        supervisor.kill()
+        killed = time.monotonic()
+        supervisor.wait(5)
+        _wait(lambda: not _session_members(supervisor.pid), "everything the supervisor started to end")
+        assert time.monotonic() - killed < 1.0  # old: 2 s (a fork waiting for its parent to be the supervisor)
+    finally:
+        for pid in _session_members(supervisor.pid):
+            with contextlib.suppress(ProcessLookupError):
+                os.kill(pid, signal.SIGKILL)
