@@ -66,7 +66,7 @@ def entry() -> None:
     commands get KeyboardInterrupt back in cli.main's root callback, the supervisor and
     the router install their own handlers)."""
     signal.signal(signal.SIGINT, _interrupted_while_starting)
-    if command_of(sys.argv[1:]) == "launch" and not {"--help", "--check"} & set(sys.argv):
+    if command_of(sys.argv[1:]) == "launch" and not {"--help", "-h", "--check"} & set(sys.argv):
         # the zygote imports the nodes' modules while this process imports typer (2 cores)
         from cli.supervisor import zygote
 
