@@ -224,12 +224,29 @@ def test_a_recorder_killed_with_sigkill_leaves_a_file_that_plays(tmp_path):
         assert len(messages) == expected and all(type(m).__name__ == "TurtleStatus" for m in messages)
 
 
+def _foreign_mcap() -> bytes:
+    """An MCAP file whose one channel has a type turtlectl does not know."""
+    import io
+
+    from mcap.writer import Writer
+
+    buffer = io.BytesIO()
+    writer = Writer(buffer)
+    writer.start()
+    channel = writer.register_channel("odom", "json", writer.register_schema("Odometry", "jsonschema", b"{}"))
+    writer.add_message(channel, log_time=1, publish_time=1, data=b"{}")
+    writer.finish()
+    return buffer.getvalue()
+
+
 @pytest.mark.parametrize(
     ("content", "error"),
     [
         (b"just some text", "is not an MCAP file"),
         (b"\x89MCAP0\r\n\x01", "is truncated"),
+        (_foreign_mcap(), "channel odom has an unknown type (Odometry)"),
     ],
+    ids=["not-mcap", "truncated", "unknown-schema"],
 )
 def test_a_bad_file_is_one_clear_error_and_exit_code_2(tmp_path, content, error):
     path = tmp_path / "bad.mcap"
