@@ -603,13 +603,15 @@ def play(
         signal.signal(sig, lambda *_: stop.set())
     live = sys.stdin.isatty() and sys.stderr.isatty()
     played = 0
+    shown = ""
     with player.space_toggles(live) as paused:
         for item in player.play(
             connect, recording, rate, start_offset, keys, remaps, keep_stamps, loop, paused, stop.is_set
         ):
-            played += 1
-            if live and (item.index % 25 == 0 or item.index + 1 == item.total):
-                state = "paused" if paused() else "playing"
+            played += not item.paused
+            state = "paused" if item.paused else "playing"
+            if live and (state != shown or item.index % 25 == 0 or item.index + 1 == item.total):
+                shown = state
                 typer.echo(
                     f"\r\033[K{state} {item.offset:8.2f} s  {item.index + 1}/{item.total}"
                     + (f"  loop {item.loop + 1}" if loop else "")

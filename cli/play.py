@@ -37,6 +37,7 @@ class Played:
     index: int
     total: int
     loop: int
+    paused: bool = False  # yielded once as a pause begins (the message is not sent yet)
 
 
 def parse_remaps(remaps: list[str]) -> dict[str, str]:
@@ -116,6 +117,7 @@ def play(
                         if stopped():
                             return
                         if paused():
+                            yield Played(record.key, offset, 0.0, index, len(records), round_, paused=True)
                             held = time.monotonic()
                             while paused() and not stopped():
                                 time.sleep(0.02)  # pacing: paused by the user

@@ -113,15 +113,20 @@ def pump(fd: int, stream: Any, seconds: float) -> bool:
     return True
 
 
-def view_in_pty(endpoint: str) -> tuple[int, int]:
-    """``turtlectl view`` in a new pseudo-terminal: (pid, master fd)."""
+def in_pty(*args: str) -> tuple[int, int]:
+    """``turtlectl ARGS`` in a new pseudo-terminal: (pid, master fd)."""
     pid, fd = pty.fork()
     if pid == 0:  # the child: the real command in a pseudo-terminal
         # a clean environment: LINES/COLUMNS (set behind os.environ's back by readline) would pin the size
         env = {k: v for k, v in os.environ.items() if k not in ("LINES", "COLUMNS")}
         env.update(TERM="xterm", LANG="C.UTF-8", LC_ALL="C.UTF-8")
-        os.execve(turtlectl()[0], [*turtlectl(), "view", "--connect", endpoint], env)
+        os.execve(turtlectl()[0], [*turtlectl(), *args], env)
     return pid, fd
+
+
+def view_in_pty(endpoint: str) -> tuple[int, int]:
+    """``turtlectl view`` in a new pseudo-terminal: (pid, master fd)."""
+    return in_pty("view", "--connect", endpoint)
 
 
 class Router:

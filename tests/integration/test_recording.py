@@ -6,11 +6,13 @@ clear error with exit code 2."""
 from __future__ import annotations
 
 import collections
+import contextlib
 import os
 import queue
 import signal
 import statistics
 import subprocess
+import termios
 import time
 from pathlib import Path
 
@@ -23,7 +25,7 @@ from cli.launchfile import load_launch
 from messages import decode_any, encode
 from messages.keys import WORLD_KEY
 from runtime.session import client_config, close_session
-from tests.integration.harness import ROOT, Router, running_system, turtlectl
+from tests.integration.harness import ROOT, Router, in_pty, pump, running_system, turtlectl
 
 pytestmark = pytest.mark.integration
 
@@ -255,3 +257,46 @@ def test_a_bad_file_is_one_clear_error_and_exit_code_2(tmp_path, content, error)
         result = subprocess.run([*turtlectl(), command, str(path)], capture_output=True, text=True, timeout=30)
         assert result.returncode == 2, result
         assert result.stderr.count("\n") == 1 and error in result.stderr and "Traceback" not in result.stderr
+
+
+def test_space_pauses_and_resumes_play_on_a_terminal_and_the_terminal_is_restored(goal_recording):
+    import pyte
+
+    path = goal_recording[0]
+    router = Router()
+    router.start()
+    session = zenoh.open(client_config(router.endpoint, 3.0))
+    arrivals: queue.SimpleQueue[float] = queue.SimpleQueue()
+    sub = session.declare_subscriber("robot/status", lambda _s: arrivals.put(time.monotonic()))
+    pid, fd = in_pty("play", str(path), "--topics", "robot/status", "--connect", router.endpoint)
+    screen = pyte.Screen(120, 5)
+    stream = pyte.ByteStream(screen)
+    try:
+        _wait(lambda: arrivals.qsize() >= 3, "status to be played")
+        os.write(fd, b" ")
+        deadline = time.monotonic() + 5
+        while "paused" not in screen.display[0] and time.monotonic() < deadline:
+            pump(fd, stream, 0.05)
+        assert "paused" in screen.display[0], screen.display
+        paused_at = time.monotonic()
+        pump(fd, stream, 0.6)  # pacing: a pause long enough for ~6 status messages at 10 Hz
+        late = []
+        while not arrivals.empty():
+            late.append(arrivals.get_nowait())
+        assert all(t < paused_at + 0.05 for t in late), "messages were published while paused"
+        os.write(fd, b" ")
+        _wait(lambda: not arrivals.empty(), "play to resume")
+        os.kill(pid, signal.SIGINT)
+        pump(fd, stream, 0.5)
+        _, status = os.waitpid(pid, 0)
+        assert os.waitstatus_to_exitcode(status) == 0
+        attrs = termios.tcgetattr(fd)
+        assert attrs[3] & termios.ICANON and attrs[3] & termios.ECHO  # the terminal is as it was
+    finally:
+        with contextlib.suppress(ProcessLookupError, ChildProcessError):
+            os.kill(pid, signal.SIGKILL)
+            os.waitpid(pid, 0)
+        os.close(fd)
+        sub.undeclare()
+        close_session(session)
+        router.kill()
