@@ -8,6 +8,8 @@ from __future__ import annotations
 import asyncio
 import base64
 import json
+import os
+import signal
 import struct
 import subprocess
 from pathlib import Path
@@ -189,3 +191,50 @@ def test_the_layout_file_names_the_scene_and_the_goal_service(tmp_path):
     configs = layout["configById"]
     assert configs["3D!turtlectl"]["topics"]["scene"]["visible"] is True
     assert configs["CallService!goal"]["serviceName"] == "navigate_to"
+
+
+SIM_AND_STATUS = """
+[[node]]
+name = "sim"
+run = "sim"
+[[node]]
+name = "status_monitor"
+run = "status_monitor"
+required = false
+respawn = false
+"""
+
+
+def test_channels_come_and_go_with_the_graph(tmp_path):
+    path = tmp_path / "two.toml"
+    path.write_text(SIM_AND_STATUS)
+    port = free_port()
+    with running_system(path, ready=("sim", "status_monitor")) as system:
+        bridge = _bridge(system.endpoint, port)
+        try:
+
+            async def watch() -> list[str]:
+                async with connect(f"ws://127.0.0.1:{port}", subprotocols=[SUBPROTOCOL], max_size=None) as ws:
+                    client = Client(ws)
+                    await client.advertised(("turtle1/pose", "robot/status"))
+                    status = client.channels["robot/status"]["id"]
+                    os.kill(system.alive["status_monitor"], signal.SIGKILL)
+                    seen: list[str] = []
+
+                    async def gone() -> None:
+                        while True:
+                            message = await ws.recv()
+                            if isinstance(message, str):
+                                op = json.loads(message)
+                                seen.append(op["op"])
+                                if op["op"] == "unadvertise" and status in op["channelIds"]:
+                                    return
+
+                    await asyncio.wait_for(gone(), 10.0)
+                    return seen
+
+            ops = asyncio.run(watch())
+        finally:
+            bridge.terminate()
+            bridge.communicate(timeout=10)
+    assert "unadvertise" in ops
