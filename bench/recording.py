@@ -10,7 +10,7 @@
    system at rate 1 and at rate 10 (cli.play.play, the code `turtlectl play` runs);
    |actual - scheduled| per message: p50, p99, max.
 
-Usage: python bench/recording.py [--minutes 10] [--play-minutes 5]
+Usage: python bench/recording.py [--minutes 10] [--play-minutes 5] [--file PATH] [--play-only]
 """
 
 from __future__ import annotations
@@ -57,6 +57,9 @@ class FirstMinutes:
         yield first
         end = first.log_time + int(self.minutes * 60e9)
         yield from itertools.takewhile(lambda r: r.log_time <= end, records)
+
+    def world(self) -> bytes | None:
+        return self.recording.world()
 
 
 def record_at_full_rate(minutes: float, path: Path) -> None:
@@ -146,11 +149,14 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--minutes", type=float, default=10.0, help="how long to record at full rate")
     ap.add_argument("--play-minutes", type=float, default=5.0, help="how much of it to play at each rate")
+    ap.add_argument("--file", type=Path, help="keep the recording here (default: a temporary file)")
+    ap.add_argument("--play-only", action="store_true", help="only play --file, recorded before")
     args = ap.parse_args()
     print(f"machine: {machine()}")
     with tempfile.TemporaryDirectory() as folder:
-        path = Path(folder) / "full_rate.mcap"
-        record_at_full_rate(args.minutes, path)
+        path = args.file or Path(folder) / "full_rate.mcap"
+        if not args.play_only:
+            record_at_full_rate(args.minutes, path)
         play_timing(path, min(args.play_minutes, args.minutes))
 
 
