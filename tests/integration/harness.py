@@ -113,6 +113,21 @@ def pump(fd: int, stream: Any, seconds: float) -> bool:
     return True
 
 
+def session_members(sid: int) -> list[int]:
+    """Live (not zombie) processes of session ``sid``: a process started with start_new_session
+    and everything it ever started, wherever they were reparented."""
+    members = []
+    for entry in Path("/proc").iterdir():
+        if entry.name.isdigit():
+            try:
+                fields = (entry / "stat").read_text().rsplit(") ", 1)[1].split()
+            except OSError:
+                continue
+            if int(fields[3]) == sid and fields[0] != "Z":
+                members.append(int(entry.name))
+    return members
+
+
 def in_pty(*args: str) -> tuple[int, int]:
     """``turtlectl ARGS`` in a new pseudo-terminal: (pid, master fd)."""
     pid, fd = pty.fork()

@@ -13,7 +13,7 @@ import pytest
 
 from messages import TurtleStatus
 from messages.keys import STATUS
-from tests.integration.harness import System, pid_alive, running_system
+from tests.integration.harness import System, pid_alive, running_system, session_members
 
 pytestmark = pytest.mark.integration
 
@@ -74,20 +74,6 @@ def test_nodes_are_forked_by_the_zygote_and_outlive_its_death(tmp_path):
         assert "Traceback" not in out
 
 
-def _session_alive(sid: int) -> list[int]:
-    """Live (not zombie) processes of session ``sid``, wherever they were reparented."""
-    members = []
-    for entry in Path("/proc").iterdir():
-        if entry.name.isdigit():
-            try:
-                fields = (entry / "stat").read_text().rsplit(") ", 1)[1].split()
-            except OSError:
-                continue
-            if int(fields[3]) == sid and fields[0] != "Z":
-                members.append(int(entry.name))
-    return members
-
-
 @pytest.mark.parametrize("when", ["first node started", "all nodes started"])
 def test_a_supervisor_killed_while_its_nodes_start_leaves_nothing_within_a_second(when):
     """Review of issue 10: nodes still starting lingered 1-2 s (a claim asking a router that had
@@ -100,10 +86,10 @@ def test_a_supervisor_killed_while_its_nodes_start_leaves_nothing_within_a_secon
         killed = time.monotonic()
         system.proc.wait(5)
         deadline = killed + 5.0
-        while _session_alive(system.proc.pid) and time.monotonic() < deadline:
+        while session_members(system.proc.pid) and time.monotonic() < deadline:
             time.sleep(0.01)  # pacing: polling /proc under a deadline
         gone_after = time.monotonic() - killed
-        assert not _session_alive(system.proc.pid), "processes outlived their supervisor"
+        assert not session_members(system.proc.pid), "processes outlived their supervisor"
         assert gone_after < 1.0, f"the last one ended {gone_after:.2f} s after the supervisor"
     finally:
         system.kill_everything()

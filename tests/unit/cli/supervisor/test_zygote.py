@@ -24,6 +24,7 @@ from cli.supervisor.printer import Printer
 from cli.supervisor.process import ZygoteChild
 from cli.supervisor.zygote import Zygote, ZygoteUnavailable, start
 from runtime.config import SUPERVISOR_PID_VAR
+from tests.integration.harness import session_members
 
 MODULE = "tests.unit.cli.supervisor.zygote_node"
 ROOT = Path(__file__).resolve().parents[4]
@@ -313,21 +314,6 @@ SUPERVISOR_MID_FORK = textwrap.dedent(
 )
 
 
-def _session_members(sid: int) -> list[int]:
-    """Live (not zombie) processes of session ``sid``: a supervisor started with
-    start_new_session and everything it ever started, wherever they were reparented."""
-    members = []
-    for entry in Path("/proc").iterdir():
-        if entry.name.isdigit():
-            try:
-                fields = (entry / "stat").read_text().rsplit(") ", 1)[1].split()
-            except OSError:
-                continue
-            if int(fields[3]) == sid and fields[0] != "Z":
-                members.append(int(entry.name))
-    return members
-
-
 def test_a_supervisor_killed_while_a_node_is_forked_leaves_nothing_within_a_second():
     """Review of issue 10: the node being forked waited out 2 s for a parent that was gone."""
     supervisor = subprocess.Popen(
@@ -341,9 +327,9 @@ def test_a_supervisor_killed_while_a_node_is_forked_leaves_nothing_within_a_seco
         supervisor.kill()
         killed = time.monotonic()
         supervisor.wait(5)
-        _wait(lambda: not _session_members(supervisor.pid), "everything the supervisor started to end")
+        _wait(lambda: not session_members(supervisor.pid), "everything the supervisor started to end")
         assert time.monotonic() - killed < 1.0  # old: 2 s (a fork waiting for its parent to be the supervisor)
     finally:
-        for pid in _session_members(supervisor.pid):
+        for pid in session_members(supervisor.pid):
             with contextlib.suppress(ProcessLookupError):
                 os.kill(pid, signal.SIGKILL)
