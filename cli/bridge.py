@@ -172,7 +172,7 @@ class Bridge:
         except DecodeError:
             return
         channel = self.channels.get(key)
-        if channel is not None:
+        if channel is not None and channel.has_sinks():  # JSON only for a viewer subscribed to it
             channel.log(to_json(message), log_time=received)
         for topic, drawn in self.maker.on_message(key, message, received):
             (self.scene if topic == SCENE else self.scan).log(drawn, log_time=received)
