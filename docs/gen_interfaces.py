@@ -103,8 +103,16 @@ FIELDS: dict[str, dict[str, tuple[str, str, str]]] = {
         "seq": SEQ,
     },
     "NavigateToRequest": {
-        "x": ("m", "[0, world size], not inside a declared obstacle", "goal position"),
-        "y": ("m", "[0, world size], not inside a declared obstacle", "goal position"),
+        "x": (
+            "m",
+            "[0, world size], at least the navigator's robot_radius + clearance from every declared obstacle",
+            "goal position",
+        ),
+        "y": (
+            "m",
+            "[0, world size], at least the navigator's robot_radius + clearance from every declared obstacle",
+            "goal position",
+        ),
         "theta": ("degrees", "any finite value (taken modulo 360)", "goal heading"),
         "client": (
             "-",
@@ -114,7 +122,7 @@ FIELDS: dict[str, dict[str, tuple[str, str, str]]] = {
     },
     "NavigateToFeedback": {
         "state": ("-", ", ".join(f'"{s.value}"' for s in GoalState), "what the turtle does now"),
-        "distance_remaining": ("m", ">= 0", "straight-line distance to the goal position"),
+        "distance_remaining": ("m", ">= 0", "distance to the goal position along the path"),
         "heading_remaining": (
             "degrees",
             "[0, 180]",
@@ -133,6 +141,17 @@ FIELDS: dict[str, dict[str, tuple[str, str, str]]] = {
             "true / false",
             "no scan newer than the navigator's scan_timeout: it avoids only the declared obstacles",
         ),
+        "path": (
+            "m",
+            "points (x, y) in the world",
+            "the way the turtle follows, from where it was planned to the goal: a straight way is its two ends, "
+            'arcs round obstacles a point every 10 degrees; empty while there is no way (state "replanning")',
+        ),
+        "replans": (
+            "-",
+            ">= 0",
+            "times the path was planned again during this goal (something the scan sees in the way, or the turtle off its path)",
+        ),
         "stamp": STAMP,
         "seq": SEQ,
     },
@@ -142,7 +161,7 @@ FIELDS: dict[str, dict[str, tuple[str, str, str]]] = {
         "reason": (
             "-",
             "text",
-            'empty on success; else a short word for programs: "invalid goal: ...", "unreachable: ..." (a declared obstacle on the straight way), "battery low", "preempted", "canceled", "caller gone", "teleported", "reset", "blocked", "no pose", "timeout", "navigator shut down"',
+            'empty on success; else a short word for programs: "invalid goal: ...", "unreachable: ..." (no way round the declared obstacles), "battery low", "preempted", "canceled", "caller gone", "teleported", "reset", "blocked", "no pose", "timeout", "navigator shut down"',
         ),
         "refused": (
             "-",

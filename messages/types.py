@@ -122,11 +122,13 @@ class GoalState(enum.StrEnum):
     """What the turtle does for a running goal (``NavigateToFeedback.state``); on the wire,
     the value: ``"turning"`` (in place, or on the way with too large a heading error to drive),
     ``"driving"`` (moving towards the goal position), ``"blocked"`` (something within the
-    safety distance ahead: it only turns)."""
+    safety distance ahead: it only turns, and looks for another way), ``"replanning"``
+    (no way round what the scan sees: stopped, it plans again with each scan)."""
 
     TURNING = "turning"
     DRIVING = "driving"
     BLOCKED = "blocked"
+    REPLANNING = "replanning"
 
 
 class NavigateToFeedback(Message, tag="NavigateToFeedback"):
@@ -139,6 +141,12 @@ class NavigateToFeedback(Message, tag="NavigateToFeedback"):
     goal_x, goal_y, goal_theta: the goal (m, m, degrees [0, 360)).
     scan_stale: no scan newer than the navigator's scan_timeout: it avoids only the
         declared obstacles of the world.
+    path: the way the turtle follows, as points (x, y) in m from where it was planned to
+        the goal (a straight way is its two ends; arcs round obstacles a point every 10
+        degrees); empty while there is none (state "replanning").
+    replans: how many times the path was planned again during this goal (something the
+        scan sees in the way, or the turtle off its path).
+    distance_remaining is measured along the path.
     """
 
     state: GoalState
@@ -153,6 +161,8 @@ class NavigateToFeedback(Message, tag="NavigateToFeedback"):
     goal_y: float = 0.0
     goal_theta: float = 0.0
     scan_stale: bool = False
+    path: list[tuple[float, float]] = msgspec.field(default_factory=list)
+    replans: int = 0
     stamp: int = 0
     seq: int = 0
 

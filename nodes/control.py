@@ -22,7 +22,11 @@ import msgspec
 
 from messages.units import Positive
 from messages.world import Limits
+from nodes.planner import Path, Track
 from sim.kinematics import STEP, wrap_angle
+
+#: m: how far inside an arc of the path the follower may cut
+SAG = 0.02
 
 
 class Phase(enum.Enum):
@@ -74,6 +78,7 @@ class Gains(msgspec.Struct, forbid_unknown_fields=True, kw_only=True):
     brake_fraction: Positive = 1.0  # of the acceleration limits, used to plan braking
     drive_cone: Positive = math.radians(120.0)  # rad: beyond this heading error, turn before driving
     near: Positive = 0.05  # m: within this of the goal, drive whichever way is shorter
+    lookahead: Positive = 0.5  # m: on a path round obstacles, steer for the point this far ahead on it
 
 
 class Command(msgspec.Struct, kw_only=True):
@@ -181,6 +186,61 @@ def control_step(
     return Command(linear=0.0, angular=angular, phase=Phase.HEADING, direction=direction)
 
 
+def follow_step(
+    pose: Planar, track: Track, progress: int, *, limits: Limits, gains: Gains
+) -> tuple[Command, int, float]:
+    """One step along ``track`` (a path round obstacles) before its final straight run:
+    steer for the point ``gains.lookahead`` m ahead of the turtle's place on the path (less
+    round tight arcs, so as to cut at most SAG m inside them), turning
+    while driving as control_step does, at the speed that brakes to rest at the path's end.
+
+    ``progress`` is the index the last step returned (0 to begin with).  Returns the command
+    (phase POSITION, forwards), the new progress, and how far (m) the turtle is from the path.
+    The caller hands over to control_step for the goal itself once the turtle reaches
+    ``track.final_start``.
+    """
+    progress = track.project(pose.x, pose.y, progress)
+    px, py = track.xy[progress]
+    off = math.hypot(pose.x - px, pose.y - py)
+    s = float(track.s[progress])
+    # round a tight arc, steer for a nearer point: a chord of L across an arc of radius R
+    # cuts L^2 / (8 R) inside it, kept to SAG
+    lookahead = min(gains.lookahead, math.sqrt(8.0 * SAG * track.tightest(progress, s + gains.lookahead)))
+    cx, cy = track.point_at(s + lookahead)
+    alpha = wrap_angle(math.atan2(cy - pose.y, cx - pose.x) - pose.theta)
+    a_lin = gains.brake_fraction * limits.max_linear_accel
+    a_ang = gains.brake_fraction * limits.max_angular_accel
+    angular = math.copysign(profile(abs(alpha), limits.max_angular_speed, a_ang, gains.k_angular), alpha)
+    speed = 0.0
+    if abs(alpha) < gains.drive_cone:
+        speed = profile(track.length - s + off, limits.max_linear_speed, a_lin, gains.k_linear)
+        speed *= max(0.0, math.cos(alpha)) * (1.0 - abs(alpha) / gains.drive_cone)
+    return Command(linear=speed, angular=angular, phase=Phase.POSITION, direction=1), progress, off
+
+
+def path_time(start_theta: float, path: Path, goal_theta: float, limits: Limits) -> float:
+    """Time (s) of a careful driver on ``path`` under ``limits``: rotate–drive–rotate
+    generalised to a path.  It turns in place to face the path, drives each run between
+    corners from rest to rest (trapezoidal), turns in place at each corner, and turns to
+    ``goal_theta`` at the end (rad).  Arcs are driven as they come (the pieces of a planned
+    path meet without corners, so its runs are the whole path)."""
+    w, a = limits.max_angular_speed, limits.max_angular_accel
+    v, acc = limits.max_linear_speed, limits.max_linear_accel
+    pieces = [p for p in path.pieces if p.length > 0.0]
+    if not pieces:
+        return trapezoid_time(wrap_angle(goal_theta - start_theta), w, a)
+    total = trapezoid_time(wrap_angle(pieces[0].heading(0.0) - start_theta), w, a)
+    run = 0.0
+    for piece, after in zip(pieces, pieces[1:] + [None], strict=True):
+        run += piece.length
+        end_heading = piece.heading(piece.length)
+        corner = wrap_angle((after.heading(0.0) if after is not None else goal_theta) - end_heading)
+        if after is None or abs(corner) > 1e-6:
+            total += trapezoid_time(run, v, acc) + trapezoid_time(corner, w, a)
+            run = 0.0
+    return total
+
+
 def remaining_time(pose: Planar, goal: Planar, direction: int, limits: Limits) -> float:
     """Estimated s to finish from ``pose``: drive the remaining distance (travelling
     ``direction``), then turn to the final heading, each trapezoidal."""
@@ -195,4 +255,13 @@ def remaining_time(pose: Planar, goal: Planar, direction: int, limits: Limits) -
         trapezoid_time(wrap_angle(facing - pose.theta), w, a)
         + trapezoid_time(distance, limits.max_linear_speed, limits.max_linear_accel)
         + trapezoid_time(wrap_angle(goal.theta - facing), w, a)
+    )
+
+
+def path_remaining_time(remaining: float, end_heading: float, goal: Planar, limits: Limits) -> float:
+    """Estimated s to finish ``remaining`` m of a path (from rest, trapezoidal) whose last
+    piece heads ``end_heading`` rad, then turn to the goal's heading."""
+    w, a = limits.max_angular_speed, limits.max_angular_accel
+    return trapezoid_time(remaining, limits.max_linear_speed, limits.max_linear_accel) + trapezoid_time(
+        wrap_angle(goal.theta - end_heading), w, a
     )

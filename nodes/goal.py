@@ -9,11 +9,11 @@ import math
 
 from messages import NavigateToRequest
 from messages.world import World
-from nodes.scan import circles_corridor_clearance
 
 
-def goal_problem(request: NavigateToRequest, world: World) -> str | None:
-    """Why ``request`` cannot be a goal in ``world``, or None if it can."""
+def goal_problem(request: NavigateToRequest, world: World, keep: float = 0.0) -> str | None:
+    """Why ``request`` cannot be a goal in ``world``, or None if it can: the turtle keeps
+    ``keep`` m (its size and a margin) from every obstacle, so a goal nearer one is refused."""
     for name in ("x", "y", "theta"):
         value = getattr(request, name)
         if not math.isfinite(value):
@@ -21,30 +21,23 @@ def goal_problem(request: NavigateToRequest, world: World) -> str | None:
     if not world.contains(request.x, request.y):
         return f"invalid goal: ({request.x:g}, {request.y:g}) is outside the world [0, {world.size:.10g}] m"
     for obstacle in world.obstacles:
-        if math.hypot(request.x - obstacle.x, request.y - obstacle.y) <= obstacle.radius:
+        gap = math.hypot(request.x - obstacle.x, request.y - obstacle.y) - obstacle.radius
+        if gap <= 0.0:
             return f"invalid goal: ({request.x:g}, {request.y:g}) is inside an obstacle"
+        if gap < keep:
+            return (
+                f"invalid goal: ({request.x:g}, {request.y:g}) is {gap:.2f} m from the obstacle at "
+                f"({obstacle.x:g}, {obstacle.y:g}), radius {obstacle.radius:g} m: the turtle keeps {keep:g} m "
+                "from obstacles (the navigator's robot_radius + clearance)"
+            )
     return None
 
 
-def path_problem(x: float, y: float, goal_x: float, goal_y: float, world: World, half_width: float) -> str | None:
-    """Why the navigator, which drives straight lines, could never reach (goal_x, goal_y)
-    from (x, y) (m): a declared obstacle lies in the corridor of ``half_width`` m either
-    side of the way before the goal, so it would stop short of it until "blocked".
-    None if the way is clear."""
-    distance = math.hypot(goal_x - x, goal_y - y)
-    if distance == 0.0:
-        return None
-    bearing = math.atan2(goal_y - y, goal_x - x)
-    clearance, obstacle = circles_corridor_clearance(world.obstacles, x, y, bearing, half_width)
-    if obstacle is None or clearance >= distance:
-        return None
-    touching = clearance < 0.01
-    where = "right beside the turtle" if touching else f"{clearance:.2f} m ahead"
+def no_way(x: float, y: float, goal_x: float, goal_y: float, keep: float) -> str:
+    """The reason a goal is refused when no path reaches it from (x, y) (m)."""
     return (
-        f"unreachable: the straight way from ({x:.2f}, {y:.2f}) to ({goal_x:g}, {goal_y:g}) meets the obstacle "
-        f"at ({obstacle.x:g}, {obstacle.y:g}), radius {obstacle.radius:g} m, {where} "
-        f"(the navigator drives straight lines and keeps a {2 * half_width:g} m corridor clear): "
-        f"send a goal {'away from' if touching else 'beside'} it first"
+        f"unreachable: no way from ({x:.2f}, {y:.2f}) to ({goal_x:g}, {goal_y:g}) keeps {keep:g} m from every "
+        "obstacle (the navigator's robot_radius + clearance): the goal is walled in by obstacles"
     )
 
 

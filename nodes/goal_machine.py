@@ -12,10 +12,16 @@ A goal's lifecycle, as Nav2's NavigateToPose:
   ``blocked_timeout`` blocked ("blocked"); a navigator that stops ends it
   ("navigator shut down").
 
-On each pose the control law (nodes.control) gives a velocity; the machine slows it for
-obstacles in the direction of travel, the world's declared ones always and the latest
-scan's hits while that scan is recent (``scan_timeout``), and stops driving (it only
-turns) while one is within the safety distance.
+A goal is driven along a path (nodes.planner): the shortest way round the declared
+obstacles and what the latest scan sees that the world does not declare (while that scan
+is recent, ``scan_timeout``), each kept ``robot_radius + clearance`` away.  A goal no path
+reaches round the declared obstacles is refused; one walled in by what the scan sees
+waits ("replanning") and ends "blocked" after ``blocked_timeout`` unless a way opens.
+When something seen comes onto the path, or the turtle strays from it, the path is
+planned again.  On each pose the control law (nodes.control) gives a velocity: along the
+path (follow_step), then to the goal itself on its final straight run (control_step); the
+machine slows it for obstacles in the direction of travel, and stops driving (it only
+turns, and plans again) while one is within the safety distance.
 
 Events are methods, each with ``now`` (s, any monotonic clock) where time matters:
 ``start``, ``cancel``, ``caller_gone``, ``pose``, ``scan``, ``status``, ``tick`` (the
@@ -50,10 +56,23 @@ from messages import (
 from messages.angles import degrees_0_360, heading_degrees, heading_difference_degrees, heading_radians
 from messages.keys import CLIENT_TOKEN_PREFIX, POSE
 from messages.world import Limits, World
-from nodes.control import Phase, Pose2D, Tolerances, choose_direction, control_step, remaining_time
-from nodes.goal import allowed_speed, goal_problem, path_problem
+from nodes.control import (
+    Phase,
+    Pose2D,
+    Tolerances,
+    choose_direction,
+    control_step,
+    follow_step,
+    path_remaining_time,
+    remaining_time,
+)
+from nodes.goal import allowed_speed, goal_problem, no_way
 from nodes.params import NavigatorParams
-from nodes.scan import circles_corridor_clearance, corridor_clearance, hit_points, off_walls
+from nodes.planner import Circle, Path, Segment, Track, escape, inflate, shortest_path
+from nodes.scan import hit_points, off_walls, path_clearance, unexplained, unknown_circles
+
+#: m: a turtle this far from its path has its path planned again from where it is
+OFF_PATH = 0.3
 
 C = TypeVar("C")  # the shell's handle on a goal's caller (a runtime.Request); opaque here
 
@@ -90,7 +109,13 @@ class Goal(Generic[C]):
         self.phase = Phase.POSITION  # what the control law works on
         self.direction = 0  # of travel, chosen with the first pose
         self.state = GoalState.TURNING  # what the turtle is seen doing
-        self.blocked_since: float | None = None
+        self.blocked_since: float | None = None  # blocked, or no way: since when
+        self.path: Path | None = None  # None: not planned yet, or no way round what the scan sees
+        self.outline: list[tuple[float, float]] = []  # the path, drawn (feedback)
+        self.track: Track | None = None  # the path to follow before the final straight run (None: on it)
+        self.progress = 0  # index of the turtle's place on the track
+        self.off_path = 0.0  # m from the track, at the last step
+        self.replans = 0
 
 
 class GoalMachine(Generic[C]):
@@ -101,11 +126,15 @@ class GoalMachine(Generic[C]):
         self.world = world
         self.limits = limits
         self.tolerances = Tolerances(position=params.position_tolerance, heading=math.radians(params.heading_tolerance))
+        self.keep = params.robot_radius + params.clearance  # m the turtle keeps from every obstacle
+        self.declared = inflate(world.obstacles, self.keep)
+        self.unknown: list[Circle] = []  # what the latest scan sees that the world does not declare
         self.goal: Goal[C] | None = None
         self.latest_pose: Pose | None = None
         self.pose_time = 0.0
         self.battery: float | None = None
         self.scan_points = np.zeros((0, 2))  # world coordinates of the latest scan's hits, walls left out
+        self.unknown_points = np.zeros((0, 2))  # those of them the declared obstacles do not explain
         self.scan_time = -math.inf
         self.scans_stale: bool | None = None  # as said last in the log; None: no scan yet, nothing said
         self._out: list[Action] = []
@@ -114,10 +143,10 @@ class GoalMachine(Generic[C]):
     def start(self, request: NavigateToRequest, caller: C, now: float) -> list[Action]:
         """A new goal from ``caller``: refused at once, or run (preempting the running one)."""
         p = self.params
-        problem, detail = goal_problem(request, self.world), ""
+        problem, detail = goal_problem(request, self.world, self.keep), ""
         here = self.latest_pose
-        if problem is None and here is not None:
-            problem = path_problem(here.x, here.y, request.x, request.y, self.world, 0.5 * p.corridor_width)
+        if problem is None and here is not None and self._plan(here, request.x, request.y, []) is None:
+            problem = no_way(here.x, here.y, request.x, request.y, self.keep)
         if problem is None and self.battery is not None and self.battery < p.min_battery:
             problem = "battery low"
             detail = (
@@ -169,20 +198,41 @@ class GoalMachine(Generic[C]):
         """The robot's status: its battery decides whether goals are accepted."""
         self.battery = status.battery
 
-    def scan(self, scan: LaserScan, now: float) -> None:
+    def scan(self, scan: LaserScan, now: float) -> list[Action]:
         """A scan: its hits (walls left out) are what the turtle avoids until ``scan_timeout``
-        after ``now``.  A scan that does not say where it was taken is placed at the latest
-        pose (ignored without one)."""
+        after ``now``, and what the world does not declare among them is planned round.  The
+        running goal's path is planned again if that comes onto it (or if there was no way,
+        or the turtle is blocked).  A scan that does not say where it was taken is placed at
+        the latest pose (ignored without one)."""
         origin = (scan.origin_x, scan.origin_y, scan.origin_theta)
         if not all(math.isfinite(v) for v in origin):
             here = self.latest_pose
             if here is None:
-                return
+                return []
             origin = (here.x, here.y, here.theta)
         angles = scan.angle_min + scan.angle_increment * np.arange(len(scan.ranges))
         points = hit_points(*origin, np.asarray(scan.ranges, dtype=float), angles)
         self.scan_points = off_walls(points, self.world.size)
+        self.unknown_points = unexplained(self.scan_points, self.world.obstacles)
+        self.unknown = unknown_circles(self.unknown_points, origin[0], origin[1], [])
         self.scan_time = now
+        goal = self.goal
+        if goal is not None and self.latest_pose is not None:
+            if goal.path is None or goal.state is GoalState.BLOCKED:
+                self._replan(goal, now, "")
+            else:
+                seen = self._seen()
+                track = goal.track
+                if track is not None:
+                    in_way = track.blocked_by(seen, goal.progress)
+                else:  # on the final straight run
+                    pose, target = self.latest_pose, goal.target
+                    in_way = Track(Path((Segment(pose.x, pose.y, target.x, target.y),))).blocked_by(seen)
+                if in_way is not None:
+                    self._replan(
+                        goal, now, f"something the scan sees at ({in_way.x:.2f}, {in_way.y:.2f}) is in the way"
+                    )
+        return self._flush()
 
     def tick(self, now: float) -> list[Action]:
         """The watchdog, while a goal runs: goal_timeout, pose_timeout, and saying when scans
@@ -212,11 +262,20 @@ class GoalMachine(Generic[C]):
         if goal is None or pose is None:
             return None
         target = goal.target
+        track = goal.track
+        if track is not None:
+            along = track.length - float(track.s[goal.progress]) + goal.off_path
+            end = goal.path.pieces[-1] if goal.path is not None else None
+            end_heading = end.heading(end.length) if end is not None else pose.theta
+            eta = path_remaining_time(along, end_heading, target, self.limits)
+        else:
+            along = math.hypot(target.x - pose.x, target.y - pose.y)
+            eta = remaining_time(pose, target, goal.direction or 1, self.limits)
         return goal.caller, NavigateToFeedback(
             state=goal.state,
-            distance_remaining=math.hypot(target.x - pose.x, target.y - pose.y),
+            distance_remaining=along,
             heading_remaining=heading_difference_degrees(target.theta, pose.theta),
-            eta=remaining_time(pose, target, goal.direction or 1, self.limits),
+            eta=eta,
             elapsed=now - goal.start,
             x=pose.x,
             y=pose.y,
@@ -225,6 +284,8 @@ class GoalMachine(Generic[C]):
             goal_y=target.y,
             goal_theta=goal.theta_deg,
             scan_stale=not self.scans_fresh(now),
+            path=goal.outline,
+            replans=goal.replans,
         )
 
     def shutdown(self, now: float) -> list[Action]:
@@ -238,29 +299,84 @@ class GoalMachine(Generic[C]):
         return now - self.scan_time <= self.params.scan_timeout
 
     # -- inside -------------------------------------------------------------
+    def _seen(self) -> list[Circle]:
+        """What the latest scan sees that the world does not declare, grown by what the turtle keeps."""
+        return [Circle(c.x, c.y, c.r + self.keep) for c in self.unknown]
+
+    def _plan(self, pose: Pose, x: float, y: float, seen: list[Circle]) -> Path | None:
+        """The shortest way from ``pose`` to (x, y) round the declared obstacles and ``seen``."""
+        circles = escape(pose.x, pose.y, self.declared + seen)
+        return shortest_path((pose.x, pose.y), (x, y), circles, self.world.size)
+
+    def _replan(self, goal: Goal[C], now: float, why: str) -> None:
+        """Plan the goal's path from where the turtle is (``why``: the reason to log, empty
+        for the first plan and for tries while there is no way)."""
+        pose = self.latest_pose
+        if pose is None:
+            return
+        first = goal.path is None and goal.replans == 0 and goal.blocked_since is None
+        seen = self._seen() if self.scans_fresh(now) else []
+        path = self._plan(pose, goal.target.x, goal.target.y, seen)
+        if path is None:
+            if goal.path is not None or goal.blocked_since is None:
+                self._note(logging.WARNING, "no way round what the scan sees: waiting, planning again with each scan")
+            goal.path, goal.track, goal.outline = None, None, []
+            goal.state = GoalState.REPLANNING
+            if goal.blocked_since is None:
+                goal.blocked_since = now
+            return
+        if not first:
+            goal.replans += 1
+        if why or goal.path is None and not first:
+            self._note(logging.INFO, f"planned again ({why or 'a way is open'}): {path.length:.2f} m to go")
+        goal.path, goal.outline, goal.progress = path, path.outline(), 0
+        goal.track = None if path.direct else Track(path)
+        goal.phase = Phase.POSITION
+        if path.direct and goal.direction == 0:
+            goal.direction = choose_direction(pose, goal.target, self.limits)
+        elif not path.direct:
+            goal.direction = 1
+
     def _drive(self, now: float) -> None:
         goal, pose = self.goal, self.latest_pose
         if goal is None or pose is None:
             return
-        if goal.direction == 0:
-            goal.direction = choose_direction(pose, goal.target, self.limits)
-        cmd = control_step(
-            pose,
-            goal.target,
-            phase=goal.phase,
-            direction=goal.direction,
-            limits=self.limits,
-            gains=self.params.gains,
-            tolerances=self.tolerances,
-        )
-        goal.phase = cmd.phase
-        if cmd.phase is Phase.DONE:
-            self._finish(now, True, "")
+        if goal.path is None:
+            self._replan(goal, now, "")
+        if goal.path is None:  # no way round what the scan sees: wait
+            self._out.append(Twist())
+            self._check_blocked_timeout(goal, now, "there was no way round what the scan sees")
             return
+        if goal.track is not None:
+            cmd, goal.progress, goal.off_path = follow_step(
+                pose, goal.track, goal.progress, limits=self.limits, gains=self.params.gains
+            )
+            if goal.off_path > OFF_PATH:
+                self._replan(goal, now, f"{goal.off_path:.2f} m off the path")
+                self._drive(now)
+                return
+            if goal.track.s[goal.progress] >= goal.track.final_start - 0.01:
+                goal.track = None  # the final straight run: to the goal itself
+        if goal.track is None:
+            cmd = control_step(
+                pose,
+                goal.target,
+                phase=goal.phase,
+                direction=goal.direction or 1,
+                limits=self.limits,
+                gains=self.params.gains,
+                tolerances=self.tolerances,
+            )
+            goal.phase = cmd.phase
+            if cmd.phase is Phase.DONE:
+                self._finish(now, True, "")
+                return
+            to_go = math.hypot(goal.target.x - pose.x, goal.target.y - pose.y)
+        else:
+            to_go = goal.track.length - float(goal.track.s[goal.progress]) + goal.off_path
         linear = cmd.linear
         if linear != 0.0:
-            distance = math.hypot(goal.target.x - pose.x, goal.target.y - pose.y)
-            allowed, what = self._obstacle_speed(pose, linear, distance, now)
+            allowed, what = self._obstacle_speed(goal, pose, linear, to_go, now)
             linear = math.copysign(min(abs(linear), allowed), linear)
             if allowed == 0.0:
                 self._blocked(goal, cmd.angular, what, now)
@@ -273,37 +389,59 @@ class GoalMachine(Generic[C]):
 
     def _blocked(self, goal: Goal[C], angular: float, what: str, now: float) -> None:
         """Something is too close in the direction of travel: do not drive, but keep turning
-        (towards the goal, which may well lead away from it)."""
+        (towards the path, which may well lead away from it); look for another way at once."""
         p = self.params
         if goal.blocked_since is None:
             goal.blocked_since = now
             self._note(logging.INFO, f"{what} within {p.safety_distance:.2f} m in the direction of travel: stopped")
-        goal.state = GoalState.BLOCKED
-        self._out.append(Twist(linear=0.0, angular=angular))
-        if now - goal.blocked_since > p.blocked_timeout:
+            self._replan(goal, now, f"{what} is in the way")
+        if goal.path is None:  # no way: _replan said so, and waits
+            self._out.append(Twist())
+        else:
+            goal.state = GoalState.BLOCKED
+            self._out.append(Twist(linear=0.0, angular=angular))
+        self._check_blocked_timeout(
+            goal, now, f"{what} stayed within the safety distance ({p.safety_distance:g} m) ahead"
+        )
+
+    def _check_blocked_timeout(self, goal: Goal[C], now: float, what: str) -> None:
+        p = self.params
+        if goal.blocked_since is not None and now - goal.blocked_since > p.blocked_timeout:
             self._finish(
-                now,
-                False,
-                "blocked",
-                f"{what} stayed within the safety distance ({p.safety_distance:g} m) ahead for the "
-                f"navigator's blocked_timeout of {p.blocked_timeout:g} s",
+                now, False, "blocked", f"{what} for the navigator's blocked_timeout of {p.blocked_timeout:g} s"
             )
 
-    def _obstacle_speed(self, pose: Pose, linear: float, distance_to_goal: float, now: float) -> tuple[float, str]:
-        """Fastest speed (m/s) allowed for travel in the direction of ``linear``, and what
-        limits it: the declared obstacles always, the latest scan's hits while it is recent;
-        0 while one between the turtle and its goal, inside the corridor along its path, is
-        within the safety distance."""
+    def _obstacle_speed(self, goal: Goal[C], pose: Pose, linear: float, to_go: float, now: float) -> tuple[float, str]:
+        """Fastest speed (m/s) allowed, and what limits it.  Along the path: what still brakes
+        in time (at obstacle_decel) before where it comes within half the corridor width of
+        something, 0 within the safety distance of that.  Straight ahead (the direction of
+        ``linear``, which is where the turtle goes while it turns onto its path): 0 if
+        driving the safety distance that way would bring it nearer something than half the
+        corridor width.  The declared obstacles count always (the path keeps clear of them:
+        this is a safety net), the latest scan's hits that the world does not explain while
+        that scan is recent."""
         p = self.params
         half_width = 0.5 * p.corridor_width
+        points = self.unknown_points if self.scans_fresh(now) else np.zeros((0, 2))
+        look = min(to_go, self.limits.max_linear_speed**2 / (2.0 * p.obstacle_decel) + p.safety_distance + 0.1)
+        track = goal.track
+        if track is not None:
+            end = int(np.searchsorted(track.s, track.s[goal.progress] + look)) + 1
+            ahead, along = track.xy[goal.progress : end], track.s[goal.progress : end] - track.s[goal.progress]
+        else:  # the final straight run
+            ahead, along = _line(pose.x, pose.y, math.atan2(goal.target.y - pose.y, goal.target.x - pose.x), look)
+        nearest, obstacle = path_clearance(ahead, along, points, self.world.obstacles, pose.x, pose.y, half_width)
         heading = pose.theta if linear > 0 else pose.theta + math.pi
-        nearest, obstacle = circles_corridor_clearance(self.world.obstacles, pose.x, pose.y, heading, half_width)
-        what = f"the obstacle at ({obstacle.x:g}, {obstacle.y:g})" if obstacle is not None else ""
-        if self.scans_fresh(now):
-            seen = corridor_clearance(self.scan_points, pose.x, pose.y, heading, half_width)
-            if seen < nearest:
-                nearest, what = seen, "something the scan sees"
-        return allowed_speed(nearest, distance_to_goal, p.safety_distance, p.obstacle_decel), what
+        straight, along = _line(pose.x, pose.y, heading, min(to_go, p.safety_distance))
+        close, close_obstacle = path_clearance(
+            straight, along, points, self.world.obstacles, pose.x, pose.y, half_width
+        )
+        if math.isfinite(close):
+            nearest, obstacle = 0.0, close_obstacle
+        what = (
+            f"the obstacle at ({obstacle.x:g}, {obstacle.y:g})" if obstacle is not None else "something the scan sees"
+        )
+        return allowed_speed(nearest, to_go, p.safety_distance, p.obstacle_decel), what
 
     def _finish(self, now: float, success: bool, reason: str, detail: str = "") -> None:
         """End the running goal (if any): stop the turtle, then answer its caller."""
@@ -338,3 +476,10 @@ class GoalMachine(Generic[C]):
     def _flush(self) -> list[Action]:
         out, self._out = self._out, []
         return out
+
+
+def _line(x: float, y: float, heading: float, length: float, spacing: float = 0.02) -> tuple[np.ndarray, np.ndarray]:
+    """Points (m) every ``spacing`` m or less from (x, y) along ``heading`` (rad) for
+    ``length`` m, and each one's distance from (x, y)."""
+    along = np.linspace(0.0, length, max(2, math.ceil(length / spacing) + 1))
+    return np.column_stack((x + along * math.cos(heading), y + along * math.sin(heading))), along

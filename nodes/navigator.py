@@ -77,7 +77,7 @@ class Navigator:
 
     def on_scan(self, scan: LaserScan) -> None:
         self.catch_up()
-        self.machine.scan(scan, time.monotonic())
+        self.carry_out(self.machine.scan(scan, time.monotonic()))
 
     def watchdog(self) -> None:
         self.carry_out(self.machine.tick(time.monotonic()))

@@ -2,7 +2,8 @@
 
 Casts rays from the turtle's pose (``turtle1/pose``, the newest one read at each
 tick: the 62.5 Hz poses in between never wake this process) against the world's
-circles and walls, plus short-lived phantom detections if asked for
+circles and walls, plus obstacles it is told the world does not declare and
+short-lived phantom detections if asked for
 (sim.lidar, numpy), and publishes ``obstacles`` (LaserScan).
 """
 
@@ -31,20 +32,22 @@ class ObstacleDetector:
         self.latest_pose = node.latest(POSE, Pose)
         self.rng = np.random.default_rng(p.phantom_seed)
         self.phantoms: list[tuple[float, Obstacle]] = []  # (expiry, monotonic s), obstacle
+        self.seen = World(size=node.world.size, obstacles=node.world.obstacles + p.undeclared_obstacles)
         self.pub = node.publisher(OBSTACLES, LaserScan)
         node.timer(1.0 / p.rate, self.tick)
 
     def world(self) -> World:
-        """The declared world plus the phantoms alive now (new ones spawned for this tick)."""
+        """The declared world plus the undeclared obstacles and the phantoms alive now (new
+        ones spawned for this tick)."""
         p = self.node.params
         if p.phantom_rate <= 0 or self.pose is None:
-            return self.node.world
+            return self.seen
         now = time.monotonic()
         born = new_phantoms(
             self.rng, self.pose.x, self.pose.y, p.phantom_rate, 1.0 / p.rate, p.phantom_distance, p.phantom_radius
         )
         self.phantoms = [(t, o) for t, o in self.phantoms if t > now] + [(now + p.phantom_lifetime, o) for o in born]
-        return World(size=self.node.world.size, obstacles=self.node.world.obstacles + [o for _, o in self.phantoms])
+        return World(size=self.seen.size, obstacles=self.seen.obstacles + [o for _, o in self.phantoms])
 
     def tick(self) -> None:
         self.pose = self.latest_pose.get()

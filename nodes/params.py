@@ -12,6 +12,7 @@ from typing import Annotated
 import msgspec
 
 from messages.units import LongTimeout, NonNegative, Percent, Positive, Rate, ShortTimeout
+from messages.world import Obstacle
 from nodes.control import Gains
 
 Degrees = Annotated[float, msgspec.Meta(ge=-360.0, le=360.0)]
@@ -19,11 +20,16 @@ Degrees = Annotated[float, msgspec.Meta(ge=-360.0, le=360.0)]
 
 class NavigatorParams(msgspec.Struct, forbid_unknown_fields=True, kw_only=True):
     """position_tolerance: m.  heading_tolerance: degrees.
+    robot_radius: m, the turtle's size (half its width): no obstacle may come nearer its
+    centre.  clearance: m the planner keeps beyond robot_radius; paths go round every
+    obstacle, declared or seen by the scan, at robot_radius + clearance from it, and goals
+    nearer an obstacle than that are refused.
     safety_distance: m; the turtle stops while an obstacle is this close in its
     direction of travel (inside a corridor of corridor_width m, centred on its
     path), and slows down before, braking at obstacle_decel m/s^2; a scan older
     than scan_timeout s is forgotten (0.05 to 60 s, and longer than the scan period).
-    blocked_timeout: s blocked before the goal fails with reason "blocked" (0.1 to 3600).
+    blocked_timeout: s blocked, or with no way round what the scan sees, before the goal
+    fails with reason "blocked" (0.1 to 3600).
     goal_timeout: s before a goal fails with reason "timeout" (0.1 to 3600).
     pose_timeout: s without a pose before a running goal fails with reason "no pose"
     (0.05 to 60; poses come every 16 ms).
@@ -33,6 +39,8 @@ class NavigatorParams(msgspec.Struct, forbid_unknown_fields=True, kw_only=True):
 
     position_tolerance: Positive = 0.01
     heading_tolerance: Positive = 0.5
+    robot_radius: Positive = 0.3
+    clearance: NonNegative = 0.15
     safety_distance: Positive = 0.4
     corridor_width: Positive = 0.6
     obstacle_decel: Positive = 2.0
@@ -64,6 +72,9 @@ class ObstacleDetectorParams(msgspec.Struct, forbid_unknown_fields=True, kw_only
     phantom_rate: new phantoms per s on average (0: none, at most 100); each is a circle of
     phantom_radius m, phantom_distance m away in a random direction, seen for
     phantom_lifetime s (0.01 to 10); phantom_seed makes the sequence repeatable.
+    undeclared_obstacles: circles (x, y, radius in m) the scan sees that the world does not
+    declare: the navigator learns of them only by scanning and plans round them as it goes
+    (at most 100; the simulator does not collide with them).
     """
 
     rate: Rate = 5.0
@@ -77,6 +88,7 @@ class ObstacleDetectorParams(msgspec.Struct, forbid_unknown_fields=True, kw_only
     phantom_radius: Positive = 0.2
     phantom_distance: Positive = 1.5
     phantom_seed: int = 0
+    undeclared_obstacles: Annotated[list[Obstacle], msgspec.Meta(max_length=100)] = msgspec.field(default_factory=list)
 
     def __post_init__(self) -> None:
         if not self.angle_min < self.angle_max <= self.angle_min + 360.0:

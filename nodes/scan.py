@@ -11,6 +11,7 @@ import math
 import numpy as np
 
 from messages.world import Obstacle
+from nodes.planner import Circle
 
 
 def hit_points(x: float, y: float, theta: float, ranges: np.ndarray, angles: np.ndarray) -> np.ndarray:
@@ -29,42 +30,96 @@ def off_walls(points: np.ndarray, size: float, tolerance: float = 0.02) -> np.nd
     return p[inner.all(axis=1)]
 
 
-def corridor_clearance(points: np.ndarray, x: float, y: float, heading: float, half_width: float) -> float:
-    """Distance (m) along ``heading`` (rad, world frame) from (x, y) to the nearest point inside
-    the straight corridor of ``half_width`` m either side of that line; inf if it is clear.
-
-    Points beside the path (something the turtle drives along) do not count, unlike a cone's.
-    """
+def unexplained(points: np.ndarray, obstacles: list[Obstacle], tolerance: float = 0.05) -> np.ndarray:
+    """The points (m) farther than ``tolerance`` m from every obstacle's surface, in order:
+    the hits of a scan that the declared obstacles do not explain."""
     p = np.asarray(points, dtype=float).reshape(-1, 2)
-    dx, dy = p[:, 0] - x, p[:, 1] - y
-    along = dx * math.cos(heading) + dy * math.sin(heading)
-    across = np.abs(-dx * math.sin(heading) + dy * math.cos(heading))
-    ahead = along[(along > 0.0) & (across <= half_width)]
-    return float(ahead.min()) if ahead.size else math.inf
-
-
-def circles_corridor_clearance(
-    obstacles: list[Obstacle], x: float, y: float, heading: float, half_width: float
-) -> tuple[float, Obstacle | None]:
-    """As ``corridor_clearance``, for the declared circles themselves instead of scan hits:
-    the distance (m) along ``heading`` (rad) from (x, y) to the nearest point of any circle
-    inside the corridor of ``half_width`` m, and that circle; (inf, None) if none is ahead.
-
-    A circle whose centre lies ``a`` m along and ``c`` m across the line meets the corridor
-    iff c - r <= half_width; its points there span a -/+ sqrt(r^2 - max(0, c - half_width)^2).
-    """
-    cos_h, sin_h = math.cos(heading), math.sin(heading)
-    nearest, which = math.inf, None
     for o in obstacles:
-        dx, dy = o.x - x, o.y - y
-        along = dx * cos_h + dy * sin_h
-        outside = max(0.0, abs(-dx * sin_h + dy * cos_h) - half_width)
-        if outside > o.radius:
-            continue
-        half_chord = math.sqrt(o.radius * o.radius - outside * outside)
-        if along + half_chord <= 0.0:  # wholly behind
-            continue
-        start = max(0.0, along - half_chord)
-        if start < nearest:
-            nearest, which = start, o
+        p = p[np.hypot(p[:, 0] - o.x, p[:, 1] - o.y) > o.radius + tolerance]
+    return p
+
+
+def unknown_circles(
+    points: np.ndarray,
+    x: float,
+    y: float,
+    obstacles: list[Obstacle],
+    tolerance: float = 0.05,
+    join: float = 0.3,
+    piece: float = 0.4,
+) -> list[Circle]:
+    """What a scan taken at (x, y) sees that ``obstacles`` (the declared ones) do not explain,
+    as circles (m): ``points`` are its hits in beam order, walls already left out.
+
+    Hits within ``tolerance`` m of a declared obstacle's surface are that obstacle.  The rest
+    are grouped into runs of hits less than ``join`` m apart (the last run of a full turn
+    joins the first), and runs longer than ``piece`` m are cut into pieces of at most that.
+    Each piece becomes a circle as wide as it is seen from the scanner, its nearest point
+    the piece's nearest hit (only the near side of a thing is seen), grown if need be to
+    cover every hit of the piece.
+    """
+    p = unexplained(points, obstacles, tolerance)
+    if not len(p):
+        return []
+    breaks = np.flatnonzero(np.hypot(*np.diff(p, axis=0).T) >= join) + 1
+    runs = np.split(p, breaks)
+    if len(runs) > 1 and np.hypot(*(p[0] - p[-1])) < join:  # a full turn: the last run goes on into the first
+        runs = [np.concatenate((runs[-1], runs[0])), *runs[1:-1]]
+    pieces = []
+    for run in runs:  # a long run (a wall of something) is several circles, each at most ``piece`` m along
+        along = np.concatenate(([0.0], np.cumsum(np.hypot(*np.diff(run, axis=0).T))))
+        pieces += np.split(run, np.flatnonzero(np.diff(np.floor(along / piece))) + 1)
+    circles = []
+    for run in pieces:
+        rel = run - (x, y)
+        mean = rel.mean(axis=0)
+        norm = float(np.hypot(*mean))
+        u = mean / norm if norm > 0.0 else np.array([1.0, 0.0])
+        across = rel @ np.array([-u[1], u[0]])
+        radius = max(0.5 * float(across.max() - across.min()), 0.05)
+        lateral = 0.5 * float(across.max() + across.min())
+        depth = float((rel @ u).min()) + radius
+        cx = x + depth * u[0] - lateral * u[1]
+        cy = y + depth * u[1] + lateral * u[0]
+        radius = max(radius, float(np.max(np.hypot(run[:, 0] - cx, run[:, 1] - cy))))
+        circles.append(Circle(float(cx), float(cy), radius))
+    return circles
+
+
+def path_clearance(
+    path: np.ndarray,
+    along: np.ndarray,
+    points: np.ndarray,
+    obstacles: list[Obstacle],
+    x: float,
+    y: float,
+    half_width: float,
+    slack: float = 0.05,
+) -> tuple[float, Obstacle | None]:
+    """Distance (m) along a path to where it first comes within ``half_width`` m of a scan
+    hit or of a declared obstacle's surface, and that obstacle (None for a hit); (inf, None)
+    if it stays clear.  ``path``: its points ahead, shape (n, 2), m, from the turtle's place;
+    ``along``: each one's distance along it (m).
+
+    Something nearer the turtle at (x, y) than ``half_width`` already (beside it, behind
+    it, or a turtle that has to leave a margin) blocks only where the path would come
+    more than ``slack`` m nearer to it than the turtle is now: the way out of a tight spot
+    (round it, or away) is never blocked.
+    """
+    path = np.asarray(path, dtype=float).reshape(-1, 2)
+    nearest, which = math.inf, None
+    p = np.asarray(points, dtype=float).reshape(-1, 2)
+    if len(p) and len(path):
+        now = np.hypot(p[:, 0] - x, p[:, 1] - y)
+        limit = np.minimum(half_width, now - slack)
+        gaps = np.hypot(path[:, None, 0] - p[None, :, 0], path[:, None, 1] - p[None, :, 1])
+        hit = np.flatnonzero((gaps < limit[None, :]).any(axis=1))
+        if hit.size:
+            nearest = float(along[hit[0]])
+    for o in obstacles:
+        now = math.hypot(x - o.x, y - o.y) - o.radius
+        gaps = np.hypot(path[:, 0] - o.x, path[:, 1] - o.y) - o.radius
+        hit = np.flatnonzero(gaps < min(half_width, now - slack))
+        if hit.size and along[hit[0]] < nearest:
+            nearest, which = float(along[hit[0]]), o
     return nearest, which

@@ -130,13 +130,12 @@ def test_4_ten_scans_with_three_obstacles_in_view_and_the_system_keeps_working(c
     for _, scan in scans:
         angles = scan.angle_min + scan.angle_increment * np.arange(len(scan.ranges))
         assert obstacles_in_view(np.asarray(scan.ranges), angles) >= 3
-    # a declared obstacle straight ahead: a goal behind it could never be reached by straight
-    # driving, so it is refused at once with the reason (issue 8), and the turtle stays put
+    # a declared obstacle straight ahead: a goal behind it is reached round it (issue 12)
     poses: list[tuple[float, float]] = []
     sub = custom.session.declare_subscriber(POSE, lambda s: poses.append(_xy(s)))
     try:
         behind = navigate(custom, 7.0, 4.5, 0.0)
-        assert behind.refused and not behind.success and "obstacle at (5, 4.5)" in behind.reason, behind
+        assert behind.success, behind
         # goals around the obstacles are reached; every pose on the way stays clear of them all
         for goal in ((3.0, 5.5, 90.0), (6.0, 5.5, 0.0), (6.0, 3.5, -90.0), (3.0, 4.5, 180.0)):
             reached = navigate(custom, *goal)
@@ -146,7 +145,7 @@ def test_4_ten_scans_with_three_obstacles_in_view_and_the_system_keeps_working(c
     assert len(poses) > 50
     for o in parse_launch(CUSTOM).launch.world.obstacles:
         closest = min(math.hypot(x - o.x, y - o.y) for x, y in poses)
-        assert closest > o.radius + 0.1, f"came within {closest - o.radius:.3f} m of {o}"
+        assert closest >= o.radius + 0.3, f"came within {closest - o.radius:.3f} m of {o}"  # robot_radius
     custom.wait_until(lambda: set(NODES) <= set(custom.alive), 1.0, "all nodes alive")
 
 

@@ -1,6 +1,6 @@
 """Issue 8, the node side, against the real processes: huge headings, declared obstacles known
-to the navigator without scans and solid in the simulator, goals it could never reach refused
-at once, one navigator at a time, reply encodings, teleport and reset under a running goal.
+to the navigator without scans and solid in the simulator, goals behind them planned round and
+goals too near them refused at once, one navigator at a time, reply encodings, teleport and reset under a running goal.
 
 The system runs the default world (three obstacles) without the obstacle detector, as
 ``turtlectl launch --exclude obstacle_detector`` would: the navigator has no scans at all.
@@ -73,12 +73,18 @@ def test_huge_headings_are_reduced_in_degrees_and_reached(no_scans, theta, reduc
     assert all(f.goal_theta == pytest.approx(reduced) for f in feedback)
 
 
-@pytest.mark.parametrize("goal", [(10.5, 10.5), (2.0, 9.6)])
-def test_a_goal_through_a_declared_obstacle_is_refused_at_once_without_scans(no_scans, goal):
+def test_a_goal_behind_a_declared_obstacle_is_reached_round_it_without_scans(no_scans):
     no_scans.teleport(5.544445, 5.544445, 0.0)
-    response, elapsed, _ = no_scans.navigate(*goal, 0.0)
+    response, _, feedback = no_scans.navigate(10.5, 10.5, 0.0)  # the obstacle at (9, 9) on the straight way
+    assert response.success, response
+    assert feedback and all(f.scan_stale for f in feedback) and len(feedback[0].path) > 2
+
+
+def test_a_goal_within_the_margin_of_a_declared_obstacle_is_refused_at_once_without_scans(no_scans):
+    no_scans.teleport(5.544445, 5.544445, 0.0)
+    response, elapsed, _ = no_scans.navigate(2.0, 9.6, 0.0)
     assert response.refused and not response.success and elapsed < 1.0, response
-    assert response.reason.startswith("unreachable: ") and "obstacle at (" in response.reason
+    assert response.reason.startswith("invalid goal: ") and "m from the obstacle at (2, 9)" in response.reason
     assert no_scans.wait_stopped().x == pytest.approx(5.544445)
 
 
@@ -165,16 +171,18 @@ def test_teleport_or_reset_cancel_a_running_goal(no_scans, how):
 
 
 def test_a_goal_sent_right_after_the_teleport_ack_starts_from_the_new_pose(no_scans):
-    """(2, 9.6) is unreachable from the spawn (the obstacle at (2, 9) is in the way) and 0.9 m
-    straight ahead from (2, 10.5): a goal sent the moment the teleport is acknowledged must be
-    judged from where the turtle now is.  Before the fix the Ack came before the pose showed
-    the teleport, so the navigator often still had the old pose."""
+    """(2, 10) lies behind the obstacle at (2, 9) seen from the spawn and 0.5 m straight ahead
+    from (2, 10.5): a goal sent the moment the teleport is acknowledged must be planned from
+    where the turtle now is.  Before the fix the Ack came before the pose showed the teleport,
+    so the navigator often still had the old pose (then it refused the goal as unreachable;
+    now it would plan round the obstacle from the old place)."""
     for _ in range(5):
         no_scans.teleport(5.544445, 5.544445, 0.0)
         replies = no_scans.call(TELEPORT, TeleportAbsolute(x=2.0, y=10.5, theta=-math.pi / 2))
         assert decode(replies[0].ok.payload.to_bytes(), Ack).ok
-        response, _, _ = no_scans.navigate(2.0, 9.6, 270.0)
+        response, _, feedback = no_scans.navigate(2.0, 10.0, 270.0)
         assert response.success, response
+        assert feedback[0].path == [pytest.approx((2.0, 10.5)), pytest.approx((2.0, 10.0))]
 
 
 def test_teleports_are_not_charged_to_the_battery(no_scans):

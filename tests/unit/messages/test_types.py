@@ -59,7 +59,7 @@ def feedback(state) -> NavigateToFeedback:
 
 
 def test_the_states_are_exactly_the_words_the_wire_always_carried():
-    assert [s.value for s in GoalState] == ["turning", "driving", "blocked"]
+    assert [s.value for s in GoalState] == ["turning", "driving", "blocked", "replanning"]  # issue 12 added the last
 
 
 @pytest.mark.parametrize("state", list(GoalState))

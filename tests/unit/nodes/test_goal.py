@@ -7,7 +7,7 @@ import pytest
 from messages import NavigateToRequest
 from messages.angles import heading_difference_degrees
 from messages.world import Obstacle, World
-from nodes.goal import allowed_speed, clearance_speed, goal_problem, path_problem
+from nodes.goal import allowed_speed, clearance_speed, goal_problem
 
 WORLD = World(size=10.0, obstacles=[Obstacle(x=8.0, y=8.0, radius=0.5)])
 
@@ -53,24 +53,19 @@ DEFAULT_WORLD = World(
 SPAWN = (5.544445, 5.544445)
 
 
-@pytest.mark.parametrize("goal", [(2.0, 9.6), (10.5, 10.5), (9.93, 9.90)])
-def test_a_goal_behind_a_declared_obstacle_is_refused_with_the_reason(goal):
-    problem = path_problem(*SPAWN, *goal, DEFAULT_WORLD, 0.3)
-    assert problem is not None and problem.startswith("unreachable: ") and "obstacle at (" in problem
+@pytest.mark.parametrize("goal", [(2.0, 9.6), (2.6, 9.0), (9.0, 2.8)])
+def test_a_goal_nearer_an_obstacle_than_the_turtle_keeps_is_refused_with_the_distance(goal):
+    problem = goal_problem(NavigateToRequest(x=goal[0], y=goal[1], theta=0.0), DEFAULT_WORLD, 0.45)
+    assert problem is not None and problem.startswith("invalid goal: ") and "m from the obstacle at (" in problem
+    assert "keeps 0.45 m" in problem
 
 
-@pytest.mark.parametrize("start, goal", [(SPAWN, (8.0, 5.0)), ((2.0, 10.5), (2.0, 9.6)), (SPAWN, SPAWN)])
-def test_a_goal_with_a_clear_straight_way_is_accepted(start, goal):
-    # (2, 9.6) is 0.1 m from the obstacle at (2, 9), r 0.5, yet reachable from above
-    assert path_problem(*start, *goal, DEFAULT_WORLD, 0.3) is None
+@pytest.mark.parametrize("goal", [(2.0, 10.0), (10.5, 10.5), (9.93, 9.90), (9.0, 2.86)])
+def test_a_goal_behind_an_obstacle_but_clear_of_it_is_a_goal(goal):
+    assert goal_problem(NavigateToRequest(x=goal[0], y=goal[1], theta=0.0), DEFAULT_WORLD, 0.45) is None
 
 
 def test_allowed_speed_ignores_what_lies_beyond_the_goal_and_stops_within_the_safety_distance():
     assert allowed_speed(2.0, 1.0, 0.4, 2.0) == math.inf
     assert allowed_speed(0.4, 3.0, 0.4, 2.0) == 0.0
     assert allowed_speed(1.4, 3.0, 0.4, 2.0) == pytest.approx(2.0)
-
-
-def test_a_goal_from_where_the_turtle_touches_an_obstacle_says_to_move_away_first():
-    problem = path_problem(2.0, 8.5, 3.5, 8.5, DEFAULT_WORLD, 0.3)  # touching (2, 9), r 0.5, from below
-    assert problem is not None and "right beside the turtle" in problem and "away from it first" in problem
