@@ -1,18 +1,29 @@
-"""Navigation benchmark: a fixed, seeded set of goals over the whole world, each from
-a known start pose (teleport), through the real system.
+"""Navigation benchmark: fixed, seeded sets of goals, each from a known start pose
+(teleport), through the real system.
 
-Reports success rate, worst position and heading errors, time per goal, and the
-ratio of each goal's time to the rotate-drive-rotate time under the same limits
-(turn to face the goal, drive straight, turn to the final heading, each with a
-trapezoidal speed profile; nodes.control.rotate_drive_rotate_time).
+Set "free" (bench/navigation.toml, no obstacles): success rate, worst position and
+heading errors, time per goal, and the ratio of each goal's time to the
+rotate-drive-rotate time under the same limits (turn to face the goal, drive straight,
+turn to the final heading, each with a trapezoidal speed profile;
+nodes.control.rotate_drive_rotate_time).  Straight-line goals: target mean ratio <= 0.85.
 
-Usage: python bench/navigation.py [--goals N] [--seed S]
+Set "world" (launch.toml, the default world and its three obstacles): goals, half spread
+over the world and half behind an obstacle as seen from their start (starts and goals
+within robot_radius + clearance of an obstacle left out),
+reporting success rate, the minimum clearance to any obstacle over the whole run (every
+pose: the distance from the turtle's centre to the obstacle's surface, never below
+robot_radius), mean and p95 time, and the ratio of each goal's time to a careful driver
+on the shortest path (rotate-drive-rotate generalised to the path, nodes.control.path_time):
+target 100 % and mean ratio <= 1.0.
+
+Usage: python bench/navigation.py [--set free|world|both] [--goals N] [--world-goals M] [--seed S]
 """
 
 from __future__ import annotations
 
 import argparse
 import math
+import queue
 import random
 import statistics
 import sys
@@ -21,11 +32,18 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
+import msgspec  # noqa: E402
+
 from cli.launchfile import load_launch  # noqa: E402
-from nodes.control import Pose2D, rotate_drive_rotate_time  # noqa: E402
+from messages import Pose, decode  # noqa: E402
+from messages.keys import POSE  # noqa: E402
+from nodes.control import Pose2D, path_time, rotate_drive_rotate_time  # noqa: E402
+from nodes.params import NavigatorParams  # noqa: E402
+from nodes.planner import containing, inflate, shortest_path  # noqa: E402
 from tests.integration.harness import NODES, running_system  # noqa: E402  (the tests' launcher)
 
-LAUNCH = ROOT / "bench" / "navigation.toml"
+FREE = ROOT / "bench" / "navigation.toml"
+WORLD = ROOT / "launch.toml"
 
 
 def pct(values: list[float], q: float) -> float:
@@ -33,23 +51,19 @@ def pct(values: list[float], q: float) -> float:
     return ordered[min(len(ordered) - 1, int(round(q / 100 * (len(ordered) - 1))))]
 
 
-def main() -> None:
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--goals", type=int, default=60)
-    ap.add_argument("--seed", type=int, default=2026)
-    args = ap.parse_args()
-    plan = load_launch(LAUNCH)
+def free_set(goals: int, seed: int) -> None:
+    plan = load_launch(FREE)
     size, limits = plan.launch.world.size, plan.launch.limits
-    rng = random.Random(args.seed)
+    rng = random.Random(seed)
     cases = [
         (
             (rng.uniform(0, size), rng.uniform(0, size), rng.uniform(-math.pi, math.pi)),
             (rng.uniform(0, size), rng.uniform(0, size), rng.uniform(0.0, 360.0)),
         )
-        for _ in range(args.goals)
+        for _ in range(goals)
     ]
     rows = []
-    with running_system(LAUNCH, NODES) as system:
+    with running_system(FREE, NODES) as system:
         for start, goal in cases:
             system.teleport(*start)
             response, elapsed, _ = system.navigate(*goal, timeout=30.0)
@@ -59,6 +73,7 @@ def main() -> None:
     ok = [r for r, _, _ in rows if r.success]
     times = [r.time_taken for r, _, _ in rows]
     ratios = [r.time_taken / b for r, _, b in rows if b > 0]
+    print(f"## set free: {FREE.relative_to(ROOT)}, no obstacles, {len(rows)} goals, seed {seed}")
     print(f"limits: {limits}")
     print(
         "| goals | success | max position error | max heading error | mean time | p95 time |"
@@ -76,6 +91,96 @@ def main() -> None:
         print(f"failures: {failures}")
     client_gap = [e - r.time_taken for r, e, _ in rows]
     print(f"client time - time_taken: p50 {pct(client_gap, 50) * 1000:.2f} ms, max {max(client_gap) * 1000:.2f} ms")
+
+
+def world_set(goals: int, seed: int) -> None:
+    plan = load_launch(WORLD)
+    world, limits = plan.launch.world, plan.launch.limits
+    nav = msgspec.convert(plan.params["navigator"], NavigatorParams)
+    keep = nav.robot_radius + nav.clearance
+    circles = inflate(world.obstacles, keep)
+    rng = random.Random(seed)
+
+    def free_point() -> tuple[float, float]:
+        while True:
+            x, y = rng.uniform(0, world.size), rng.uniform(0, world.size)
+            if containing(x, y, circles) is None:
+                return x, y
+
+    def behind() -> tuple[tuple[float, float], tuple[float, float]]:
+        """A start and a goal on either side of one obstacle, 1 to 3 m from it."""
+        while True:
+            o = rng.choice(world.obstacles)
+            a = rng.uniform(-math.pi, math.pi)
+            b = a + math.pi + rng.uniform(-0.4, 0.4)
+            r1, r2 = o.radius + keep + rng.uniform(0.5, 2.5), o.radius + keep + rng.uniform(0.5, 2.5)
+            start = (o.x + r1 * math.cos(a), o.y + r1 * math.sin(a))
+            goal = (o.x + r2 * math.cos(b), o.y + r2 * math.sin(b))
+            if all(world.contains(*p) and containing(*p, circles) is None for p in (start, goal)):
+                return start, goal
+
+    cases = []
+    for k in range(goals):  # half spread over the world, half behind an obstacle
+        start, goal = (free_point(), free_point()) if k % 2 == 0 else behind()
+        cases.append(((*start, rng.uniform(-math.pi, math.pi)), (*goal, rng.uniform(0.0, 360.0))))
+    rows = []
+    with running_system(WORLD, NODES) as system:
+        poses: queue.SimpleQueue[Pose] = queue.SimpleQueue()
+        sub = system.session.declare_subscriber(POSE, lambda s: poses.put(decode(s.payload.to_bytes(), Pose)))
+        for start, goal in cases:
+            system.teleport(*start)
+            while not poses.empty():
+                poses.get()
+            response, elapsed, feedback = system.navigate(*goal, timeout=40.0)
+            seen = []
+            while not poses.empty():
+                seen.append(poses.get())
+            nearest = min(
+                (math.hypot(p.x - o.x, p.y - o.y) - o.radius for p in seen for o in world.obstacles), default=math.inf
+            )
+            path = shortest_path(start[:2], goal[:2], circles, world.size)
+            baseline = path_time(start[2], path, math.radians(goal[2]), limits) if path is not None else math.nan
+            rows.append((response, baseline, nearest, path))
+        sub.undeclare()
+
+    ok = [r for r, _, _, _ in rows if r.success]
+    times = [r.time_taken for r, _, _, _ in rows if r.success]
+    ratios = [r.time_taken / b for r, b, _, _ in rows if r.success and b > 0]
+    detours = sum(1 for *_, p in rows if p is not None and not p.direct)
+    print(
+        f"## set world: {WORLD.relative_to(ROOT)}, {len(world.obstacles)} obstacles, {len(rows)} goals "
+        f"({detours} round an obstacle), seed {seed}; robot_radius {nav.robot_radius:g} m, keep {keep:g} m"
+    )
+    print(
+        "| goals | success | min clearance (robot_radius) | max position error | mean time | p95 time |"
+        " mean ratio | p95 ratio | max ratio |"
+    )
+    print("|---|---|---|---|---|---|---|---|---|")
+    print(
+        f"| {len(rows)} | {100.0 * len(ok) / len(rows):.0f} % | "
+        f"{min(n for _, _, n, _ in rows):.3f} m ({nav.robot_radius:g} m) | "
+        f"{max(r.position_error for r in ok) * 1000:.1f} mm | {statistics.mean(times):.3f} s | "
+        f"{pct(times, 95):.3f} s | {statistics.mean(ratios):.3f} | {pct(ratios, 95):.3f} | {max(ratios):.3f} |"
+    )
+    round_ratios = [r.time_taken / b for r, b, _, p in rows if r.success and p is not None and not p.direct]
+    if round_ratios:
+        print(f"goals round an obstacle: mean ratio {statistics.mean(round_ratios):.3f}, max {max(round_ratios):.3f}")
+    failures = [(r.reason, s, g) for (r, _, _, _), (s, g) in zip(rows, cases, strict=False) if not r.success]
+    if failures:
+        print(f"failures: {failures}")
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--set", choices=("free", "world", "both"), default="both")
+    ap.add_argument("--goals", type=int, default=60, help="goals of the free set")
+    ap.add_argument("--world-goals", type=int, default=60, help="goals of the world set (at least 50 for the README)")
+    ap.add_argument("--seed", type=int, default=2026)
+    args = ap.parse_args()
+    if args.set in ("free", "both"):
+        free_set(args.goals, args.seed)
+    if args.set in ("world", "both"):
+        world_set(args.world_goals, args.seed)
 
 
 if __name__ == "__main__":

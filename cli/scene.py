@@ -6,7 +6,7 @@ all in the frame ``world`` (m; the world's lower-left corner at the origin, z up
 * ``scene`` (SceneUpdate): the world's square and its declared obstacles (entity ``world``),
   the turtle as an arrow along its heading (``turtle``), its trail (``trail``, the last
   ``TRAIL`` positions 5 cm apart or more), the current goal (``goal``: an arrow at the goal
-  pose, gone one second after the last feedback);
+  pose and the path the navigator follows to it, gone one second after the last feedback);
 * ``scene/scan`` (LaserScan): each scan placed at the pose it was taken from (its origin).
 
 The foxglove package is imported here, and this module only by the commands that draw.
@@ -109,7 +109,8 @@ def turtle_entity(pose: TurtlePose, ns: int) -> SceneEntity:
 
 
 def goal_entity(feedback: NavigateToFeedback, ns: int) -> SceneEntity:
-    """The goal of the running goal (its pose; theta in degrees on the wire)."""
+    """The running goal: an arrow at its pose (theta in degrees on the wire), and the path
+    the navigator follows to it (a line, when there is one)."""
     return SceneEntity(
         timestamp=timestamp(ns),
         frame_id=FRAME,
@@ -125,6 +126,16 @@ def goal_entity(feedback: NavigateToFeedback, ns: int) -> SceneEntity:
                 color=GOAL,
             )
         ],
+        lines=[
+            LinePrimitive(
+                type=LinePrimitiveLineType.LineStrip,
+                thickness=0.04,
+                points=[Point3(x=x, y=y, z=0.015) for x, y in feedback.path],
+                color=GOAL,
+            )
+        ]
+        if len(feedback.path) >= 2
+        else [],
     )
 
 

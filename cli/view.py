@@ -28,7 +28,7 @@ from messages.world import World
 FRAME = 0.05  # s between frames: 20 frames a second
 ROUTER_CHECK = 0.5  # s between checks that the router is still there
 TRAIL = 400  # poses kept for the trail
-LEGEND = "o obstacle  * scan hit  . trail  X goal  (c clears the trail)"
+LEGEND = "o obstacle  * scan hit  . trail  + path  X goal  (c clears the trail)"
 ARROWS = "→↗↑↖←↙↓↘"
 ASCII_ARROWS = ">/^\\</v\\"
 
@@ -47,8 +47,9 @@ class Scene(msgspec.Struct, kw_only=True):
 
 def render(scene: Scene, cols: int, rows: int, unicode: bool = True) -> list[str]:
     """The screen as ``rows`` lines of at most ``cols`` characters: the world in a frame
-    (walls), obstacles ``o``, trail ``.``, laser hits ``*``, goal ``X``, the turtle as an
-    arrow along its heading, and at the bottom a legend and two status lines."""
+    (walls), obstacles ``o``, trail ``.``, the goal's path ``+``, laser hits ``*``, goal
+    ``X``, the turtle as an arrow along its heading, and at the bottom a legend and two
+    status lines."""
     if cols < 20 or rows < 7:
         return ["terminal too small"][:rows]
     size = scene.world.size
@@ -72,6 +73,14 @@ def render(scene: Scene, cols: int, rows: int, unicode: bool = True) -> list[str
     for x, y in scene.trail:
         if (rc := cell(x, y)) is not None and grid[rc[0]][rc[1]] == " ":
             grid[rc[0]][rc[1]] = "."
+    fb = scene.feedback
+    if fb is not None:
+        for (ax, ay), (bx, by) in zip(fb.path, fb.path[1:], strict=False):
+            steps = max(1, int(math.hypot((bx - ax) * scale_x, (by - ay) * scale_y) * 2))
+            for k in range(steps + 1):
+                rc = cell(ax + (bx - ax) * k / steps, ay + (by - ay) * k / steps)
+                if rc is not None and grid[rc[0]][rc[1]] in " .":
+                    grid[rc[0]][rc[1]] = "+"
     scan = scene.scan
     if scan is not None and all(math.isfinite(v) for v in (scan.origin_x, scan.origin_y, scan.origin_theta)):
         for i, r in enumerate(scan.ranges):  # beam angles are relative to the heading at origin_theta
@@ -79,7 +88,6 @@ def render(scene: Scene, cols: int, rows: int, unicode: bool = True) -> list[str
                 a = scan.origin_theta + scan.angle_min + i * scan.angle_increment
                 if (rc := cell(scan.origin_x + r * math.cos(a), scan.origin_y + r * math.sin(a))) is not None:
                     grid[rc[0]][rc[1]] = "*"
-    fb = scene.feedback
     if fb is not None and (rc := cell(fb.goal_x, fb.goal_y)) is not None:
         grid[rc[0]][rc[1]] = "X"
     if scene.pose is not None and (rc := cell(scene.pose.x, scene.pose.y)) is not None:

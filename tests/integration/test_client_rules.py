@@ -251,7 +251,7 @@ def test_view_has_a_legend_c_clears_the_trail_and_ctrl_c_exits_0(system):
         while "battery" not in "\n".join(screen.display):
             assert time.monotonic() < deadline, "\n".join(screen.display)
             assert pump(fd, stream, 0.2)
-        assert "o obstacle  * scan hit  . trail  X goal  (c clears the trail)" in "\n".join(screen.display)
+        assert "o obstacle  * scan hit  . trail  + path  X goal  (c clears the trail)" in "\n".join(screen.display)
         assert system.run_cli("goto", "8", "5.5", "0").returncode == 0  # a trail behind the turtle
         deadline = time.monotonic() + 5
         while _trail_dots(screen) < 5:

@@ -16,25 +16,16 @@ from pathlib import Path
 
 import jsonschema
 import pytest
-from google.protobuf import descriptor_pb2, descriptor_pool, message_factory
 from websockets.asyncio.client import connect
 
 from cli.launchfile import load_launch
 from tests.integration.harness import ROOT, free_port, running_system, turtlectl
+from tests.protobuf_schemas import protobuf_class
 
 pytestmark = pytest.mark.integration
 
 SUBPROTOCOL = "foxglove.sdk.v1"
 TOPICS = ("turtle1/pose", "robot/status", "obstacles", "scene", "scene/scan")
-
-
-def protobuf_class(descriptors: bytes, name: str):
-    """The message class ``name`` from a FileDescriptorSet (a Foxglove well-known schema)."""
-    files = descriptor_pb2.FileDescriptorSet.FromString(descriptors)
-    pool = descriptor_pool.DescriptorPool()
-    for file in files.file:
-        pool.Add(file)
-    return message_factory.GetMessageClass(pool.FindMessageTypeByName(name))
 
 
 def _protobuf_class(channel: dict):

@@ -108,7 +108,7 @@ def test_a_recorded_goal_holds_every_message_sent_meanwhile(goal_recording):
     assert types["scene"] == "foxglove.SceneUpdate" and types["scene/scan"] == "foxglove.LaserScan"
     from mcap.reader import make_reader
 
-    from tests.integration.test_foxglove import protobuf_class
+    from tests.protobuf_schemas import protobuf_class
 
     with open(path, "rb") as f:
         summary = make_reader(f).get_summary()

@@ -61,12 +61,31 @@ def test_the_view_has_a_legend_scan_hits_and_says_when_the_router_is_lost():
     (hit_row,) = [i for i, row in enumerate(grid) if "*" in row]
     (turtle_row,) = [i for i, row in enumerate(grid) if "↑" in row]
     assert hit_row < turtle_row and grid[hit_row].index("*") == grid[turtle_row].index("↑")
+    wide = render(scene, 80, 24)
     assert any(
-        "o obstacle" in line and "* scan hit" in line and ". trail" in line and "X goal" in line for line in lines
+        "o obstacle" in line and "* scan hit" in line and ". trail" in line and "+ path" in line and "X goal" in line
+        for line in wide
     )
-    assert any("c clears the trail" in line for line in lines)
+    assert any("c clears the trail" in line for line in wide)
     scene.router = "tcp/127.0.0.1:7447"
     assert "no router at tcp/127.0.0.1:7447" in render(scene, 80, 24)[-2]
     status = TurtleStatus(x=5, y=5, theta=0, vel_x=0, vel_y=0, battery=50)
     heading = render(Scene(world=World(size=10.0), pose=Pose(x=5.0, y=5.0, theta=-1e-9), status=status), 80, 24)[-2]
     assert "heading   0.0 deg" in heading
+
+
+def test_the_view_draws_the_goals_path_round_an_obstacle():
+    world = World(size=10.0, obstacles=[Obstacle(x=5.0, y=5.0, radius=1.0)])
+    path = [(2.0, 5.0), (4.0, 6.6), (5.0, 6.9), (6.0, 6.6), (8.0, 5.0)]  # over the top of it
+    fb = NavigateToFeedback(
+        state="driving", distance_remaining=7, heading_remaining=0, eta=2, elapsed=0, x=2, y=5, theta=0,
+        goal_x=8, goal_y=5, path=path,
+    )  # fmt: skip
+    lines = render(Scene(world=world, pose=Pose(x=2.0, y=5.0, theta=0.0), feedback=fb), 60, 24)
+    grid = lines[1:-4]
+    rows_with_path = [i for i, row in enumerate(grid) if "+" in row.strip("|")]
+    obstacle_rows = [i for i, row in enumerate(grid) if "o" in row]
+    assert rows_with_path and min(rows_with_path) < min(obstacle_rows)  # it goes above the obstacle
+    assert any("+ path" in line for line in lines)
+    plain = render(Scene(world=world, pose=Pose(x=2.0, y=5.0, theta=0.0)), 60, 24)[1:-4]
+    assert not any("+" in row.strip("|") for row in plain)
