@@ -152,14 +152,15 @@ def world_set(goals: int, seed: int) -> None:
         f"({detours} round an obstacle), seed {seed}; robot_radius {nav.robot_radius:g} m, keep {keep:g} m"
     )
     print(
-        "| goals | success | min clearance (robot_radius) | max position error | mean time | p95 time |"
-        " mean ratio | p95 ratio | max ratio |"
+        "| goals | success | min clearance (robot_radius) | max position error | max heading error | mean time |"
+        " p95 time | mean ratio | p95 ratio | max ratio |"
     )
-    print("|---|---|---|---|---|---|---|---|---|")
+    print("|---|---|---|---|---|---|---|---|---|---|")
     print(
         f"| {len(rows)} | {100.0 * len(ok) / len(rows):.0f} % | "
         f"{min(n for _, _, n, _ in rows):.3f} m ({nav.robot_radius:g} m) | "
-        f"{max(r.position_error for r in ok) * 1000:.1f} mm | {statistics.mean(times):.3f} s | "
+        f"{max(r.position_error for r in ok) * 1000:.1f} mm | {max(r.heading_error for r in ok):.2f} deg | "
+        f"{statistics.mean(times):.3f} s | "
         f"{pct(times, 95):.3f} s | {statistics.mean(ratios):.3f} | {pct(ratios, 95):.3f} | {max(ratios):.3f} |"
     )
     round_ratios = [r.time_taken / b for r, b, _, p in rows if r.success and p is not None and not p.direct]
