@@ -25,7 +25,7 @@ import foxglove
 import zenoh
 from foxglove import Channel, Schema
 from foxglove.channels import LaserScanChannel, SceneUpdateChannel
-from foxglove.websocket import Capability, MessageSchema, Service, ServiceRequest, ServiceSchema
+from foxglove.websocket import Capability, MessageSchema, ServerListener, Service, ServiceRequest, ServiceSchema
 
 from cli.client import client_session
 from cli.scene import SCAN, SCENE, SceneMaker
@@ -134,8 +134,9 @@ def _services(session: zenoh.Session) -> list[Service]:
     return services
 
 
-class Bridge:
-    """The channels of one server: the graph's topics (JSON) and the scene."""
+class Bridge(ServerListener):
+    """The channels of one server: the graph's topics (JSON) and the scene.  Its server's
+    listener: the SDK calls every listener method (the others are ServerListener's no-ops)."""
 
     def __init__(self, session: zenoh.Session):
         self.session = session
