@@ -1,4 +1,5 @@
-"""Issue 12 against the real processes: goals behind obstacles are reached round them, what
+"""Issue 12 against the real processes: goals behind obstacles are reached round them, goals
+walled in by declared obstacles or too near one are refused at once, what
 only the scan sees is planned round as it comes into view, and a goal walled in by it ends
 "blocked" after blocked_timeout.
 
@@ -28,6 +29,14 @@ obstacles = [
   { x = 2.0, y = 9.0, radius = 0.5 },
   { x = 9.0, y = 9.0, radius = 0.6 },
   { x = 9.0, y = 2.0, radius = 0.4 },
+  { x = 10.5000, y = 5.0000, radius = 0.4 },  # a ring round (9.5, 5)
+  { x = 10.2071, y = 5.7071, radius = 0.4 },
+  { x = 9.5000, y = 6.0000, radius = 0.4 },
+  { x = 8.7929, y = 5.7071, radius = 0.4 },
+  { x = 8.5000, y = 5.0000, radius = 0.4 },
+  { x = 8.7929, y = 4.2929, radius = 0.4 },
+  { x = 9.5000, y = 4.0000, radius = 0.4 },
+  { x = 10.2071, y = 4.2929, radius = 0.4 },
 ]
 [[node]]
 name = "sim"
@@ -81,13 +90,13 @@ def nearest(poses: list[Pose], x: float, y: float, radius: float) -> float:
 
 
 def test_a_goal_straight_behind_a_declared_obstacle_is_reached_round_it_without_touching_it(system):
-    system.teleport(9.0, 6.0, math.pi / 2)  # the obstacle at (9, 9), r 0.6, straight ahead
+    system.teleport(9.0, 7.0, math.pi / 2)  # the obstacle at (9, 9), r 0.6, straight ahead
     track = Track(system)
     response, _, feedback = system.navigate(9.0, 10.5, 90.0)
     poses = track.close()
     assert response.success, response
     assert response.position_error <= 0.01 and response.heading_error <= 0.5
-    assert len(feedback[0].path) > 2 and feedback[0].path[0] == pytest.approx((9.0, 6.0), abs=1e-3)
+    assert len(feedback[0].path) > 2 and feedback[0].path[0] == pytest.approx((9.0, 7.0), abs=1e-3)
     assert max(abs(x - 9.0) for x, _ in feedback[0].path) > 0.6 + ROBOT_RADIUS  # round it
     assert nearest(poses, 9.0, 9.0, 0.6) >= ROBOT_RADIUS, "the turtle came nearer the obstacle than its size"
 
@@ -120,3 +129,10 @@ def test_a_goal_too_near_a_declared_obstacle_is_refused_at_once_with_the_distanc
     response, elapsed, _ = system.navigate(2.0, 9.7, 0.0)  # 0.2 m from the obstacle at (2, 9), r 0.5
     assert response.refused and elapsed < 1.0, response
     assert response.reason.startswith("invalid goal: (2, 9.7) is 0.20 m from the obstacle at (2, 9)"), response
+
+
+def test_a_goal_walled_in_by_declared_obstacles_is_refused_at_once(system):
+    system.teleport(5.0, 5.0, 0.0)
+    response, elapsed, _ = system.navigate(9.5, 5.0, 0.0)  # inside the ring of eight round (9.5, 5)
+    assert response.refused and elapsed < 1.0, response
+    assert response.reason.startswith("unreachable: no way from (5.00, 5.00) to (9.5, 5)"), response
