@@ -39,8 +39,16 @@ SAMPLES = [
         state="driving", distance_remaining=1.5, heading_remaining=10.0, eta=0.8, elapsed=0.2, x=1, y=2, theta=3
     ),
     NavigateToFeedback(
-        state="replanning", distance_remaining=2.5, heading_remaining=1.0, eta=1.8, elapsed=0.5, x=1, y=2, theta=3,
-        path=[(1.0, 2.0), (2.5, 3.25), (4.0, 2.0)], replans=3,
+        state="replanning",
+        distance_remaining=2.5,
+        heading_remaining=1.0,
+        eta=1.8,
+        elapsed=0.5,
+        x=1,
+        y=2,
+        theta=3,
+        path=[(1.0, 2.0), (2.5, 3.25), (4.0, 2.0)],
+        replans=3,
     ),  # fmt: skip
     Cancel(),
     TeleportAbsolute(x=1.0, y=2.0, theta=0.5),
