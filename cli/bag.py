@@ -73,6 +73,12 @@ class Record:
 # -- writing ---------------------------------------------------------------------------------
 
 
+def refuse_existing(path: Path) -> None:
+    """A recording is never written over an existing file: say so (exit 2) before anything starts."""
+    if path.exists():
+        raise BadInput(f"{path} already exists: choose another name with -o")
+
+
 class BagWriter:
     """Writes a recording at ``path`` (which must not exist yet): ``add`` each sample as it was
     received, ``tick`` often (it closes the chunk once a second), ``close`` at the end."""
@@ -84,7 +90,8 @@ class BagWriter:
         try:
             self._file: IO[bytes] = open(path, "xb")  # noqa: SIM115 - closed by close()
         except FileExistsError:
-            raise BadInput(f"{path} already exists: choose another name with -o") from None
+            refuse_existing(path)  # created since it was checked: the same words
+            raise
         except OSError as exc:
             raise BadInput(f"cannot write {path}: {exc.strerror or exc}") from None
         self._writer = Writer(self._file, chunk_size=CHUNK_SIZE, compression=CompressionType.ZSTD)

@@ -528,10 +528,12 @@ def record(
     import threading
 
     from cli import record as recording
+    from cli.bag import refuse_existing
     from cli.version import version
 
     keys, excluded = recording.keys_to_record(topics or [], all_topics, exclude)
     path = output or recording.default_path()
+    refuse_existing(path)
     stop = threading.Event()
     for sig in (signal.SIGINT, signal.SIGTERM):
         signal.signal(sig, lambda *_: stop.set())

@@ -100,6 +100,9 @@ def play(
     if rate <= 0:
         raise BadInput("--rate must be above 0")
     records = plan(recording.records(keys), start_offset)
+    if not records and start_offset > 0.0 and plan(recording.records(keys), 0.0):
+        length = recording.info().duration
+        raise BadInput(f"--start-offset {start_offset:g} s is past the end of {recording.path} ({length:.3g} s long)")
     if not records:
         raise BadInput(f"nothing to play in {recording.path}" + (f" on {', '.join(keys)}" if keys else ""))
     first = records[0].log_time

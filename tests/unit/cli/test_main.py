@@ -364,3 +364,25 @@ def test_a_ctrl_c_is_reported_as_what_happened_not_as_an_error():
         "turtlectl: interrupted: the navigator cancels the goal"
     )
     assert error_line(BadInput("x")) == "turtlectl: error: x"
+
+
+def test_record_into_an_existing_file_is_refused_before_it_says_it_records(tmp_path):
+    """Review of issue 11: it printed "recording ** into a.mcap", then the refusal (or, with no
+    router, "no turtlectl system" and exit 3 though the file was the problem)."""
+    (tmp_path / "a.mcap").write_bytes(b"kept")
+    result = CliRunner().invoke(app, ["record", "-a", "-o", "a.mcap", "--connect", "tcp/127.0.0.1:9"])
+    assert isinstance(result.exception, BadInput), result.output
+    assert error_line(result.exception) == "turtlectl: error: a.mcap already exists: choose another name with -o"
+    assert "recording" not in result.output and (tmp_path / "a.mcap").read_bytes() == b"kept"
+
+
+def test_play_from_past_the_end_says_how_long_the_recording_is(tmp_path):
+    from cli.bag import BagWriter
+    from messages import Pose, encode, encoding_for
+
+    writer = BagWriter(tmp_path / "run.mcap")
+    for i in range(63):  # 0.992 s
+        writer.add("turtle1/pose", encoding_for(Pose), encode(Pose(x=1, y=1, theta=0, seq=i)), i * 16_000_000)
+    writer.close()
+    text = bad_input("play", "run.mcap", "--start-offset", "100", "--connect", "tcp/127.0.0.1:9")
+    assert text == "turtlectl: error: --start-offset 100 s is past the end of run.mcap (0.992 s long)"
