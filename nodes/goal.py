@@ -33,11 +33,12 @@ def goal_problem(request: NavigateToRequest, world: World, keep: float = 0.0) ->
     return None
 
 
-def no_way(x: float, y: float, goal_x: float, goal_y: float, keep: float) -> str:
-    """The reason a goal is refused when no path reaches it from (x, y) (m)."""
+def no_way(x: float, y: float, goal_x: float, goal_y: float, keep: float, walled_in: str) -> str:
+    """The reason a goal is refused when no path reaches it from (x, y) (m); ``walled_in``
+    names what the obstacles enclose ("the goal", "the turtle")."""
     return (
         f"unreachable: no way from ({x:.2f}, {y:.2f}) to ({goal_x:g}, {goal_y:g}) keeps {keep:g} m from every "
-        "obstacle (the navigator's robot_radius + clearance): the goal is walled in by obstacles"
+        f"obstacle (the navigator's robot_radius + clearance): {walled_in} is walled in by obstacles"
     )
 
 

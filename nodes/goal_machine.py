@@ -68,7 +68,7 @@ from nodes.control import (
 )
 from nodes.goal import allowed_speed, goal_problem, no_way
 from nodes.params import NavigatorParams
-from nodes.planner import Circle, Path, Segment, Track, escape, inflate, shortest_path
+from nodes.planner import Circle, Path, Segment, Track, containing, escape, inflate, shortest_path
 from nodes.scan import hit_points, off_walls, path_clearance, unexplained, unknown_circles
 
 #: m: a turtle this far from its path has its path planned again from where it is
@@ -146,7 +146,7 @@ class GoalMachine(Generic[C]):
         problem, detail = goal_problem(request, self.world, self.keep), ""
         here = self.latest_pose
         if problem is None and here is not None and self._plan(here, request.x, request.y, []) is None:
-            problem = no_way(here.x, here.y, request.x, request.y, self.keep)
+            problem = no_way(here.x, here.y, request.x, request.y, self.keep, self._walled_in(here, request))
         if problem is None and self.battery is not None and self.battery < p.min_battery:
             problem = "battery low"
             detail = (
@@ -307,6 +307,22 @@ class GoalMachine(Generic[C]):
         """The shortest way from ``pose`` to (x, y) round the declared obstacles and ``seen``."""
         circles = escape(pose.x, pose.y, self.declared + seen)
         return shortest_path((pose.x, pose.y), (x, y), circles, self.world.size)
+
+    def _walled_in(self, pose: Pose, request: NavigateToRequest) -> str:
+        """Which of the turtle and the goal the declared obstacles enclose, when no way joins
+        them: the one that reaches none of the world's free corners ("the goal" if neither does)."""
+        s = self.world.size
+        corners = [
+            (x, y) for x, y in ((0.0, 0.0), (s, 0.0), (0.0, s), (s, s)) if containing(x, y, self.declared) is None
+        ]
+
+        def reaches_out(x: float, y: float) -> bool:
+            circles = escape(x, y, self.declared)
+            return any(shortest_path((x, y), c, circles, s) is not None for c in corners)
+
+        if reaches_out(request.x, request.y) and not reaches_out(pose.x, pose.y):
+            return "the turtle"
+        return "the goal"
 
     def _replan(self, goal: Goal[C], now: float, why: str) -> None:
         """Plan the goal's path from where the turtle is (``why``: the reason to log, empty

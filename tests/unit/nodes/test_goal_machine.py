@@ -127,7 +127,19 @@ def test_a_goal_walled_in_by_declared_obstacles_is_refused_with_the_pose():
     m.pose(pose(theta=math.pi / 2), 0.0)
     reply = only_reply(m.start(goal(), "caller", 0.0))
     assert reply.response.refused and reply.response.reason.startswith("unreachable: no way from (2.00, 5.00)")
+    assert reply.response.reason.endswith("the goal is walled in by obstacles")
     assert (reply.response.x, reply.response.y, reply.response.theta) == pytest.approx((2.0, 5.0, 90.0))
+
+
+def test_a_turtle_walled_in_is_told_so_not_that_the_goal_is():
+    """Review of issue 12: from inside a ring, a goal in open space was refused with "the goal is
+    walled in by obstacles"."""
+    ring = [Obstacle(x=2.0 + 1.2 * math.cos(a), y=5.0 + 1.2 * math.sin(a), radius=0.3) for a in range(0, 7)]
+    m = machine(World(size=11.0, obstacles=ring))
+    m.pose(pose(), 0.0)  # (2, 5): the ring's centre
+    reason = only_reply(m.start(goal(), "caller", 0.0)).response.reason
+    assert reason.endswith("the turtle is walled in by obstacles"), reason
+    assert "the goal is" not in reason
 
 
 def test_a_goal_behind_a_declared_obstacle_gets_a_path_round_it():
