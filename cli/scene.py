@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import math
 from collections import deque
+from collections.abc import Iterable
 
 from foxglove.messages import (
     ArrowPrimitive,
@@ -64,6 +65,16 @@ def planar(x: float, y: float, yaw: float, z: float = 0.0) -> Pose:
     return Pose(
         position=Vector3(x=x, y=y, z=z),
         orientation=Quaternion(x=0.0, y=0.0, z=math.sin(yaw / 2), w=math.cos(yaw / 2)),
+    )
+
+
+def strip(points: Iterable[tuple[float, float]], thickness: float, z: float, colour: Color) -> LinePrimitive:
+    """A line through ``points`` (x, y in m) at height ``z`` m, ``thickness`` m wide."""
+    return LinePrimitive(
+        type=LinePrimitiveLineType.LineStrip,
+        thickness=thickness,
+        points=[Point3(x=x, y=y, z=z) for x, y in points],
+        color=colour,
     )
 
 
@@ -126,16 +137,7 @@ def goal_entity(feedback: NavigateToFeedback, ns: int) -> SceneEntity:
                 color=GOAL,
             )
         ],
-        lines=[
-            LinePrimitive(
-                type=LinePrimitiveLineType.LineStrip,
-                thickness=0.04,
-                points=[Point3(x=x, y=y, z=0.015) for x, y in feedback.path],
-                color=GOAL,
-            )
-        ]
-        if len(feedback.path) >= 2
-        else [],
+        lines=[strip(feedback.path, 0.04, 0.015, GOAL)] if len(feedback.path) >= 2 else [],
     )
 
 
@@ -160,14 +162,7 @@ class Trail:
             timestamp=timestamp(ns),
             frame_id=FRAME,
             id="trail",
-            lines=[
-                LinePrimitive(
-                    type=LinePrimitiveLineType.LineStrip,
-                    thickness=0.03,
-                    points=[Point3(x=x, y=y, z=0.01) for x, y in self.points],
-                    color=TRAIL_COLOUR,
-                )
-            ],
+            lines=[strip(self.points, 0.03, 0.01, TRAIL_COLOUR)],
         )
 
 
