@@ -361,7 +361,15 @@ class GoalMachine(Generic[C]):
             self._replan(goal, now, "")
         if goal.path is None:  # no way round what the scan sees: wait
             self._out.append(Twist())
-            self._check_blocked_timeout(goal, now, "there was no way round what the scan sees")
+            target = goal.target
+            on_goal = containing(target.x, target.y, self._seen()) if self.scans_fresh(now) else None
+            why = (
+                f"something the scan sees lay within {self.keep:g} m of the goal (at "
+                f"({on_goal.x:.2f}, {on_goal.y:.2f}), radius about {on_goal.r - self.keep:.2f} m)"
+                if on_goal is not None
+                else "there was no way round what the scan sees"
+            )
+            self._check_blocked_timeout(goal, now, why)
             return
         if goal.track is not None:
             cmd, goal.progress, goal.off_path = follow_step(

@@ -407,6 +407,21 @@ def sensor(m: GoalMachine[str], start: float, end: float, blocking: bool) -> lis
     return actions
 
 
+def test_a_goal_that_something_seen_sits_on_ends_blocked_saying_so():
+    """Review of issue 12: it said only "there was no way round what the scan sees"."""
+    m = machine()
+    running(m, request=goal(x=3.0))
+    m.scan(one_hit(1.1), 0.0)  # something 0.1 m beyond the goal, 1 m ahead
+    actions = []
+    for k in range(70):
+        if k % 4 == 0:
+            actions += m.scan(one_hit(1.1), k * 0.05)
+        actions += m.pose(pose(), k * 0.05)
+    reply = only_reply(actions)
+    assert reply.response.reason == "blocked"
+    assert reply.response.detail.startswith("something the scan sees lay within 0.45 m of the goal (at (3.1"), reply
+
+
 def test_a_way_that_opens_is_taken_and_the_blocked_time_starts_again():
     m, _ = walled_in()
     assert replies(sensor(m, 0.05, 2.4, blocking=True)) == [] and m.goal.state is GoalState.REPLANNING
