@@ -30,6 +30,13 @@ def finite_number(text: str, name: str) -> float:
     return value
 
 
+def finite_option(value: float | None, option: str) -> float | None:
+    """A float option's value if it is finite (Typer's ranges let NaN through: nan < min is False)."""
+    if value is not None and not math.isfinite(value):
+        raise BadInput(f"{option} must be a finite number, got {value}")
+    return value
+
+
 def domain(text: str) -> str:
     """``--domain``: empty (no domain) or letters, digits, _ and -."""
     if text and not DOMAIN_RE.match(text):

@@ -531,6 +531,7 @@ def record(
     from cli.bag import refuse_existing
     from cli.version import version
 
+    args.finite_option(duration, "--duration")
     keys, excluded = recording.keys_to_record(topics or [], all_topics, exclude)
     path = output or recording.default_path()
     refuse_existing(path)
@@ -595,6 +596,8 @@ def play(
     from cli import play as player
     from cli.bag import Recording
 
+    args.finite_option(rate, "--rate")
+    args.finite_option(start_offset, "--start-offset")
     remaps = player.parse_remaps(remap)
     keys = [client_key(t) for t in topics] or None
     recording = Recording(file)

@@ -51,6 +51,11 @@ def parse_remaps(remaps: list[str]) -> dict[str, str]:
     return out
 
 
+def _plain(topic: str) -> str:
+    """A recorded channel's topic as a key: a ROS-style leading '/' dropped."""
+    return topic[1:] if topic.startswith("/") and len(topic) > 1 else topic
+
+
 def plan(records: Iterable[Record], start_offset: float) -> list[Record]:
     """The records to play, those from ``start_offset`` s after the first one on."""
     chosen = [r for r in records if not r.scene]  # the scene is drawn from the rest
@@ -99,12 +104,21 @@ def play(
     schedule; ``stopped()`` ends it."""
     if rate <= 0:
         raise BadInput("--rate must be above 0")
-    records = plan(recording.records(keys), start_offset)
-    if not records and start_offset > 0.0 and plan(recording.records(keys), 0.0):
+    # channels are keys as recorded; a ROS 2 bag's start with '/', dropped as everywhere in turtlectl
+    wanted = None if keys is None else set(keys)
+    selected = [r for r in recording.records() if wanted is None or _plain(r.key) in wanted]
+    records = plan(selected, start_offset)
+    if not records and start_offset > 0.0 and plan(selected, 0.0):
         length = recording.info().duration
         raise BadInput(f"--start-offset {start_offset:g} s is past the end of {recording.path} ({length:.3g} s long)")
     if not records:
         raise BadInput(f"nothing to play in {recording.path}" + (f" on {', '.join(keys)}" if keys else ""))
+    targets = {}  # recorded channel -> the key it is played on
+    for topic in {r.key for r in records}:
+        try:
+            targets[topic] = check_key(remap.get(_plain(topic), _plain(topic)), publish=True)
+        except BadInput as exc:
+            raise BadInput(f"{recording.path}: channel {topic!r} cannot be played: {exc.message}") from None
     first = records[0].log_time
     with client_session(connect) as session:
         world = serve_world(session, recording.world())  # kept: a queryable lives while referenced
@@ -133,7 +147,7 @@ def play(
                         if wait > SPIN:
                             time.sleep(min(wait - SPIN, 0.05))  # pacing: the schedule (short, to see pause/stop)
                     payload, encoding = _payload(record, message, keep_stamps)
-                    key = remap.get(record.key, record.key)
+                    key = targets[record.key]
                     pub = publishers.get((key, encoding))
                     if pub is None:
                         pub = session.declare_publisher(key, encoding=zenoh.Encoding(encoding))

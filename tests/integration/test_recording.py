@@ -304,3 +304,39 @@ def test_space_pauses_and_resumes_play_on_a_terminal_and_the_terminal_is_restore
         sub.undeclare()
         close_session(session)
         router.kill()
+
+
+def test_a_ros2_bag_plays_its_topics_without_the_leading_slash(tmp_path):
+    """Review of issue 11: `play` of a ROS 2 MCAP ended in a traceback (Zenoh refuses the key
+    '/chatter'), and neither --topics /chatter nor --remap could help."""
+    from mcap.writer import Writer
+
+    path = tmp_path / "ros.mcap"
+    with open(path, "wb") as f:
+        writer = Writer(f)
+        writer.start(profile="ros2")
+        schema = writer.register_schema("std_msgs/msg/String", "ros2msg", b"string data")
+        channel = writer.register_channel("/chatter", "cdr", schema)
+        for i in range(3):
+            writer.add_message(channel, log_time=i * 10_000_000, publish_time=0, data=b"cdr%d" % i)
+        writer.finish()
+    router = Router()
+    router.start()
+    try:
+        session = zenoh.open(client_config(router.endpoint, 3.0))
+        got: queue.SimpleQueue[bytes] = queue.SimpleQueue()
+        sub = session.declare_subscriber("chatter", lambda s: got.put(s.payload.to_bytes()))
+        result = subprocess.run(
+            [*turtlectl(), "play", str(path), "--topics", "/chatter", "--connect", router.endpoint],
+            capture_output=True,
+            text=True,
+            timeout=60,
+        )
+        assert result.returncode == 0 and "Traceback" not in result.stderr, result.stderr
+        assert "played 3 messages" in result.stdout
+        _wait(lambda: got.qsize() >= 3, "the three messages on chatter", timeout=5)
+        assert [got.get() for _ in range(3)] == [b"cdr0", b"cdr1", b"cdr2"]
+        sub.undeclare()
+        close_session(session)
+    finally:
+        router.kill()

@@ -386,3 +386,20 @@ def test_play_from_past_the_end_says_how_long_the_recording_is(tmp_path):
     writer.close()
     text = bad_input("play", "run.mcap", "--start-offset", "100", "--connect", "tcp/127.0.0.1:9")
     assert text == "turtlectl: error: --start-offset 100 s is past the end of run.mcap (0.992 s long)"
+
+
+@pytest.mark.parametrize(
+    "argv, option",
+    [
+        (("play", "run.mcap", "--rate", "nan"), "--rate"),
+        (("play", "run.mcap", "--start-offset", "nan"), "--start-offset"),
+        (("record", "-a", "--duration", "nan"), "--duration"),
+    ],
+)
+def test_nan_is_no_rate_offset_or_duration(argv, option):
+    """Review of issue 11: `play --rate nan` published nothing and never ended; `record
+    --duration nan` recorded nothing and said so with exit 0 (Typer's ranges let NaN through)."""
+    assert (
+        bad_input(*argv, "--connect", "tcp/127.0.0.1:9")
+        == f"turtlectl: error: {option} must be a finite number, got nan"
+    )
