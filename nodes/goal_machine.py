@@ -13,8 +13,9 @@ A goal's lifecycle, as Nav2's NavigateToPose:
   ("navigator shut down").
 
 A goal is driven along a path (nodes.planner): the shortest way round the declared
-obstacles and what the latest scan sees that the world does not declare (while that scan
-is recent, ``scan_timeout``), each kept ``robot_radius + clearance`` away.  A goal no path
+obstacles and what the scans have seen that the world does not declare (nodes.costmap:
+remembered where it was seen, forgotten when beams pass through where it was; used while
+the latest scan is recent, ``scan_timeout``), each kept ``robot_radius + clearance`` away.  A goal no path
 reaches round the declared obstacles is refused; one walled in by what the scan sees
 waits ("replanning") and ends "blocked" after ``blocked_timeout`` unless a way opens.
 When something seen comes onto the path, or the turtle strays from it, the path is
@@ -66,10 +67,11 @@ from nodes.control import (
     path_remaining_time,
     remaining_time,
 )
+from nodes.costmap import Costmap
 from nodes.goal import allowed_speed, goal_problem, no_way
 from nodes.params import NavigatorParams
-from nodes.planner import Circle, Path, Segment, Track, containing, escape, inflate, shortest_path
-from nodes.scan import hit_points, off_walls, path_clearance, unexplained, unknown_circles
+from nodes.planner import Circle, Path, Segment, Track, containing, escape, inflate, shortest_path, wall_plugs
+from nodes.scan import hit_points, off_walls, path_clearance, unexplained
 
 #: m: a turtle this far from its path has its path planned again from where it is
 OFF_PATH = 0.3
@@ -128,7 +130,8 @@ class GoalMachine(Generic[C]):
         self.tolerances = Tolerances(position=params.position_tolerance, heading=math.radians(params.heading_tolerance))
         self.keep = params.robot_radius + params.clearance  # m the turtle keeps from every obstacle
         self.declared = inflate(world.obstacles, self.keep)
-        self.unknown: list[Circle] = []  # what the latest scan sees that the world does not declare
+        self.costmap = Costmap(world.size)  # what the scans have seen that the world does not declare
+        self.unknown: list[Circle] = []  # the costmap's circles after the latest scan
         self.goal: Goal[C] | None = None
         self.latest_pose: Pose | None = None
         self.pose_time = 0.0
@@ -200,7 +203,8 @@ class GoalMachine(Generic[C]):
 
     def scan(self, scan: LaserScan, now: float) -> list[Action]:
         """A scan: its hits (walls left out) are what the turtle avoids until ``scan_timeout``
-        after ``now``, and what the world does not declare among them is planned round.  The
+        after ``now``; what the world does not declare among them goes into the costmap,
+        whose beams also clear what is no longer there, and the costmap is planned round.  The
         running goal's path is planned again if that comes onto it (or if there was no way,
         or the turtle is blocked).  A scan that does not say where it was taken is placed at
         the latest pose (ignored without one)."""
@@ -214,7 +218,9 @@ class GoalMachine(Generic[C]):
         points = hit_points(*origin, np.asarray(scan.ranges, dtype=float), angles)
         self.scan_points = off_walls(points, self.world.size)
         self.unknown_points = unexplained(self.scan_points, self.world.obstacles)
-        self.unknown = unknown_circles(self.unknown_points, origin[0], origin[1], [])
+        ranges = np.asarray(scan.ranges, dtype=float)
+        self.costmap.update(*origin, ranges, scan.angle_min, scan.angle_increment, scan.range_max, self.unknown_points)
+        self.unknown = self.costmap.circles()
         self.scan_time = now
         goal = self.goal
         if goal is not None and self.latest_pose is not None:
@@ -300,13 +306,17 @@ class GoalMachine(Generic[C]):
 
     # -- inside -------------------------------------------------------------
     def _seen(self) -> list[Circle]:
-        """What the latest scan sees that the world does not declare, grown by what the turtle keeps."""
+        """What the scans have seen that the world does not declare, grown by what the turtle keeps."""
         return [Circle(c.x, c.y, c.r + self.keep) for c in self.unknown]
 
     def _plan(self, pose: Pose, x: float, y: float, seen: list[Circle]) -> Path | None:
-        """The shortest way from ``pose`` to (x, y) round the declared obstacles and ``seen``."""
-        circles = escape(pose.x, pose.y, self.declared + seen)
-        return shortest_path((pose.x, pose.y), (x, y), circles, self.world.size)
+        """The shortest way from ``pose`` to (x, y) round the declared obstacles and ``seen``,
+        through no gap between one of them and a wall too narrow for the turtle (unless the
+        goal lies in it)."""
+        circles = self.declared + seen
+        plugs = wall_plugs(circles, self.world.size, self.params.robot_radius)
+        circles += [c for c in plugs if containing(x, y, [c]) is None]
+        return shortest_path((pose.x, pose.y), (x, y), escape(pose.x, pose.y, circles), self.world.size)
 
     def _walled_in(self, pose: Pose, request: NavigateToRequest) -> str:
         """Which of the turtle and the goal the declared obstacles enclose, when no way joins

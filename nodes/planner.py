@@ -162,6 +162,19 @@ def escape(x: float, y: float, circles: Sequence[Circle]) -> list[Circle]:
     return [c for c in out if c.r > 0.0]
 
 
+def wall_plugs(circles: Sequence[Circle], size: float, gap: float) -> list[Circle]:
+    """Circles (m) that close each passage narrower than ``gap`` m between one of ``circles``
+    and a wall of the world [0, size]^2: a turtle of radius ``gap`` cannot pass there without
+    its body going through the wall.  Each is centred on the wall at the foot of the circle,
+    reaching a little into it."""
+    plugs = []
+    for c in circles:
+        for away, x, y in ((c.x, 0.0, c.y), (size - c.x, size, c.y), (c.y, c.x, 0.0), (size - c.y, c.x, size)):
+            if 0.0 < away - c.r < gap:
+                plugs.append(Circle(x, y, away - c.r + min(0.02, c.r)))
+    return plugs
+
+
 def _angle_in(a: float, start: float, sweep: float) -> bool:
     """``a`` lies strictly inside the counter-clockwise range from ``start`` over ``sweep`` (>= 0)."""
     d = (a - start) % TWO_PI

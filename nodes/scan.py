@@ -11,7 +11,6 @@ import math
 import numpy as np
 
 from messages.world import Obstacle
-from nodes.planner import Circle
 
 
 def hit_points(x: float, y: float, theta: float, ranges: np.ndarray, angles: np.ndarray) -> np.ndarray:
@@ -37,53 +36,6 @@ def unexplained(points: np.ndarray, obstacles: list[Obstacle], tolerance: float 
     for o in obstacles:
         p = p[np.hypot(p[:, 0] - o.x, p[:, 1] - o.y) > o.radius + tolerance]
     return p
-
-
-def unknown_circles(
-    points: np.ndarray,
-    x: float,
-    y: float,
-    obstacles: list[Obstacle],
-    tolerance: float = 0.05,
-    join: float = 0.3,
-    piece: float = 0.4,
-) -> list[Circle]:
-    """What a scan taken at (x, y) sees that ``obstacles`` (the declared ones) do not explain,
-    as circles (m): ``points`` are its hits in beam order, walls already left out.
-
-    Hits within ``tolerance`` m of a declared obstacle's surface are that obstacle.  The rest
-    are grouped into runs of hits less than ``join`` m apart (the last run of a full turn
-    joins the first), and runs longer than ``piece`` m are cut into pieces of at most that.
-    Each piece becomes a circle as wide as it is seen from the scanner, its nearest point
-    the piece's nearest hit (only the near side of a thing is seen), grown if need be to
-    cover every hit of the piece.
-    """
-    p = unexplained(points, obstacles, tolerance)
-    if not len(p):
-        return []
-    breaks = np.flatnonzero(np.hypot(*np.diff(p, axis=0).T) >= join) + 1
-    runs = np.split(p, breaks)
-    if len(runs) > 1 and np.hypot(*(p[0] - p[-1])) < join:  # a full turn: the last run goes on into the first
-        runs = [np.concatenate((runs[-1], runs[0])), *runs[1:-1]]
-    pieces = []
-    for run in runs:  # a long run (a wall of something) is several circles, each at most ``piece`` m along
-        along = np.concatenate(([0.0], np.cumsum(np.hypot(*np.diff(run, axis=0).T))))
-        pieces += np.split(run, np.flatnonzero(np.diff(np.floor(along / piece))) + 1)
-    circles = []
-    for run in pieces:
-        rel = run - (x, y)
-        mean = rel.mean(axis=0)
-        norm = float(np.hypot(*mean))
-        u = mean / norm if norm > 0.0 else np.array([1.0, 0.0])
-        across = rel @ np.array([-u[1], u[0]])
-        radius = max(0.5 * float(across.max() - across.min()), 0.05)
-        lateral = 0.5 * float(across.max() + across.min())
-        depth = float((rel @ u).min()) + radius
-        cx = x + depth * u[0] - lateral * u[1]
-        cy = y + depth * u[1] + lateral * u[0]
-        radius = max(radius, float(np.max(np.hypot(run[:, 0] - cx, run[:, 1] - cy))))
-        circles.append(Circle(float(cx), float(cy), radius))
-    return circles
 
 
 def path_clearance(

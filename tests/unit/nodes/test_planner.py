@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from messages.world import Obstacle
-from nodes.planner import Arc, Circle, Segment, containing, escape, inflate, shortest_path
+from nodes.planner import Arc, Circle, Segment, containing, escape, inflate, shortest_path, wall_plugs
 
 
 def _clear_of(path, circles, size, spacing=0.005):
@@ -100,6 +100,21 @@ def test_a_circle_over_the_wall_is_gone_round_on_the_open_side():
     assert path is not None
     _clear_of(path, circles, 10.0)
     assert max(y for _, y in path.outline()) > 2.9  # over the top
+
+
+def test_a_gap_between_a_circle_and_a_wall_narrower_than_the_turtle_is_plugged():
+    near = Circle(5.0, 9.0, 0.8)  # 0.2 m below the top wall of a 10 m world
+    plugs = wall_plugs([near, Circle(5.0, 5.0, 1.0)], 10.0, 0.3)
+    assert len(plugs) == 1  # the other is 4 m from every wall: no plug
+    assert (plugs[0].x, plugs[0].y, plugs[0].r) == pytest.approx((5.0, 10.0, 0.2 + 0.02))
+    assert shortest_path((1.0, 9.8), (9.0, 9.8), [near], 10.0) is not None  # through the 0.2 m gap
+    path = shortest_path((1.0, 9.8), (9.0, 9.8), [near, *plugs], 10.0)
+    assert path is not None
+    _clear_of(path, [near, *plugs], 10.0)
+    assert min(y for _, y in path.outline()) < 8.3  # round its underside (it reaches down to 8.2)
+    assert (
+        wall_plugs([near], 10.0, 0.15) == [] and wall_plugs([Circle(5.0, 9.5, 0.8)], 10.0, 0.3) == []
+    )  # wide, or closed
 
 
 def test_a_start_within_a_margin_escapes_it():

@@ -85,31 +85,3 @@ def test_declared_circles_and_their_scan_agree():
     from_scan, _ = path_clearance(path, along, points, [], 2.0, 5.0, 0.3)
     declared, _ = path_clearance(path, along, np.zeros((0, 2)), world.obstacles, 2.0, 5.0, 0.3)
     assert from_scan == pytest.approx(declared, abs=0.02)
-
-
-def _scan_hits(x, y, world, beams=72):
-    from sim.lidar import beam_angles, cast_rays
-
-    angles = beam_angles(-math.pi, math.pi, beams)
-    points = hit_points(x, y, 0.0, cast_rays(x, y, 0.0, angles, world, 10.0), angles)
-    return off_walls(points, world.size)
-
-
-def test_unknown_circles_are_what_the_declared_world_does_not_explain():
-    from messages.world import World
-    from nodes.scan import unknown_circles
-
-    declared = [Obstacle(x=2.0, y=9.0, radius=0.5), Obstacle(x=8.0, y=8.0, radius=0.6)]
-    hidden = Obstacle(x=6.5, y=5.0, radius=0.3)
-    world = World(size=11.0, obstacles=[*declared, hidden])
-    assert unknown_circles(_scan_hits(5.0, 5.0, World(size=11.0, obstacles=declared)), 5.0, 5.0, declared) == []
-    hits = _scan_hits(5.0, 5.0, world, beams=360)
-    seen = unknown_circles(hits, 5.0, 5.0, declared)
-    assert 1 <= len(seen) <= 3  # the near side of the hidden one, 0.9 m of it: a piece each 0.4 m
-    assert all(math.hypot(c.x - hidden.x, c.y - hidden.y) < hidden.radius for c in seen), seen
-    unexplained = [p for p in hits if all(math.hypot(p[0] - o.x, p[1] - o.y) > o.radius + 0.05 for o in declared)]
-    assert all(any(math.hypot(p[0] - c.x, p[1] - c.y) <= c.r + 1e-9 for c in seen) for p in unexplained)
-    coarse = unknown_circles(_scan_hits(5.0, 5.0, world), 5.0, 5.0, declared)  # 72 beams: 4 or 5 hits
-    assert 1 <= len(coarse) <= 2 and all(math.hypot(c.x - hidden.x, c.y - hidden.y) < hidden.radius for c in coarse)
-    two = World(size=11.0, obstacles=[Obstacle(x=7.0, y=5.0, radius=0.3), Obstacle(x=3.0, y=5.0, radius=0.3)])
-    assert len(unknown_circles(_scan_hits(5.0, 5.0, two), 5.0, 5.0, [])) == 2
