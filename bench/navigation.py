@@ -124,6 +124,7 @@ def world_set(goals: int, seed: int) -> None:
         start, goal = (free_point(), free_point()) if k % 2 == 0 else behind()
         cases.append(((*start, rng.uniform(-math.pi, math.pi)), (*goal, rng.uniform(0.0, 360.0))))
     rows = []
+    replans: list[int] = []  # per goal: how many times its path was planned again
     with running_system(WORLD, NODES) as system:
         poses: queue.SimpleQueue[Pose] = queue.SimpleQueue()
         sub = system.session.declare_subscriber(POSE, lambda s: poses.put(decode(s.payload.to_bytes(), Pose)))
@@ -141,6 +142,7 @@ def world_set(goals: int, seed: int) -> None:
             path = shortest_path(start[:2], goal[:2], circles, world.size)
             baseline = path_time(start[2], path, math.radians(goal[2]), limits) if path is not None else math.nan
             rows.append((response, baseline, nearest, path))
+            replans.append(max((f.replans for f in feedback), default=0))
         sub.undeclare()
 
     ok = [r for r, _, _, _ in rows if r.success]
@@ -166,6 +168,16 @@ def world_set(goals: int, seed: int) -> None:
     round_ratios = [r.time_taken / b for r, b, _, p in rows if r.success and p is not None and not p.direct]
     if round_ratios:
         print(f"goals round an obstacle: mean ratio {statistics.mean(round_ratios):.3f}, max {max(round_ratios):.3f}")
+    worst = max(
+        (k for k, (r, b, _, _) in enumerate(rows) if r.success and b > 0),
+        key=lambda k: rows[k][0].time_taken / rows[k][1],
+    )
+    (sx, sy, sa), (gx, gy, gt) = cases[worst]
+    print(
+        f"slowest against its baseline: goal {worst}, from ({sx:.2f}, {sy:.2f}, {math.degrees(sa):.0f} deg) "
+        f"to ({gx:.2f}, {gy:.2f}, {gt:.0f} deg): {rows[worst][0].time_taken:.3f} s for {rows[worst][1]:.3f} s, "
+        f"replanned {replans[worst]} times; goals replanned at all: {sum(1 for n in replans if n)}"
+    )
     failures = [(r.reason, s, g) for (r, _, _, _), (s, g) in zip(rows, cases, strict=False) if not r.success]
     if failures:
         print(f"failures: {failures}")
