@@ -23,7 +23,7 @@ import typer
 
 from cli import STOPPED_BY_CTRL_C, args, lazy_module
 from cli.errors import BadInput, ExitCode, Failed, Interrupted, TurtlectlError, Unreachable, exit_code
-from cli.sigint import ignore_sigint, quiet_unraisable
+from cli.sigint import ignore_sigint, quiet_unraisable, stop_on_signals
 from runtime.endpoint import CONNECT_ENV, DEFAULT_ENDPOINT, DEFAULT_PORT, DOMAIN_ENV, default_domain
 
 format = lazy_module("cli.format")  # msgspec and the message types load when a command prints one
@@ -525,8 +525,6 @@ def record(
 
     Example: turtlectl record -a -o run.mcap
     """
-    import threading
-
     from cli import record as recording
     from cli.bag import refuse_existing
     from cli.version import version
@@ -535,19 +533,19 @@ def record(
     keys, excluded = recording.keys_to_record(topics or [], all_topics, exclude)
     path = output or recording.default_path()
     refuse_existing(path)
-    stop = threading.Event()
-    for sig in (signal.SIGINT, signal.SIGTERM):
-        signal.signal(sig, lambda *_: stop.set())
-    live = sys.stderr.isatty()
-    typer.echo(
-        f"recording {', '.join(keys)} into {path}" + (f" (not {', '.join(excluded)})" if excluded else ""), err=True
-    )
-    last = None
-    for last in recording.record(connect, keys, excluded, path, duration, stop, f"turtlectl {version()}", scene):
-        if live and not last.done:
-            typer.echo("\r\033[K" + format.recording_line(last.elapsed, last.messages, last.size), nl=False, err=True)
-    if live:
-        typer.echo("\r\033[K", nl=False, err=True)
+    with stop_on_signals() as stop:
+        live = sys.stderr.isatty()
+        typer.echo(
+            f"recording {', '.join(keys)} into {path}" + (f" (not {', '.join(excluded)})" if excluded else ""), err=True
+        )
+        last = None
+        for last in recording.record(connect, keys, excluded, path, duration, stop, f"turtlectl {version()}", scene):
+            if live and not last.done:
+                typer.echo(
+                    "\r\033[K" + format.recording_line(last.elapsed, last.messages, last.size), nl=False, err=True
+                )
+        if live:
+            typer.echo("\r\033[K", nl=False, err=True)
     if last is not None:
         _result(
             f"recorded {last.messages} messages in {last.elapsed:.1f} s into {path} ({format.size_text(last.size)})"
@@ -591,8 +589,6 @@ def play(
 
     Example: turtlectl play run.mcap --rate 2
     """
-    import threading
-
     from cli import play as player
     from cli.bag import Recording
 
@@ -603,29 +599,27 @@ def play(
     recording = Recording(file)
     if not recording.closed:
         typer.echo(f"warning: {file} was not closed (the recorder was killed?): playing what is complete", err=True)
-    stop = threading.Event()
-    for sig in (signal.SIGINT, signal.SIGTERM):
-        signal.signal(sig, lambda *_: stop.set())
-    live = sys.stdin.isatty() and sys.stderr.isatty()
-    played = 0
-    shown = ""
-    with player.space_toggles(live) as paused:
-        for item in player.play(
-            connect, recording, rate, start_offset, keys, remaps, keep_stamps, loop, paused, stop.is_set
-        ):
-            played += not item.paused
-            state = "paused" if item.paused else "playing"
-            if live and (state != shown or item.index % 25 == 0 or item.index + 1 == item.total):
-                shown = state
-                typer.echo(
-                    f"\r\033[K{state} {item.offset:8.2f} s  {item.index + 1}/{item.total}"
-                    + (f"  loop {item.loop + 1}" if loop else "")
-                    + "  (space: pause)",
-                    nl=False,
-                    err=True,
-                )
-    if live:
-        typer.echo("\r\033[K", nl=False, err=True)
+    with stop_on_signals() as stop:
+        live = sys.stdin.isatty() and sys.stderr.isatty()
+        played = 0
+        shown = ""
+        with player.space_toggles(live) as paused:
+            for item in player.play(
+                connect, recording, rate, start_offset, keys, remaps, keep_stamps, loop, paused, stop.is_set
+            ):
+                played += not item.paused
+                state = "paused" if item.paused else "playing"
+                if live and (state != shown or item.index % 25 == 0 or item.index + 1 == item.total):
+                    shown = state
+                    typer.echo(
+                        f"\r\033[K{state} {item.offset:8.2f} s  {item.index + 1}/{item.total}"
+                        + (f"  loop {item.loop + 1}" if loop else "")
+                        + "  (space: pause)",
+                        nl=False,
+                        err=True,
+                    )
+        if live:
+            typer.echo("\r\033[K", nl=False, err=True)
     _result(f"played {played} messages from {file}")
 
 
@@ -643,7 +637,6 @@ def foxglove(
 
     Example: turtlectl foxglove   (then in Foxglove: Open connection, ws://127.0.0.1:8765)
     """
-    import threading
     from importlib import resources
 
     if layout is not None:
@@ -662,20 +655,19 @@ def foxglove(
         raise BadInput(f"--host {host!r} is not an IP address (e.g. 127.0.0.1)") from None
     from cli import bridge
 
-    stop = threading.Event()
-    for sig in (signal.SIGINT, signal.SIGTERM):
-        signal.signal(sig, lambda *_: stop.set())
+    with stop_on_signals() as stop:
 
-    def started(server) -> None:
-        where = f"ws://{address}:{server.port}"
-        typer.echo(f"serving Foxglove on {where}; open {server.app_url()} or connect the app to {where}", err=True)
-        if not ipaddress.ip_address(address).is_loopback:
-            typer.echo(
-                f"warning: anyone who can reach {address}:{server.port} sees the robot and can send it goals", err=True
-            )
+        def started(server) -> None:
+            where = f"ws://{address}:{server.port}"
+            typer.echo(f"serving Foxglove on {where}; open {server.app_url()} or connect the app to {where}", err=True)
+            if not ipaddress.ip_address(address).is_loopback:
+                typer.echo(
+                    f"warning: anyone who can reach {address}:{server.port} sees the robot and can send it goals",
+                    err=True,
+                )
 
-    for _ in bridge.serve(connect, address, port, stop, started):
-        pass
+        for _ in bridge.serve(connect, address, port, stop, started):
+            pass
 
 
 def client_key(text: str) -> str:
