@@ -19,16 +19,26 @@ import numpy as np
 
 from nodes.planner import Circle
 
+#: m a circle reaches beyond the hits it covers: room for the surface between hits, and for
+#: what a sparse or late scan shows of it (0.02 let a turtle circling a ring of such things
+#: come to 0.23 m of one, tests/unit/nodes/test_goal_machine.py)
+PAD = 0.07
+#: m a single hit's circle reaches beyond it (near a goal, where the turtle drives slowly)
+HIT_PAD = 0.02
+
 
 class Costmap:
     """Cells of ``resolution`` m over the square world [0, size]^2; ``grid`` is True where
-    something is (False: free, or never seen)."""
+    something is (False: free, or never seen), and ``hits`` holds, for each such cell, the
+    latest hit (m) that marked it: where the thing was seen, not the cell's centre (a cell
+    alone would place a surface up to a cell nearer than it is)."""
 
     def __init__(self, size: float, resolution: float = 0.1):
         self.size = size
         self.resolution = resolution
         self.cells = max(1, math.ceil(size / resolution))
         self.grid = np.zeros((self.cells, self.cells), dtype=bool)  # [ix, iy]
+        self.hits = np.zeros((self.cells, self.cells, 2))  # [ix, iy] -> (x, y), where grid is True
         centres = (np.arange(self.cells) + 0.5) * resolution
         self._cx, self._cy = np.meshgrid(centres, centres, indexing="ij")
 
@@ -70,14 +80,29 @@ class Costmap:
             ix = np.clip((p[:, 0] / self.resolution).astype(int), 0, self.cells - 1)
             iy = np.clip((p[:, 1] / self.resolution).astype(int), 0, self.cells - 1)
             self.grid[ix, iy] = True
+            self.hits[ix, iy] = p
 
     def occupied(self) -> np.ndarray:
-        """Centres (m), shape (n, 2), of the cells where something is."""
-        ix, iy = np.nonzero(self.grid)
-        return np.column_stack(((ix + 0.5) * self.resolution, (iy + 0.5) * self.resolution))
+        """The hits (m), shape (n, 2), of the cells where something is."""
+        return self.hits[self.grid]
+
+    def within(self, x: float, y: float, r: float) -> np.ndarray:
+        """The hits (m), shape (n, 2), within ``r`` m of (x, y)."""
+        p = self.occupied()
+        return p[np.hypot(p[:, 0] - x, p[:, 1] - y) <= r + 1e-9]
+
+    def nearest(self, x: float, y: float) -> tuple[float, tuple[float, float] | None]:
+        """The distance (m) from (x, y) to the nearest thing seen, and where that is (inf and
+        None if nothing is)."""
+        p = self.occupied()
+        if not len(p):
+            return math.inf, None
+        d = np.hypot(p[:, 0] - x, p[:, 1] - y)
+        k = int(np.argmin(d))
+        return float(d[k]), (float(p[k, 0]), float(p[k, 1]))
 
     def circles(self, piece: float = 0.5, most: int = 24) -> list[Circle]:
-        """The marked cells as circles (m) that cover every one of them whole: the cells in
+        """The marked cells as circles (m) that cover the hits of every one of them: the cells in
         each square of side ``piece`` of the world, one circle for each group of them that
         touch (larger squares if that would give more than ``most`` circles: the planner's
         cost grows with the cube of their number; past one square over the whole world,
@@ -86,8 +111,7 @@ class Costmap:
         ix, iy = np.nonzero(self.grid)
         if not len(ix):
             return []
-        xy = np.column_stack(((ix + 0.5) * self.resolution, (iy + 0.5) * self.resolution))
-        half_cell = self.resolution / math.sqrt(2.0)
+        xy = self.hits[ix, iy]
         side = piece
         while True:
             tiles = np.floor(xy / side).astype(int)
@@ -97,7 +121,7 @@ class Costmap:
             for k in range(int(which.max()) + 1):
                 members = np.flatnonzero(which == k)
                 for group in _touching(ix[members], iy[members]):
-                    circles.append(_cover(xy[members[group]], half_cell))
+                    circles.append(_cover(xy[members[group]]))
             if len(circles) <= most or side > self.size:  # one square over the world: growing it changes nothing
                 return _merge(circles, most)
             side *= 1.5
@@ -131,11 +155,11 @@ def _enclosing(a: Circle, b: Circle) -> Circle:
     return Circle(a.x + t * (b.x - a.x), a.y + t * (b.y - a.y), r)
 
 
-def _cover(xy: np.ndarray, half_cell: float) -> Circle:
-    """A circle (m) round points ``xy`` (cell centres) and the cells about them."""
+def _cover(xy: np.ndarray) -> Circle:
+    """A circle (m) round the hits ``xy``, ``PAD`` beyond them."""
     lo, hi = xy.min(axis=0), xy.max(axis=0)
     cx, cy = 0.5 * (lo + hi)
-    return Circle(float(cx), float(cy), float(np.max(np.hypot(xy[:, 0] - cx, xy[:, 1] - cy))) + half_cell)
+    return Circle(float(cx), float(cy), float(np.max(np.hypot(xy[:, 0] - cx, xy[:, 1] - cy))) + PAD)
 
 
 def _touching(ix: np.ndarray, iy: np.ndarray) -> list[np.ndarray]:

@@ -67,7 +67,7 @@ from nodes.control import (
     path_remaining_time,
     remaining_time,
 )
-from nodes.costmap import Costmap
+from nodes.costmap import HIT_PAD, Costmap
 from nodes.goal import allowed_speed, goal_problem, no_way
 from nodes.params import NavigatorParams
 from nodes.planner import Circle, Path, Segment, Track, containing, escape, inflate, shortest_path, wall_plugs
@@ -313,10 +313,20 @@ class GoalMachine(Generic[C]):
         """The shortest way from ``pose`` to (x, y) round the declared obstacles and ``seen``,
         through no gap between one of them and a wall too narrow for the turtle (unless the
         goal lies in it)."""
+        seen = [part for c in seen for part in self._split_on(x, y, c)]
         circles = self.declared + seen
         plugs = wall_plugs(circles, self.world.size, self.params.robot_radius)
         circles += [c for c in plugs if containing(x, y, [c]) is None]
         return shortest_path((pose.x, pose.y), (x, y), escape(pose.x, pose.y, circles), self.world.size)
+
+    def _split_on(self, x: float, y: float, seen: Circle) -> list[Circle]:
+        """``seen`` (one of ``_seen()``), or if (x, y) lies in it, one circle for each hit it
+        covers: a circle covers its hits with room to spare (up to half a costmap square), which
+        must not put a goal beyond the margin of everything seen inside the margin."""
+        if containing(x, y, [seen]) is None:
+            return [seen]
+        hits = self.costmap.within(seen.x, seen.y, seen.r - self.keep)
+        return [Circle(float(hx), float(hy), HIT_PAD + self.keep) for hx, hy in hits]
 
     def _walled_in(self, pose: Pose, request: NavigateToRequest) -> str:
         """Which of the turtle and the goal the declared obstacles enclose, when no way joins
@@ -372,11 +382,11 @@ class GoalMachine(Generic[C]):
         if goal.path is None:  # no way round what the scan sees: wait
             self._out.append(Twist())
             target = goal.target
-            on_goal = containing(target.x, target.y, self._seen()) if self.scans_fresh(now) else None
+            gap, near = self.costmap.nearest(target.x, target.y) if self.scans_fresh(now) else (math.inf, None)
             why = (
-                f"something the scan sees lay within {self.keep:g} m of the goal (at "
-                f"({on_goal.x:.2f}, {on_goal.y:.2f}), radius about {on_goal.r - self.keep:.2f} m)"
-                if on_goal is not None
+                f"something the scan sees lay within {self.keep:g} m of the goal (seen at "
+                f"({near[0]:.2f}, {near[1]:.2f}), {gap:.2f} m from it)"
+                if near is not None and gap < self.keep
                 else "there was no way round what the scan sees"
             )
             self._check_blocked_timeout(goal, now, why)

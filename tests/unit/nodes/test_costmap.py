@@ -3,9 +3,10 @@
 import math
 
 import numpy as np
+import pytest
 
 from messages.world import Obstacle, World
-from nodes.costmap import Costmap
+from nodes.costmap import PAD, Costmap
 from nodes.planner import containing
 from nodes.scan import hit_points, off_walls
 from sim.lidar import beam_angles, cast_rays
@@ -40,8 +41,17 @@ def test_the_far_side_of_a_thing_stays_known_after_the_turtle_has_driven_round_i
     marked = costmap.occupied()
     assert marked[:, 0].min() < 5.1 and marked[:, 0].max() > 5.9
     circles = costmap.circles()
-    for cx, cy in marked:  # every marked cell lies whole inside a circle
-        assert any(math.hypot(cx - c.x, cy - c.y) + 0.05 * math.sqrt(2) <= c.r + 1e-9 for c in circles)
+    assert np.allclose(np.hypot(marked[:, 0] - 5.5, marked[:, 1] - 5.5), 0.5, atol=1e-6)  # where seen, not cells
+    for hx, hy in marked:  # every hit lies inside a circle, PAD from its edge
+        assert any(math.hypot(hx - c.x, hy - c.y) + PAD <= c.r + 1e-9 for c in circles)
+
+
+def test_the_nearest_thing_seen_is_measured_to_its_hit_not_its_cell():
+    costmap = Costmap(SIZE)
+    look(costmap, 5.5, 5.0, World(size=SIZE, obstacles=[Obstacle(x=5.5, y=8.0, radius=0.4)]))
+    distance, where = costmap.nearest(5.5, 7.1)
+    assert distance == pytest.approx(0.5, abs=1e-6) and where == pytest.approx((5.5, 7.6), abs=1e-6)
+    assert Costmap(SIZE).nearest(1.0, 1.0) == (math.inf, None)
 
 
 def test_only_the_beams_field_of_view_is_cleared():
