@@ -161,7 +161,7 @@ FIELDS: dict[str, dict[str, tuple[str, str, str]]] = {
         "reason": (
             "-",
             "text",
-            'empty on success; else a short word for programs: "invalid goal: ...", "unreachable: ..." (no way round the declared obstacles), "battery low", "preempted", "canceled", "caller gone", "teleported", "reset", "blocked", "no pose", "timeout", "navigator shut down"',
+            'empty on success; else a short word for programs: "invalid goal", "unreachable" (no way round the declared obstacles; detail says why), "battery low", "preempted", "canceled", "caller gone", "teleported", "reset", "blocked", "no pose", "timeout", "navigator shut down"',
         ),
         "refused": (
             "-",

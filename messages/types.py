@@ -175,7 +175,7 @@ class NavigateToResponse(Message, tag="NavigateToResponse"):
     reason: empty on success, otherwise why the goal was not reached: one of
         ``"blocked"``, ``"timeout"``, ``"canceled"``, ``"preempted"``, ``"caller gone"``,
         ``"no pose"``, ``"teleported"``, ``"reset"``, ``"navigator shut down"``,
-        ``"battery low"``, or a refusal that starts ``"invalid goal: "`` or ``"unreachable: "``.
+        ``"battery low"``, ``"invalid goal"`` or ``"unreachable"`` (refusals; ``detail`` says why).
     position_error: final distance to the goal position, m.
     heading_error: final absolute heading error, degrees.
     x, y, theta: final pose (m, m, degrees [0, 360)).

@@ -12,21 +12,22 @@ from messages.world import World
 
 
 def goal_problem(request: NavigateToRequest, world: World, keep: float = 0.0) -> str | None:
-    """Why ``request`` cannot be a goal in ``world``, or None if it can: the turtle keeps
+    """Why ``request`` cannot be a goal in ``world`` (a sentence for the response's detail; its
+    reason is "invalid goal"), or None if it can: the turtle keeps
     ``keep`` m (its size and a margin) from every obstacle, so a goal nearer one is refused."""
     for name in ("x", "y", "theta"):
         value = getattr(request, name)
         if not math.isfinite(value):
-            return f"invalid goal: {name} is {value} (finite numbers only; theta in degrees, any finite value)"
+            return f"{name} is {value} (finite numbers only; theta in degrees, any finite value)"
     if not world.contains(request.x, request.y):
-        return f"invalid goal: ({request.x:g}, {request.y:g}) is outside the world [0, {world.size:.10g}] m"
+        return f"({request.x:g}, {request.y:g}) is outside the world [0, {world.size:.10g}] m"
     for obstacle in world.obstacles:
         gap = math.hypot(request.x - obstacle.x, request.y - obstacle.y) - obstacle.radius
         if gap <= 0.0:
-            return f"invalid goal: ({request.x:g}, {request.y:g}) is inside an obstacle"
+            return f"({request.x:g}, {request.y:g}) is inside an obstacle"
         if gap < keep:
             return (
-                f"invalid goal: ({request.x:g}, {request.y:g}) is {gap:.2f} m from the obstacle at "
+                f"({request.x:g}, {request.y:g}) is {gap:.2f} m from the obstacle at "
                 f"({obstacle.x:g}, {obstacle.y:g}), radius {obstacle.radius:g} m: the turtle keeps {keep:g} m "
                 "from obstacles (the navigator's robot_radius + clearance)"
             )
@@ -34,10 +35,11 @@ def goal_problem(request: NavigateToRequest, world: World, keep: float = 0.0) ->
 
 
 def no_way(x: float, y: float, goal_x: float, goal_y: float, keep: float, walled_in: str) -> str:
-    """The reason a goal is refused when no path reaches it from (x, y) (m); ``walled_in``
+    """Why a goal is refused as "unreachable" when no path reaches it from (x, y) (m), a
+    sentence for the response's detail; ``walled_in``
     names what the obstacles enclose ("the goal", "the turtle")."""
     return (
-        f"unreachable: no way from ({x:.2f}, {y:.2f}) to ({goal_x:g}, {goal_y:g}) keeps {keep:g} m from every "
+        f"no way from ({x:.2f}, {y:.2f}) to ({goal_x:g}, {goal_y:g}) keeps {keep:g} m from every "
         f"obstacle (the navigator's robot_radius + clearance): {walled_in} is walled in by obstacles"
     )
 

@@ -146,10 +146,13 @@ class GoalMachine(Generic[C]):
     def start(self, request: NavigateToRequest, caller: C, now: float) -> list[Action]:
         """A new goal from ``caller``: refused at once, or run (preempting the running one)."""
         p = self.params
-        problem, detail = goal_problem(request, self.world, self.keep), ""
+        problem, detail = None, goal_problem(request, self.world, self.keep)
+        if detail is not None:
+            problem = "invalid goal"
         here = self.latest_pose
         if problem is None and here is not None and self._plan(here, request.x, request.y, []) is None:
-            problem = no_way(here.x, here.y, request.x, request.y, self.keep, self._walled_in(here, request))
+            problem = "unreachable"
+            detail = no_way(here.x, here.y, request.x, request.y, self.keep, self._walled_in(here, request))
         if problem is None and self.battery is not None and self.battery < p.min_battery:
             problem = "battery low"
             detail = (
@@ -158,7 +161,9 @@ class GoalMachine(Generic[C]):
             )
         if problem is not None:
             theta = degrees_0_360(request.theta)
-            self._note(logging.INFO, f"refused goal ({request.x:g}, {request.y:g}, {theta:.1f} deg): {problem}")
+            self._note(
+                logging.INFO, f"refused goal ({request.x:g}, {request.y:g}, {theta:.1f} deg): {problem}: {detail}"
+            )
             where = {}
             if here is not None:
                 where = {"x": here.x, "y": here.y, "theta": heading_degrees(here.theta)}
@@ -330,19 +335,18 @@ class GoalMachine(Generic[C]):
 
     def _walled_in(self, pose: Pose, request: NavigateToRequest) -> str:
         """Which of the turtle and the goal the declared obstacles enclose, when no way joins
-        them: the one that reaches none of the world's free corners ("the goal" if neither does)."""
+        them: the one that reaches fewer of the world's free corners (a pocket at a corner
+        holds one; "the goal" if they reach as many)."""
         s = self.world.size
         corners = [
             (x, y) for x, y in ((0.0, 0.0), (s, 0.0), (0.0, s), (s, s)) if containing(x, y, self.declared) is None
         ]
 
-        def reaches_out(x: float, y: float) -> bool:
+        def reached(x: float, y: float) -> int:
             circles = escape(x, y, self.declared)
-            return any(shortest_path((x, y), c, circles, s) is not None for c in corners)
+            return sum(shortest_path((x, y), c, circles, s) is not None for c in corners)
 
-        if reaches_out(request.x, request.y) and not reaches_out(pose.x, pose.y):
-            return "the turtle"
-        return "the goal"
+        return "the turtle" if reached(pose.x, pose.y) < reached(request.x, request.y) else "the goal"
 
     def _replan(self, goal: Goal[C], now: float, why: str) -> None:
         """Plan the goal's path from where the turtle is (``why``: the reason to log, empty

@@ -108,7 +108,8 @@ def test_something_undeclared_that_comes_into_view_on_the_path_is_planned_round(
     poses = track.close()
     assert response.success, response
     assert len(feedback[0].path) == 2  # nothing known in the way at first: straight
-    assert feedback[-1].replans >= 1 and len(feedback[-1].path) > 2, feedback[-1]
+    assert feedback[-1].replans >= 1, feedback[-1]
+    assert any(len(f.path) > 2 for f in feedback)  # a way round it (past it, the last may be straight again)
     assert nearest(poses, 5.5, 3.0, 0.4) >= ROBOT_RADIUS
 
 
@@ -129,11 +130,13 @@ def test_a_goal_too_near_a_declared_obstacle_is_refused_at_once_with_the_distanc
     system.teleport(5.0, 5.0, 0.0)
     response, elapsed, _ = system.navigate(2.0, 9.7, 0.0)  # 0.2 m from the obstacle at (2, 9), r 0.5
     assert response.refused and elapsed < 1.0, response
-    assert response.reason.startswith("invalid goal: (2, 9.7) is 0.20 m from the obstacle at (2, 9)"), response
+    assert response.reason == "invalid goal", response
+    assert response.detail.startswith("(2, 9.7) is 0.20 m from the obstacle at (2, 9)"), response
 
 
 def test_a_goal_walled_in_by_declared_obstacles_is_refused_at_once(system):
     system.teleport(5.0, 5.0, 0.0)
     response, elapsed, _ = system.navigate(9.5, 5.0, 0.0)  # inside the ring of eight round (9.5, 5)
     assert response.refused and elapsed < 1.0, response
-    assert response.reason.startswith("unreachable: no way from (5.00, 5.00) to (9.5, 5)"), response
+    assert response.reason == "unreachable", response
+    assert response.detail.startswith("no way from (5.00, 5.00) to (9.5, 5)"), response

@@ -56,7 +56,11 @@ SPAWN = (5.544445, 5.544445)
 @pytest.mark.parametrize("goal", [(2.0, 9.6), (2.6, 9.0), (9.0, 2.8)])
 def test_a_goal_nearer_an_obstacle_than_the_turtle_keeps_is_refused_with_the_distance(goal):
     problem = goal_problem(NavigateToRequest(x=goal[0], y=goal[1], theta=0.0), DEFAULT_WORLD, 0.45)
-    assert problem is not None and problem.startswith("invalid goal: ") and "m from the obstacle at (" in problem
+    assert (
+        problem is not None
+        and problem.startswith(f"({goal[0]:g}, {goal[1]:g}) is ")
+        and "m from the obstacle at (" in problem
+    )
     assert "keeps 0.45 m" in problem
 
 

@@ -106,9 +106,9 @@ def test_with_a_recent_scan_no_warning_at_the_start():
 @pytest.mark.parametrize(
     "request_, starts",
     [
-        (goal(x=math.nan), "invalid goal: x is nan"),
-        (goal(theta=math.inf), "invalid goal: theta is inf"),
-        (goal(x=20.0), "invalid goal: (20, 5) is outside the world"),
+        (goal(x=math.nan), "x is nan"),
+        (goal(theta=math.inf), "theta is inf"),
+        (goal(x=20.0), "(20, 5) is outside the world"),
     ],
 )
 def test_an_invalid_goal_is_refused_at_once(request_, starts):
@@ -116,7 +116,9 @@ def test_an_invalid_goal_is_refused_at_once(request_, starts):
     actions = m.start(request_, "caller", 3.0)
     reply = only_reply(actions)
     assert reply.to == "caller" and reply.response.refused and not reply.response.success
-    assert reply.response.reason.startswith(starts) and reply.response.time_taken == 0.0
+    assert reply.response.time_taken == 0.0
+    # review of issue 12: a short reason for programs, the sentence in detail (the reason held it all)
+    assert reply.response.reason == "invalid goal" and reply.response.detail.startswith(starts), reply
     assert (reply.response.x, reply.response.y) == (0.0, 0.0)  # no pose known: no position
     assert notes(actions)[0].startswith("refused goal (") and m.goal is None and twists(actions) == []
 
@@ -126,8 +128,9 @@ def test_a_goal_walled_in_by_declared_obstacles_is_refused_with_the_pose():
     m = machine(World(size=11.0, obstacles=ring))
     m.pose(pose(theta=math.pi / 2), 0.0)
     reply = only_reply(m.start(goal(), "caller", 0.0))
-    assert reply.response.refused and reply.response.reason.startswith("unreachable: no way from (2.00, 5.00)")
-    assert reply.response.reason.endswith("the goal is walled in by obstacles")
+    assert reply.response.refused and reply.response.reason == "unreachable"
+    assert reply.response.detail.startswith("no way from (2.00, 5.00)")
+    assert reply.response.detail.endswith("the goal is walled in by obstacles")
     assert (reply.response.x, reply.response.y, reply.response.theta) == pytest.approx((2.0, 5.0, 90.0))
 
 
@@ -137,9 +140,21 @@ def test_a_turtle_walled_in_is_told_so_not_that_the_goal_is():
     ring = [Obstacle(x=2.0 + 1.2 * math.cos(a), y=5.0 + 1.2 * math.sin(a), radius=0.3) for a in range(0, 7)]
     m = machine(World(size=11.0, obstacles=ring))
     m.pose(pose(), 0.0)  # (2, 5): the ring's centre
-    reason = only_reply(m.start(goal(), "caller", 0.0)).response.reason
+    reason = only_reply(m.start(goal(), "caller", 0.0)).response.detail
     assert reason.endswith("the turtle is walled in by obstacles"), reason
     assert "the goal is" not in reason
+
+
+@pytest.mark.parametrize(
+    ("turtle", "target", "walled"), [((0.2, 0.2), (5.0, 5.0), "turtle"), ((5.0, 5.0), (0.2, 0.2), "goal")]
+)
+def test_a_pocket_between_an_obstacle_and_a_corner_is_told_as_walling_in_what_is_in_it(turtle, target, walled):
+    """Review of issue 12: a turtle in a corner closed off by an obstacle was told "the goal is
+    walled in": the pocket holds a corner of the world, which counted as reaching out."""
+    m = machine(World(size=11.0, obstacles=[Obstacle(x=1.0, y=1.0, radius=0.6)]))
+    m.pose(pose(*turtle), 0.0)
+    reason = only_reply(m.start(goal(*target), "caller", 0.0)).response.detail
+    assert reason.endswith(f"the {walled} is walled in by obstacles"), reason
 
 
 def test_a_goal_behind_a_declared_obstacle_gets_a_path_round_it():
@@ -161,7 +176,7 @@ def test_battery_low_refuses_and_a_refusal_leaves_the_running_goal_alone():
     assert reply.response.detail == (
         "battery at 3.0 %, below the navigator's min_battery 5 %: `turtlectl reset` recharges it"
     )
-    assert notes(actions) == ["refused goal (3, 5, 0.0 deg): battery low"]
+    assert notes(actions) == [f"refused goal (3, 5, 0.0 deg): battery low: {reply.response.detail}"]
     assert m.goal is not None and m.goal.caller == "caller"
 
 
