@@ -42,10 +42,6 @@ class Costmap:
         centres = (np.arange(self.cells) + 0.5) * resolution
         self._cx, self._cy = np.meshgrid(centres, centres, indexing="ij")
 
-    def clear(self) -> None:
-        """Forget everything."""
-        self.grid[:] = False
-
     def update(
         self,
         x: float,
