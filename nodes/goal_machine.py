@@ -327,11 +327,16 @@ class GoalMachine(Generic[C]):
     def _split_on(self, x: float, y: float, seen: Circle) -> list[Circle]:
         """``seen`` (one of ``_seen()``), or if (x, y) lies in it, one circle for each hit it
         covers: a circle covers its hits with room to spare (up to half a costmap square), which
-        must not put a goal beyond the margin of everything seen inside the margin."""
+        must not put a goal beyond the margin of everything seen inside the margin.  So a goal
+        is walled in by what is seen exactly when a hit lies within ``keep`` of it."""
         if containing(x, y, [seen]) is None:
             return [seen]
-        hits = self.costmap.within(seen.x, seen.y, seen.r - self.keep)
-        return [Circle(float(hx), float(hy), HIT_PAD + self.keep) for hx, hy in hits]
+        parts = []
+        for hx, hy in self.costmap.within(seen.x, seen.y, seen.r - self.keep):
+            r, d = HIT_PAD + self.keep, math.hypot(x - hx, y - hy)
+            # a goal at least ``keep`` from a hit is outside its circle: the pad is not the margin
+            parts.append(Circle(float(hx), float(hy), r if d < self.keep else min(r, d - 1e-6)))
+        return parts
 
     def _walled_in(self, pose: Pose, request: NavigateToRequest) -> str:
         """Which of the turtle and the goal the declared obstacles enclose, when no way joins

@@ -648,7 +648,7 @@ def test_an_undeclared_obstacle_near_a_wall_is_passed_on_the_open_side_at_a_safe
     assert gap >= PARAMS.robot_radius, gap
 
 
-@pytest.mark.parametrize(("goal_y", "rock_y"), [(7.0, 8.0), (7.1, 8.0), (7.12, 8.0)])
+@pytest.mark.parametrize(("goal_y", "rock_y"), [(7.0, 8.0), (7.1, 8.0), (7.12, 8.0), (7.14, 8.0)])
 def test_a_goal_just_beyond_the_margin_of_something_only_the_scan_sees_is_reached(goal_y, rock_y):
     """Review of issue 12: a goal 0.5-0.6 m from an obstacle only the scan sees (the turtle keeps
     0.45 m) waited 10 s and ended "blocked": the circles covering the costmap's cells reach
