@@ -23,16 +23,22 @@ def _problem(exc: msgspec.ValidationError) -> str:
     return f"{path}: {what}" if path else what
 
 
+def type_named(name: str) -> type[Message]:
+    """The message type called ``name`` (any case); BadInput naming the known ones otherwise."""
+    found = {n.lower(): t for n, t in TYPES_BY_NAME.items()}.get(name.lower())
+    if found is None:
+        names = ", ".join(sorted(TYPES_BY_NAME))
+        raise BadInput(f"unknown message type {name!r} (known: {names}; `turtlectl interface show TYPE` for fields)")
+    return found
+
+
 def message_type(key: str, type_name: str | None, table: dict[str, Any], verb: str = "carries") -> type[Message]:
     """The message type for ``key``: the one ``table`` declares (a known key keeps its own
     type: ``--type`` naming another is refused, "KEY <verb> Twist, not Pose"), else ``type_name``."""
     entry = table.get(key)
     known = None if entry is None else (entry[0] if isinstance(entry, tuple) else entry)
     if type_name is not None:
-        found = TYPES_BY_NAME.get(type_name)
-        if found is None:
-            names = ", ".join(sorted(TYPES_BY_NAME))
-            raise BadInput(f"unknown message type {type_name!r} (known: {names})")
+        found = TYPES_BY_NAME.get(type_name) or type_named(type_name)
         if known is not None and found is not known:
             raise BadInput(f"{key} {verb} {known.__name__}, not {found.__name__}")
         return found

@@ -352,6 +352,38 @@ def list_graph(
     _result(format.json_value(current) if json else graph_text(current))
 
 
+interface_app = typer.Typer(help="Message types: list them, show one's fields, units and defaults.")
+app.add_typer(interface_app, name="interface")
+
+
+@interface_app.command("list")
+def interface_list(json: bool = typer.Option(False, "--json", help="One JSON array.")) -> None:
+    """Every message type on the wire, with the keys that carry it (as `ros2 interface list`).
+
+    Example: turtlectl interface list
+    """
+    from cli import interface
+
+    rows = interface.listing()
+    _result(format.json_value(rows) if json else interface.listing_text(rows))
+
+
+@interface_app.command("show")
+def interface_show(
+    type_: str = typer.Argument(..., metavar="TYPE", help="A message type, e.g. Twist (any case)."),
+    json: bool = typer.Option(False, "--json", help="One JSON object."),
+) -> None:
+    """A message type's fields: type, default, unit, range and meaning; its wire tag,
+    encoding and keys (as `ros2 interface show`).
+
+    Example: turtlectl interface show TurtleStatus
+    """
+    from cli import interface
+
+    described = interface.description(type_)
+    _result(format.json_value(described) if json else interface.description_text(described))
+
+
 @app.command()
 def hz(
     names: list[str] = typer.Argument(..., metavar="TOPIC", help="One or more key expressions."),

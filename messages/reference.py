@@ -1,0 +1,318 @@
+"""What code cannot say about the wire contract, in one place: the unit, range and meaning of
+every field of every message type, and who publishes each key, when and how to use it.
+Read by ``turtlectl interface`` and by docs/gen_interfaces.py (docs/interfaces.md);
+tests/unit/docs/test_gen_interfaces.py fails when a field or key has no entry here, or an
+entry names one that no longer exists.  Pure data and formatting: no zenoh.
+"""
+
+from __future__ import annotations
+
+import inspect
+import math
+
+import msgspec
+
+from messages import GoalState, keys
+
+STAMP = ("ns", ">= 0", "wall-clock time at publishing, ns since the Unix epoch (0 if the sender did not stamp it)")
+SEQ = ("count", ">= 0", "per-publisher counter from 0; starts again at 0 when the publisher restarts")
+
+# (type, field) -> (unit, range or values, meaning).  Every field of every wire type.
+FIELDS: dict[str, dict[str, tuple[str, str, str]]] = {
+    "Twist": {
+        "linear": (
+            "m/s",
+            "any finite value; the sim clamps it to [-max_linear_speed, max_linear_speed] and ramps at max_linear_accel; non-finite stops the turtle",
+            "speed along the heading; negative drives backwards",
+        ),
+        "angular": (
+            "rad/s",
+            "any finite value; the sim clamps it to [-max_angular_speed, max_angular_speed] and ramps at max_angular_accel",
+            "yaw rate, counter-clockwise positive",
+        ),
+        "stamp": STAMP,
+        "seq": SEQ,
+    },
+    "Pose": {
+        "x": ("m", "[0, world size]", "position in the world frame"),
+        "y": ("m", "[0, world size]", "position in the world frame"),
+        "theta": ("rad", "[-pi, pi)", "heading; 0 along +x, counter-clockwise positive"),
+        "linear_velocity": ("m/s", "[-max_linear_speed, max_linear_speed]", "speed along the heading"),
+        "angular_velocity": ("rad/s", "[-max_angular_speed, max_angular_speed]", "yaw rate"),
+        "contact": ("-", "true / false", "the turtle touches a declared obstacle (it stops there, as at a wall)"),
+        "stamp": STAMP,
+        "seq": SEQ,
+    },
+    "TurtleStatus": {
+        "x": ("m", "[0, world size]", "position"),
+        "y": ("m", "[0, world size]", "position"),
+        "theta": ("degrees", "[0, 360)", "heading; 0 along +x, counter-clockwise positive"),
+        "vel_x": ("m/s", "any", "velocity along the world's x axis"),
+        "vel_y": ("m/s", "any", "velocity along the world's y axis"),
+        "battery": ("%", "[0, 100]", "simulated charge; drains with time and distance, full after a reset"),
+        "stamp": STAMP,
+        "seq": SEQ,
+    },
+    "LaserScan": {
+        "angle_min": (
+            "rad",
+            "[-pi, pi]",
+            "angle of beam 0, relative to the heading at origin_theta (0 = straight ahead, CCW positive)",
+        ),
+        "angle_max": ("rad", "angle_min + at most 2 pi", "angle of the last beam, relative to the heading"),
+        "angle_increment": (
+            "rad",
+            ">= 0",
+            "between consecutive beams: beam i points at angle_min + i * angle_increment",
+        ),
+        "range_min": ("m", ">= 0", "shortest range the sensor reports"),
+        "range_max": ("m", "> range_min", "longest range; farther hits are not reported"),
+        "ranges": (
+            "m",
+            "[0, range_max] or inf",
+            'one per beam: distance to the first hit, walls and declared obstacles (and phantoms) alike; inf = nothing within range_max (null in `echo --json`, "Infinity" in recordings); 0 on every beam inside an obstacle',
+        ),
+        "origin_x": ("m", "[0, world size] or NaN", "where the scan was taken (the turtle's position); NaN if unknown"),
+        "origin_y": ("m", "[0, world size] or NaN", "where the scan was taken; NaN if unknown"),
+        "origin_theta": (
+            "rad",
+            "[-pi, pi) or NaN",
+            "the turtle's heading when the scan was taken; world angle of beam i = origin_theta + angle_min + i * angle_increment",
+        ),
+        "stamp": STAMP,
+        "seq": SEQ,
+    },
+    "NavigateToRequest": {
+        "x": (
+            "m",
+            "[0, world size], at least the navigator's robot_radius + clearance from every declared obstacle",
+            "goal position",
+        ),
+        "y": (
+            "m",
+            "[0, world size], at least the navigator's robot_radius + clearance from every declared obstacle",
+            "goal position",
+        ),
+        "theta": ("degrees", "any finite value (taken modulo 360)", "goal heading"),
+        "client": (
+            "-",
+            "one key chunk, or empty",
+            'id of the caller\'s liveliness token @turtlectl/client/<id>; when that token vanishes the goal is canceled ("caller gone"); empty: none',
+        ),
+    },
+    "NavigateToFeedback": {
+        "state": ("-", ", ".join(f'"{s.value}"' for s in GoalState), "what the turtle does now"),
+        "distance_remaining": ("m", ">= 0", "distance to the goal position along the path"),
+        "heading_remaining": (
+            "degrees",
+            "[0, 180]",
+            "absolute difference between the heading now and the goal heading",
+        ),
+        "eta": ("s", ">= 0", "estimated time to arrival within the robot's limits"),
+        "elapsed": ("s", ">= 0", "since the navigator received the goal"),
+        "x": ("m", "[0, world size]", "position now"),
+        "y": ("m", "[0, world size]", "position now"),
+        "theta": ("degrees", "[0, 360)", "heading now"),
+        "goal_x": ("m", "[0, world size]", "the goal being run"),
+        "goal_y": ("m", "[0, world size]", "the goal being run"),
+        "goal_theta": ("degrees", "[0, 360)", "the goal heading"),
+        "scan_stale": (
+            "-",
+            "true / false",
+            "no scan newer than the navigator's scan_timeout: it avoids only the declared obstacles",
+        ),
+        "path": (
+            "m",
+            "points (x, y) in the world",
+            "the way the turtle follows, from where it was planned to the goal: a straight way is its two ends, "
+            'arcs round obstacles a point every 10 degrees; empty while there is no way (state "replanning")',
+        ),
+        "replans": (
+            "-",
+            ">= 0",
+            "times the path was planned again during this goal (something the scan sees in the way, or the turtle off its path)",
+        ),
+        "stamp": STAMP,
+        "seq": SEQ,
+    },
+    "NavigateToResponse": {
+        "success": ("-", "true / false", "the goal was reached within position_tolerance and heading_tolerance"),
+        "time_taken": ("s", ">= 0", "from the navigator receiving the request to this reply"),
+        "reason": (
+            "-",
+            "text",
+            'empty on success; else a short word for programs: "invalid goal", "unreachable" (no way round the declared obstacles; detail says why), "battery low", "preempted", "canceled", "caller gone", "teleported", "reset", "blocked", "no pose", "timeout", "navigator shut down"',
+        ),
+        "refused": (
+            "-",
+            "true / false",
+            "the goal never started (invalid, unreachable, battery low); x, y, theta are where the turtle is",
+        ),
+        "position_error": ("m", ">= 0", "final distance to the goal position"),
+        "heading_error": ("degrees", "[0, 180]", "final absolute heading error"),
+        "x": ("m", "[0, world size]", "final position"),
+        "y": ("m", "[0, world size]", "final position"),
+        "theta": ("degrees", "[0, 360)", "final heading"),
+        "detail": (
+            "-",
+            "text, or empty",
+            "a sentence for people: why, and what to do next (e.g. the battery level and `turtlectl reset`, what blocked the way); not meant to be parsed",
+        ),
+    },
+    "Cancel": {
+        "reason": ("-", "text, or empty", 'what the canceled goal\'s caller is told (empty: "canceled")'),
+    },
+    "TeleportAbsolute": {
+        "x": ("m", "[0, world size], not inside a declared obstacle", "new position"),
+        "y": ("m", "[0, world size], not inside a declared obstacle", "new position"),
+        "theta": (
+            "rad",
+            "any finite value (wrapped to [-pi, pi))",
+            "new heading, radians as turtlesim's (turtlectl teleport takes degrees)",
+        ),
+    },
+    "Reset": {},
+    "Ack": {
+        "ok": ("-", "true / false", "the request was carried out (false: e.g. cancel with no goal running)"),
+        "detail": ("-", "text", "a sentence for people saying what was done; not meant to be parsed"),
+    },
+    "ErrorReply": {
+        "error": (
+            "-",
+            "text",
+            "why the request could not be used (undecodable, unknown field, missing field, impossible pose)",
+        ),
+    },
+}
+
+# key -> (kind, payload, from -> to, when, how to use it)
+KEYS: dict[str, tuple[str, str, str, str, str]] = {
+    keys.CMD_VEL: (
+        "topic",
+        "Twist",
+        "navigator -> sim",
+        "with each pose, only while a goal runs",
+        "subscribe; publish to drive by hand (the sim stops 1 s (cmd_timeout) after the last one)",
+    ),
+    keys.POSE: ("topic", "Pose", "sim -> anyone", "62.5 Hz (every 16 ms simulation step)", "subscribe"),
+    keys.STATUS: ("topic", "TurtleStatus", "status_monitor -> anyone", "10 Hz", "subscribe"),
+    keys.OBSTACLES: ("topic", "LaserScan", "obstacle_detector -> navigator, anyone", "5 Hz", "subscribe"),
+    keys.FEEDBACK: (
+        "topic",
+        "NavigateToFeedback",
+        "navigator -> anyone (observers)",
+        "10 Hz, only while a goal runs",
+        "subscribe",
+    ),
+    keys.NAVIGATE_TO: (
+        "service",
+        "NavigateToRequest -> NavigateToFeedback replies, then one NavigateToResponse",
+        "client -> navigator",
+        "per goal; feedback at feedback_rate (10 Hz)",
+        "get with ConsolidationMode.NONE (the default consolidation delivers only the response, at the end)",
+    ),
+    keys.CANCEL: (
+        "service",
+        "Cancel -> Ack",
+        "client -> navigator",
+        "on request",
+        "get; Ack ok=false when no goal is running",
+    ),
+    keys.TELEPORT: (
+        "service",
+        "TeleportAbsolute -> Ack",
+        "client -> sim",
+        "on request",
+        "get; an ErrorReply (reply.err) for an impossible pose",
+    ),
+    keys.RESET: (
+        "service",
+        "Reset -> Ack from each server",
+        "client -> sim (pose), status_monitor (battery)",
+        "on request",
+        "get with QueryTarget.ALL and ConsolidationMode.NONE for both Acks (the default consolidation returns one)",
+    ),
+    keys.WORLD_KEY: (
+        "queryable",
+        "JSON (application/json): World",
+        "sim -> anyone (turtlectl view)",
+        "on request",
+        "get; fixed for the sim's lifetime",
+    ),
+    keys.params_key("<node>"): (
+        "queryable",
+        "JSON (application/json): the node's parameters",
+        "each node -> anyone",
+        "on request",
+        "get; the parameters the node runs with",
+    ),
+    f"{keys.NODE_TOKEN_PREFIX}/<name>/<pid>/<host>/<start_ns>": (
+        "liveliness token",
+        "-",
+        "each node -> anyone",
+        "while the node runs",
+        f"liveliness get or subscribe on `{keys.NODE_TOKEN_PREFIX}/**`",
+    ),
+    f"{keys.ENTITY_TOKEN_PREFIX}/<node>/<pid>/<role>/<Type>/<key>": (
+        "liveliness token",
+        "-",
+        "each node -> anyone (turtlectl list)",
+        "while the entity exists",
+        f"liveliness get on `{keys.ENTITY_TOKEN_PREFIX}/**`; role is pub, sub or srv; Type the message type (a service's request type; JSON for the JSON queryables); key may contain /",
+    ),
+    f"{keys.CLIENT_TOKEN_PREFIX}/<id>": (
+        "liveliness token",
+        "-",
+        "a navigate_to caller -> navigator",
+        "while the caller waits for its goal",
+        "declare it before the request, put <id> in NavigateToRequest.client; optional",
+    ),
+    f"{keys.DOMAIN_TOKEN_PREFIX}/<domain>": (
+        "liveliness token",
+        "-",
+        "a supervisor run with --domain -> anyone",
+        "while the supervisor runs",
+        "liveliness get on `@turtlectl/domain/*` from a session without namespace",
+    ),
+}
+
+
+def type_name(t: msgspec.inspect.Type) -> str:
+    if isinstance(t, msgspec.inspect.FloatType):
+        return "float"
+    if isinstance(t, msgspec.inspect.IntType):
+        return "int"
+    if isinstance(t, msgspec.inspect.BoolType):
+        return "bool"
+    if isinstance(t, msgspec.inspect.StrType):
+        return "str"
+    if isinstance(t, msgspec.inspect.EnumType) and issubclass(t.cls, str):
+        return "str"  # on the wire, the value; the range column lists the values
+    if isinstance(t, msgspec.inspect.ListType):
+        return f"list[{type_name(t.item_type)}]"
+    if isinstance(t, msgspec.inspect.StructType):
+        return t.cls.__name__
+    if isinstance(t, msgspec.inspect.DictType):
+        return "map"
+    return type(t).__name__.removesuffix("Type").lower()
+
+
+def default_text(field: msgspec.inspect.Field) -> str:
+    if field.required:
+        return "required"
+    value = field.default
+    if value is msgspec.NODEFAULT and field.default_factory is not msgspec.NODEFAULT:
+        value = field.default_factory()
+    if isinstance(value, float):
+        return "NaN" if math.isnan(value) else f"{value:.8g}"
+    if isinstance(value, msgspec.Struct):
+        return "(table)"
+    return msgspec.json.encode(value).decode()
+
+
+def doc(cls: type) -> str:
+    return inspect.cleandoc(cls.__doc__ or "").strip()
+
+
+def struct_fields(cls: type) -> list[msgspec.inspect.Field]:
+    return list(msgspec.inspect.type_info(cls).fields)
