@@ -6,9 +6,10 @@
 Field names, types, defaults and the type docstrings come from the msgspec Structs in
 ``messages/`` (``messages.ALL_TYPES``); keys and token formats from ``messages/keys.py``;
 parameters and the world from the nodes' parameter Structs.  What code cannot say (the
-unit, range and meaning of each field, who publishes each key and how often) is in the
-tables below, and tests/unit/docs/test_gen_interfaces.py fails when a Struct field or a key has no
-entry here, when an entry names a field or key that no longer exists, or when
+unit, range and meaning of each field, who publishes each key and how often) is in
+messages/reference.py (``turtlectl interface show`` reads it too), and
+tests/unit/docs/test_gen_interfaces.py fails when a Struct field or a key has no entry
+there, when an entry names a field or key that no longer exists, or when
 docs/interfaces.md differs from what this script renders: the reference cannot drift.
 """
 

@@ -33,7 +33,7 @@ def test_the_committed_reference_is_what_the_generator_renders_now():
 def test_every_field_of_every_type_has_a_unit_range_and_meaning(msg_type):
     fields = {f.name for f in msgspec.inspect.type_info(msg_type).fields}
     documented = gen.FIELDS.get(msg_type.__name__)
-    assert documented is not None, f"{msg_type.__name__} is not in docs/gen_interfaces.py FIELDS"
+    assert documented is not None, f"{msg_type.__name__} is not in messages/reference.py FIELDS"
     assert set(documented) == fields, (
         f"{msg_type.__name__}: undocumented {fields - set(documented)}, stale {set(documented) - fields}"
     )
