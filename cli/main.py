@@ -352,6 +352,60 @@ def list_graph(
     _result(format.json_value(current) if json else graph_text(current))
 
 
+param_app = typer.Typer(help="A running node's parameters: list, get, dump (as `ros2 param`).")
+app.add_typer(param_app, name="param")
+
+
+@param_app.command("list")
+def param_list(
+    node: str = typer.Argument(..., help="A node's name, as `turtlectl list` shows it."),
+    json: bool = typer.Option(False, "--json", help="One JSON array of names."),
+    connect: str = ConnectOption,
+    domain: str = DomainOption,
+) -> None:
+    """The names of a running node's parameters (a table's entries dotted: gains.lookahead).
+
+    Example: turtlectl param list navigator
+    """
+    from cli import params
+
+    names = params.names(params.fetch(connect, node))
+    _result(format.json_value(names) if json else "\n".join(names))
+
+
+@param_app.command("get")
+def param_get(
+    node: str = typer.Argument(..., help="A node's name, as `turtlectl list` shows it."),
+    name: str = typer.Argument(..., help="A parameter, e.g. goal_timeout or gains.lookahead."),
+    connect: str = ConnectOption,
+    domain: str = DomainOption,
+) -> None:
+    """One parameter's value as the node runs with it, in JSON.
+
+    Example: turtlectl param get navigator goal_timeout
+    """
+    from cli import params
+
+    _result(format.json_value(params.value(params.fetch(connect, node), node, name)))
+
+
+@param_app.command("dump")
+def param_dump(
+    node: str = typer.Argument(..., help="A node's name, as `turtlectl list` shows it."),
+    json: bool = typer.Option(False, "--json", help="One JSON object instead of TOML."),
+    connect: str = ConnectOption,
+    domain: str = DomainOption,
+) -> None:
+    """Every parameter of a running node, as TOML for its [node.params] table in a launch file.
+
+    Example: turtlectl param dump navigator > navigator.toml
+    """
+    from cli import params
+
+    values = params.fetch(connect, node)
+    _result(format.json_value(values) if json else params.dump(node, values))
+
+
 interface_app = typer.Typer(help="Message types: list them, show one's fields, units and defaults.")
 app.add_typer(interface_app, name="interface")
 

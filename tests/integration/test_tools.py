@@ -289,3 +289,29 @@ def test_a_second_process_with_a_node_s_name_refuses_to_start(system):
     )
     assert node.returncode == 4 and "already publishes robot/status" in node.stderr, node.stderr
     system.collect(STATUS, TurtleStatus, 3, timeout=5.0)  # the system's own goes on
+
+
+def test_param_list_get_and_dump_read_what_the_node_runs_with(system):
+    """Issue 13: `turtlectl param` against the real system; dump reads back as the launch file's table."""
+    import tomllib
+
+    from cli.launchfile import load_launch
+    from tests.integration.harness import DEFAULT_LAUNCH
+
+    listed = system.run_cli("param", "list", "navigator", "--json")
+    assert listed.returncode == 0, listed.stderr
+    assert "goal_timeout" in json.loads(listed.stdout) and "gains.lookahead" in json.loads(listed.stdout)
+    got = system.run_cli("param", "get", "navigator", "robot_radius")
+    assert (got.returncode, got.stdout.strip()) == (0, "0.3"), got
+    dumped = system.run_cli("param", "dump", "obstacle_detector")
+    assert dumped.returncode == 0, dumped.stderr
+    launched = load_launch(DEFAULT_LAUNCH).params["obstacle_detector"]
+    table = tomllib.loads(dumped.stdout)
+    assert all(table[k] == v for k, v in launched.items()), (table, launched)
+    unknown = system.run_cli("param", "get", "navigator", "nope")
+    assert unknown.returncode == ExitCode.BAD_INPUT and "has no parameter 'nope' (it has: " in unknown.stderr
+    nobody = system.run_cli("param", "list", "nobody")
+    assert nobody.returncode == ExitCode.UNREACHABLE, nobody
+    assert (
+        "no node named 'nobody' answers (running: navigator, obstacle_detector, sim, status_monitor)" in nobody.stderr
+    )
