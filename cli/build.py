@@ -38,7 +38,7 @@ def message_type(key: str, type_name: str | None, table: dict[str, Any], verb: s
     entry = table.get(key)
     known = None if entry is None else (entry[0] if isinstance(entry, tuple) else entry)
     if type_name is not None:
-        found = TYPES_BY_NAME.get(type_name) or type_named(type_name)
+        found = type_named(type_name)
         if known is not None and found is not known:
             raise BadInput(f"{key} {verb} {known.__name__}, not {found.__name__}")
         return found

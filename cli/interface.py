@@ -42,8 +42,14 @@ def description(name: str) -> dict[str, Any]:
     for f in struct_fields(cls):
         unit, span, meaning = FIELDS[tag][f.name]
         fields.append(
-            {"name": f.name, "type": field_type(f.type), "default": default_text(f), "unit": unit}
-            | {"range": span, "meaning": meaning}
+            {
+                "name": f.name,
+                "type": field_type(f.type),
+                "default": default_text(f),
+                "unit": unit,
+                "range": span,
+                "meaning": meaning,
+            }
         )
     return {
         "type": tag,

@@ -352,13 +352,14 @@ def list_graph(
     _result(format.json_value(current) if json else graph_text(current))
 
 
+NodeArgument = typer.Argument(..., help="A node's name, as `turtlectl list` shows it.")
 param_app = typer.Typer(help="A running node's parameters: list, get, dump (as `ros2 param`).")
 app.add_typer(param_app, name="param")
 
 
 @param_app.command("list")
 def param_list(
-    node: str = typer.Argument(..., help="A node's name, as `turtlectl list` shows it."),
+    node: str = NodeArgument,
     json: bool = typer.Option(False, "--json", help="One JSON array of names."),
     connect: str = ConnectOption,
     domain: str = DomainOption,
@@ -375,7 +376,7 @@ def param_list(
 
 @param_app.command("get")
 def param_get(
-    node: str = typer.Argument(..., help="A node's name, as `turtlectl list` shows it."),
+    node: str = NodeArgument,
     name: str = typer.Argument(..., help="A parameter, e.g. goal_timeout or gains.lookahead."),
     connect: str = ConnectOption,
     domain: str = DomainOption,
@@ -391,7 +392,7 @@ def param_get(
 
 @param_app.command("dump")
 def param_dump(
-    node: str = typer.Argument(..., help="A node's name, as `turtlectl list` shows it."),
+    node: str = NodeArgument,
     json: bool = typer.Option(False, "--json", help="One JSON object instead of TOML."),
     connect: str = ConnectOption,
     domain: str = DomainOption,

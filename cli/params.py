@@ -44,25 +44,21 @@ def value(params: dict[str, Any], node: str, name: str) -> Any:
     here: Any = params
     for part in name.split("."):
         if not isinstance(here, dict) or part not in here:
-            known = ", ".join(_names(params))
+            known = ", ".join(names(params))
             raise BadInput(f"{node} has no parameter {name!r} (it has: {known})")
         here = here[part]
     return here
 
 
-def _names(params: dict[str, Any], prefix: str = "") -> list[str]:
+def names(params: dict[str, Any], prefix: str = "") -> list[str]:
+    """Every parameter's name, tables' entries dotted (``gains.lookahead``), in the node's order."""
     out = []
     for key, item in params.items():
         if isinstance(item, dict):
-            out += _names(item, f"{prefix}{key}.")
+            out += names(item, f"{prefix}{key}.")
         else:
             out.append(prefix + key)
     return out
-
-
-def names(params: dict[str, Any]) -> list[str]:
-    """Every parameter's name, tables' entries dotted (``gains.lookahead``), in the node's order."""
-    return _names(params)
 
 
 def toml_value(item: Any) -> str:
