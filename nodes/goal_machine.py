@@ -386,7 +386,9 @@ class GoalMachine(Generic[C]):
         goal, pose = self.goal, self.latest_pose
         if goal is None or pose is None:
             return
-        if goal.path is None:
+        if goal.path is None and (goal.blocked_since is None or not self.scans_fresh(now)):
+            # the first plan; while there is no way, each scan plans again (scan()), not each pose,
+            # unless scans have stopped (then only the declared obstacles remain: the way may open)
             self._replan(goal, now, "")
         if goal.path is None:  # no way round what the scan sees: wait
             self._out.append(Twist())
