@@ -15,11 +15,8 @@ docs/interfaces.md differs from what this script renders: the reference cannot d
 
 from __future__ import annotations
 
-import inspect
 import sys
 from pathlib import Path
-
-import msgspec
 
 ROOT = Path(__file__).resolve().parents[1]
 if str(ROOT) not in sys.path:
@@ -27,23 +24,13 @@ if str(ROOT) not in sys.path:
 
 from messages import ALL_TYPES, keys  # noqa: E402
 from messages.codec import MEDIA_TYPE  # noqa: E402
-from messages.reference import FIELDS, KEYS, default_text, doc, struct_fields, type_name  # noqa: E402
+from messages.reference import FIELDS, KEYS, default_text, doc, param_infos, struct_fields, type_name  # noqa: E402
 from messages.world import Limits, Obstacle, World  # noqa: E402
 from nodes.kinds import KINDS  # noqa: E402
 from sim.params import SimParams  # noqa: E402
 
 OUTPUT = ROOT / "docs" / "interfaces.md"
 EXAMPLE = ROOT / "docs" / "examples" / "raw_client.py"
-
-
-def _comments(cls: type) -> dict[str, str]:
-    """``# comments`` after the fields in the class's source (Gains keeps its units there)."""
-    found: dict[str, str] = {}
-    for line in inspect.getsource(cls).splitlines():
-        name, colon, rest = line.strip().partition(":")
-        if colon and name.isidentifier() and "#" in rest:
-            found[name] = rest.split("#", 1)[1].strip()
-    return found
 
 
 def _row(*cells: str) -> str:
@@ -91,23 +78,11 @@ def params_section() -> list[str]:
     for kind, spec in KINDS.items():
         cls = spec.params
         out += ["", f"### kind `{kind}`: {cls.__name__}", "", "```text", doc(cls), "```", ""]
-        out.append(_row("field", "type", "default", "note"))
-        out.append(_row(*["---"] * 4))
-        for f in struct_fields(cls):
-            out.append(
-                _row(
-                    f"`{f.name}`",
-                    type_name(f.type),
-                    default_text(f),
-                    "table:" if isinstance(f.type, msgspec.inspect.StructType) else "",
-                )
-            )
-            if isinstance(f.type, msgspec.inspect.StructType):
-                notes = _comments(f.type.cls)
-                for sub in struct_fields(f.type.cls):
-                    out.append(
-                        _row(f"`{f.name}.{sub.name}`", type_name(sub.type), default_text(sub), notes.get(sub.name, ""))
-                    )
+        out.append(_row("parameter", "type", "unit", "range", "default", "meaning", "at run time"))
+        out.append(_row(*["---"] * 7))
+        for p in param_infos(cls):
+            live = "yes" if p.run_time else f"no: {p.fixed_because}"
+            out.append(_row(f"`{p.name}`", p.type, p.unit, p.range, p.default, p.meaning, live))
     return out
 
 

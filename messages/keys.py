@@ -23,6 +23,7 @@ from messages.types import (
     NavigateToFeedback,
     NavigateToRequest,
     NavigateToResponse,
+    ParameterEvent,
     Pose,
     Reset,
     TeleportAbsolute,
@@ -39,6 +40,7 @@ CANCEL = "navigate_to/cancel"
 FEEDBACK = "navigate_to/feedback"
 TELEPORT = "turtle1/teleport_absolute"
 RESET = "reset"
+PARAMETER_EVENTS = "turtlectl/parameter_events"  # every node: a ParameterEvent per change at run time
 
 TOPICS: dict[str, type[Message]] = {
     CMD_VEL: Twist,
@@ -46,6 +48,7 @@ TOPICS: dict[str, type[Message]] = {
     STATUS: TurtleStatus,
     OBSTACLES: LaserScan,
     FEEDBACK: NavigateToFeedback,
+    PARAMETER_EVENTS: ParameterEvent,
 }
 
 SERVICES: dict[str, tuple[type[Message], type[Message]]] = {
@@ -73,6 +76,14 @@ class NodeInfo(msgspec.Struct, frozen=True):
     pid: int
     host: str = ""
     start_ns: int = 0
+
+
+class NodeDetails(NodeInfo, frozen=True, forbid_unknown_fields=True):
+    """What a node answers on ``turtlectl/nodes/<name>`` (JSON): NodeInfo, and its kind (the
+    launch file's ``run``) and log level (DEBUG, INFO, WARNING, ERROR)."""
+
+    kind: str = ""
+    log_level: str = "INFO"
 
 
 class EntityInfo(msgspec.Struct, frozen=True):
@@ -149,3 +160,19 @@ WORLD_KEY = "turtlectl/world"  # the sim answers with the world (size, obstacles
 def params_key(name: str) -> str:
     """Queryable on which node ``name`` answers with its parameters (JSON)."""
     return f"turtlectl/params/{name}"
+
+
+def param_set_key(name: str) -> str:
+    """Service on which node ``name`` changes one of its parameters (SetParameter -> Ack)."""
+    return f"{params_key(name)}/set"
+
+
+def node_key(name: str) -> str:
+    """Queryable on which node ``name`` answers what it is (JSON): its kind, pid, host, start,
+    log level."""
+    return f"turtlectl/nodes/{name}"
+
+
+def log_level_key(name: str) -> str:
+    """Service on which node ``name`` changes its log level (SetLogLevel -> Ack)."""
+    return f"{node_key(name)}/log_level"

@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import enum
 import math
+from typing import Any
 
 import msgspec
 
@@ -230,6 +231,39 @@ class ErrorReply(Message, tag="ErrorReply"):
     error: str
 
 
+class SetParameter(Message, tag="SetParameter"):
+    """Request to ``turtlectl/params/<node>/set``: change one parameter of a running node.
+
+    name: the parameter, dotted into a table (``gains.lookahead``).
+    value: its new value, as the launch file would hold it (a number, text, list or table).
+    """
+
+    name: str
+    value: Any = None
+
+
+class ParameterEvent(Message, tag="ParameterEvent"):
+    """Published on ``turtlectl/parameter_events`` by a node each time one of its parameters
+    changes at run time (``turtlectl param set``), as ROS 2's ``/parameter_events``.
+
+    node: the node's name; name: the parameter (dotted); old_value, new_value: before and after.
+    """
+
+    node: str
+    name: str
+    old_value: Any = None
+    new_value: Any = None
+    stamp: int = 0
+    seq: int = 0
+
+
+class SetLogLevel(Message, tag="SetLogLevel"):
+    """Request to ``turtlectl/nodes/<node>/log_level``: the level of the node's log from now on
+    (DEBUG, INFO, WARNING or ERROR)."""
+
+    level: str
+
+
 ALL_TYPES: tuple[type[Message], ...] = (
     Twist,
     Pose,
@@ -243,4 +277,7 @@ ALL_TYPES: tuple[type[Message], ...] = (
     Reset,
     Ack,
     ErrorReply,
+    SetParameter,
+    ParameterEvent,
+    SetLogLevel,
 )

@@ -75,7 +75,7 @@ class Gains(msgspec.Struct, forbid_unknown_fields=True, kw_only=True):
 
     k_linear: Positive = 30.0  # 1/s: speed per metre of distance near the goal
     k_angular: Positive = 40.0  # 1/s: turn rate per radian of heading error near the target
-    brake_fraction: Positive = 1.0  # of the acceleration limits, used to plan braking
+    brake_fraction: Positive = 1.0  # fraction: of the acceleration limits, used to plan braking
     drive_cone: Positive = math.radians(120.0)  # rad: beyond this heading error, turn before driving
     near: Positive = 0.05  # m: within this of the goal, drive whichever way is shorter
     lookahead: Positive = 0.5  # m: on a path round obstacles, steer for the point this far ahead on it

@@ -124,12 +124,9 @@ class GoalMachine(Generic[C]):
     """One navigator's goals, one at a time.  ``goal`` is the running one (None: idle)."""
 
     def __init__(self, params: NavigatorParams, world: World, limits: Limits):
-        self.params = params
         self.world = world
         self.limits = limits
-        self.tolerances = Tolerances(position=params.position_tolerance, heading=math.radians(params.heading_tolerance))
-        self.keep = params.robot_radius + params.clearance  # m the turtle keeps from every obstacle
-        self.declared = inflate(world.obstacles, self.keep)
+        self.set_params(params)
         self.costmap = Costmap(world.size)  # what the scans have seen that the world does not declare
         self.unknown: list[Circle] = []  # the costmap's circles after the latest scan
         self.goal: Goal[C] | None = None
@@ -141,6 +138,15 @@ class GoalMachine(Generic[C]):
         self.scan_time = -math.inf
         self.scans_stale: bool | None = None  # as said last in the log; None: no scan yet, nothing said
         self._out: list[Action] = []
+
+    def set_params(self, params: NavigatorParams) -> None:
+        """Use ``params`` from now on (also at run time, ``turtlectl param set``): tolerances
+        and timeouts apply at the next step, a new robot_radius or clearance at the next plan
+        (a running goal's path is planned again with the next scan)."""
+        self.params = params
+        self.tolerances = Tolerances(position=params.position_tolerance, heading=math.radians(params.heading_tolerance))
+        self.keep = params.robot_radius + params.clearance  # m the turtle keeps from every obstacle
+        self.declared = inflate(self.world.obstacles, self.keep)
 
     # -- events -------------------------------------------------------------
     def start(self, request: NavigateToRequest, caller: C, now: float) -> list[Action]:

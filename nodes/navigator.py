@@ -55,6 +55,7 @@ class Navigator:
             node.timer(WATCHDOG_PERIOD, self.watchdog),
             node.timer(1.0 / node.params.feedback_rate, self.feedback),
         ]
+        node.on_params(self.on_params)
         node.on_shutdown(lambda: self.carry_out(self.machine.shutdown(time.monotonic())))
         self.follow_goal()
 
@@ -67,6 +68,11 @@ class Navigator:
         ack, actions = self.machine.cancel(request.body.reason, time.monotonic())
         self.carry_out(actions)
         request.respond(ack)
+
+    def on_params(self, params: NavigatorParams) -> None:
+        self.machine.set_params(params)
+        self.goal_timers[1].retime(1.0 / params.feedback_rate)
+        self.follow_goal()  # a retimed timer ticks again: paused once more while no goal runs
 
     def on_client(self, key: str, alive: bool) -> None:
         if not alive:

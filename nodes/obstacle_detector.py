@@ -26,15 +26,23 @@ class ObstacleDetector:
     def __init__(self, node: Node[ObstacleDetectorParams]):
         self.node = node
         p = node.params
-        self.angles = beam_angles(math.radians(p.angle_min), math.radians(p.angle_max), p.beams)
-        self.increment = float(self.angles[1] - self.angles[0]) if p.beams > 1 else 0.0
         self.pose: Pose | None = None
         self.latest_pose = node.latest(POSE, Pose)
         self.rng = np.random.default_rng(p.phantom_seed)
         self.phantoms: list[tuple[float, Obstacle]] = []  # (expiry, monotonic s), obstacle
-        self.seen = World(size=node.world.size, obstacles=node.world.obstacles + p.undeclared_obstacles)
         self.pub = node.publisher(OBSTACLES, LaserScan)
-        node.timer(1.0 / p.rate, self.tick)
+        self.timer = node.timer(1.0 / p.rate, self.tick)
+        self.configure(p)
+        node.on_params(self.configure)
+
+    def configure(self, p: ObstacleDetectorParams) -> None:
+        """What the scan is made from: beam angles, the obstacles seen, the rate (again after
+        ``turtlectl param set``)."""
+        self.angles = beam_angles(math.radians(p.angle_min), math.radians(p.angle_max), p.beams)
+        self.increment = float(self.angles[1] - self.angles[0]) if p.beams > 1 else 0.0
+        self.seen = World(size=self.node.world.size, obstacles=self.node.world.obstacles + p.undeclared_obstacles)
+        if self.timer.period != 1.0 / p.rate:
+            self.timer.retime(1.0 / p.rate)
 
     def world(self) -> World:
         """The declared world plus the undeclared obstacles and the phantoms alive now (new

@@ -7,7 +7,7 @@ node process decodes its own table into them.
 
 from __future__ import annotations
 
-from typing import Annotated
+from typing import Annotated, ClassVar
 
 import msgspec
 
@@ -16,79 +16,69 @@ from messages.world import Obstacle
 from nodes.control import Gains
 
 Degrees = Annotated[float, msgspec.Meta(ge=-360.0, le=360.0)]
+PhantomRate = Annotated[float, msgspec.Meta(ge=0.0, le=100.0)]
+Lifetime = Annotated[float, msgspec.Meta(ge=0.01, le=10.0)]
+Circles = Annotated[list[Obstacle], msgspec.Meta(max_length=100)]
 
 
 class NavigatorParams(msgspec.Struct, forbid_unknown_fields=True, kw_only=True):
-    """position_tolerance: m.  heading_tolerance: degrees.
-    robot_radius: m, the turtle's size (half its width): no obstacle may come nearer its
-    centre.  clearance: m the planner keeps beyond robot_radius; paths go round every
-    obstacle, declared or seen by the scan, at robot_radius + clearance from it, and goals
-    nearer an obstacle than that are refused.
-    safety_distance: m; the turtle stops while an obstacle is this close in its
-    direction of travel (inside a corridor of corridor_width m, centred on its
-    path), and slows down before, braking at obstacle_decel m/s^2; a scan older
-    than scan_timeout s is forgotten (0.05 to 60 s, and longer than the scan period).
-    blocked_timeout: s blocked, or with no way round what the scan sees, before the goal
-    fails with reason "blocked" (0.1 to 3600).
-    goal_timeout: s before a goal fails with reason "timeout" (0.1 to 3600).
-    pose_timeout: s without a pose before a running goal fails with reason "no pose"
-    (0.05 to 60; poses come every 16 ms).
-    min_battery: %; below it goals are refused with reason "battery low".
-    feedback_rate: Hz of NavigateToFeedback replies to the caller of a goal (0.1 to 100).
-    """
+    """The navigator: tolerances, the margin it keeps round obstacles, its safety net for what
+    the scan sees ahead, and the limits that end a goal.  Paths go round every obstacle,
+    declared or seen by the scan, at robot_radius + clearance from it; goals nearer an
+    obstacle than that are refused.  Every field (``# unit: meaning``) can change at run time
+    (``turtlectl param set``); robot_radius and clearance apply from the next plan."""
 
-    position_tolerance: Positive = 0.01
-    heading_tolerance: Positive = 0.5
-    robot_radius: Positive = 0.3
-    clearance: NonNegative = 0.15
-    safety_distance: Positive = 0.4
-    corridor_width: Positive = 0.6
-    obstacle_decel: Positive = 2.0
-    scan_timeout: ShortTimeout = 1.0
-    blocked_timeout: LongTimeout = 10.0
-    goal_timeout: LongTimeout = 30.0
-    pose_timeout: ShortTimeout = 0.5
-    min_battery: Percent = 5.0
-    feedback_rate: Rate = 10.0
-    gains: Gains = msgspec.field(default_factory=Gains)
+    position_tolerance: Positive = 0.01  # m: how near the goal's position counts as arrived
+    heading_tolerance: Positive = 0.5  # degrees: how near the goal's heading counts as arrived
+    robot_radius: Positive = 0.3  # m: the turtle's size (half its width); no obstacle may come nearer its centre
+    clearance: NonNegative = 0.15  # m: kept from every obstacle beyond robot_radius when planning
+    safety_distance: Positive = 0.4  # m: the turtle stops while an obstacle is this close in its direction of travel
+    corridor_width: Positive = 0.6  # m: width of the corridor, centred on the path, that the safety check looks along
+    obstacle_decel: Positive = 2.0  # m/s^2: braking used to slow down before an obstacle ahead
+    scan_timeout: ShortTimeout = 1.0  # s: a scan older than this is forgotten (longer than the scan period)
+    blocked_timeout: LongTimeout = 10.0  # s: blocked, or with no way round the scan's, before failing "blocked"
+    goal_timeout: LongTimeout = 30.0  # s: before a goal fails with reason "timeout"
+    pose_timeout: ShortTimeout = 0.5  # s: without a pose before a running goal fails "no pose" (poses come every 16 ms)
+    min_battery: Percent = 5.0  # %: below it goals are refused with reason "battery low"
+    feedback_rate: Rate = 10.0  # Hz: NavigateToFeedback replies to the caller of a goal
+    gains: Gains = msgspec.field(default_factory=Gains)  # table: tuning of the control law
 
 
 class StatusMonitorParams(msgspec.Struct, forbid_unknown_fields=True, kw_only=True):
-    """rate: Hz of robot/status (0.1 to 100).  battery: starting charge, %.
-    drain_per_second: %/s always; drain_per_metre: %/m travelled.
-    """
+    """The status monitor: the rate of ``robot/status`` and the simulated battery
+    (``# unit: meaning`` per field)."""
 
-    rate: Rate = 10.0
-    battery: Percent = 100.0
-    drain_per_second: NonNegative = 0.01
-    drain_per_metre: NonNegative = 0.1
+    rate: Rate = 10.0  # Hz: of robot/status
+    battery: Percent = 100.0  # %: the charge at start
+    drain_per_second: NonNegative = 0.01  # %/s: drained always
+    drain_per_metre: NonNegative = 0.1  # %/m: drained per metre travelled
+
+    FIXED: ClassVar[dict[str, str]] = {"battery": "it is the charge at start (`turtlectl reset` fills the battery)"}
 
 
 class ObstacleDetectorParams(msgspec.Struct, forbid_unknown_fields=True, kw_only=True):
-    """rate: Hz of the scan (0.1 to 100).  beams: number of rays (1 to 3600, a tenth of a
-    degree apart over a full turn; 3600 beams take about 1 ms per scan).  angle_min,
-    angle_max: degrees relative to the heading (at most 360 apart).  range_min, range_max: m.
-    Phantom detections, to stress the navigator (the mock sensor of docs/capstone.md):
-    phantom_rate: new phantoms per s on average (0: none, at most 100); each is a circle of
-    phantom_radius m, phantom_distance m away in a random direction, seen for
-    phantom_lifetime s (0.01 to 10); phantom_seed makes the sequence repeatable.
-    undeclared_obstacles: circles (x, y, radius in m) the scan sees that the world does not
-    declare: the navigator learns of them only by scanning and plans round them as it goes
-    (at most 100; the simulator does not collide with them).
-    """
+    """The mock laser scanner: beams a tenth of a degree apart at most over a full turn
+    (3600 beams take about 1 ms per scan), and phantom detections to stress the navigator
+    (the mock sensor of docs/capstone.md): each phantom is a circle of phantom_radius,
+    phantom_distance away in a random direction, seen for phantom_lifetime.
+    undeclared_obstacles are circles the scan sees that the world does not declare: the
+    navigator learns of them only by scanning and plans round them as it goes (the simulator
+    does not collide with them).  ``# unit: meaning`` per field."""
 
-    rate: Rate = 5.0
-    beams: Annotated[int, msgspec.Meta(ge=1, le=3600)] = 72
-    angle_min: Degrees = -180.0
-    angle_max: Degrees = 180.0
-    range_min: NonNegative = 0.0
-    range_max: Positive = 10.0
-    phantom_rate: Annotated[float, msgspec.Meta(ge=0.0, le=100.0)] = 0.0
-    phantom_lifetime: Annotated[float, msgspec.Meta(ge=0.01, le=10.0)] = 1.0
-    phantom_radius: Positive = 0.2
-    phantom_distance: Positive = 1.5
-    phantom_seed: int = 0
-    undeclared_obstacles: Annotated[list[Obstacle], msgspec.Meta(max_length=100)] = msgspec.field(default_factory=list)
+    rate: Rate = 5.0  # Hz: of the scan
+    beams: Annotated[int, msgspec.Meta(ge=1, le=3600)] = 72  # count: rays per scan
+    angle_min: Degrees = -180.0  # degrees: first beam, relative to the heading (at most 360 below angle_max)
+    angle_max: Degrees = 180.0  # degrees: last beam, relative to the heading (above angle_min)
+    range_min: NonNegative = 0.0  # m: nearest range reported (below range_max)
+    range_max: Positive = 10.0  # m: farthest range; beams that hit nothing report it
+    phantom_rate: PhantomRate = 0.0  # 1/s: new phantoms per second on average (0: none)
+    phantom_lifetime: Lifetime = 1.0  # s: how long each phantom is seen
+    phantom_radius: Positive = 0.2  # m: radius of each phantom
+    phantom_distance: Positive = 1.5  # m: how far from the turtle a phantom appears
+    phantom_seed: int = 0  # -: seed of the phantoms' random sequence (repeatable runs)
+    undeclared_obstacles: Circles = msgspec.field(default_factory=list)  # m: circles (x, y, radius) only the scan sees
+
+    FIXED: ClassVar[dict[str, str]] = {"phantom_seed": "it seeds the phantoms' random sequence once, at start"}
 
     def __post_init__(self) -> None:
         if not self.angle_min < self.angle_max <= self.angle_min + 360.0:

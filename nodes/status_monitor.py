@@ -30,7 +30,8 @@ class StatusMonitor:
         self.pub = node.publisher(STATUS, TurtleStatus)
         node.subscribe(POSE, Pose, self.on_pose)
         node.serve(RESET, Reset, Ack, self.on_reset)
-        node.timer(1.0 / node.params.rate, self.tick)
+        self.timer = node.timer(1.0 / node.params.rate, self.tick)
+        node.on_params(lambda params: self.timer.retime(1.0 / params.rate))
 
     def on_reset(self, request: Request[Reset]) -> None:
         self.battery, self.travelled = FULL, 0.0

@@ -15,6 +15,8 @@ from messages.world import Limits, World
 
 ENV_VAR = "TURTLECTL_NODE_CONFIG"
 SUPERVISOR_PID_VAR = "TURTLECTL_SUPERVISOR_PID"
+#: the levels a node's log can be set to (``launch --log-level``, ``turtlectl log-level``)
+LOG_LEVELS = ("DEBUG", "INFO", "WARNING", "ERROR")
 
 
 class Claim(msgspec.Struct, frozen=True, forbid_unknown_fields=True):
@@ -40,6 +42,7 @@ class NodeConfig(msgspec.Struct, forbid_unknown_fields=True, kw_only=True):
     claims: list[Claim] = msgspec.field(default_factory=list)  # checked before the node starts
     world: World = msgspec.field(default_factory=World)
     limits: Limits = msgspec.field(default_factory=Limits)
+    log_level: Literal["DEBUG", "INFO", "WARNING", "ERROR"] = "INFO"
 
 
 def encode_config(config: NodeConfig) -> str:

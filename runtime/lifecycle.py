@@ -111,6 +111,7 @@ def run(node_class: Callable[[Node[P]], Any], params_type: type[P]) -> int:
     try:
         config = decode_config(os.environ[ENV_VAR])
         params = msgspec.convert(config.params, params_type, strict=True)
+        logging.getLogger().setLevel(config.log_level)
     except KeyError:
         log.error("%s is not set: start nodes with `turtlectl launch` or `turtlectl run`", ENV_VAR)
         return EXIT_CONFIG
@@ -128,7 +129,7 @@ def run(node_class: Callable[[Node[P]], Any], params_type: type[P]) -> int:
     try:
         if early_stop or parent_gone():  # stopped while starting (the supervisor died): build nothing
             return EXIT_OK
-        node = Node(config, params, session)
+        node = Node(config, params, session, started)
         signal.signal(signal.SIGINT, node.stop)
         node.timer(_PARENT_CHECK_PERIOD, lambda: parent_gone() and node.stop())
         node.timer(_ROUTER_CHECK_PERIOD, _router_watch(node, config.connect))

@@ -29,6 +29,7 @@ from __future__ import annotations
 import logging
 import os
 import queue
+import socket
 import time
 from collections.abc import Callable
 from typing import Any, Generic, TypeVar
@@ -36,17 +37,34 @@ from typing import Any, Generic, TypeVar
 import msgspec
 import zenoh
 
-from messages import ErrorReply, Message, decode, decode_any, encode, encoding_for
+from messages import (
+    Ack,
+    ErrorReply,
+    Message,
+    ParameterEvent,
+    SetLogLevel,
+    SetParameter,
+    decode,
+    decode_any,
+    encode,
+    encoding_for,
+)
 from messages.codec import type_name
 from messages.keys import (
     ENTITY_TOKEN_PREFIX,
+    PARAMETER_EVENTS,
     EntityInfo,
+    NodeDetails,
     entity_token,
+    log_level_key,
+    node_key,
+    param_set_key,
     params_key,
     parse_entity_token,
 )
 from messages.world import Limits, World
-from runtime.config import Claim, NodeConfig
+from runtime.config import LOG_LEVELS, Claim, NodeConfig
+from runtime.params import ParamRefused, lookup, with_value
 from runtime.session import client_config, close_session
 
 P = TypeVar("P", bound=msgspec.Struct)
@@ -174,6 +192,13 @@ class Timer:
         self.deadline = start + period
         self.active = True
 
+    def retime(self, period: float, now: float | None = None) -> None:
+        """Tick every ``period`` s from now on (a grid starting ``now``; the next tick is one
+        new period away)."""
+        now = time.monotonic() if now is None else now
+        self.period, self.start, self.ticks = period, now, 1
+        self.deadline = now + period
+
     def advance(self, now: float) -> None:
         """Next deadline on the absolute grid; missed ticks are skipped, not bunched."""
         self.ticks = max(self.ticks + 1, int((now - self.start) / self.period) + 1)
@@ -198,8 +223,10 @@ class Timer:
 class Node(Generic[P]):
     """A running node: its name, typed params, the shared world, and its Zenoh entities."""
 
-    def __init__(self, config: NodeConfig, params: P, session: zenoh.Session):
+    def __init__(self, config: NodeConfig, params: P, session: zenoh.Session, started_ns: int | None = None):
         self.name = config.name
+        self.kind = config.kind
+        self.started_ns = time.time_ns() if started_ns is None else started_ns
         self._connect, self._domain = config.connect, config.domain
         self.params: P = params
         self.world: World = config.world
@@ -212,7 +239,13 @@ class Node(Generic[P]):
         self._bad_payloads: dict[str, int] = {}
         self._running = True
         self._on_shutdown: list[Callable[[], None]] = []
-        self.answer_json(params_key(self.name), msgspec.json.encode(params))
+        self._on_params: list[Callable[[P], None]] = []
+        # every node: its parameters (read and set), what it is, its log level
+        self.answer_json(params_key(self.name), lambda: msgspec.json.encode(self.params))
+        self.answer_json(node_key(self.name), self._details)
+        self._param_events = self.publisher(PARAMETER_EVENTS, ParameterEvent)
+        self.serve(param_set_key(self.name), SetParameter, Ack, self._set_param)
+        self.serve(log_level_key(self.name), SetLogLevel, Ack, self._set_log_level)
 
     # -- declarations -------------------------------------------------------
     def _announce(self, role: str, msg_type: type[Message] | str, key: str) -> None:
@@ -311,12 +344,14 @@ class Node(Generic[P]):
             timeout=timeout,
         )
 
-    def answer_json(self, key: str, document: bytes) -> None:
-        """Answer every query on ``key`` with a fixed JSON ``document`` (read-only, so it is
-        answered right on the Zenoh thread)."""
+    def answer_json(self, key: str, document: bytes | Callable[[], bytes]) -> None:
+        """Answer every query on ``key`` with a JSON ``document``, or what ``document()``
+        returns then (read-only: answered right on the Zenoh thread; a callable must only
+        read attributes the node thread swaps whole)."""
 
         def on_query(query: zenoh.Query) -> None:
-            query.reply(key, document, encoding=zenoh.Encoding.APPLICATION_JSON)
+            body = document() if callable(document) else document
+            query.reply(key, body, encoding=zenoh.Encoding.APPLICATION_JSON)
 
         self._entities.append(self.session.declare_queryable(key, on_query))
         self._announce("srv", "JSON", key)
@@ -335,11 +370,56 @@ class Node(Generic[P]):
         self._timers.append(timer)
         return timer
 
+    def on_params(self, callback: Callable[[P], None]) -> None:
+        """Call ``callback(params)`` on the node thread after a parameter changed at run time
+        (``self.params`` is already the new Struct): a node that keeps something made from a
+        parameter (a timer's period, a table of beam angles) makes it again here.  A node that
+        reads ``node.params`` where it uses them needs no hook."""
+        self._on_params.append(callback)
+
     def on_shutdown(self, callback: Callable[[], None]) -> None:
         """Run ``callback()`` on the node thread when the node stops (e.g. to stop the turtle)."""
         self._on_shutdown.append(callback)
 
     # -- internals ----------------------------------------------------------
+    def _details(self) -> bytes:
+        level = logging.getLevelName(logging.getLogger().getEffectiveLevel())
+        details = NodeDetails(
+            name=self.name,
+            pid=os.getpid(),
+            host=socket.gethostname(),
+            start_ns=self.started_ns,
+            kind=self.kind,
+            log_level=level,
+        )
+        return msgspec.json.encode(details)
+
+    def _set_param(self, request: Request[SetParameter]) -> None:
+        """``turtlectl param set``: validate, swap the Struct, run the hooks, tell everyone."""
+        name, value = request.body.name, request.body.value
+        try:
+            new, old = with_value(self.params, name, value)
+        except ParamRefused as exc:
+            request.fail(f"{self.name}: {exc}")
+            return
+        self.params = new  # type: ignore[assignment]  # with_value keeps the Struct's type
+        for callback in self._on_params:
+            callback(new)  # type: ignore[arg-type]
+        value = lookup(msgspec.to_builtins(new), name)  # as converted: 60 -> 60.0 for a float
+        self.log.info("parameter %s: %s -> %s", name, _shown(old), _shown(value))
+        self._param_events.publish(ParameterEvent(node=self.name, name=name, old_value=old, new_value=value))
+        request.respond(Ack(detail=f"{self.name} {name} = {_shown(value)} (was {_shown(old)})"))
+
+    def _set_log_level(self, request: Request[SetLogLevel]) -> None:
+        level = request.body.level.upper()
+        if level not in LOG_LEVELS:
+            request.fail(f"unknown log level {request.body.level!r} (known: {', '.join(LOG_LEVELS)})")
+            return
+        root = logging.getLogger()
+        was = logging.getLevelName(root.getEffectiveLevel())
+        root.setLevel(level)
+        request.respond(Ack(detail=f"{self.name} logs {level} and above (was {was})"))
+
     def _queuing(self, key: str, msg_type: type[M], callback: Callable[[M], None]) -> Callable[[zenoh.Sample], None]:
         """A Zenoh sample callback that only queues ``callback``'s delivery for the node thread."""
 
@@ -430,3 +510,8 @@ class Node(Generic[P]):
                 callback()
             except Exception:  # one failing hook must not keep the next (e.g. the stop command) from running
                 self.log.exception("shutdown hook %s failed", getattr(callback, "__qualname__", callback))
+
+
+def _shown(value: Any) -> str:
+    """A parameter value as JSON text (what ``param get`` prints)."""
+    return msgspec.json.encode(value).decode()

@@ -10,8 +10,11 @@ from messages import (
     NavigateToFeedback,
     NavigateToRequest,
     NavigateToResponse,
+    ParameterEvent,
     Pose,
     Reset,
+    SetLogLevel,
+    SetParameter,
     TeleportAbsolute,
     TurtleStatus,
     Twist,
@@ -56,6 +59,9 @@ SAMPLES = [
     Ack(ok=False, detail="no goal is running"),
     NavigateToResponse(success=True, time_taken=1.25, position_error=0.004, heading_error=0.3, x=1, y=2, theta=90),
     ErrorReply(error="bad"),
+    SetParameter(name="gains.lookahead", value=0.7),
+    ParameterEvent(node="navigator", name="goal_timeout", old_value=30.0, new_value=60.0),
+    SetLogLevel(level="DEBUG"),
 ]
 
 
