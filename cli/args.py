@@ -81,3 +81,13 @@ def publish_count(once: bool, rate: float | None, times: int | None) -> int | No
     if once and (rate is not None or times is not None):
         raise BadInput("--once does not go with --rate or --times")
     return times if times is not None else (None if rate is not None else 1)
+
+
+def log_level(text: str) -> str:
+    """A log level (any case) as the nodes take it: DEBUG, INFO, WARNING or ERROR."""
+    from runtime.config import LOG_LEVELS
+
+    level = text.strip().upper()
+    if level not in LOG_LEVELS:
+        raise BadInput(f"unknown log level {text!r} (known: {', '.join(LOG_LEVELS)})")
+    return level

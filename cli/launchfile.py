@@ -393,6 +393,18 @@ def with_overrides(plan: LaunchPlan, assignments: list[Assignment], option: str)
     return _validate(data, plan.source, _Report(option, list(names), override=True))
 
 
+def running_plan(nodes: dict[str, tuple[str, dict[str, Any]]], world: World) -> LaunchPlan:
+    """A plan of what runs now: each node's kind and parameters, as its
+    ``turtlectl/nodes/<name>`` and ``turtlectl/params/<name>`` answer, in ``world``; for
+    ``param set``, to validate a change as ``launch --set`` would.  (Valid already: these
+    nodes started from a validated file.)"""
+    data = {
+        "world": msgspec.to_builtins(world),
+        "node": [{"name": name, "run": kind, "params": params} for name, (kind, params) in nodes.items()],
+    }
+    return _validate(data, "the running system", _Report("the running system", list(nodes), override=True))
+
+
 #: how to write a ``launch --set`` override
 SET_FORM = "NODE.PARAM=VALUE or TABLE.KEY=VALUE (world, limits, supervisor)"
 
@@ -405,7 +417,12 @@ def launch_plan(path: Path, only: list[str], exclude: list[str], settings: list[
 
 
 def node_config(
-    plan: LaunchPlan, name: str, connect: str, overrides: list[str] | None = None, domain: str = ""
+    plan: LaunchPlan,
+    name: str,
+    connect: str,
+    overrides: list[str] | None = None,
+    domain: str = "",
+    log_level: str = "INFO",
 ) -> NodeConfig:
     """What node ``name`` of ``plan`` is started with; ``overrides`` (``KEY=VALUE`` for its
     params) are validated as the file is (LaunchFileError naming ``--param``)."""
@@ -425,4 +442,5 @@ def node_config(
         claims=list(KINDS[entry.run].claims),
         world=plan.launch.world,
         limits=plan.launch.limits,
+        log_level=log_level,
     )

@@ -102,6 +102,11 @@ def root(
         ctx.obj = {"connect": connect}  # launch joins it, as with its own --connect; router refuses it
 
 
+LogLevelOption = typer.Option(
+    "INFO", "--log-level", help="Least severe log line the nodes write: DEBUG, INFO, WARNING or ERROR (any case)."
+)
+
+
 @app.command()
 def launch(
     ctx: typer.Context,
@@ -119,6 +124,10 @@ def launch(
         help="NODE.PARAM=VALUE or world/limits/supervisor.KEY=VALUE override (repeatable), validated like the file.",
     ),
     check: bool = typer.Option(False, "--check", help="Validate the file (and overrides), print the plan, and exit."),
+    persist: bool = typer.Option(
+        False, "--persist", help="A node started again (respawn) keeps parameters changed by `param set`."
+    ),
+    log_level: str = LogLevelOption,
     log_dir: Path | None = typer.Option(
         None, "--log-dir", envvar="TURTLECTL_LOG_DIR", help="Parent folder of run folders (default ~/.turtlectl/log)."
     ),
@@ -137,6 +146,7 @@ def launch(
 
     if join is None:  # `turtlectl --connect E launch` joins E, as `turtlectl launch --connect E`
         join = (ctx.obj or {}).get("connect")
+    level = args.log_level(log_level)
     plan = launch_plan(file or default_launch_file(), only, exclude, set_)
     if check:
         typer.echo(format.plan_text(plan))
@@ -145,7 +155,15 @@ def launch(
     host = args.listen_address(listen)
     printer = Printer([e.name for e in plan.launch.node])
     supervisor = Supervisor(
-        plan, printer, None if join else port, connect, default_domain(), host, log_dir or logs.default_parent()
+        plan,
+        printer,
+        None if join else port,
+        connect,
+        default_domain(),
+        host,
+        log_dir or logs.default_parent(),
+        persist=persist,
+        log_level=level,
     )
     try:
         code = supervisor.run()
@@ -352,32 +370,81 @@ def list_graph(
     _result(format.json_value(current) if json else graph_text(current))
 
 
-NodeArgument = typer.Argument(..., help="A node's name, as `turtlectl list` shows it.")
-param_app = typer.Typer(help="A running node's parameters: list, get, dump (as `ros2 param`).")
+NodeArgument = typer.Argument(..., metavar="NODE", help="A node's name, as `turtlectl list` shows it.")
+param_app = typer.Typer(help="A running node's parameters: list, get, set, describe, dump (as `ros2 param`).")
 app.add_typer(param_app, name="param")
+ParamArgument = typer.Argument(..., metavar="NAME", help="A parameter, e.g. goal_timeout or gains.lookahead.")
 
 
 @param_app.command("list")
 def param_list(
-    node: str = NodeArgument,
-    json: bool = typer.Option(False, "--json", help="One JSON array of names."),
+    node: str | None = typer.Argument(None, metavar="[NODE]", help="A node's name (default: every running node)."),
+    json: bool = typer.Option(False, "--json", help="One JSON array of names (by node without NODE)."),
     connect: str = ConnectOption,
     domain: str = DomainOption,
 ) -> None:
-    """The names of a running node's parameters (a table's entries dotted: gains.lookahead).
+    """The names of a running node's parameters (a table's entries dotted: gains.lookahead),
+    or of every node's.
 
     Example: turtlectl param list navigator
     """
     from cli import params
 
+    if node is None:
+        by_node = params.listing_all(connect)
+        _result(format.json_value(by_node) if json else params.listing_text(by_node))
+        return
     names = params.names(params.fetch(connect, node))
     _result(format.json_value(names) if json else "\n".join(names))
+
+
+@param_app.command("set", context_settings={"ignore_unknown_options": True})  # negative VALUEs
+def param_set(
+    node: str = NodeArgument,
+    name: str = ParamArgument,
+    value: str = typer.Argument(..., metavar="VALUE", help="A TOML value as in a launch file: 60, 0.5, true, [1, 2], \"text\"."),
+    connect: str = ConnectOption,
+    domain: str = DomainOption,
+) -> None:
+    """Change a parameter of a running node at once, validated as the launch file is (same
+    errors, exit 2); parameters that cannot change at run time are refused with the reason.
+    The node publishes a ParameterEvent (`turtlectl echo turtlectl/parameter_events`).  A node
+    that is started again (respawn) runs with the launch file's value unless the system was
+    launched with --persist.
+
+    Example: turtlectl param set navigator goal_timeout 60
+    """
+    from cli import params
+
+    _result(params.set_value(connect, node, name, value))
+
+
+@param_app.command("describe")
+def param_describe(
+    node: str = NodeArgument,
+    name: str = ParamArgument,
+    json: bool = typer.Option(False, "--json", help="One JSON object."),
+    connect: str = ConnectOption,
+    domain: str = DomainOption,
+) -> None:
+    """A parameter's type, unit, range, default, meaning, value now, and whether it can change
+    at run time.
+
+    Example: turtlectl param describe navigator goal_timeout
+    """
+    from cli import params
+
+    info, now = params.describe(connect, node, name)
+    if json:
+        _result(format.json_value({**params.plain(info), "value": now}))
+    else:
+        _result(params.describe_text(node, info, now))
 
 
 @param_app.command("get")
 def param_get(
     node: str = NodeArgument,
-    name: str = typer.Argument(..., help="A parameter, e.g. goal_timeout or gains.lookahead."),
+    name: str = ParamArgument,
     connect: str = ConnectOption,
     domain: str = DomainOption,
 ) -> None:

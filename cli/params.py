@@ -1,7 +1,8 @@
-"""``turtlectl param``: a running node's parameters, as ``ros2 param list / get / dump``.
-Each node answers a get on ``turtlectl/params/<name>`` with its parameters as JSON (the
-launch file's ``[node.params]`` after validation); this module fetches and shapes them and
-prints nothing itself."""
+"""``turtlectl param``: a running node's parameters, as ``ros2 param list / get / set /
+describe / dump``.  Each node answers a get on ``turtlectl/params/<name>`` with its
+parameters as JSON (the launch file's ``[node.params]`` after validation), on
+``turtlectl/nodes/<name>`` with its kind, and changes one on ``turtlectl/params/<name>/set``;
+this module fetches, validates and shapes, and prints nothing itself."""
 
 from __future__ import annotations
 
@@ -11,11 +12,18 @@ from typing import Any
 import msgspec
 
 from cli.errors import BadInput, Failed
-from cli.services import NobodyServes, Raw, call_service
-from messages.keys import params_key
+from cli.services import NobodyServes, Raw, call_service, replies, service_session, world
+from messages import Ack, SetParameter
+from messages.keys import NodeDetails, node_key, param_set_key, params_key
+from messages.reference import ParamInfo, fixed_reason, param_infos
+from messages.world import World
 
 #: s a node has to answer
 TIMEOUT = 3.0
+
+
+def _no_node(node: str, running: list[str]) -> NobodyServes:
+    return NobodyServes(f"no node named {node!r} answers (running: {', '.join(sorted(running)) or 'none'})")
 
 
 def fetch(connect: str, node: str) -> dict[str, Any]:
@@ -26,8 +34,7 @@ def fetch(connect: str, node: str) -> dict[str, Any]:
     except NobodyServes:
         from cli import topics
 
-        names = sorted(n.name for n in topics.graph(connect).nodes)
-        raise NobodyServes(f"no node named {node!r} answers (running: {', '.join(names) or 'none'})") from None
+        raise _no_node(node, [n.name for n in topics.graph(connect).nodes]) from None
     if not answers or not isinstance(answers[-1], Raw):
         raise Failed(f"{node} sent no parameters")
     try:
@@ -81,3 +88,109 @@ def dump(node: str, params: dict[str, Any]) -> str:
     lines = [f"# {node}: the body of its [node.params] table in a launch file"]
     lines += [f"{key} = {toml_value(item)}" for key, item in params.items()]
     return "\n".join(lines)
+
+
+class Running(msgspec.Struct):
+    """What runs now: each node's details and parameters (by name), and the world."""
+
+    details: dict[str, NodeDetails]
+    params: dict[str, dict[str, Any]]
+    world: World
+
+
+def _answers(session: Any, key: str) -> dict[str, bytes]:
+    """Each node's JSON answer on ``key`` (ending in ``*``), by node name; none: {}."""
+    try:
+        found = replies(session, key, b"", TIMEOUT, everyone=True)
+        return {a.key.rsplit("/", 1)[-1]: a.payload for a in found if isinstance(a, Raw)}
+    except NobodyServes:
+        return {}
+
+
+def running(connect: str) -> Running:
+    """Every running node's details and parameters, and the world (NobodyServes: no node)."""
+    with service_session(connect) as session:
+        details = {
+            name: msgspec.json.decode(body, type=NodeDetails) for name, body in _answers(session, node_key("*")).items()
+        }
+        if not details:
+            raise NobodyServes("no node is running (is `turtlectl launch` running?)")
+        params = {name: msgspec.json.decode(body) for name, body in _answers(session, params_key("*")).items()}
+        return Running(details=details, params=params, world=world(session))
+
+
+def kind_of(system: Running, node: str) -> type[msgspec.Struct]:
+    """The parameter Struct of ``node``'s kind (NobodyServes naming the live nodes)."""
+    from nodes.kinds import KINDS
+
+    details = system.details.get(node)
+    if details is None or details.kind not in KINDS:
+        raise _no_node(node, list(system.details))
+    return KINDS[details.kind].params
+
+
+def describe(connect: str, node: str, name: str) -> tuple[ParamInfo, Any]:
+    """Parameter ``name`` of ``node``: type, unit, range, default, meaning, whether it can
+    change at run time; and its value now."""
+    system = running(connect)
+    infos = {p.name: p for p in param_infos(kind_of(system, node))}
+    if name not in infos:
+        raise BadInput(f"{node} has no parameter {name!r} (it has: {', '.join(infos)})")
+    return infos[name], value(system.params.get(node, {}), node, name)
+
+
+def plain(info: ParamInfo) -> dict[str, Any]:
+    return msgspec.to_builtins(info)
+
+
+def describe_text(node: str, info: ParamInfo, now: Any) -> str:
+    live = "yes" if info.run_time else f"no: {info.fixed_because}"
+    return "\n".join(
+        [
+            f"{node} {info.name}",
+            f"  value:       {msgspec.json.encode(now).decode()}",
+            f"  type:        {info.type}",
+            f"  unit:        {info.unit}",
+            f"  range:       {info.range}",
+            f"  default:     {info.default}",
+            f"  meaning:     {info.meaning}",
+            f"  at run time: {live}",
+        ]
+    )
+
+
+def set_value(connect: str, node: str, name: str, text: str, timeout: float = TIMEOUT) -> str:
+    """Set ``node``'s parameter ``name`` to ``text`` (a TOML value, else the text), validated
+    first as ``launch --set`` validates a launch file (same errors, exit 2), against what runs
+    now (a detector's new rate is checked against the navigator's scan_timeout); a parameter
+    that cannot change at run time is refused with the reason.  Returns the node's answer."""
+    from cli.launchfile import parse_assignment, running_plan, with_overrides
+    from nodes.kinds import KINDS
+    from runtime.params import lookup
+
+    system = running(connect)
+    params_type = kind_of(system, node)
+    nodes = {
+        n: (d.kind, system.params[n]) for n, d in system.details.items() if n in system.params and d.kind in KINDS
+    }
+    assignment = parse_assignment(f"{node}.{name}={text}", "param set", "param set NODE NAME VALUE")
+    plan = with_overrides(running_plan(nodes, system.world), [assignment], "param set")
+    reason = fixed_reason(params_type, name)
+    if reason is not None:
+        raise BadInput(f"param set {node}.{name}: cannot change while {node} runs: {reason}")
+    request = SetParameter(name=name, value=lookup(plan.params[node], name))
+    answers = list(call_service(connect, param_set_key(node), request, timeout))
+    acks = [a for a in answers if isinstance(a, Ack)]
+    if not acks:
+        raise Failed(f"{node} did not confirm the change")
+    return acks[-1].detail
+
+
+def listing_all(connect: str) -> dict[str, list[str]]:
+    """Every running node's parameter names, by node (``param list`` without NODE)."""
+    system = running(connect)
+    return {node: names(system.params[node]) for node in sorted(system.params)}
+
+
+def listing_text(by_node: dict[str, list[str]]) -> str:
+    return "\n".join(f"{node}:\n" + "\n".join(f"  {n}" for n in names_) for node, names_ in by_node.items())

@@ -12,6 +12,7 @@ everything goes through the Printer.
 
 from __future__ import annotations
 
+import json
 import os
 import signal
 from pathlib import Path
@@ -27,7 +28,9 @@ from cli.supervisor.printer import Printer
 from cli.supervisor.process import Child, ZygoteChild, node_command
 from cli.supervisor.router import join_router, open_router
 from cli.supervisor.supervision import Supervision
-from messages.keys import NODE_TOKEN_PREFIX, domain_token, parse_node_token
+from messages import DecodeError, ParameterEvent, decode
+from messages.keys import NODE_TOKEN_PREFIX, PARAMETER_EVENTS, domain_token, parse_node_token
+from runtime.config import ENV_VAR, NodeConfig, encode_config
 from runtime.session import close_session
 
 
@@ -44,8 +47,12 @@ class Supervisor:
         domain: str = "",
         host: str = "127.0.0.1",
         log_parent: Path | None = None,
+        persist: bool = False,
+        log_level: str = "INFO",
     ):
         self.plan = plan
+        self.persist = persist  # a node started again keeps the parameters set at run time
+        self.log_level = log_level
         self.log_parent = log_parent
         self.port = port
         self.host = host
@@ -104,6 +111,7 @@ class Supervisor:
             watcher = session.liveliness().declare_subscriber(
                 f"{prefix}{NODE_TOKEN_PREFIX}/**", self._on_token, history=True
             )
+            changes = session.declare_subscriber(f"{prefix}{PARAMETER_EVENTS}", self._on_change) if self.persist else None
             # outside the namespace (this session has none): clients without --domain find the domain
             announced = session.liveliness().declare_token(domain_token(self.domain)) if self.domain else None
             count = len(self.plan.launch.node)
@@ -112,6 +120,8 @@ class Supervisor:
             self.printer.system(f"{where}{domain}; starting {count} node{'s' * (count != 1)}")
             code = self.supervision.run()
             watcher.undeclare()
+            if changes is not None:
+                changes.undeclare()
             if announced is not None:
                 announced.undeclare()
         finally:
@@ -142,10 +152,32 @@ class Supervisor:
         if info is not None:
             self.supervision.announce(sample.kind == zenoh.SampleKind.PUT, info.name, info.pid)
 
+    def _on_change(self, sample: zenoh.Sample) -> None:  # Zenoh thread: --persist only
+        """A node's parameter changed at run time: start it with the new value from now on
+        (its config in the child's environment, read at each start)."""
+        try:
+            event = decode(sample.payload.to_bytes(), ParameterEvent)
+        except DecodeError:
+            return
+        child = self.supervision.children.get(event.node)
+        params = self.plan.params.get(event.node)
+        if child is None or params is None:
+            return
+        *path, last = event.name.split(".")
+        table = params
+        for part in path:
+            table = table.setdefault(part, {})
+        table[last] = event.new_value
+        child.env[ENV_VAR] = encode_config(self._config(event.node))
+        self.printer.system(f"{event.node} {event.name} = {json.dumps(event.new_value)} kept for its next start (--persist)")
+
+    def _config(self, name: str) -> NodeConfig:
+        return node_config(self.plan, name, self.endpoint, domain=self.domain, log_level=self.log_level)
+
     def _child(self, name: str) -> Child:
-        """The Child for node ``name``: its command and environment, made once."""
-        config = node_config(self.plan, name, self.endpoint, domain=self.domain)
-        argv, env = node_command(config, supervisor_pid=os.getpid())
+        """The Child for node ``name``: its command and environment, made once (its config
+        changed by ``--persist``)."""
+        argv, env = node_command(self._config(name), supervisor_pid=os.getpid())
         if self.zygote is not None:
             return ZygoteChild(name, argv, env, self.printer, self.zygote)
         return Child(name, argv, env, self.printer)
