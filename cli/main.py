@@ -402,7 +402,9 @@ def param_list(
 def param_set(
     node: str = NodeArgument,
     name: str = ParamArgument,
-    value: str = typer.Argument(..., metavar="VALUE", help="A TOML value as in a launch file: 60, 0.5, true, [1, 2], \"text\"."),
+    value: str = typer.Argument(
+        ..., metavar="VALUE", help='A TOML value as in a launch file: 60, 0.5, true, [1, 2], "text".'
+    ),
     connect: str = ConnectOption,
     domain: str = DomainOption,
 ) -> None:

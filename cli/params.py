@@ -170,9 +170,7 @@ def set_value(connect: str, node: str, name: str, text: str, timeout: float = TI
 
     system = running(connect)
     params_type = kind_of(system, node)
-    nodes = {
-        n: (d.kind, system.params[n]) for n, d in system.details.items() if n in system.params and d.kind in KINDS
-    }
+    nodes = {n: (d.kind, system.params[n]) for n, d in system.details.items() if n in system.params and d.kind in KINDS}
     assignment = parse_assignment(f"{node}.{name}={text}", "param set", "param set NODE NAME VALUE")
     plan = with_overrides(running_plan(nodes, system.world), [assignment], "param set")
     reason = fixed_reason(params_type, name)

@@ -200,7 +200,11 @@ FIELDS: dict[str, dict[str, tuple[str, str, str]]] = {
         "seq": SEQ,
     },
     "SetLogLevel": {
-        "level": ("-", "DEBUG, INFO, WARNING, ERROR (any case)", "the least severe log line the node writes from now on"),
+        "level": (
+            "-",
+            "DEBUG, INFO, WARNING, ERROR (any case)",
+            "the least severe log line the node writes from now on",
+        ),
     },
 }
 

@@ -111,7 +111,9 @@ class Supervisor:
             watcher = session.liveliness().declare_subscriber(
                 f"{prefix}{NODE_TOKEN_PREFIX}/**", self._on_token, history=True
             )
-            changes = session.declare_subscriber(f"{prefix}{PARAMETER_EVENTS}", self._on_change) if self.persist else None
+            changes = (
+                session.declare_subscriber(f"{prefix}{PARAMETER_EVENTS}", self._on_change) if self.persist else None
+            )
             # outside the namespace (this session has none): clients without --domain find the domain
             announced = session.liveliness().declare_token(domain_token(self.domain)) if self.domain else None
             count = len(self.plan.launch.node)
@@ -169,7 +171,9 @@ class Supervisor:
             table = table.setdefault(part, {})
         table[last] = event.new_value
         child.env[ENV_VAR] = encode_config(self._config(event.node))
-        self.printer.system(f"{event.node} {event.name} = {json.dumps(event.new_value)} kept for its next start (--persist)")
+        self.printer.system(
+            f"{event.node} {event.name} = {json.dumps(event.new_value)} kept for its next start (--persist)"
+        )
 
     def _config(self, name: str) -> NodeConfig:
         return node_config(self.plan, name, self.endpoint, domain=self.domain, log_level=self.log_level)

@@ -20,7 +20,14 @@ from messages.keys import (
 
 
 def test_every_key_has_a_message_type():
-    assert set(TOPICS) == {"turtle1/cmd_vel", "turtle1/pose", "robot/status", "obstacles", "navigate_to/feedback", "turtlectl/parameter_events"}
+    assert set(TOPICS) == {
+        "turtle1/cmd_vel",
+        "turtle1/pose",
+        "robot/status",
+        "obstacles",
+        "navigate_to/feedback",
+        "turtlectl/parameter_events",
+    }
     assert SERVICES["navigate_to"] == (NavigateToRequest, NavigateToResponse)
 
 
