@@ -39,6 +39,23 @@ class Graph(msgspec.Struct):
     services: list[ServiceRow]
     domains: list[str] = msgspec.field(default_factory=list)  # with a system on this router (seen from outside)
     hint: str = ""  # what to do when there are no nodes (e.g. "add --domain lab1")
+    hidden_services: int = 0  # each node's own services left out (``list`` without --all)
+
+
+#: where the services every node has live (parameters, node info, log level)
+NODE_SERVICE_ROOTS = ("turtlectl/params/", "turtlectl/nodes/")
+
+
+def without_node_services(graph: Graph) -> Graph:
+    """``graph`` without the services every node has (``turtlectl/params/<node>``,
+    ``turtlectl/nodes/<node>`` and below, in any domain), counted in ``hidden_services``."""
+
+    def own(key: str) -> bool:
+        in_domain = key.partition("/")[2]  # lab1/turtlectl/params/sim seen from outside lab1
+        return any(key.startswith(root) or in_domain.startswith(root) for root in NODE_SERVICE_ROOTS)
+
+    kept = [s for s in graph.services if not own(s.key)]
+    return msgspec.structs.replace(graph, services=kept, hidden_services=len(graph.services) - len(kept))
 
 
 def _split_domain(key: str) -> tuple[str, str]:
@@ -123,6 +140,10 @@ def graph_text(graph: Graph) -> str:
     lines += [f"  {s.key:{key_w}s} {s.type:{type_w}s} served by {', '.join(s.servers)}" for s in graph.services] or [
         "  (none)"
     ]
+    if graph.hidden_services:
+        lines.append(
+            f"  (+ {graph.hidden_services} services every node has: parameters, node info, log level; --all lists them)"
+        )
     if graph.domains:
         lines.append(
             f"DOMAINS (their nodes and keys are listed with the domain in front)\n  {', '.join(graph.domains)}"

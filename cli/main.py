@@ -18,8 +18,10 @@ import shutil
 import signal
 import sys
 from pathlib import Path
+from typing import Any
 
 import typer
+import typer.core
 
 from cli import STOPPED_BY_CTRL_C, args, lazy_module
 from cli.errors import BadInput, ExitCode, Failed, Interrupted, TurtlectlError, Unreachable, exit_code
@@ -38,8 +40,45 @@ interrupted by Ctrl-C before its result (goto, call, and the other one-shot
 commands).
 """
 
+#: the groups of `turtlectl --help`, in order, and their commands in the order listed
+COMMAND_GROUPS: dict[str, tuple[str, ...]] = {
+    "System": ("launch", "router", "run", "log-level"),
+    "Goals and driving": ("goto", "cancel", "teleport", "reset", "teleop"),
+    "Topics": ("echo", "hz", "pub", "topic"),
+    "Services": ("call",),
+    "Parameters": ("param",),
+    "Introspection": ("list", "node", "interface", "view"),
+    "Recording and Foxglove": ("record", "info", "play", "foxglove"),
+}
+
+
+class GroupedHelp(typer.core.TyperGroup):
+    """``turtlectl --help`` lists the commands in groups (COMMAND_GROUPS), plain click
+    formatting (no rich: help stays quick and greppable)."""
+
+    def list_commands(self, ctx: Any) -> list[str]:
+        ordered = [name for names in COMMAND_GROUPS.values() for name in names if name in self.commands]
+        return ordered + [name for name in self.commands if name not in ordered]
+
+    def format_commands(self, ctx: Any, formatter: Any) -> None:
+        grouped = {name for names in COMMAND_GROUPS.values() for name in names}
+        groups = [*COMMAND_GROUPS.items(), ("Other", tuple(n for n in self.commands if n not in grouped))]
+        width = max(len(name) for name in self.commands)
+        limit = formatter.width - 6 - width
+        for title, names in groups:
+            rows = [
+                (name.ljust(width), self.commands[name].get_short_help_str(limit))
+                for name in names
+                if name in self.commands and not self.commands[name].hidden
+            ]
+            if rows:
+                with formatter.section(title):
+                    formatter.write_dl(rows)
+
+
 app = typer.Typer(
     name="turtlectl",
+    cls=GroupedHelp,
     help="A turtle robot over Zenoh, the ROS 2 way." + EXIT_CODES_HELP,
     no_args_is_help=True,
     add_completion=True,
@@ -353,20 +392,24 @@ def echo(
 @app.command("list")
 def list_graph(
     json: bool = typer.Option(False, "--json", help="The graph as one JSON object."),
+    all_: bool = typer.Option(False, "--all", help="Also each node's own services (parameters, node info, log level)."),
     connect: str = ConnectOption,
     domain: str = DomainOption,
 ) -> None:
     """The live graph: nodes (name, pid, host, uptime), topics with their publishers and
     subscribers, and services; read from liveliness tokens now, never from a cache.
     Without --domain, systems running in domains are listed too, their names and keys
-    prefixed with the domain (lab1/sim, lab1/robot/status).
+    prefixed with the domain (lab1/sim, lab1/robot/status).  The services every node has
+    (turtlectl/params/<node>, turtlectl/nodes/<node>, ...) are counted, not listed, unless --all.
 
     Example: turtlectl list
     """
     from cli import topics
-    from cli.graph import graph_text
+    from cli.graph import graph_text, without_node_services
 
     current = topics.graph(connect)
+    if not all_:
+        current = without_node_services(current)
     _result(format.json_value(current) if json else graph_text(current))
 
 
@@ -474,6 +517,67 @@ def param_dump(
 
     values = params.fetch(connect, node)
     _result(format.json_value(values) if json else params.dump(node, values))
+
+
+node_app = typer.Typer(help="Running nodes in detail (as `ros2 node`).")
+app.add_typer(node_app, name="node")
+
+
+@node_app.command("info")
+def node_info(
+    node: str = NodeArgument,
+    json: bool = typer.Option(False, "--json", help="One JSON object."),
+    connect: str = ConnectOption,
+    domain: str = DomainOption,
+) -> None:
+    """A running node: kind, pid, host, uptime, log level, what it publishes, subscribes to and
+    serves (with types), and its parameters.
+
+    Example: turtlectl node info navigator
+    """
+    from cli import introspect
+
+    report = introspect.node_report(connect, node)
+    _result(format.json_value(report) if json else introspect.node_text(report))
+
+
+topic_app = typer.Typer(help="One topic in detail (as `ros2 topic info`); echo, hz and pub are commands of their own.")
+app.add_typer(topic_app, name="topic")
+
+
+@topic_app.command("info")
+def topic_info(
+    key: str = typer.Argument(..., metavar="KEY", help="A topic's key, e.g. turtle1/pose."),
+    verbose: bool = typer.Option(False, "-v", "--verbose", help="Also measure its rate over a second."),
+    json: bool = typer.Option(False, "--json", help="One JSON object."),
+    connect: str = ConnectOption,
+    domain: str = DomainOption,
+) -> None:
+    """A topic's type, and its publishers and subscribers with their nodes (pid, host); with
+    -v, its rate measured over one second.
+
+    Example: turtlectl topic info turtle1/pose -v
+    """
+    from cli import introspect
+
+    report = introspect.topic_report(connect, key, verbose)
+    _result(format.json_value(report) if json else introspect.topic_text(report))
+
+
+@app.command("log-level")
+def log_level_command(
+    node: str = NodeArgument,
+    level: str = typer.Argument(..., metavar="LEVEL", help="DEBUG, INFO, WARNING or ERROR (any case)."),
+    connect: str = ConnectOption,
+    domain: str = DomainOption,
+) -> None:
+    """Change a running node's log level at once (`launch --log-level` sets it for all at start).
+
+    Example: turtlectl log-level navigator DEBUG
+    """
+    from cli import introspect
+
+    _result(introspect.set_log_level(connect, node, level))
 
 
 interface_app = typer.Typer(help="Message types: list them, show one's fields, units and defaults.")
