@@ -760,6 +760,30 @@ def view(connect: str = ConnectOption, domain: str = DomainOption) -> None:
 
 
 @app.command()
+def teleop(
+    linear: float = typer.Option(2.0, "--linear", min=0.0, help="Speed of up/down (w/s), m/s."),
+    angular: float = typer.Option(2.0, "--angular", min=0.0, help="Turn rate of left/right (a/d), rad/s."),
+    connect: str = ConnectOption,
+    domain: str = DomainOption,
+) -> None:
+    """Drive the turtle from the keyboard, as turtlesim's teleop_turtle_key: arrow keys or
+    w/a/s/d (a held key keeps the turtle going; it stops 0.7 s after the key is released),
+    space stops, q or Ctrl-C quits (exit code 0).  A goal running when the keys start
+    driving is canceled (reason "teleop").  The status line shows the command being sent
+    and the turtle's pose.
+
+    Example: turtlectl teleop --linear 1.0
+    """
+    from cli import client
+    from cli.teleop import run_teleop
+
+    args.finite_option(linear, "--linear")
+    args.finite_option(angular, "--angular")
+    with client.client_session(connect) as session:
+        run_teleop(session, linear, angular, connect, sys.stdin.fileno(), sys.stdout)
+
+
+@app.command()
 def record(
     topics: list[str] = typer.Argument(
         None, metavar="[TOPIC]...", help="Key expressions to record, e.g. robot/status turtle1/*."

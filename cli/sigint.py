@@ -45,11 +45,12 @@ def sigint_deferred() -> Iterator[None]:
 
 
 @contextlib.contextmanager
-def stop_on_signals() -> Iterator[threading.Event]:
-    """An event set by Ctrl-C or SIGTERM while the block runs (a long command's way to end
-    cleanly: record, play, foxglove); the previous handlers come back after it."""
+def stop_on_signals(also: tuple[signal.Signals, ...] = ()) -> Iterator[threading.Event]:
+    """An event set by Ctrl-C or SIGTERM (and the signals in ``also``) while the block runs (a
+    long command's way to end cleanly: record, play, foxglove, teleop); the previous handlers
+    come back after it."""
     stop = threading.Event()
-    sigs = (signal.SIGINT, signal.SIGTERM)
+    sigs = (signal.SIGINT, signal.SIGTERM, *also)
     previous = {sig: signal.signal(sig, lambda *_: stop.set()) for sig in sigs}
     try:
         yield stop
