@@ -97,7 +97,9 @@ class Driver:
             self._stop_due = False
             return Twist()
         if self.sending and now >= self._next:
-            self._next = now + self.period
+            self._next += self.period  # on a grid: no drift with the caller's polling
+            if self._next <= now:
+                self._next = now + self.period
             return self.command
         return None
 

@@ -27,6 +27,7 @@ from cli.errors import BadInput, Unreachable
 from cli.keyboard import Driver, Shown, keys, status_line
 from cli.sigint import stop_on_signals
 from messages import Cancel, Pose, Twist, decode, encode, encoding_for
+from messages.angles import heading_degrees
 from messages.keys import CANCEL, CMD_VEL, FEEDBACK, POSE
 
 POLL = 0.02  # s: the longest a key waits to be read
@@ -143,7 +144,7 @@ class _Teleop:
 
     def shown(self) -> Shown:
         pose = self.latest
-        where = None if pose is None else (pose.x, pose.y, math.degrees(pose.theta) % 360.0)
+        where = None if pose is None else (pose.x, pose.y, heading_degrees(pose.theta))
         return Shown(command=self.driver.command, pose=where, note=self.note)
 
     def close(self) -> None:

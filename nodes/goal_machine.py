@@ -380,9 +380,6 @@ class GoalMachine(Generic[C]):
             goal.replans += 1
         if why or goal.path is None and not first:
             self._note(logging.INFO, f"planned again ({why or 'a way is open'}): {path.length:.2f} m to go")
-        elif first:
-            how = "straight" if path.direct else f"round {len(seen) + len(self.declared)} obstacle circles"
-            self._note(logging.DEBUG, f"planned {path.length:.2f} m {how}")
         goal.path, goal.outline, goal.progress = path, path.outline(), 0
         goal.track = None if path.direct else Track(path)
         goal.phase = Phase.POSITION

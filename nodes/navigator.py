@@ -63,6 +63,10 @@ class Navigator:
     def on_goal(self, request: Request[NavigateToRequest]) -> None:
         self.catch_up()
         self.carry_out(self.machine.start(request.body, request, time.monotonic()))
+        goal = self.machine.goal
+        if goal is not None and goal.path is not None:
+            how = "straight" if goal.path.direct else f"round obstacles, {len(goal.outline)} points"
+            self.node.log.debug("planned %.2f m %s", goal.path.length, how)
 
     def on_cancel(self, request: Request[Cancel]) -> None:
         ack, actions = self.machine.cancel(request.body.reason, time.monotonic())

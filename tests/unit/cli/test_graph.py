@@ -59,3 +59,22 @@ def test_an_empty_graph_says_what_to_do():
         "(none: systems run in domain lab1 on this router: add it before the command, `turtlectl --domain lab1 ...`)"
         in graph_text(graph)
     )
+
+
+def test_list_counts_the_services_every_node_has_instead_of_listing_them():
+    """Issue 13: parameters, node info and log level are served by every node: listed with --all."""
+    from cli.graph import Graph, ServiceRow, without_node_services
+
+    keys = [
+        "navigate_to",
+        "turtlectl/world",
+        "turtlectl/params/sim",
+        "turtlectl/params/sim/set",
+        "turtlectl/nodes/sim",
+        "turtlectl/nodes/sim/log_level",
+        "lab1/turtlectl/params/sim",
+    ]
+    graph = Graph(nodes=[], topics=[], services=[ServiceRow(key=k, type="JSON", servers=["sim"]) for k in keys])
+    kept = without_node_services(graph)
+    assert [s.key for s in kept.services] == ["navigate_to", "turtlectl/world"] and kept.hidden_services == 5
+    assert "(+ 5 services every node has: parameters, node info, log level; --all lists them)" in graph_text(kept)

@@ -403,3 +403,31 @@ def test_nan_is_no_rate_offset_or_duration(argv, option):
         bad_input(*argv, "--connect", "tcp/127.0.0.1:9")
         == f"turtlectl: error: {option} must be a finite number, got nan"
     )
+
+
+def _leaves(command, path=()):
+    """Every runnable command under ``command``, with its path (``param set``)."""
+    subs = getattr(command, "commands", None)
+    if not subs:
+        yield path, command
+        return
+    for name, sub in subs.items():
+        yield from _leaves(sub, (*path, name))
+
+
+def test_help_groups_the_commands_and_every_command_has_an_example():
+    """Issue 13: `turtlectl --help` stays readable as it grows; each command shows how it is used."""
+    import typer.main
+
+    from cli.main import COMMAND_GROUPS
+
+    code, text = invoke("--help")
+    assert code == ExitCode.OK
+    sections = [line[:-1] for line in text.splitlines() if line.endswith(":") and not line.startswith(" ")]
+    assert sections[-len(COMMAND_GROUPS) :] == list(COMMAND_GROUPS)
+    root = typer.main.get_command(app)
+    grouped = [name for names in COMMAND_GROUPS.values() for name in names]
+    assert sorted(grouped) == sorted(root.commands), "every command in exactly one group"
+    for path, _ in _leaves(root):
+        code, help_text = invoke(*path, "--help")
+        assert code == 0 and "Example: turtlectl " + " ".join(path) in " ".join(help_text.split()), path

@@ -25,3 +25,12 @@ def test_a_resumed_timer_ticks_on_its_grid():
     assert t.deadline == pytest.approx(100.8)
     t.advance(100.8001)
     assert t.deadline == pytest.approx(100.9)
+
+
+def test_a_retimed_timer_ticks_a_new_period_from_now():
+    """Issue 13: `param set status_monitor rate 2` takes effect at once."""
+    t = Timer(0.1, lambda: None, start=100.0)
+    t.retime(0.5, now=100.23)
+    assert t.period == 0.5 and t.deadline == pytest.approx(100.73)
+    t.advance(100.73)
+    assert t.deadline == pytest.approx(101.23)

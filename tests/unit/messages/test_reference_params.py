@@ -1,0 +1,29 @@
+"""messages.reference.param_infos: what `turtlectl param describe` shows, for every parameter."""
+
+from __future__ import annotations
+
+from messages.reference import param_infos
+from nodes.kinds import KINDS
+
+
+def test_every_parameter_of_every_kind_has_a_unit_a_meaning_and_a_range():
+    for kind, spec in KINDS.items():
+        for info in param_infos(spec.params):
+            assert info.unit and info.unit != "-" or info.name == "phantom_seed", (kind, info)
+            assert info.meaning and info.range and info.default, (kind, info)
+            assert info.run_time == (info.fixed_because == ""), (kind, info)
+
+
+def test_describe_reads_constraints_defaults_and_what_is_fixed():
+    nav = {i.name: i for i in param_infos(KINDS["navigator"].params)}
+    assert (nav["goal_timeout"].unit, nav["goal_timeout"].range, nav["goal_timeout"].default) == (
+        "s",
+        "0.1 to 3600",
+        "30",
+    )
+    assert nav["robot_radius"].range == "> 0" and nav["clearance"].range == ">= 0"
+    assert nav["gains.lookahead"].unit == "m" and nav["gains.lookahead"].run_time
+    sim = {i.name: i for i in param_infos(KINDS["sim"].params)}
+    assert not sim["x"].run_time and "teleport" in sim["x"].fixed_because and sim["cmd_timeout"].run_time
+    detector = {i.name: i for i in param_infos(KINDS["obstacle_detector"].params)}
+    assert detector["undeclared_obstacles"].range == "at most 100 items" and detector["beams"].type == "int"
