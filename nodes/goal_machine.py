@@ -120,6 +120,10 @@ class Goal(Generic[C]):
         self.replans = 0
 
 
+#: the detail of a goal canceled with a reason of its own
+CANCEL_DETAILS = {"canceled": "", "teleop": "the keyboard took over (turtlectl teleop)"}
+
+
 class GoalMachine(Generic[C]):
     """One navigator's goals, one at a time.  ``goal`` is the running one (None: idle)."""
 
@@ -192,7 +196,8 @@ class GoalMachine(Generic[C]):
         if goal is None:
             return Ack(ok=False, detail="no goal is running"), []
         reason = reason or "canceled"
-        self._finish(now, False, reason, "" if reason == "canceled" else f"the turtle was {reason} while it drove")
+        detail = CANCEL_DETAILS.get(reason, f"the turtle was {reason} while it drove")  # teleported, reset
+        self._finish(now, False, reason, detail)
         target = goal.target
         return Ack(detail=f"canceled the goal ({target.x:g}, {target.y:g}, {goal.theta_deg:g} deg)"), self._flush()
 

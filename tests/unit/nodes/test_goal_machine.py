@@ -664,3 +664,16 @@ def test_a_goal_just_beyond_the_margin_of_something_only_the_scan_sees_is_reache
     assert outcome.response.time_taken < 5.0, outcome.response.time_taken  # no wait for a way to open
     gap = min(math.hypot(s.x - rock.x, s.y - rock.y) - rock.radius for s in states)
     assert gap >= PARAMS.robot_radius, gap
+
+
+def test_a_goal_canceled_by_teleop_says_the_keyboard_took_over():
+    """Issue 13: `turtlectl teleop` cancels a running goal with reason "teleop"."""
+    m = machine()
+    m.pose(pose(x=2.0), 0.0)
+    m.start(NavigateToRequest(x=8.0, y=5.0, theta=0.0), "caller", 0.0)
+    ack, actions = m.cancel("teleop", 0.1)
+    reply = next(a for a in actions if isinstance(a, Reply))
+    assert ack.ok and (reply.response.reason, reply.response.detail) == (
+        "teleop",
+        "the keyboard took over (turtlectl teleop)",
+    )
