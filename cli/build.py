@@ -14,7 +14,7 @@ from cli.errors import BadInput
 from cli.launchfile import validation_parts
 from messages import Message
 from messages.codec import TYPES_BY_NAME
-from messages.keys import SERVICES, TOPICS
+from messages.keys import TOPICS, service_types
 
 
 def _problem(exc: msgspec.ValidationError) -> str:
@@ -63,10 +63,12 @@ def topic_message(key: str, text: str, type_name: str | None = None) -> Message:
 
 def service_request(key: str, text: str, type_name: str | None = None) -> Message | bytes:
     """The request for ``key``: a typed message for a known service, else the JSON text as bytes."""
-    if type_name is None and key not in SERVICES:
+    types = service_types(key)
+    if type_name is None and types is None:
         try:
             msgspec.json.decode(text.encode())
         except msgspec.DecodeError as exc:
             raise BadInput(f"not valid JSON: {exc}") from None
         return text.encode()
-    return message_from_json(text, message_type(key, type_name, SERVICES, verb="takes"))
+    table = {} if types is None else {key: types}
+    return message_from_json(text, message_type(key, type_name, table, verb="takes"))

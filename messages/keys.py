@@ -26,6 +26,8 @@ from messages.types import (
     ParameterEvent,
     Pose,
     Reset,
+    SetLogLevel,
+    SetParameter,
     TeleportAbsolute,
     TurtleStatus,
     Twist,
@@ -176,3 +178,17 @@ def node_key(name: str) -> str:
 def log_level_key(name: str) -> str:
     """Service on which node ``name`` changes its log level (SetLogLevel -> Ack)."""
     return f"{node_key(name)}/log_level"
+
+
+def service_types(key: str) -> tuple[type[Message], type[Message]] | None:
+    """(request, response) types of the service at ``key``: a fixed key of SERVICES, or one
+    every node serves (``turtlectl/params/<node>/set``, ``turtlectl/nodes/<node>/log_level``)."""
+    if key in SERVICES:
+        return SERVICES[key]
+    parts = key.split("/")
+    if len(parts) == 4 and parts[0] == "turtlectl" and parts[2]:
+        if (parts[1], parts[3]) == ("params", "set"):
+            return SetParameter, Ack
+        if (parts[1], parts[3]) == ("nodes", "log_level"):
+            return SetLogLevel, Ack
+    return None

@@ -93,7 +93,7 @@ def test_param_set_refuses_as_the_launch_file_does_and_names_what_cannot_change(
     assert spawn.returncode == ExitCode.BAD_INPUT
     assert "cannot change while sim runs: the spawn pose is read once, at start" in spawn.stderr
     # the node refuses too, for a client that skips the command line's checks
-    direct = system.run_cli("call", "turtlectl/params/sim/set", "--type", "SetParameter", '{"name": "x", "value": 3}')
+    direct = system.run_cli("call", "turtlectl/params/sim/set", '{"name": "x", "value": 3}')
     assert direct.returncode == ExitCode.BAD_INPUT and "x cannot change at run time" in direct.stderr
     assert get(system, "sim", "x") == pytest.approx(5.544445)
     nobody = system.run_cli("param", "set", "nobody", "rate", "1")

@@ -37,3 +37,14 @@ def test_a_known_key_keeps_its_type():
     with pytest.raises(TurtlectlError, match="navigate_to/cancel takes Cancel, not Pose"):
         service_request("navigate_to/cancel", '{"x": 1, "y": 2, "theta": 0}', "Pose")
     assert type(service_request("navigate_to/cancel", "{}", "Cancel")) is Cancel
+
+
+def test_the_services_every_node_has_take_their_own_request_types():
+    """Issue 13: `call turtlectl/params/navigator/set '{...}'` needs no --type."""
+    from messages import SetLogLevel, SetParameter
+
+    assert service_request("turtlectl/params/navigator/set", '{"name": "goal_timeout", "value": 60}') == SetParameter(
+        name="goal_timeout", value=60
+    )
+    assert service_request("turtlectl/nodes/sim/log_level", '{"level": "DEBUG"}') == SetLogLevel(level="DEBUG")
+    assert service_request("turtlectl/params/sim", "{}") == b"{}"  # the JSON answer: no type
