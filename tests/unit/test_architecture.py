@@ -22,6 +22,7 @@ PURE = [
     "messages",  # every module of the package
     "runtime.config",
     "runtime.endpoint",
+    "runtime.params",
     "sim.kinematics",
     "sim.lidar",
     "sim.params",
@@ -37,6 +38,7 @@ PURE = [
     "cli.format",
     "cli.graph",
     "cli.rates",
+    "cli.keyboard",
     "cli.bag",  # recordings: MCAP files, read and written without a session
     "cli.supervisor.supervision",  # the supervision policy: processes and clock come from outside
 ]
