@@ -726,19 +726,21 @@ def run(
     node: str = typer.Argument(..., metavar="NODE", help="Name of a node in the launch file."),
     param: list[str] = typer.Option([], "--param", "-p", help="KEY=VALUE override (repeatable; a.b=1 for tables)."),
     file: Path | None = typer.Option(None, "--file", help="Launch file (default as for launch)."),
+    log_level: str = LogLevelOption,
     connect: str = ConnectOption,
     domain: str = DomainOption,
 ) -> None:
     """Run one node in the foreground with the parameters the launch file gives it (and
     overrides), joining the system at --connect: for debugging, or on another machine.
 
-    Example: turtlectl run navigator -p goal_timeout=60
+    Example: turtlectl run navigator -p goal_timeout=60 --log-level DEBUG
     """
     from cli.launchfile import default_launch_file, load_launch, node_config
     from cli.supervisor.process import exec_node
 
+    level = args.log_level(log_level)
     path = file or default_launch_file()
-    exec_node(node_config(load_launch(path), node, args.endpoint(connect), param, default_domain()))
+    exec_node(node_config(load_launch(path), node, args.endpoint(connect), param, default_domain(), level))
 
 
 @app.command()

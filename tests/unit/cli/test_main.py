@@ -431,3 +431,8 @@ def test_help_groups_the_commands_and_every_command_has_an_example():
     for path, _ in _leaves(root):
         code, help_text = invoke(*path, "--help")
         assert code == 0 and "Example: turtlectl " + " ".join(path) in " ".join(help_text.split()), path
+
+
+@pytest.mark.parametrize("argv", [("launch", "--log-level", "loud"), ("run", "navigator", "--log-level", "loud")])
+def test_a_log_level_is_one_of_the_four(argv):
+    assert bad_input(*argv) == "turtlectl: error: unknown log level 'loud' (known: DEBUG, INFO, WARNING, ERROR)"
