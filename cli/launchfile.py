@@ -393,16 +393,54 @@ def with_overrides(plan: LaunchPlan, assignments: list[Assignment], option: str)
     return _validate(data, plan.source, _Report(option, list(names), override=True))
 
 
-def running_plan(nodes: dict[str, tuple[str, dict[str, Any]]], world: World) -> LaunchPlan:
-    """A plan of what runs now: each node's kind and parameters, as its
-    ``turtlectl/nodes/<name>`` and ``turtlectl/params/<name>`` answer, in ``world``; for
-    ``param set``, to validate a change as ``launch --set`` would.  (Valid already: these
-    nodes started from a validated file.)"""
-    data = {
+def running_change(
+    nodes: dict[str, tuple[str, dict[str, Any]]], world: World, node: str, name: str, text: str, label: str
+) -> Any:
+    """The value to give ``node``'s parameter ``name`` for ``text`` (a TOML value, else the
+    text), validated as ``launch --set`` validates a file, against what runs now: ``nodes``
+    (each node's kind and parameters) in ``world``.  A rule of the whole system that already
+    fails now (a node respawned with its launch file's value may break one) refuses only
+    changes that break it differently, so that the change that repairs it, and unrelated
+    ones, go through.  LaunchFileError (exit 2) names ``label`` and, when the rule broken is
+    about another parameter, that one."""
+    data: dict[str, Any] = {
         "world": msgspec.to_builtins(world),
-        "node": [{"name": name, "run": kind, "params": params} for name, (kind, params) in nodes.items()],
+        "node": [{"name": n, "run": kind, "params": copy.deepcopy(p)} for n, (kind, p) in nodes.items()],
     }
-    return _validate(data, "the running system", _Report("the running system", list(nodes), override=True))
+    names = list(nodes)
+    report = _Report(label, list(names), override=True)
+    assignment = parse_assignment(f"{node}.{name}={text}", label, f"{label} NODE NAME VALUE")
+    before = _problem_text(data, report)
+    changed = copy.deepcopy(data)
+    table = changed["node"][names.index(node)]["params"]
+    *path, last = assignment.keys[1:]
+    for depth, key in enumerate(path):
+        table = table.setdefault(key, {})
+        if not isinstance(table, dict):
+            raise LaunchFileError(f"{label} {'.'.join([node, *path[: depth + 1]])}: is not a table")
+    table[last] = assignment.value
+    after = _problem_text(changed, report)
+    if after is not None and after != before:
+        where = f"{label} {node}.{name}"
+        if after.startswith(where + ":"):
+            raise LaunchFileError(after)
+        rule = after.removeprefix(label + " ")
+        raise LaunchFileError(f"{where} = {text}: it would break a rule of the running system: {rule}")
+    kind = KINDS[nodes[node][0]]
+    typed = msgspec.convert(changed["node"][names.index(node)]["params"], kind.params, strict=True)
+    value: Any = msgspec.to_builtins(typed)
+    for key in assignment.keys[1:]:
+        value = value[key]
+    return value
+
+
+def _problem_text(data: dict[str, Any], report: _Report) -> str | None:
+    """The first thing wrong with launch-file ``data`` (as its error reads), or None."""
+    try:
+        _validate(data, report.label, report)
+    except LaunchFileError as exc:
+        return str(exc)
+    return None
 
 
 #: how to write a ``launch --set`` override

@@ -164,19 +164,24 @@ def set_value(connect: str, node: str, name: str, text: str, timeout: float = TI
     first as ``launch --set`` validates a launch file (same errors, exit 2), against what runs
     now (a detector's new rate is checked against the navigator's scan_timeout); a parameter
     that cannot change at run time is refused with the reason.  Returns the node's answer."""
-    from cli.launchfile import parse_assignment, running_plan, with_overrides
+    from cli.launchfile import running_change
     from nodes.kinds import KINDS
-    from runtime.params import lookup
 
     system = running(connect)
     params_type = kind_of(system, node)
     nodes = {n: (d.kind, system.params[n]) for n, d in system.details.items() if n in system.params and d.kind in KINDS}
-    assignment = parse_assignment(f"{node}.{name}={text}", "param set", "param set NODE NAME VALUE")
-    plan = with_overrides(running_plan(nodes, system.world), [assignment], "param set")
+    here = system.params.get(node, {})
+    for part in name.split("."):
+        here = here.get(part) if isinstance(here, dict) else None
+    if isinstance(here, dict):
+        raise BadInput(
+            f"param set {node}.{name}: is a table: set one of its entries ({', '.join(names(here, name + '.'))})"
+        )
+    new = running_change(nodes, system.world, node, name, text, "param set")
     reason = fixed_reason(params_type, name)
     if reason is not None:
         raise BadInput(f"param set {node}.{name}: cannot change while {node} runs: {reason}")
-    request = SetParameter(name=name, value=lookup(plan.params[node], name))
+    request = SetParameter(name=name, value=new)
     answers = list(call_service(connect, param_set_key(node), request, timeout))
     acks = [a for a in answers if isinstance(a, Ack)]
     if not acks:

@@ -272,3 +272,18 @@ def test_teleop_without_a_terminal_is_bad_input(system):
     result = system.run_cli("teleop")
     assert result.returncode == ExitCode.BAD_INPUT
     assert "teleop reads keys from a terminal, and its input is not one" in result.stderr
+
+
+def test_after_a_respawn_brings_back_a_launch_value_that_breaks_a_rule_other_changes_still_go_through(system):
+    """Review of issue 13: scan_timeout 2 s, detector at 0.8 Hz, then the navigator respawned with
+    scan_timeout 1 s: every `param set` on every node was refused from then on."""
+    assert system.run_cli("param", "set", "navigator", "scan_timeout", "2").returncode == 0
+    assert system.run_cli("param", "set", "obstacle_detector", "rate", "0.8").returncode == 0
+    pid = system.alive["navigator"]
+    os.kill(pid, signal.SIGKILL)
+    system.wait_until(lambda: system.alive.get("navigator", pid) != pid, 15.0, "navigator respawned")
+    assert get(system, "navigator", "scan_timeout") == 1.0
+    unrelated = system.run_cli("param", "set", "status_monitor", "drain_per_second", "0.01")
+    assert unrelated.returncode == 0, unrelated.stderr
+    repair = system.run_cli("param", "set", "obstacle_detector", "rate", "5")
+    assert repair.returncode == 0, repair.stderr

@@ -2,6 +2,7 @@
 
 from pathlib import Path
 
+import msgspec
 import pytest
 
 from cli.launchfile import (
@@ -309,3 +310,48 @@ def test_only_and_exclude_suggest_the_nearest_node():
         "navigator",
         "status_monitor",
     ]
+
+
+def _running(scan_timeout: float = 1.0, rate: float = 5.0) -> dict:
+    from nodes.params import NavigatorParams, ObstacleDetectorParams, StatusMonitorParams
+
+    def table(struct, **changes):
+        return {**msgspec.to_builtins(struct), **changes}
+
+    return {
+        "navigator": ("navigator", table(NavigatorParams(), scan_timeout=scan_timeout)),
+        "obstacle_detector": ("obstacle_detector", table(ObstacleDetectorParams(), rate=rate)),
+        "status_monitor": ("status_monitor", table(StatusMonitorParams())),
+    }
+
+
+def test_a_change_is_validated_against_what_runs_as_launch_set_validates_a_file():
+    """Issue 13: `param set` refuses what the launch file refuses, naming the rule it would break."""
+    from cli.launchfile import running_change
+    from messages.world import World
+
+    assert running_change(_running(), World(), "navigator", "goal_timeout", "60", "param set") == 60.0
+    with pytest.raises(
+        LaunchFileError, match=r"^param set navigator.goal_timeot: unknown key; did you mean goal_timeout\?$"
+    ):
+        running_change(_running(), World(), "navigator", "goal_timeot", "60", "param set")
+    with pytest.raises(LaunchFileError) as broke:
+        running_change(_running(), World(), "obstacle_detector", "rate", "0.5", "param set")
+    assert str(broke.value).startswith(
+        "param set obstacle_detector.rate = 0.5: it would break a rule of the running system: navigator.scan_timeout: "
+        "1 s is not longer than the scan period of obstacle_detector (2 s at 0.5 Hz)"
+    )
+
+
+def test_a_system_that_already_breaks_a_rule_still_takes_changes_that_do_not_break_it_further():
+    """Review of issue 13: the navigator respawned with its launch file's scan_timeout (1 s) after the detector
+    was slowed to 0.8 Hz under a longer one: every `param set` on every node was refused from then on."""
+    from cli.launchfile import running_change
+    from messages.world import World
+
+    broken = _running(scan_timeout=1.0, rate=0.8)
+    assert running_change(broken, World(), "status_monitor", "rate", "5", "param set") == 5.0
+    assert running_change(broken, World(), "obstacle_detector", "rate", "5", "param set") == 5.0  # the repair
+    assert running_change(broken, World(), "navigator", "scan_timeout", "2", "param set") == 2.0  # the other one
+    with pytest.raises(LaunchFileError, match="2 s at 0.5 Hz"):  # worse: refused
+        running_change(broken, World(), "obstacle_detector", "rate", "0.5", "param set")
