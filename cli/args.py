@@ -44,6 +44,21 @@ def domain(text: str) -> str:
     return text
 
 
+def node_name(text: str) -> tuple[str, str]:
+    """A node's name as ``turtlectl list`` shows it: (its domain, or "", the name).  A ROS-style
+    leading ``/`` is accepted (``/navigator``); ``lab1/navigator`` names navigator in domain
+    lab1.  Names are letters, digits, _ and - (as the launch file's): no wildcards."""
+    from cli.launchfile import NAME_RE
+
+    domain_part, _, name = text.strip().lstrip("/").rpartition("/")
+    if (domain_part and not DOMAIN_RE.match(domain_part)) or not NAME_RE.match(name):
+        raise BadInput(
+            f"{text!r} is not a node name: letters, digits, _ and -, as the launch file names them "
+            "(`turtlectl list` shows the running ones)"
+        )
+    return domain_part, name
+
+
 def endpoint(connect: str) -> str:
     """``connect`` if it is a Zenoh endpoint (``tcp/HOST:PORT``)."""
     match = ENDPOINT_RE.match(connect)
@@ -84,10 +99,11 @@ def publish_count(once: bool, rate: float | None, times: int | None) -> int | No
 
 
 def log_level(text: str) -> str:
-    """A log level (any case) as the nodes take it: DEBUG, INFO, WARNING or ERROR."""
+    """A log level (any case) as the nodes take it: DEBUG, INFO, WARNING (or WARN) or ERROR."""
     from runtime.config import LOG_LEVELS
 
     level = text.strip().upper()
+    level = {"WARN": "WARNING"}.get(level, level)  # as ROS 2 spells it
     if level not in LOG_LEVELS:
         raise BadInput(f"unknown log level {text!r} (known: {', '.join(LOG_LEVELS)})")
     return level

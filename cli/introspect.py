@@ -10,7 +10,7 @@ from typing import Any
 import msgspec
 
 from cli import args
-from cli.errors import Failed
+from cli.errors import BadInput, Failed
 from cli.graph import Graph
 from cli.services import NobodyServes, Raw, call_service
 from messages import Ack, SetLogLevel
@@ -127,6 +127,12 @@ def topic_report(connect: str, key: str, verbose: bool) -> TopicReport:
     key = check_key(key)
     graph = topics.graph(connect)
     row = next((t for t in graph.topics if t.key == key), None)
+    service = next((s for s in graph.services if s.key == key), None)
+    if row is None and service is not None:
+        raise BadInput(
+            f"{key} is a service ({service.type}, served by {', '.join(service.servers)}), not a topic: "
+            f"`turtlectl call {key} JSON` calls it"
+        )
     if row is None:
         known = ", ".join(t.key for t in graph.topics) or "none"
         raise NobodyServes(f"no node publishes or subscribes to {key!r} (topics: {known})")

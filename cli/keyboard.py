@@ -118,13 +118,30 @@ class Shown(msgspec.Struct):
     note: str = ""
 
 
-def status_line(shown: Shown) -> str:
-    """One line: the command being sent and the turtle's pose."""
+def status_line(shown: Shown, width: int = 200) -> str:
+    """One line of at most ``width`` - 1 characters (a full-width line would wrap, and each
+    redraw would leave a line behind): the command being sent and the turtle's pose; the
+    note, then the words, are dropped first where it does not fit."""
     c = shown.command
-    sending = "stopped" if c == Twist() else f"sending linear {c.linear:+.2f} m/s angular {c.angular:+.2f} rad/s"
-    where = (
-        "no pose yet (is the sim running?)"
-        if shown.pose is None
-        else (f"x {shown.pose[0]:5.2f} y {shown.pose[1]:5.2f} heading {shown.pose[2]:5.1f} deg")
+    if shown.pose is None:
+        where, short_where = "no pose yet (is the sim running?)", "no pose yet"
+    else:
+        x, y, heading = shown.pose
+        where = f"x {x:5.2f} y {y:5.2f} heading {heading:5.1f} deg"
+        short_where = f"{x:.2f}, {y:.2f}, {heading:.0f} deg"
+    if c == Twist():
+        sending = short = "stopped"
+    else:
+        sending = f"sending linear {c.linear:+.2f} m/s angular {c.angular:+.2f} rad/s"
+        short = f"{c.linear:+.2f} m/s {c.angular:+.2f} rad/s"
+    note = f" | {shown.note}" if shown.note else ""
+    lines = (
+        f"{sending} | {where}{note}",
+        f"{sending} | {where}",
+        f"{sending} | {short_where}",
+        f"{short} | {short_where}",
     )
-    return f"{sending} | {where}" + (f" | {shown.note}" if shown.note else "")
+    for line in lines:
+        if len(line) < width:
+            return line
+    return line[: max(0, width - 1)]

@@ -413,15 +413,39 @@ def list_graph(
     _result(format.json_value(current) if json else graph_text(current))
 
 
-NodeArgument = typer.Argument(..., metavar="NODE", help="A node's name, as `turtlectl list` shows it.")
-param_app = typer.Typer(help="A running node's parameters: list, get, set, describe, dump (as `ros2 param`).")
+def _use_node(text: str | None) -> str | None:
+    """NODE checked; ``lab1/navigator`` (as `list` shows a node of domain lab1 to a client without
+    --domain) makes lab1 the domain of this command."""
+    if text is None:
+        return None
+    in_domain, name = args.node_name(text)
+    if in_domain:
+        chosen = os.environ.get(DOMAIN_ENV, "")
+        if chosen and chosen != in_domain:
+            raise BadInput(f"node {text!r} is in domain {in_domain!r}, not in --domain {chosen!r}")
+        os.environ[DOMAIN_ENV] = in_domain
+    return name
+
+
+NodeArgument = typer.Argument(
+    ...,
+    metavar="NODE",
+    callback=_use_node,
+    help="A node's name, as `turtlectl list` shows it (lab1/sim: in domain lab1).",
+)
+param_app = typer.Typer(
+    help="A running node's parameters: list, get, set, describe, dump (as `ros2 param`).\n\n"
+    "Example: turtlectl param set navigator goal_timeout 60"
+)
 app.add_typer(param_app, name="param")
 ParamArgument = typer.Argument(..., metavar="NAME", help="A parameter, e.g. goal_timeout or gains.lookahead.")
 
 
 @param_app.command("list")
 def param_list(
-    node: str | None = typer.Argument(None, metavar="[NODE]", help="A node's name (default: every running node)."),
+    node: str | None = typer.Argument(
+        None, metavar="[NODE]", callback=_use_node, help="A node's name (default: every running node)."
+    ),
     json: bool = typer.Option(False, "--json", help="One JSON array of names (by node without NODE)."),
     connect: str = ConnectOption,
     domain: str = DomainOption,
@@ -519,7 +543,7 @@ def param_dump(
     _result(format.json_value(values) if json else params.dump(node, values))
 
 
-node_app = typer.Typer(help="Running nodes in detail (as `ros2 node`).")
+node_app = typer.Typer(help="Running nodes in detail (as `ros2 node`).\n\nExample: turtlectl node info navigator")
 app.add_typer(node_app, name="node")
 
 
@@ -541,7 +565,10 @@ def node_info(
     _result(format.json_value(report) if json else introspect.node_text(report))
 
 
-topic_app = typer.Typer(help="One topic in detail (as `ros2 topic info`); echo, hz and pub are commands of their own.")
+topic_app = typer.Typer(
+    help="One topic in detail (as `ros2 topic info`); echo, hz and pub are commands of their own.\n\n"
+    "Example: turtlectl topic info turtle1/pose -v"
+)
 app.add_typer(topic_app, name="topic")
 
 
@@ -567,7 +594,7 @@ def topic_info(
 @app.command("log-level")
 def log_level_command(
     node: str = NodeArgument,
-    level: str = typer.Argument(..., metavar="LEVEL", help="DEBUG, INFO, WARNING or ERROR (any case)."),
+    level: str = typer.Argument(..., metavar="LEVEL", help="DEBUG, INFO, WARNING (or WARN) or ERROR, any case."),
     connect: str = ConnectOption,
     domain: str = DomainOption,
 ) -> None:
@@ -580,7 +607,9 @@ def log_level_command(
     _result(introspect.set_log_level(connect, node, level))
 
 
-interface_app = typer.Typer(help="Message types: list them, show one's fields, units and defaults.")
+interface_app = typer.Typer(
+    help="Message types: list them, show one's fields, units and defaults.\n\nExample: turtlectl interface show Twist"
+)
 app.add_typer(interface_app, name="interface")
 
 
@@ -770,9 +799,10 @@ def teleop(
 ) -> None:
     """Drive the turtle from the keyboard, as turtlesim's teleop_turtle_key: arrow keys or
     w/a/s/d (a held key keeps the turtle going; it stops 0.7 s after the key is released),
-    space stops, q or Ctrl-C quits (exit code 0).  A goal running when the keys start
-    driving is canceled (reason "teleop").  The status line shows the command being sent
-    and the turtle's pose.
+    space stops (and cancels a running goal), q or Ctrl-C quits (exit code 0).  A goal
+    running when the keys start driving is canceled (reason "teleop").  The status line
+    shows the command being sent and the turtle's pose.  Its input must be a terminal
+    (exit code 2 otherwise).
 
     Example: turtlectl teleop --linear 1.0
     """

@@ -22,6 +22,13 @@ from messages.world import World
 TIMEOUT = 3.0
 
 
+def _no_param(node: str, name: str, known: list[str]) -> BadInput:
+    """An unknown parameter: the nearest one suggested, all of them named."""
+    from cli.launchfile import suggestion
+
+    return BadInput(f"{node} has no parameter {name!r}{suggestion(name, known)} (it has: {', '.join(known)})")
+
+
 def _no_node(node: str, running: list[str]) -> NobodyServes:
     return NobodyServes(f"no node named {node!r} answers (running: {', '.join(sorted(running)) or 'none'})")
 
@@ -51,8 +58,7 @@ def value(params: dict[str, Any], node: str, name: str) -> Any:
     here: Any = params
     for part in name.split("."):
         if not isinstance(here, dict) or part not in here:
-            known = ", ".join(names(params))
-            raise BadInput(f"{node} has no parameter {name!r} (it has: {known})")
+            raise _no_param(node, name, names(params))
         here = here[part]
     return here
 
@@ -134,8 +140,11 @@ def describe(connect: str, node: str, name: str) -> tuple[ParamInfo, Any]:
     change at run time; and its value now."""
     system = running(connect)
     infos = {p.name: p for p in param_infos(kind_of(system, node))}
+    entries = [n for n in infos if n.startswith(name + ".")]
+    if name not in infos and entries:
+        raise BadInput(f"{node} {name} is a table: describe one of its entries ({', '.join(entries)})")
     if name not in infos:
-        raise BadInput(f"{node} has no parameter {name!r} (it has: {', '.join(infos)})")
+        raise _no_param(node, name, list(infos))
     return infos[name], value(system.params.get(node, {}), node, name)
 
 

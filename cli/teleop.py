@@ -121,6 +121,10 @@ class _Teleop:
                         return "quit"
                     if self.driver.press(key, now) and self.goals.running(now):
                         self.cancel_goal(now)
+                    elif key == "stop":  # space stops a goal's driving too, one just started included
+                        self.goals.cancel(now)
+                        if self.goals.running(now):
+                            self.note = "canceled the running goal (reason teleop)"
             goals = self.goals
             if self.driver.sending and goals.last_feedback > goals.canceled_at + 0.2 and goals.running(now):
                 self.cancel_goal(now)  # a goal started while the keys drive
@@ -135,12 +139,19 @@ class _Teleop:
                     )
             if now >= next_line:
                 next_line = now + LINE_PERIOD
-                self.write("\r\x1b[K" + status_line(self.shown()))
+                self.write("\r\x1b[K" + status_line(self.shown(), self.width()))
         return "the terminal went away" if self.hung_up else "stopped"
 
     def cancel_goal(self, now: float) -> None:
         self.goals.cancel(now)
         self.note = "canceled the running goal (reason teleop)"
+
+    def width(self) -> int:
+        """The terminal's width now (it may be resized), 80 if it cannot tell."""
+        try:
+            return os.get_terminal_size(self.fd).columns or 80
+        except OSError:
+            return 80
 
     def shown(self) -> Shown:
         pose = self.latest

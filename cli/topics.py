@@ -19,7 +19,7 @@ from cli.errors import Unreachable
 from cli.graph import Graph, build_graph
 from cli.rates import RateStats, rate_stats
 from messages import DecodeError, Message, decode, decode_any, encode, encoding_for, type_from_encoding
-from messages.keys import CMD_VEL, DOMAIN_GRAPHS, FEEDBACK, GRAPH
+from messages.keys import CMD_VEL, DOMAIN_GRAPHS, FEEDBACK, GRAPH, PARAMETER_EVENTS
 from runtime.endpoint import default_domain
 
 WHILE_A_GOAL_RUNS = (FEEDBACK, CMD_VEL)  # published by the navigator only while a goal runs
@@ -90,6 +90,11 @@ def silence_text(key: str, current: Graph, hint: Callable[[], str], domain: str 
         who = f"{', '.join(publishers)} publish{'es' * (len(publishers) == 1)} it"
         if all(base_key(t.key) in WHILE_A_GOAL_RUNS for t in published):
             return f"nothing published on {key} yet: {who} only while a goal runs (start one with `turtlectl goto X Y THETA`)"
+        if all(base_key(t.key) == PARAMETER_EVENTS for t in published):
+            return (
+                f"nothing published on {key} yet: {who} only when a parameter changes "
+                "(`turtlectl param set NODE NAME VALUE`)"
+            )
         return f"nothing published on {key} for {SILENCE:g} s although {who}: it may be stalled (see its log)"
     if elsewhere:
         which = ", ".join(elsewhere)

@@ -16,7 +16,7 @@ import pytest
 from cli.errors import ExitCode
 from messages import ParameterEvent, TurtleStatus, Twist, decode
 from messages.keys import CMD_VEL, PARAMETER_EVENTS, STATUS
-from tests.integration.harness import in_pty, pump, running_system, turtlectl
+from tests.integration.harness import in_pty, pump, running_system, set_winsize, turtlectl
 
 pytestmark = pytest.mark.integration
 
@@ -179,6 +179,7 @@ def test_log_level_changes_what_a_running_node_writes(system):
 # -- teleop ------------------------------------------------------------------
 def teleop(system, *extra: str) -> tuple[int, int, Screen]:
     pid, fd = in_pty("teleop", "--connect", system.endpoint, *extra)
+    set_winsize(fd, 30, 200)  # wide enough for the status line's note
     screen = Screen()
     deadline = time.monotonic() + 15
     while "| x " not in screen.text:  # the status line shows a pose: it is subscribed and drawing
@@ -193,6 +194,16 @@ def hold(fd: int, screen: Screen, key: bytes, seconds: float) -> None:
     while time.monotonic() < end:
         os.write(fd, key)
         pump(fd, screen, 0.04)
+
+
+def ended(proc: subprocess.Popen, fd: int, screen: Screen, timeout: float = 10.0) -> tuple[str, str]:
+    """Wait for ``proc`` to end while reading the terminal (unread, its buffer fills and teleop,
+    blocked writing its status line, would read no key)."""
+    deadline = time.monotonic() + timeout
+    while proc.poll() is None:
+        assert time.monotonic() < deadline, f"{proc.args} did not end within {timeout} s"
+        pump(fd, screen, 0.05)
+    return proc.communicate()
 
 
 def finish(pid: int, fd: int, screen: Screen) -> int:
@@ -243,11 +254,29 @@ def test_teleop_cancels_a_running_goal_and_leaves_on_sigterm_with_a_stop_sent(sy
         try:
             system.wait_moving(0.5)
             hold(fd, screen, b"\x1b[D", 0.3)  # the keys take over
-            out, err = goal.communicate(timeout=10)
+            out, err = ended(goal, fd, screen)
         finally:
             goal.kill()
         assert goal.returncode == ExitCode.FAILED and "teleop" in out + err, (out, err)
         assert "canceled the running goal (reason teleop)" in screen.text
+        deadline = time.monotonic() + 5  # the keys released: teleop stops sending (a goal now would be canceled)
+        while not screen.text.rsplit("\x1b[K", 1)[-1].startswith("stopped"):
+            assert time.monotonic() < deadline, screen.text[-300:]
+            assert pump(fd, screen, 0.1)
+        goal = subprocess.Popen(  # a goal started while the keys rest: space stops it too
+            [*turtlectl(), "goto", "2", "8", "0", "--connect", system.endpoint],
+            stdout=subprocess.PIPE,
+            stderr=subprocess.PIPE,
+            stdin=subprocess.DEVNULL,
+            text=True,
+        )
+        try:
+            system.wait_moving(0.5)
+            os.write(fd, b" ")
+            out, err = ended(goal, fd, screen)
+        finally:
+            goal.kill()
+        assert goal.returncode == ExitCode.FAILED and "teleop" in out + err, (out, err)
         hold(fd, screen, b"\x1b[D", 0.3)
         os.kill(pid, signal.SIGTERM)
         assert finish(pid, fd, screen) == 0
@@ -287,3 +316,9 @@ def test_after_a_respawn_brings_back_a_launch_value_that_breaks_a_rule_other_cha
     assert unrelated.returncode == 0, unrelated.stderr
     repair = system.run_cli("param", "set", "obstacle_detector", "rate", "5")
     assert repair.returncode == 0, repair.stderr
+
+
+def test_topic_info_on_a_service_says_it_is_one(system):
+    result = system.run_cli("topic", "info", "navigate_to")
+    assert result.returncode == ExitCode.BAD_INPUT
+    assert "navigate_to is a service (NavigateToRequest, served by navigator), not a topic" in result.stderr

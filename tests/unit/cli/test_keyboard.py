@@ -74,3 +74,12 @@ def test_the_status_line_shows_the_command_and_the_pose():
     line = status_line(Shown(command=Twist(linear=2.0), pose=(1.0, 2.5, 90.0)))
     assert line == "sending linear +2.00 m/s angular +0.00 rad/s | x  1.00 y  2.50 heading  90.0 deg"
     assert status_line(Shown(command=Twist(), pose=None)).startswith("stopped | no pose yet")
+
+
+def test_the_status_line_fits_the_terminal_so_redraws_never_wrap():
+    """Review of issue 13: at 80 columns the line with a note was 124 characters and each redraw left a line."""
+    shown = Shown(command=Twist(linear=2.0), pose=(1.0, 2.5, 90.0), note="canceled the running goal (reason teleop)")
+    for width in (200, 120, 80, 50, 30, 10):
+        assert len(status_line(shown, width)) < width, width
+    assert "canceled" in status_line(shown, 200) and status_line(shown, 80).startswith("sending linear +2.00")
+    assert status_line(shown, 50) == "+2.00 m/s +0.00 rad/s | 1.00, 2.50, 90 deg"

@@ -436,3 +436,38 @@ def test_help_groups_the_commands_and_every_command_has_an_example():
 @pytest.mark.parametrize("argv", [("launch", "--log-level", "loud"), ("run", "navigator", "--log-level", "loud")])
 def test_a_log_level_is_one_of_the_four(argv):
     assert bad_input(*argv) == "turtlectl: error: unknown log level 'loud' (known: DEBUG, INFO, WARNING, ERROR)"
+
+
+@pytest.mark.parametrize(
+    ("argv", "name"),
+    [
+        (("param", "get", "*", "rate"), "*"),
+        (("param", "dump", "**"), "**"),
+        (("param", "list", "a/*"), "a/*"),
+        (("log-level", "*", "DEBUG"), "*"),
+        (("node", "info", ""), ""),
+        (("param", "set", "nav igator", "rate", "1"), "nav igator"),
+    ],
+)
+def test_a_node_name_is_a_name_not_a_key_expression(argv, name):
+    """Review of issue 13: `log-level '*' DEBUG` set every node and named one; `param get '*'` answered for one."""
+    assert bad_input(*argv).startswith(f"turtlectl: error: {name!r} is not a node name: letters, digits, _ and -")
+
+
+def test_a_node_name_may_have_ros_s_slash_or_the_domain_list_shows(monkeypatch):
+    """`/navigator` is navigator; `lab1/navigator` is navigator in domain lab1 (as `list` shows it)."""
+    from cli import args
+
+    assert args.node_name("/navigator") == ("", "navigator")
+    assert args.node_name("lab1/navigator") == ("lab1", "navigator")
+    code, text = invoke("--domain", "lab2", "param", "get", "lab1/navigator", "rate")
+    assert code == ExitCode.BAD_INPUT and "node 'lab1/navigator' is in domain 'lab1', not in --domain 'lab2'" in text
+    monkeypatch.delenv(DOMAIN_ENV)  # the command set it for its sessions
+    code, text = invoke("param", "get", "lab1/navigator", "rate", "--connect", "tcp/127.0.0.1:1")
+    assert code == ExitCode.UNREACHABLE and os.environ.get(DOMAIN_ENV) == "lab1"
+
+
+def test_warn_is_warning_as_ros_spells_it():
+    from cli import args
+
+    assert args.log_level("warn") == "WARNING" and args.log_level(" Error ") == "ERROR"

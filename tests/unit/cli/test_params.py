@@ -29,7 +29,10 @@ def test_names_dot_into_tables_in_the_node_s_order():
 def test_a_value_by_dotted_name_and_an_unknown_one_names_what_there_is():
     assert value(PARAMS, "navigator", "gains.lookahead") == 0.5
     assert value(PARAMS, "navigator", "gains") == {"lookahead": 0.5, "near": 0.05}
-    with pytest.raises(BadInput, match=r"navigator has no parameter 'gains.far' \(it has: goal_timeout, beams"):
+    with pytest.raises(
+        BadInput,
+        match=r"navigator has no parameter 'gains.far'; did you mean gains.near\? \(it has: goal_timeout, beams",
+    ):
         value(PARAMS, "navigator", "gains.far")
     with pytest.raises(BadInput, match="no parameter 'beams.x'"):
         value(PARAMS, "navigator", "beams.x")
@@ -39,3 +42,14 @@ def test_dump_is_toml_that_reads_back_as_the_same_table():
     text = dump("navigator", PARAMS)
     assert text.startswith("# navigator: the body of its [node.params] table")
     assert tomllib.loads(text) == PARAMS
+
+
+def test_an_unknown_parameter_suggests_the_nearest():
+    """Review of issue 13: `param get` dumped the whole list where `param set` said "did you mean"."""
+    from cli.errors import BadInput
+    from cli.params import value
+
+    with pytest.raises(
+        BadInput, match=r"navigator has no parameter 'goal_timeot'; did you mean goal_timeout\? \(it has: "
+    ):
+        value({"goal_timeout": 30.0, "rate": 1.0}, "navigator", "goal_timeot")

@@ -50,3 +50,13 @@ def test_silence_outside_a_domain_points_into_the_domain_that_publishes():
         text
         == "nothing published on robot/status here: it is published in domain lab1: add it before the command, `turtlectl --domain lab1 ...` (or use lab1/robot/status)"
     )
+
+
+def test_silence_on_parameter_events_says_they_come_only_when_a_parameter_changes():
+    """Review of issue 13: an idle parameter_events topic was called "may be stalled"."""
+    events = EntityInfo(node="sim", pid=4, role="pub", type_name="ParameterEvent", key="turtlectl/parameter_events")
+    text = silence_text("turtlectl/parameter_events", _graph_with(events), lambda: "")
+    assert text == (
+        "nothing published on turtlectl/parameter_events yet: sim publishes it only when a parameter changes "
+        "(`turtlectl param set NODE NAME VALUE`)"
+    )
