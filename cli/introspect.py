@@ -41,8 +41,9 @@ class NodeReport(msgspec.Struct):
 
 
 def _no_node(node: str, graph: Graph) -> NobodyServes:
-    names = ", ".join(n.name for n in graph.nodes) or "none"
-    return NobodyServes(f"no node named {node!r} is running (running: {names})")
+    from cli.params import no_node
+
+    return no_node(node, [n.name for n in graph.nodes], graph.hint)
 
 
 def _details(connect: str, node: str) -> NodeDetails:

@@ -422,8 +422,8 @@ def running_change(
     after = _problem_text(changed, report)
     if after is not None and after != before:
         where = f"{label} {node}.{name}"
-        if after.startswith(where + ":"):
-            raise LaunchFileError(after)
+        if after.startswith(where) and after[len(where) : len(where) + 1] in (":", "[", "."):
+            raise LaunchFileError(after)  # about the value itself (or an item or entry of it)
         rule = after.removeprefix(label + " ")
         raise LaunchFileError(f"{where} = {text}: it would break a rule of the running system: {rule}")
     kind = KINDS[nodes[node][0]]

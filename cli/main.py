@@ -807,12 +807,13 @@ def teleop(
     Example: turtlectl teleop --linear 1.0
     """
     from cli import client
-    from cli.teleop import run_teleop
+    from cli.teleop import run_teleop, terminal_fd
 
     args.finite_option(linear, "--linear")
     args.finite_option(angular, "--angular")
+    fd = terminal_fd(sys.stdin)
     with client.client_session(connect) as session:
-        run_teleop(session, linear, angular, connect, sys.stdin.fileno(), sys.stdout)
+        run_teleop(session, linear, angular, connect, fd, sys.stdout)
 
 
 @app.command()

@@ -29,8 +29,14 @@ def _no_param(node: str, name: str, known: list[str]) -> BadInput:
     return BadInput(f"{node} has no parameter {name!r}{suggestion(name, known)} (it has: {', '.join(known)})")
 
 
-def _no_node(node: str, running: list[str]) -> NobodyServes:
-    return NobodyServes(f"no node named {node!r} answers (running: {', '.join(sorted(running)) or 'none'})")
+def no_node(node: str, running: list[str], hint: str = "") -> NobodyServes:
+    """No node called ``node`` answers in this command's domain; ``hint``: where systems run
+    when none runs here (the live graph's hint)."""
+    from runtime.endpoint import default_domain
+
+    where = f" in domain {default_domain()}" if default_domain() else ""
+    found = f"running: {', '.join(sorted(running))}" if running else f"no node runs{where}"
+    return NobodyServes(f"no node named {node!r} answers{where} ({found}){'; ' + hint if hint and not running else ''}")
 
 
 def fetch(connect: str, node: str) -> dict[str, Any]:
@@ -41,7 +47,8 @@ def fetch(connect: str, node: str) -> dict[str, Any]:
     except NobodyServes:
         from cli import topics
 
-        raise _no_node(node, [n.name for n in topics.graph(connect).nodes]) from None
+        graph = topics.graph(connect)
+        raise no_node(node, [n.name for n in graph.nodes], graph.hint) from None
     if not answers or not isinstance(answers[-1], Raw):
         raise Failed(f"{node} sent no parameters")
     try:
@@ -131,7 +138,7 @@ def kind_of(system: Running, node: str) -> type[msgspec.Struct]:
 
     details = system.details.get(node)
     if details is None or details.kind not in KINDS:
-        raise _no_node(node, list(system.details))
+        raise no_node(node, list(system.details))
     return KINDS[details.kind].params
 
 

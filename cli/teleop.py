@@ -34,7 +34,8 @@ POLL = 0.02  # s: the longest a key waits to be read
 LINE_PERIOD = 0.1  # s between redraws of the status line
 ROUTER_CHECK = 0.5  # s between checks that the router is still there
 GOAL_SEEN = 0.5  # s: feedback this recent means a goal is running
-HELP = "Drive the turtle: arrow keys or w/a/s/d (held: keeps going; released: stops), space stops, q quits."
+NOT_A_TERMINAL = "teleop reads keys from a terminal, and its input is not one (run it in a terminal)"
+HELP = "arrows or w/a/s/d drive (held: go, released: stop); space stops; q quits"
 
 
 class _Goals:
@@ -168,11 +169,23 @@ class _Teleop:
         self.publisher.undeclare()
 
 
+def terminal_fd(stream: TextIO) -> int:
+    """The file descriptor of ``stream`` if it is a terminal, else BadInput (checked before
+    anything is opened)."""
+    try:
+        fd = stream.fileno()
+    except (OSError, ValueError):  # io.UnsupportedOperation is both: no file under it
+        fd = -1
+    if fd < 0 or not os.isatty(fd):
+        raise BadInput(NOT_A_TERMINAL)
+    return fd
+
+
 def run_teleop(session: zenoh.Session, linear: float, angular: float, endpoint: str, fd: int, out: TextIO) -> str:
     """Drive until q, Ctrl-C, SIGTERM or SIGHUP; returns why it ended.  Raises BadInput if
     ``fd`` is not a terminal, Unreachable if the router goes away."""
     if not os.isatty(fd):
-        raise BadInput("teleop reads keys from a terminal, and its input is not one (run it in a terminal)")
+        raise BadInput(NOT_A_TERMINAL)
     teleop = _Teleop(session, Driver(linear, angular), endpoint, fd, out)
     terminal = termios.tcgetattr(fd)
     try:
@@ -184,6 +197,7 @@ def run_teleop(session: zenoh.Session, linear: float, angular: float, endpoint: 
             return teleop.drive(stop)
     finally:
         teleop.close()
+        teleop.write("\r\x1b[K" + status_line(teleop.shown(), teleop.width()))  # the last word: stopped
         if not teleop.hung_up:
             try:
                 termios.tcsetattr(fd, termios.TCSADRAIN, terminal)

@@ -355,3 +355,15 @@ def test_a_system_that_already_breaks_a_rule_still_takes_changes_that_do_not_bre
     assert running_change(broken, World(), "navigator", "scan_timeout", "2", "param set") == 2.0  # the other one
     with pytest.raises(LaunchFileError, match="2 s at 0.5 Hz"):  # worse: refused
         running_change(broken, World(), "obstacle_detector", "rate", "0.5", "param set")
+
+
+def test_a_mistake_in_the_value_itself_is_named_as_such_not_as_a_broken_rule():
+    """Second review of issue 13: a list item's missing key read "it would break a rule of the running system"."""
+    from cli.launchfile import running_change
+    from messages.world import World
+
+    with pytest.raises(LaunchFileError) as err:
+        running_change(
+            _running(), World(), "obstacle_detector", "undeclared_obstacles", "[{x = 5, y = 5}]", "param set"
+        )
+    assert str(err.value) == "param set obstacle_detector.undeclared_obstacles[0].radius: missing required key"

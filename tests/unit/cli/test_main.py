@@ -471,3 +471,8 @@ def test_warn_is_warning_as_ros_spells_it():
     from cli import args
 
     assert args.log_level("warn") == "WARNING" and args.log_level(" Error ") == "ERROR"
+
+
+def test_teleop_without_a_terminal_is_bad_input_before_any_router_is_asked():
+    """Second review of issue 13: with no router it said exit 3, hiding the input that cannot work."""
+    assert bad_input("teleop", "--connect", "tcp/127.0.0.1:1").endswith("its input is not one (run it in a terminal)")

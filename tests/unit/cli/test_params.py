@@ -53,3 +53,19 @@ def test_an_unknown_parameter_suggests_the_nearest():
         BadInput, match=r"navigator has no parameter 'goal_timeot'; did you mean goal_timeout\? \(it has: "
     ):
         value({"goal_timeout": 30.0, "rate": 1.0}, "navigator", "goal_timeot")
+
+
+def test_no_node_says_where_systems_run_when_none_runs_here(monkeypatch):
+    """Second review of issue 13: `--domain lab2 param get navigator ...` said "(running: none)" and no more."""
+    from cli.params import no_node
+    from runtime.endpoint import DOMAIN_ENV
+
+    monkeypatch.setenv(DOMAIN_ENV, "lab2")
+    text = no_node(
+        "navigator", [], "a system runs outside any domain on this router: run the command without --domain lab2"
+    ).message
+    assert text == (
+        "no node named 'navigator' answers in domain lab2 (no node runs in domain lab2); "
+        "a system runs outside any domain on this router: run the command without --domain lab2"
+    )
+    assert no_node("x", ["sim"], "ignored").message == "no node named 'x' answers in domain lab2 (running: sim)"
