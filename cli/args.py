@@ -107,3 +107,24 @@ def log_level(text: str) -> str:
     if level not in LOG_LEVELS:
         raise BadInput(f"unknown log level {text!r} (known: {', '.join(LOG_LEVELS)})")
     return level
+
+
+def exposure(host: str, secure: bool, insecure: bool, joins: bool = False) -> None:
+    """Whether a router may listen on ``host`` (as ``listen_address`` wrote it): beyond loopback
+    only when asked with --insecure, since anyone who reaches it could then drive the turtle;
+    --secure runs a router of its own, on loopback (TLS, which a network needs, is to come)."""
+    if secure and joins:
+        raise BadInput("--secure runs a router of its own, with its logins: it cannot join one (--connect)")
+    if secure and insecure:
+        raise BadInput("--secure and --insecure do not go together")
+    if ipaddress.ip_address(host.strip("[]")).is_loopback or insecure:
+        return
+    if secure:
+        raise BadInput(
+            f"--secure --listen {host}: logins would cross the network in clear; turtlectl has no TLS yet, "
+            "so --secure stays on loopback (--insecure runs without logins on a network you trust)"
+        )
+    raise BadInput(
+        f"--listen {host} reaches beyond this machine, and without logins anyone who reaches it can drive the "
+        "turtle, serve a fake navigate_to or reset the robot; add --insecure to run it so on a network you trust"
+    )

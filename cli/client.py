@@ -51,26 +51,48 @@ def _no_system(connect: str) -> Unreachable:
     return Unreachable(f"no turtlectl system at {connect} (is `turtlectl launch` running?)")
 
 
-def probe(connect: str) -> None:
-    """Unreachable at once if nothing listens at a ``tcp/`` endpoint (Zenoh itself
-    would retry for OPEN_TIMEOUT s before saying so); other protocols are left to Zenoh."""
+def _listening(connect: str) -> bool:
+    """Whether something accepts TCP connections at a ``tcp/`` endpoint (True for other protocols)."""
     match = ENDPOINT_RE.match(endpoint(connect))
     if match is None or match.group(1) != "tcp":
-        return
+        return True
     try:
         socket.create_connection((match.group(2).strip("[]"), int(match.group(3))), timeout=OPEN_TIMEOUT).close()
     except OSError:
-        raise _no_system(connect) from None
+        return False
+    return True
+
+
+def probe(connect: str) -> None:
+    """Unreachable at once if nothing listens at a ``tcp/`` endpoint (Zenoh itself
+    would retry for OPEN_TIMEOUT s before saying so); other protocols are left to Zenoh."""
+    if not _listening(connect):
+        raise _no_system(connect)
 
 
 @contextlib.contextmanager
 def client_session(connect: str, domain: str | None = None) -> Iterator[zenoh.Session]:
     """A Zenoh client session to the router at ``connect``, closed (bounded) on exit; in
     ``domain`` (default: --domain / TURTLECTL_DOMAIN; "" for none)."""
+    from cli import credentials
+
     probe(connect)
+    login = credentials.for_endpoint(connect)
     try:
-        session = zenoh.open(client_config(connect, OPEN_TIMEOUT, default_domain() if domain is None else domain))
+        session = zenoh.open(
+            client_config(connect, OPEN_TIMEOUT, default_domain() if domain is None else domain, login)
+        )
     except zenoh.ZError:
+        if _listening(connect):  # a router is there and did not let this client in
+            raise Unreachable(
+                f"the router at {connect} did not let this client in within {OPEN_TIMEOUT:g} s: "
+                + (
+                    "its login in the credentials file was refused (a --secure system started again makes new ones)"
+                    if login
+                    else f"a `launch --secure` system takes only clients with its login, and "
+                    f"{credentials.store_path()} has none for {connect} (or set {credentials.ENV})"
+                )
+            ) from None
         raise _no_system(connect) from None
     try:
         yield session

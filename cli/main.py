@@ -166,6 +166,12 @@ def launch(
     persist: bool = typer.Option(
         False, "--persist", help="A node started again (respawn) keeps parameters changed by `param set`."
     ),
+    secure: bool = typer.Option(
+        False, "--secure", help="Only sessions that log in join: a new login per node and for local clients."
+    ),
+    insecure: bool = typer.Option(
+        False, "--insecure", help="Listen beyond loopback without logins (anyone who reaches it can drive)."
+    ),
     log_level: str = LogLevelOption,
     log_dir: Path | None = typer.Option(
         None, "--log-dir", envvar="TURTLECTL_LOG_DIR", help="Parent folder of run folders (default ~/.turtlectl/log)."
@@ -186,12 +192,13 @@ def launch(
     if join is None:  # `turtlectl --connect E launch` joins E, as `turtlectl launch --connect E`
         join = (ctx.obj or {}).get("connect")
     level = args.log_level(log_level)
+    host = args.listen_address(listen)
+    args.exposure(host, secure, insecure, joins=join is not None)
     plan = launch_plan(file or default_launch_file(), only, exclude, set_)
     if check:
         typer.echo(format.plan_text(plan))
         return
     connect = args.endpoint(join) if join is not None else ""
-    host = args.listen_address(listen)
     printer = Printer([e.name for e in plan.launch.node])
     supervisor = Supervisor(
         plan,
@@ -203,6 +210,7 @@ def launch(
         log_dir or logs.default_parent(),
         persist=persist,
         log_level=level,
+        secure=secure,
     )
     try:
         code = supervisor.run()
@@ -216,6 +224,9 @@ def router(
     ctx: typer.Context,
     port: int = typer.Option(DEFAULT_PORT, "--port", min=1, max=65535, help="Port to listen on."),
     listen: str = typer.Option("127.0.0.1", "--listen", help="Address to listen on (loopback by default)."),
+    insecure: bool = typer.Option(
+        False, "--insecure", help="Listen beyond loopback without logins (anyone who reaches it can drive)."
+    ),
 ) -> None:
     """Run a Zenoh router alone, for nodes started with `launch --connect` (as rmw_zenohd).
 
@@ -226,6 +237,7 @@ def router(
     if (ctx.obj or {}).get("connect") is not None:
         raise BadInput("router takes no --connect: it is the router the others connect to (see --port, --listen)")
     host = args.listen_address(listen)
+    args.exposure(host, secure=False, insecure=insecure)
     run_router(port, host, lambda: typer.echo(f"router listening on tcp/{host}:{port}; Ctrl-C stops it", err=False))
 
 

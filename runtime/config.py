@@ -33,6 +33,14 @@ class Claim(msgspec.Struct, frozen=True, forbid_unknown_fields=True):
         return f"{verb}{'es' if third_person and verb.endswith('sh') else 's' if third_person else ''} {self.key}"
 
 
+class Credentials(msgspec.Struct, frozen=True, forbid_unknown_fields=True):
+    """A user name and password a router of a ``launch --secure`` system accepts (Zenoh's
+    user/password authentication)."""
+
+    user: str
+    password: str
+
+
 class NodeConfig(msgspec.Struct, forbid_unknown_fields=True, kw_only=True):
     name: str
     kind: str
@@ -43,6 +51,9 @@ class NodeConfig(msgspec.Struct, forbid_unknown_fields=True, kw_only=True):
     world: World = msgspec.field(default_factory=World)
     limits: Limits = msgspec.field(default_factory=Limits)
     log_level: Literal["DEBUG", "INFO", "WARNING", "ERROR"] = "INFO"
+    # a --secure system: the node's own credentials; it is then a client of the router, never a
+    # peer others could reach directly (the router authenticates every session)
+    credentials: Credentials | None = None
 
 
 def encode_config(config: NodeConfig) -> str:

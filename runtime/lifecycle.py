@@ -30,7 +30,7 @@ import zenoh
 from messages.keys import NodeInfo, node_token
 from runtime.config import ENV_VAR, SUPERVISOR_PID_VAR, decode_config
 from runtime.node import Node, NodeConflict, P
-from runtime.session import close_session, peer_config
+from runtime.session import close_session, node_session_config
 
 EXIT_OK = 0
 EXIT_ERROR = 1  # the node's own code raised
@@ -120,7 +120,7 @@ def run(node_class: Callable[[Node[P]], Any], params_type: type[P]) -> int:
         return EXIT_CONFIG
 
     try:
-        session = zenoh.open(peer_config(config.connect, config.domain))
+        session = zenoh.open(node_session_config(config.connect, config.domain, config.credentials))
     except zenoh.ZError as exc:
         log.error("cannot open a Zenoh session to %s: %s", config.connect, exc)
         return EXIT_SESSION

@@ -227,7 +227,7 @@ class Node(Generic[P]):
         self.name = config.name
         self.kind = config.kind
         self.started_ns = time.time_ns() if started_ns is None else started_ns
-        self._connect, self._domain = config.connect, config.domain
+        self._connect, self._domain, self._credentials = config.connect, config.domain, config.credentials
         self.params: P = params
         self.world: World = config.world
         self.limits: Limits = config.limits
@@ -302,7 +302,7 @@ class Node(Generic[P]):
         if not self.session.info.routers_zid():
             return
         try:
-            asker = zenoh.open(client_config(self._connect, _CLAIM_TIMEOUT, self._domain))
+            asker = zenoh.open(client_config(self._connect, _CLAIM_TIMEOUT, self._domain, self._credentials))
         except zenoh.ZError:
             return
         try:

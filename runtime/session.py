@@ -18,6 +18,8 @@ import threading
 
 import zenoh
 
+from runtime.config import Credentials
+
 
 def _base(mode: str, domain: str = "") -> zenoh.Config:
     conf = zenoh.Config()
@@ -32,11 +34,32 @@ def _base(mode: str, domain: str = "") -> zenoh.Config:
     return conf
 
 
-def router_config(port: int, host: str = "127.0.0.1") -> zenoh.Config:
-    """A router listening on ``host`` (loopback unless told otherwise) at ``port``."""
+def router_config(port: int, host: str = "127.0.0.1", users_file: str | None = None) -> zenoh.Config:
+    """A router listening on ``host`` (loopback unless told otherwise) at ``port``; with
+    ``users_file`` (``user:password`` lines) it accepts only sessions that log in as one of them."""
     conf = _base("router")
     conf.insert_json5("listen/endpoints", json.dumps([f"tcp/{host}:{port}"]))
+    if users_file is not None:
+        conf.insert_json5("transport/auth/usrpwd", json.dumps({"dictionary_file": users_file}))
     return conf
+
+
+def _log_in(conf: zenoh.Config, credentials: Credentials | None) -> zenoh.Config:
+    if credentials is not None:
+        conf.insert_json5(
+            "transport/auth/usrpwd", json.dumps({"user": credentials.user, "password": credentials.password})
+        )
+    return conf
+
+
+def node_session_config(connect: str, domain: str = "", credentials: Credentials | None = None) -> zenoh.Config:
+    """A node's session: a peer (``peer_config``), or with ``credentials`` (a --secure system) a
+    client of the router, logged in: no other process can reach it but through the router."""
+    if credentials is None:
+        return peer_config(connect, domain)
+    conf = _base("client", domain)
+    conf.insert_json5("connect/endpoints", json.dumps([connect]))
+    return _log_in(conf, credentials)
 
 
 def local_address_towards(endpoint: str) -> str:
@@ -66,13 +89,16 @@ def peer_config(connect: str, domain: str = "") -> zenoh.Config:
     return conf
 
 
-def client_config(connect: str, timeout: float, domain: str = "") -> zenoh.Config:
-    """A command-line client of the router at ``connect``; opening fails after ``timeout`` s."""
+def client_config(
+    connect: str, timeout: float, domain: str = "", credentials: Credentials | None = None
+) -> zenoh.Config:
+    """A command-line client of the router at ``connect``, logged in with ``credentials`` if
+    given; opening fails after ``timeout`` s."""
     conf = _base("client", domain)
     conf.insert_json5("connect/endpoints", json.dumps([connect]))
     conf.insert_json5("connect/timeout_ms", str(int(timeout * 1000)))
     conf.insert_json5("connect/exit_on_failure", "true")
-    return conf
+    return _log_in(conf, credentials)
 
 
 def close_session(session: zenoh.Session, timeout: float = 2.0) -> bool:

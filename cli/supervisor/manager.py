@@ -14,13 +14,17 @@ from __future__ import annotations
 
 import json
 import os
+import shutil
 import signal
+import tempfile
 from pathlib import Path
 from typing import Any
 
+import msgspec
 import zenoh
 
 import cli
+from cli import credentials
 from cli.errors import CannotStart, ExitCode, TurtlectlError
 from cli.launchfile import LaunchPlan, node_config
 from cli.supervisor import logs, zygote
@@ -30,7 +34,7 @@ from cli.supervisor.router import join_router, open_router
 from cli.supervisor.supervision import Supervision
 from messages import DecodeError, ParameterEvent, decode
 from messages.keys import NODE_TOKEN_PREFIX, PARAMETER_EVENTS, domain_token, parse_node_token
-from runtime.config import ENV_VAR, NodeConfig, encode_config
+from runtime.config import ENV_VAR, Credentials, NodeConfig, encode_config
 from runtime.session import close_session
 
 
@@ -49,10 +53,17 @@ class Supervisor:
         log_parent: Path | None = None,
         persist: bool = False,
         log_level: str = "INFO",
+        secure: bool = False,
     ):
         self.plan = plan
         self.persist = persist  # a node started again keeps the parameters set at run time
         self.log_level = log_level
+        # --secure: a login for each node, one for local clients, the router's list of users
+        self.logins: dict[str, Credentials] = {}
+        self.client_login = credentials.new_credentials(credentials.CLIENT_USER) if secure else None
+        if secure:
+            self.logins = {e.name: credentials.new_credentials(credentials.node_user(e.name)) for e in plan.launch.node}
+        self.private: Path | None = None  # the folder of the router's list of users
         self.log_parent = log_parent
         self.port = port
         self.host = host
@@ -66,7 +77,24 @@ class Supervisor:
     def _open(self) -> zenoh.Session:
         if self.port is None:
             return join_router(self.endpoint)
-        return open_router(self.port, self.host, "launch")
+        if self.client_login is None:
+            return open_router(self.port, self.host, "launch")
+        self.private = Path(tempfile.mkdtemp(prefix="turtlectl-secure-"))  # 0700
+        users = credentials.write_users(self.private, [*self.logins.values(), self.client_login])
+        session = open_router(self.port, self.host, "launch", str(users))
+        where = credentials.publish(self.endpoint, self.client_login)
+        self.printer.system(f"secure: only logged-in sessions join; clients log in with {where}")
+        return session
+
+    def _forget_logins(self) -> None:
+        if self.client_login is not None:
+            try:
+                credentials.withdraw(self.endpoint)
+            except OSError as exc:
+                self.printer.system(f"warning: could not remove this system's login from the credentials file: {exc}")
+        if self.private is not None:
+            shutil.rmtree(self.private, ignore_errors=True)
+            self.private = None
 
     def _open_logs(self) -> None:
         """This run's log folder, made only now that the router is up (a launch that cannot
@@ -97,12 +125,14 @@ class Supervisor:
         try:
             session = self._open()
         except BaseException:
+            self._forget_logins()
             self._close_zygote()
             raise
         try:
             self._open_logs()
         except TurtlectlError:
             close_session(session)
+            self._forget_logins()
             self._close_zygote()
             raise
         previous = {sig: signal.signal(sig, self._on_signal) for sig in (signal.SIGINT, signal.SIGTERM)}
@@ -131,6 +161,7 @@ class Supervisor:
                 signal.signal(sig, handler)
             if not close_session(session):
                 self.printer.system("router session did not close in time")
+            self._forget_logins()
             self._close_zygote()
         self.printer.system(f"stopped ({self.supervision.stop_reason}); exit code {int(code)}")
         return int(code)
@@ -176,7 +207,8 @@ class Supervisor:
         )
 
     def _config(self, name: str) -> NodeConfig:
-        return node_config(self.plan, name, self.endpoint, domain=self.domain, log_level=self.log_level)
+        config = node_config(self.plan, name, self.endpoint, domain=self.domain, log_level=self.log_level)
+        return msgspec.structs.replace(config, credentials=self.logins.get(name))
 
     def _child(self, name: str) -> Child:
         """The Child for node ``name``: its command and environment, made once (its config

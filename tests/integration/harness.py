@@ -33,6 +33,7 @@ import numpy as np
 import psutil
 import zenoh
 
+from cli import credentials
 from messages import (
     Message,
     NavigateToFeedback,
@@ -271,7 +272,8 @@ class System:
     # -- readiness -------------------------------------------------------------
     def connect(self, timeout: float = 20.0) -> zenoh.Session:
         self.wait_line(r"router listening|joining", timeout)
-        self.session = zenoh.open(client_config(self.endpoint, 3.0, self.domain))
+        login = credentials.for_endpoint(self.endpoint)  # a --secure system's, from TURTLECTL_CREDENTIALS
+        self.session = zenoh.open(client_config(self.endpoint, 3.0, self.domain, login))
         self.session.liveliness().declare_subscriber(f"{NODE_TOKEN_PREFIX}/**", self._on_token, history=True)
         return self.session
 

@@ -98,7 +98,7 @@ def test_a_navigator_on_another_host_joins_the_system(hosts):
     a, b = hosts
     port = free_port()
     endpoint = f"tcp/10.231.7.1:{port}"
-    host_a = Launch(a, "--exclude", "navigator", "--listen", "10.231.7.1", "--port", str(port))
+    host_a = Launch(a, "--exclude", "navigator", "--listen", "10.231.7.1", "--insecure", "--port", str(port))
     host_b = None
     try:
         host_a.wait_for(r"all 3 nodes ready", 30)

@@ -476,3 +476,26 @@ def test_warn_is_warning_as_ros_spells_it():
 def test_teleop_without_a_terminal_is_bad_input_before_any_router_is_asked():
     """Second review of issue 13: with no router it said exit 3, hiding the input that cannot work."""
     assert bad_input("teleop", "--connect", "tcp/127.0.0.1:1").endswith("its input is not one (run it in a terminal)")
+
+
+@pytest.mark.parametrize(
+    ("argv", "message"),
+    [
+        (
+            ("launch", "--listen", "10.0.0.1"),
+            "--listen 10.0.0.1 reaches beyond this machine, and without logins anyone",
+        ),
+        (("router", "--listen", "10.0.0.1"), "--listen 10.0.0.1 reaches beyond this machine"),
+        (("launch", "--secure", "--listen", "10.0.0.1"), "--secure --listen 10.0.0.1: logins would cross the network"),
+        (("launch", "--secure", "--connect", "tcp/127.0.0.1:7447"), "--secure runs a router of its own"),
+        (("launch", "--secure", "--insecure"), "--secure and --insecure do not go together"),
+    ],
+)
+def test_a_router_beyond_loopback_needs_insecure_to_insist(argv, message):
+    """Issue 14: nothing listens beyond loopback unless asked, and then with what it means said."""
+    assert bad_input(*argv).startswith("turtlectl: error: " + message)
+
+
+def test_insecure_lets_a_launch_listen_on_a_network_address():
+    code, text = invoke("launch", "--listen", "10.0.0.1", "--insecure", "--check")
+    assert code == ExitCode.OK, text

@@ -1,0 +1,89 @@
+"""Credentials of ``launch --secure`` systems (pure: files, no zenoh).
+
+The supervisor makes a random password for each node and one for local clients, writes the
+router's list of users (``user:password`` lines, readable by the user only) in a private
+folder of its own, and the clients' entry into the per-user credentials file, keyed by the
+router's endpoint: ``$TURTLECTL_CREDENTIALS``, else ``~/.turtlectl/credentials.json`` (also
+readable by the user only).  Every client command reads that file and logs in with the
+entry for its ``--connect`` endpoint; the supervisor removes its entry when it stops.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import os
+import secrets
+import tempfile
+from pathlib import Path
+
+import msgspec
+
+from runtime.config import Credentials
+
+ENV = "TURTLECTL_CREDENTIALS"
+CLIENT_USER = "operator"  # local clients log in as this user
+
+
+def store_path() -> Path:
+    """The per-user credentials file: $TURTLECTL_CREDENTIALS, else ~/.turtlectl/credentials.json."""
+    named = os.environ.get(ENV)
+    return Path(named) if named else Path.home() / ".turtlectl" / "credentials.json"
+
+
+def new_credentials(user: str) -> Credentials:
+    """``user`` with a random password (32 URL-safe characters, 192 bits)."""
+    return Credentials(user=user, password=secrets.token_urlsafe(24))
+
+
+def node_user(name: str) -> str:
+    return f"node-{name}"
+
+
+def _write_private(path: Path, text: str) -> None:
+    """Write ``text`` to ``path`` readable and writable by the user only, replacing it whole."""
+    path.parent.mkdir(parents=True, exist_ok=True, mode=0o700)
+    fd, temporary = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.")  # 0600 from the start
+    try:
+        with os.fdopen(fd, "w") as out:
+            out.write(text)
+        os.replace(temporary, path)
+    except BaseException:
+        with contextlib.suppress(OSError):
+            os.unlink(temporary)
+        raise
+
+
+def write_users(folder: Path, users: list[Credentials]) -> Path:
+    """The router's list of users (Zenoh's ``dictionary_file``) in ``folder``."""
+    path = folder / "users.txt"
+    _write_private(path, "".join(f"{c.user}:{c.password}\n" for c in users))
+    return path
+
+
+def _entries(path: Path) -> dict[str, Credentials]:
+    try:
+        return msgspec.json.decode(path.read_bytes(), type=dict[str, Credentials])
+    except (OSError, msgspec.DecodeError):
+        return {}
+
+
+def publish(endpoint: str, credentials: Credentials, path: Path | None = None) -> Path:
+    """Make ``credentials`` the clients' login for the router at ``endpoint``."""
+    path = path or store_path()
+    entries = _entries(path)
+    entries[endpoint] = credentials
+    _write_private(path, msgspec.json.encode(entries).decode())
+    return path
+
+
+def withdraw(endpoint: str, path: Path | None = None) -> None:
+    """Forget the clients' login for ``endpoint`` (its system stopped)."""
+    path = path or store_path()
+    entries = _entries(path)
+    if entries.pop(endpoint, None) is not None:
+        _write_private(path, msgspec.json.encode(entries).decode())
+
+
+def for_endpoint(endpoint: str, path: Path | None = None) -> Credentials | None:
+    """The login for the router at ``endpoint``, if a --secure system published one."""
+    return _entries(path or store_path()).get(endpoint)

@@ -1,0 +1,125 @@
+"""Issue 14 (authentication): `launch --secure` lets in only the sessions that log in: its nodes
+with a login each, as clients of the router (nobody can reach a node directly), and local
+clients with the login the supervisor writes to the credentials file."""
+
+from __future__ import annotations
+
+import json
+import os
+import stat
+import subprocess
+import time
+from pathlib import Path
+
+import psutil
+import pytest
+import zenoh
+
+from cli import credentials
+from cli.errors import ExitCode
+from messages import Twist, encode, encoding_for
+from messages.keys import CMD_VEL
+from runtime.config import Credentials
+from runtime.session import client_config, peer_config
+from tests.integration.harness import running_system, turtlectl
+
+pytestmark = pytest.mark.integration
+
+
+@pytest.fixture(scope="module")
+def store(tmp_path_factory):
+    """The credentials file of this module's systems (never the user's own)."""
+    path = tmp_path_factory.mktemp("credentials") / "credentials.json"
+    before = os.environ.get(credentials.ENV)
+    os.environ[credentials.ENV] = str(path)
+    try:
+        yield path
+    finally:
+        if before is None:
+            del os.environ[credentials.ENV]
+        else:
+            os.environ[credentials.ENV] = before
+
+
+@pytest.fixture(scope="module")
+def secure(store):
+    with running_system(extra_args=("--secure",)) as system:
+        yield system
+
+
+def run(system, *args: str, store: Path | None = None) -> tuple[subprocess.CompletedProcess[str], float]:
+    env = {**os.environ, **({credentials.ENV: str(store)} if store else {})}
+    started = time.monotonic()
+    result = subprocess.run(
+        [*turtlectl(), *args, "--connect", system.endpoint],
+        capture_output=True,
+        text=True,
+        timeout=30,
+        stdin=subprocess.DEVNULL,
+        env=env,
+    )
+    return result, time.monotonic() - started
+
+
+def test_a_secure_system_runs_and_its_local_clients_log_in(secure, store):
+    assert stat.S_IMODE(store.stat().st_mode) == 0o600
+    entry = json.loads(store.read_text())[secure.endpoint]
+    assert entry["user"] == "operator" and len(entry["password"]) >= 32
+    secure.teleport(3.0, 5.5, 0.0)
+    goal, _ = run(secure, "goto", "5", "5.5", "0")
+    assert goal.returncode == 0, goal.stderr
+    listed, _ = run(secure, "list", "--json")
+    assert {n["name"] for n in json.loads(listed.stdout)["nodes"]} == {
+        "sim",
+        "navigator",
+        "status_monitor",
+        "obstacle_detector",
+    }
+
+
+def test_a_client_without_the_login_or_with_a_wrong_one_is_refused_within_3_s(secure, tmp_path):
+    nothing = tmp_path / "none.json"
+    refused, took = run(secure, "echo", "robot/status", "--once", store=nothing)
+    assert refused.returncode == ExitCode.UNREACHABLE and took < 3.0 + 1.5, took  # Python's start included
+    assert refused.stderr.strip().splitlines() == [
+        f"turtlectl: error: the router at {secure.endpoint} did not let this client in within 2.5 s: a `launch --secure` "
+        f"system takes only clients with its login, and {nothing} has none for {secure.endpoint} "
+        f"(or set TURTLECTL_CREDENTIALS)"
+    ]
+    wrong = tmp_path / "wrong.json"
+    credentials.publish(secure.endpoint, Credentials(user="operator", password="guessed"), wrong)
+    refused, _ = run(secure, "goto", "8", "5", "0", store=wrong)
+    assert refused.returncode == ExitCode.UNREACHABLE
+    assert "its login in the credentials file was refused" in refused.stderr and "Traceback" not in refused.stderr
+
+
+def test_nothing_a_process_without_the_login_sends_reaches_the_turtle(secure):
+    """A rogue peer and a rogue client, no login: the router never lets them in."""
+    with pytest.raises(zenoh.ZError):
+        zenoh.open(client_config(secure.endpoint, 1.0))
+    secure.teleport(4.0, 4.0, 0.0)
+    rogue = zenoh.open(peer_config(secure.endpoint))  # a peer opens anyway, and keeps trying to join
+    try:
+        pub = rogue.declare_publisher(CMD_VEL, encoding=zenoh.Encoding(encoding_for(Twist)))
+        for _ in range(100):  # 50 Hz for 2 s
+            pub.put(encode(Twist(linear=2.0)))
+            time.sleep(0.02)  # pacing: the rogue's publishing rate
+        pose = secure.latest_pose()
+        assert (pose.x, pose.y, pose.linear_velocity) == (4.0, 4.0, 0.0), pose
+    finally:
+        rogue.close()
+
+
+def test_the_nodes_of_a_secure_system_accept_no_connection_of_their_own(secure):
+    """Peers connected to each other bypass what the router checks: in --secure mode nodes are
+    clients of the router and listen on no port (the default system's nodes are peers and do)."""
+    for name, pid in secure.alive.items():
+        listening = [c for c in psutil.Process(pid).net_connections() if c.status == psutil.CONN_LISTEN]
+        assert listening == [], (name, listening)
+
+
+def test_the_login_is_withdrawn_when_the_system_stops(store):
+    with running_system(extra_args=("--secure",)) as system:
+        assert system.endpoint in json.loads(store.read_text())
+        assert system.stop() == 0
+    assert system.endpoint not in json.loads(store.read_text())
