@@ -15,7 +15,7 @@ from collections.abc import Iterator
 import zenoh
 
 from cli.args import ENDPOINT_RE, endpoint
-from cli.errors import BadInput, TurtlectlError, Unreachable
+from cli.errors import BadInput, Failed, TurtlectlError, Unreachable
 from cli.sigint import sigint_deferred
 from messages.keys import (
     DOMAIN_GRAPHS,
@@ -51,6 +51,29 @@ def _no_system(connect: str) -> Unreachable:
     return Unreachable(f"no turtlectl system at {connect} (is `turtlectl launch` running?)")
 
 
+_ROLE: list[str] = []  # the role this process logged in as to a --secure system (none: no login)
+
+
+class NotPermitted(Failed):
+    """A --secure system's router would drop it silently: the role may not do that."""
+
+
+def require(verb: str, key: str) -> None:
+    """NotPermitted (exit 1) if this process logged in with a role that may not ``verb``
+    (publish, call, token) on ``key``: the router would drop it without a word."""
+    if not _ROLE:
+        return
+    from cli import access
+
+    role = _ROLE[0]
+    if not access.permitted(role, verb, key):
+        who = ", ".join(access.who_may(verb, key)) or "no client role"
+        raise NotPermitted(
+            f"not permitted: the {role} role may not {verb} {key} on this --secure system "
+            f"(may: {who}; TURTLECTL_ROLE chooses the role)"
+        )
+
+
 def _listening(connect: str) -> bool:
     """Whether something accepts TCP connections at a ``tcp/`` endpoint (True for other protocols)."""
     match = ENDPOINT_RE.match(endpoint(connect))
@@ -78,6 +101,7 @@ def client_session(connect: str, domain: str | None = None) -> Iterator[zenoh.Se
 
     probe(connect)
     login = credentials.for_endpoint(connect)
+    _ROLE[:] = [credentials.role()] if login is not None else []
     try:
         session = zenoh.open(
             client_config(connect, OPEN_TIMEOUT, default_domain() if domain is None else domain, login)

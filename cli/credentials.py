@@ -21,7 +21,13 @@ import msgspec
 from runtime.config import Credentials
 
 ENV = "TURTLECTL_CREDENTIALS"
-CLIENT_USER = "operator"  # local clients log in as this user
+ROLE_ENV = "TURTLECTL_ROLE"  # which of the system's client logins a command uses
+DEFAULT_ROLE = "operator"
+
+
+def role() -> str:
+    """The role a client command logs in as: $TURTLECTL_ROLE, else operator."""
+    return os.environ.get(ROLE_ENV, "").strip() or DEFAULT_ROLE
 
 
 def store_path() -> Path:
@@ -60,18 +66,21 @@ def write_users(folder: Path, users: list[Credentials]) -> Path:
     return path
 
 
-def _entries(path: Path) -> dict[str, Credentials]:
+Logins = dict[str, Credentials]  # role -> its login
+
+
+def _entries(path: Path) -> dict[str, Logins]:
     try:
-        return msgspec.json.decode(path.read_bytes(), type=dict[str, Credentials])
+        return msgspec.json.decode(path.read_bytes(), type=dict[str, Logins])
     except (OSError, msgspec.DecodeError):
         return {}
 
 
-def publish(endpoint: str, credentials: Credentials, path: Path | None = None) -> Path:
-    """Make ``credentials`` the clients' login for the router at ``endpoint``."""
+def publish(endpoint: str, logins: Logins, path: Path | None = None) -> Path:
+    """Make ``logins`` (by role) the clients' logins for the router at ``endpoint``."""
     path = path or store_path()
     entries = _entries(path)
-    entries[endpoint] = credentials
+    entries[endpoint] = logins
     _write_private(path, msgspec.json.encode(entries).decode())
     return path
 
@@ -84,6 +93,7 @@ def withdraw(endpoint: str, path: Path | None = None) -> None:
         _write_private(path, msgspec.json.encode(entries).decode())
 
 
-def for_endpoint(endpoint: str, path: Path | None = None) -> Credentials | None:
-    """The login for the router at ``endpoint``, if a --secure system published one."""
-    return _entries(path or store_path()).get(endpoint)
+def for_endpoint(endpoint: str, path: Path | None = None, as_role: str | None = None) -> Credentials | None:
+    """The login of ``as_role`` (default: ``role()``) for the router at ``endpoint``, if a
+    --secure system published one."""
+    return _entries(path or store_path()).get(endpoint, {}).get(as_role or role())

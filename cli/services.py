@@ -19,7 +19,7 @@ from collections.abc import Callable, Iterator
 import msgspec
 import zenoh
 
-from cli.client import base_key, caller_token, check_key, client_session, domain_hint, router_lost
+from cli.client import base_key, caller_token, check_key, client_session, domain_hint, require, router_lost
 from cli.errors import BadInput, ExitCode, Failed, Unreachable
 from messages import (
     Ack,
@@ -108,6 +108,7 @@ def replies(
     (Unreachable) if the router goes away, NoAnswer (Failed) when ``timeout`` s pass
     before the replies end, BadInput if the service rejects the request.
     """
+    require("call", key)
     inbox: queue.SimpleQueue[zenoh.Reply | None] = queue.SimpleQueue()
     started = time.monotonic()
     deadline = started + timeout

@@ -22,7 +22,7 @@ from typing import TextIO
 
 import zenoh
 
-from cli.client import router_lost
+from cli.client import require, router_lost
 from cli.errors import BadInput, Unreachable
 from cli.keyboard import Driver, Shown, keys, status_line
 from cli.sigint import stop_on_signals
@@ -186,6 +186,7 @@ def run_teleop(session: zenoh.Session, linear: float, angular: float, endpoint: 
     ``fd`` is not a terminal, Unreachable if the router goes away."""
     if not os.isatty(fd):
         raise BadInput(NOT_A_TERMINAL)
+    require("publish", CMD_VEL)
     teleop = _Teleop(session, Driver(linear, angular), endpoint, fd, out)
     terminal = termios.tcgetattr(fd)
     try:

@@ -14,7 +14,7 @@ from collections.abc import Callable, Iterator
 import msgspec
 import zenoh
 
-from cli.client import base_key, check_key, client_session, domain_hint
+from cli.client import base_key, check_key, client_session, domain_hint, require
 from cli.errors import Unreachable
 from cli.graph import Graph, build_graph
 from cli.rates import RateStats, rate_stats
@@ -193,6 +193,7 @@ def publish(connect: str, topic: str, message: Message, rate: float | None, time
     key = check_key(topic)
     sent = 0
     with client_session(connect) as session:
+        require("publish", key)
         pub = session.declare_publisher(key, encoding=zenoh.Encoding(encoding_for(type(message))))
         period = 1.0 / rate if rate else 0.0
         start = time.monotonic()

@@ -15,6 +15,7 @@ from __future__ import annotations
 import json
 import socket
 import threading
+from typing import Any
 
 import zenoh
 
@@ -34,13 +35,18 @@ def _base(mode: str, domain: str = "") -> zenoh.Config:
     return conf
 
 
-def router_config(port: int, host: str = "127.0.0.1", users_file: str | None = None) -> zenoh.Config:
+def router_config(
+    port: int, host: str = "127.0.0.1", users_file: str | None = None, access: dict[str, Any] | None = None
+) -> zenoh.Config:
     """A router listening on ``host`` (loopback unless told otherwise) at ``port``; with
-    ``users_file`` (``user:password`` lines) it accepts only sessions that log in as one of them."""
+    ``users_file`` (``user:password`` lines) it accepts only sessions that log in as one of
+    them, and with ``access`` (Zenoh's ``access_control`` section) lets each do only that."""
     conf = _base("router")
     conf.insert_json5("listen/endpoints", json.dumps([f"tcp/{host}:{port}"]))
     if users_file is not None:
         conf.insert_json5("transport/auth/usrpwd", json.dumps({"dictionary_file": users_file}))
+    if access is not None:
+        conf.insert_json5("access_control", json.dumps(access))
     return conf
 
 

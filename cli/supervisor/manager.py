@@ -24,7 +24,7 @@ import msgspec
 import zenoh
 
 import cli
-from cli import credentials
+from cli import access, credentials
 from cli.errors import CannotStart, ExitCode, TurtlectlError
 from cli.launchfile import LaunchPlan, node_config
 from cli.supervisor import logs, zygote
@@ -59,10 +59,11 @@ class Supervisor:
         self.persist = persist  # a node started again keeps the parameters set at run time
         self.log_level = log_level
         # --secure: a login for each node, one for local clients, the router's list of users
-        self.logins: dict[str, Credentials] = {}
-        self.client_login = credentials.new_credentials(credentials.CLIENT_USER) if secure else None
+        self.logins: dict[str, Credentials] = {}  # node -> its login
+        self.client_logins: dict[str, Credentials] = {}  # role -> its login
         if secure:
             self.logins = {e.name: credentials.new_credentials(credentials.node_user(e.name)) for e in plan.launch.node}
+            self.client_logins = {role: credentials.new_credentials(role) for role in access.ROLES}
         self.private: Path | None = None  # the folder of the router's list of users
         self.log_parent = log_parent
         self.port = port
@@ -77,17 +78,22 @@ class Supervisor:
     def _open(self) -> zenoh.Session:
         if self.port is None:
             return join_router(self.endpoint)
-        if self.client_login is None:
+        if not self.client_logins:
             return open_router(self.port, self.host, "launch")
         self.private = Path(tempfile.mkdtemp(prefix="turtlectl-secure-"))  # 0700
-        users = credentials.write_users(self.private, [*self.logins.values(), self.client_login])
-        session = open_router(self.port, self.host, "launch", str(users))
-        where = credentials.publish(self.endpoint, self.client_login)
-        self.printer.system(f"secure: only logged-in sessions join; clients log in with {where}")
+        users = credentials.write_users(self.private, [*self.logins.values(), *self.client_logins.values()])
+        kinds = {e.name: e.run for e in self.plan.launch.node}
+        rights = {login.user: access.node_rights(name, kinds[name]) for name, login in self.logins.items()}
+        rights |= {login.user: access.ROLES[role] for role, login in self.client_logins.items()}
+        session = open_router(self.port, self.host, "launch", str(users), access.access_control(rights, self.domain))
+        where = credentials.publish(self.endpoint, self.client_logins)
+        self.printer.system(
+            f"secure: only logged-in sessions join, each allowed what its node or role needs; clients log in with {where}"
+        )
         return session
 
     def _forget_logins(self) -> None:
-        if self.client_login is not None:
+        if self.client_logins:
             try:
                 credentials.withdraw(self.endpoint)
             except OSError as exc:

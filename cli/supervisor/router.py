@@ -11,6 +11,7 @@ import signal
 import socket
 import threading
 from collections.abc import Callable
+from typing import Any
 
 import zenoh
 
@@ -43,12 +44,14 @@ def port_in_use(port: int, command: str, host: str = "127.0.0.1") -> str:
     return f"the port is already in use (another `turtlectl {command}`?); choose another: {how}"
 
 
-def open_router(port: int, host: str, command: str, users_file: str | None = None) -> zenoh.Session:
+def open_router(
+    port: int, host: str, command: str, users_file: str | None = None, access: dict[str, Any] | None = None
+) -> zenoh.Session:
     """A router session listening on tcp/``host``:``port`` (with ``users_file``: only for the
     sessions that log in as one of its users), or CannotStart saying why (a busy port names the
     ``command`` to type with a free one)."""
     try:
-        return zenoh.open(router_config(port, host, users_file))
+        return zenoh.open(router_config(port, host, users_file, access))
     except zenoh.ZError as exc:
         reason = port_in_use(port, command, host) if "in use" in str(exc) else zenoh_reason(exc)
         raise CannotStart(f"cannot listen on tcp/{host}:{port}: {reason}") from None

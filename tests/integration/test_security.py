@@ -18,7 +18,7 @@ import zenoh
 from cli import credentials
 from cli.errors import ExitCode
 from messages import Twist, encode, encoding_for
-from messages.keys import CMD_VEL
+from messages.keys import CMD_VEL, NAVIGATE_TO
 from runtime.config import Credentials
 from runtime.session import client_config, peer_config
 from tests.integration.harness import running_system, turtlectl
@@ -64,7 +64,8 @@ def run(system, *args: str, store: Path | None = None) -> tuple[subprocess.Compl
 def test_a_secure_system_runs_and_its_local_clients_log_in(secure, store):
     assert stat.S_IMODE(store.stat().st_mode) == 0o600
     entry = json.loads(store.read_text())[secure.endpoint]
-    assert entry["user"] == "operator" and len(entry["password"]) >= 32
+    assert {role: login["user"] for role, login in entry.items()} == {r: r for r in ("viewer", "operator", "teleop")}
+    assert all(len(login["password"]) >= 32 for login in entry.values())
     secure.teleport(3.0, 5.5, 0.0)
     goal, _ = run(secure, "goto", "5", "5.5", "0")
     assert goal.returncode == 0, goal.stderr
@@ -87,7 +88,7 @@ def test_a_client_without_the_login_or_with_a_wrong_one_is_refused_within_3_s(se
         f"(or set TURTLECTL_CREDENTIALS)"
     ]
     wrong = tmp_path / "wrong.json"
-    credentials.publish(secure.endpoint, Credentials(user="operator", password="guessed"), wrong)
+    credentials.publish(secure.endpoint, {"operator": Credentials(user="operator", password="guessed")}, wrong)
     refused, _ = run(secure, "goto", "8", "5", "0", store=wrong)
     assert refused.returncode == ExitCode.UNREACHABLE
     assert "its login in the credentials file was refused" in refused.stderr and "Traceback" not in refused.stderr
@@ -123,3 +124,64 @@ def test_the_login_is_withdrawn_when_the_system_stops(store):
         assert system.endpoint in json.loads(store.read_text())
         assert system.stop() == 0
     assert system.endpoint not in json.loads(store.read_text())
+
+
+def login(system, role: str) -> zenoh.Session:
+    return zenoh.open(client_config(system.endpoint, 3.0, "", credentials.for_endpoint(system.endpoint, as_role=role)))
+
+
+def test_a_viewer_watches_but_its_goto_is_not_permitted(secure):
+    viewer = {"TURTLECTL_ROLE": "viewer"}
+    status, _ = run_as(secure, viewer, "echo", "robot/status", "--once", "--json")
+    assert status.returncode == 0 and json.loads(status.stdout)["type"] == "TurtleStatus", status.stderr
+    goal, _ = run_as(secure, viewer, "goto", "5", "5", "0")
+    assert goal.returncode == ExitCode.FAILED
+    assert goal.stderr.strip() == (
+        "turtlectl: error: not permitted: the viewer role may not call navigate_to on this --secure system "
+        "(may: operator, teleop; TURTLECTL_ROLE chooses the role)"
+    )
+    drive, _ = run_as(secure, {}, "pub", "turtle1/cmd_vel", '{"linear": 1.0}', "--once")  # operator
+    assert drive.returncode == ExitCode.FAILED and "may: teleop" in drive.stderr
+
+
+def test_a_rogue_operator_publishing_cmd_vel_does_not_move_the_turtle(secure):
+    secure.teleport(4.0, 4.0, 0.0)
+    rogue = login(secure, "operator")
+    try:
+        pub = rogue.declare_publisher(CMD_VEL, encoding=zenoh.Encoding(encoding_for(Twist)))
+        for _ in range(100):  # 50 Hz for 2 s
+            pub.put(encode(Twist(linear=2.0)))
+            time.sleep(0.02)  # pacing: the rogue's publishing rate
+        pose = secure.latest_pose()
+        assert (pose.x, pose.y, pose.linear_velocity) == (4.0, 4.0, 0.0), pose
+    finally:
+        rogue.close()
+    moved, _ = run_as(secure, {"TURTLECTL_ROLE": "teleop"}, "pub", "turtle1/cmd_vel", '{"linear": 1.0}', "--once")
+    assert moved.returncode == 0, moved.stderr
+    secure.wait_moving(0.5)  # the teleop role may drive
+
+
+def test_only_the_navigator_may_serve_navigate_to(secure):
+    queries = []
+    impostor = login(secure, "operator")
+    try:
+        impostor.declare_queryable(NAVIGATE_TO, lambda q: queries.append(q))
+        secure.teleport(3.0, 5.5, 0.0)
+        goal, _ = run_as(secure, {}, "goto", "4", "5.5", "0")
+        assert goal.returncode == 0, goal.stderr  # the navigator's answer
+        assert queries == []  # the impostor never got the goal
+    finally:
+        impostor.close()
+
+
+def run_as(system, env: dict[str, str], *args: str) -> tuple[subprocess.CompletedProcess[str], float]:
+    before = {k: os.environ.get(k) for k in env}
+    os.environ.update(env)
+    try:
+        return run(system, *args)
+    finally:
+        for k, v in before.items():
+            if v is None:
+                os.environ.pop(k, None)
+            else:
+                os.environ[k] = v

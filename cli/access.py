@@ -1,0 +1,134 @@
+"""What each session of a ``launch --secure`` system may do (pure data: the router's
+``access_control`` section, deny by default, and the same table for the clients' own check).
+
+Each node logs in as ``node-<name>`` and may do what its kind declares (nodes.kinds.Interface)
+and what the runtime does for every node (its parameters, node info, log level, parameter
+events, liveliness tokens).  Clients log in with a role:
+
+* ``viewer``: echo, hz, list, view, record, node/topic info, param get (subscribe to
+  everything, read the JSON answers, follow the graph);
+* ``operator``: also goto, cancel, teleport, reset, call, param set, log-level;
+* ``teleop``: also publishes ``turtle1/cmd_vel`` (teleop, pub).
+
+Zenoh drops a denied message silently, so the command line checks its role first and says
+"not permitted" (``permitted``); the router's rules are what holds against anyone else.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import zenoh
+
+from messages.keys import (
+    CANCEL,
+    CLIENT_TOKEN_PREFIX,
+    CMD_VEL,
+    ENTITY_TOKEN_PREFIX,
+    NAVIGATE_TO,
+    NODE_TOKEN_PREFIX,
+    PARAMETER_EVENTS,
+    RESET,
+    TELEPORT,
+    WORLD_KEY,
+    log_level_key,
+    node_key,
+    param_set_key,
+    params_key,
+)
+
+#: a verb -> the Zenoh messages it takes, each with its direction at the router
+#: (ingress: from the session; egress: to it)
+VERBS: dict[str, tuple[tuple[str, str], ...]] = {
+    # a publisher hears of the subscribers (and sends only where one listens)
+    "publish": (("put", "ingress"), ("delete", "ingress"), ("declare_subscriber", "egress")),
+    "subscribe": (("declare_subscriber", "ingress"), ("put", "egress"), ("delete", "egress")),
+    "serve": (("declare_queryable", "ingress"), ("query", "egress"), ("reply", "ingress")),
+    "call": (("query", "ingress"), ("reply", "egress"), ("declare_queryable", "egress")),
+    # a query for every node at once (turtlectl/nodes/*) reaches a node only through a rule as wide
+    "asked": (("query", "egress"),),
+    "token": (("liveliness_token", "ingress"),),
+    "watch": (
+        ("declare_liveliness_subscriber", "ingress"),
+        ("liveliness_query", "ingress"),
+        ("liveliness_token", "egress"),
+        ("reply", "egress"),
+    ),
+}
+
+GRAPH_KEYS = ("@turtlectl/**", "*/@turtlectl/**")  # the graph, and (outside a domain) every domain's
+VIEWER: dict[str, tuple[str, ...]] = {
+    "subscribe": ("**",),
+    "call": (params_key("*"), node_key("*"), WORLD_KEY),
+    "watch": GRAPH_KEYS,
+}
+OPERATOR: dict[str, tuple[str, ...]] = {
+    **VIEWER,
+    "call": (*VIEWER["call"], NAVIGATE_TO, CANCEL, TELEPORT, RESET, param_set_key("*"), log_level_key("*")),
+    "token": (f"{CLIENT_TOKEN_PREFIX}/**",),  # a goal's caller holds one while it waits
+}
+ROLES: dict[str, dict[str, tuple[str, ...]]] = {
+    "viewer": VIEWER,
+    "operator": OPERATOR,
+    "teleop": {**OPERATOR, "publish": (CMD_VEL,)},
+}
+
+
+def node_rights(name: str, kind: str) -> dict[str, tuple[str, ...]]:
+    """What node ``name`` of ``kind`` may do: its kind's interface and every node's share."""
+    from nodes.kinds import KINDS
+
+    i = KINDS[kind].interface
+    return {
+        "publish": (*i.publishes, PARAMETER_EVENTS),
+        "subscribe": i.subscribes,
+        "serve": (*i.serves, params_key(name), param_set_key(name), node_key(name), log_level_key(name)),
+        "asked": (params_key("*"), node_key("*")),  # `param list`, `param set` ask every node at once
+        "call": i.calls,
+        "token": (f"{NODE_TOKEN_PREFIX}/{name}/**", f"{ENTITY_TOKEN_PREFIX}/{name}/**"),
+        # the claim check asks which entities exist; the navigator follows its callers' tokens
+        "watch": (f"{ENTITY_TOKEN_PREFIX}/**", *i.watches),
+    }
+
+
+def access_control(users: dict[str, dict[str, tuple[str, ...]]], domain: str = "") -> dict[str, Any]:
+    """The router's ``access_control`` section: deny by default; each user (a login name) may
+    do what its rights name (verb -> key expressions), in ``domain`` if given."""
+    prefix = f"{domain}/" if domain else ""
+    rules, subjects, policies = [], [], []
+    for user, rights in users.items():
+        subjects.append({"id": user, "usernames": [user]})
+        ids = []
+        for verb, keys in rights.items():
+            if not keys:
+                continue
+            for message, flow in VERBS[verb]:
+                rule = f"{user}:{verb}:{message}:{flow}"
+                rules.append(
+                    {
+                        "id": rule,
+                        "messages": [message],
+                        "flows": [flow],
+                        "permission": "allow",
+                        "key_exprs": [prefix + k for k in keys],
+                    }
+                )
+                ids.append(rule)
+        policies.append({"rules": ids, "subjects": [user]})
+    return {
+        "enabled": True,
+        "default_permission": "deny",
+        "rules": rules,
+        "subjects": subjects,
+        "policies": policies,
+    }
+
+
+def permitted(role: str, verb: str, key: str) -> bool:
+    """Whether a client of ``role`` may ``verb`` (publish, call, ...) on ``key``."""
+    wanted = zenoh.KeyExpr(key)
+    return any(zenoh.KeyExpr(k).includes(wanted) for k in ROLES.get(role, {}).get(verb, ()))
+
+
+def who_may(verb: str, key: str) -> list[str]:
+    return [role for role in ROLES if permitted(role, verb, key)]

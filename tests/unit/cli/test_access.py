@@ -1,0 +1,35 @@
+"""cli.access: the rules of a --secure router (deny by default) and the clients' own check."""
+
+from __future__ import annotations
+
+from cli.access import ROLES, access_control, node_rights, permitted, who_may
+
+
+def test_roles_grow_viewer_operator_teleop():
+    assert permitted("viewer", "subscribe", "robot/status") and not permitted("viewer", "call", "navigate_to")
+    assert permitted("operator", "call", "navigate_to") and permitted("operator", "call", "turtlectl/params/sim/set")
+    assert not permitted("operator", "publish", "turtle1/cmd_vel") and permitted("teleop", "publish", "turtle1/cmd_vel")
+    assert who_may("call", "reset") == ["operator", "teleop"] and not permitted("nobody", "call", "reset")
+
+
+def test_each_node_may_do_what_its_kind_declares_and_no_more():
+    sim = node_rights("sim", "sim")
+    assert "turtle1/cmd_vel" in sim["subscribe"] and "turtle1/pose" in sim["publish"]
+    assert "turtle1/cmd_vel" not in sim["publish"] and "navigate_to" not in sim["serve"]
+    nav = node_rights("navigator", "navigator")
+    assert "navigate_to" in nav["serve"] and "turtle1/cmd_vel" in nav["publish"]
+    assert "turtlectl/params/navigator/set" in nav["serve"] and "turtlectl/params/sim/set" not in nav["serve"]
+
+
+def test_the_router_section_denies_by_default_and_allows_per_user_in_the_domain():
+    section = access_control({"node-sim": node_rights("sim", "sim"), "viewer": ROLES["viewer"]}, domain="lab1")
+    assert section["enabled"] is True and section["default_permission"] == "deny"
+    assert {s["id"]: s["usernames"] for s in section["subjects"]} == {"node-sim": ["node-sim"], "viewer": ["viewer"]}
+    rules = {r["id"]: r for r in section["rules"]}
+    put = rules["node-sim:publish:put:ingress"]
+    assert put["permission"] == "allow" and "lab1/turtle1/pose" in put["key_exprs"]
+    assert all(
+        r["permission"] == "allow" and all(k.startswith("lab1/") for k in r["key_exprs"]) for r in rules.values()
+    )
+    policy = {p["subjects"][0]: set(p["rules"]) for p in section["policies"]}
+    assert all(rule.startswith("viewer:") for rule in policy["viewer"])
