@@ -9,6 +9,7 @@ from __future__ import annotations
 import ipaddress
 import math
 import re
+from pathlib import Path
 
 from cli.errors import BadInput
 
@@ -109,22 +110,37 @@ def log_level(text: str) -> str:
     return level
 
 
-def exposure(host: str, secure: bool, insecure: bool, joins: bool = False) -> None:
+def exposure(host: str, secure: bool, insecure: bool, joins: bool = False, tls: bool = False) -> None:
     """Whether a router may listen on ``host`` (as ``listen_address`` wrote it): beyond loopback
-    only when asked with --insecure, since anyone who reaches it could then drive the turtle;
-    --secure runs a router of its own, on loopback (TLS, which a network needs, is to come)."""
+    only with --secure --tls (logins and data encrypted, both ends certified), or when asked with
+    --insecure, since anyone who reaches it could then drive the turtle."""
     if secure and joins:
         raise BadInput("--secure runs a router of its own, with its logins: it cannot join one (--connect)")
     if secure and insecure:
         raise BadInput("--secure and --insecure do not go together")
-    if ipaddress.ip_address(host.strip("[]")).is_loopback or insecure:
+    if tls and not secure:
+        raise BadInput("--tls goes with --secure (TLS without logins would let any holder of a certificate drive)")
+    if ipaddress.ip_address(host.strip("[]")).is_loopback or insecure or (secure and tls):
         return
     if secure:
         raise BadInput(
-            f"--secure --listen {host}: logins would cross the network in clear; turtlectl has no TLS yet, "
-            "so --secure stays on loopback (--insecure runs without logins on a network you trust)"
+            f"--secure --listen {host}: logins would cross the network in clear; add --tls DIR, with the "
+            "certificates of `turtlectl certs DIR --host HOST`"
         )
     raise BadInput(
         f"--listen {host} reaches beyond this machine, and without logins anyone who reaches it can drive the "
-        "turtle, serve a fake navigate_to or reset the robot; add --insecure to run it so on a network you trust"
+        "turtle, serve a fake navigate_to or reset the robot; use --secure --tls DIR (see `turtlectl certs`), "
+        "or add --insecure to run it so on a network you trust"
     )
+
+
+def tls_folder(path: Path) -> Path:
+    """``--tls DIR``: a folder made by ``turtlectl certs`` (BadInput naming what it lacks)."""
+    missing = [
+        name
+        for name in ("ca.pem", "router.pem", "router.key", "client.pem", "client.key")
+        if not (path / name).is_file()
+    ]
+    if missing:
+        raise BadInput(f"--tls {path}: no {', '.join(missing)} there (make them with `turtlectl certs {path}`)")
+    return path

@@ -51,6 +51,24 @@ def _no_system(connect: str) -> Unreachable:
     return Unreachable(f"no turtlectl system at {connect} (is `turtlectl launch` running?)")
 
 
+def _not_let_in(connect: str, logged_in: bool) -> str:
+    """Why a router that is there may not have let this client in."""
+    from cli import credentials
+    from runtime.endpoint import TLS_ENV, tls_folder
+
+    why = f"the router at {connect} did not let this client in within {OPEN_TIMEOUT:g} s: "
+    if connect.startswith("tls/") and not tls_folder():
+        return why + f"a tls/ endpoint needs {TLS_ENV} naming the folder of ca.pem, client.pem, client.key"
+    if connect.startswith("tls/"):
+        return why + (f"its TLS certificate ({tls_folder()}) is not one its authority signed, or its login was refused")
+    if logged_in:
+        return why + "its login in the credentials file was refused (a --secure system started again makes new ones)"
+    return why + (
+        f"a `launch --secure` system takes only clients with its login, and {credentials.store_path()} has none "
+        f"for {connect} (or set {credentials.ENV}); one with --tls speaks TLS only (connect with tls/HOST:PORT)"
+    )
+
+
 _ROLE: list[str] = []  # the role this process logged in as to a --secure system (none: no login)
 
 
@@ -108,15 +126,7 @@ def client_session(connect: str, domain: str | None = None) -> Iterator[zenoh.Se
         )
     except zenoh.ZError:
         if _listening(connect):  # a router is there and did not let this client in
-            raise Unreachable(
-                f"the router at {connect} did not let this client in within {OPEN_TIMEOUT:g} s: "
-                + (
-                    "its login in the credentials file was refused (a --secure system started again makes new ones)"
-                    if login
-                    else f"a `launch --secure` system takes only clients with its login, and "
-                    f"{credentials.store_path()} has none for {connect} (or set {credentials.ENV})"
-                )
-            ) from None
+            raise Unreachable(_not_let_in(connect, login is not None)) from None
         raise _no_system(connect) from None
     try:
         yield session

@@ -42,7 +42,7 @@ commands).
 
 #: the groups of `turtlectl --help`, in order, and their commands in the order listed
 COMMAND_GROUPS: dict[str, tuple[str, ...]] = {
-    "System": ("launch", "router", "run", "log-level"),
+    "System": ("launch", "router", "run", "log-level", "certs"),
     "Goals and driving": ("goto", "cancel", "teleport", "reset", "teleop"),
     "Topics": ("echo", "hz", "pub", "topic"),
     "Services": ("call",),
@@ -172,6 +172,9 @@ def launch(
     insecure: bool = typer.Option(
         False, "--insecure", help="Listen beyond loopback without logins (anyone who reaches it can drive)."
     ),
+    tls: Path | None = typer.Option(
+        None, "--tls", metavar="DIR", help="With --secure: mutual TLS with the certificates of `turtlectl certs DIR`."
+    ),
     log_level: str = LogLevelOption,
     log_dir: Path | None = typer.Option(
         None, "--log-dir", envvar="TURTLECTL_LOG_DIR", help="Parent folder of run folders (default ~/.turtlectl/log)."
@@ -193,7 +196,9 @@ def launch(
         join = (ctx.obj or {}).get("connect")
     level = args.log_level(log_level)
     host = args.listen_address(listen)
-    args.exposure(host, secure, insecure, joins=join is not None)
+    args.exposure(host, secure, insecure, joins=join is not None, tls=tls is not None)
+    if tls is not None:
+        args.tls_folder(tls)
     plan = launch_plan(file or default_launch_file(), only, exclude, set_)
     if check:
         typer.echo(format.plan_text(plan))
@@ -211,12 +216,32 @@ def launch(
         persist=persist,
         log_level=level,
         secure=secure,
+        tls=tls,
     )
     try:
         code = supervisor.run()
     finally:
         printer.close()
     raise typer.Exit(code)
+
+
+@app.command()
+def certs(
+    folder: Path = typer.Argument(
+        ..., metavar="DIR", help="Folder to write them into (made if missing; never overwritten)."
+    ),
+    host: list[str] = typer.Option([], "--host", help="A name or address the router is reached by (repeatable)."),
+) -> None:
+    """Make a certificate authority and the router's and clients' certificates for
+    `launch --secure --tls DIR` (mutual TLS); the keys are readable by you only.  Another
+    machine that joins copies ca.pem, client.pem and client.key and sets TURTLECTL_TLS.
+
+    Example: turtlectl certs ~/.turtlectl/tls --host 192.168.1.20
+    """
+    from cli.certs import make
+
+    written = make(folder, host)
+    _result("wrote " + ", ".join(str(p) for p in written))
 
 
 @app.command()

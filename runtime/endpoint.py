@@ -14,3 +14,11 @@ DOMAIN_ENV = "TURTLECTL_DOMAIN"
 def default_domain() -> str:
     """The domain the environment chooses (``TURTLECTL_DOMAIN``), '' for none."""
     return os.environ.get(DOMAIN_ENV, "")
+
+
+TLS_ENV = "TURTLECTL_TLS"  # the folder of `turtlectl certs` (ca.pem, client.pem, client.key) for tls/ endpoints
+
+
+def tls_folder() -> str:
+    """The folder with the CA and client certificate for ``tls/`` endpoints ('' if not set)."""
+    return os.environ.get(TLS_ENV, "")

@@ -13,6 +13,7 @@
 from __future__ import annotations
 
 import json
+import os
 import socket
 import threading
 from typing import Any
@@ -20,6 +21,7 @@ from typing import Any
 import zenoh
 
 from runtime.config import Credentials
+from runtime.endpoint import tls_folder
 
 
 def _base(mode: str, domain: str = "") -> zenoh.Config:
@@ -36,17 +38,53 @@ def _base(mode: str, domain: str = "") -> zenoh.Config:
 
 
 def router_config(
-    port: int, host: str = "127.0.0.1", users_file: str | None = None, access: dict[str, Any] | None = None
+    port: int,
+    host: str = "127.0.0.1",
+    users_file: str | None = None,
+    access: dict[str, Any] | None = None,
+    tls: str | None = None,
 ) -> zenoh.Config:
     """A router listening on ``host`` (loopback unless told otherwise) at ``port``; with
     ``users_file`` (``user:password`` lines) it accepts only sessions that log in as one of
-    them, and with ``access`` (Zenoh's ``access_control`` section) lets each do only that."""
+    them, and with ``access`` (Zenoh's ``access_control`` section) lets each do only that; with
+    ``tls`` (the folder of ``turtlectl certs``) it listens on ``tls/`` with mutual TLS."""
     conf = _base("router")
-    conf.insert_json5("listen/endpoints", json.dumps([f"tcp/{host}:{port}"]))
+    conf.insert_json5("listen/endpoints", json.dumps([f"{'tls' if tls else 'tcp'}/{host}:{port}"]))
+    if tls:  # mutual TLS: only sessions whose certificate the CA signed
+        conf.insert_json5(
+            "transport/link/tls",
+            json.dumps(
+                {
+                    "root_ca_certificate": os.path.join(tls, "ca.pem"),
+                    "listen_private_key": os.path.join(tls, "router.key"),
+                    "listen_certificate": os.path.join(tls, "router.pem"),
+                    "enable_mtls": True,
+                }
+            ),
+        )
     if users_file is not None:
         conf.insert_json5("transport/auth/usrpwd", json.dumps({"dictionary_file": users_file}))
     if access is not None:
         conf.insert_json5("access_control", json.dumps(access))
+    return conf
+
+
+def _tls(conf: zenoh.Config, connect: str) -> zenoh.Config:
+    """For a ``tls/`` endpoint: trust the CA of ``$TURTLECTL_TLS`` and show its client
+    certificate (mutual TLS)."""
+    folder = tls_folder()
+    if connect.startswith("tls/") and folder:
+        conf.insert_json5(
+            "transport/link/tls",
+            json.dumps(
+                {
+                    "root_ca_certificate": os.path.join(folder, "ca.pem"),
+                    "enable_mtls": True,
+                    "connect_private_key": os.path.join(folder, "client.key"),
+                    "connect_certificate": os.path.join(folder, "client.pem"),
+                }
+            ),
+        )
     return conf
 
 
@@ -65,7 +103,7 @@ def node_session_config(connect: str, domain: str = "", credentials: Credentials
         return peer_config(connect, domain)
     conf = _base("client", domain)
     conf.insert_json5("connect/endpoints", json.dumps([connect]))
-    return _log_in(conf, credentials)
+    return _log_in(_tls(conf, connect), credentials)
 
 
 def local_address_towards(endpoint: str) -> str:
@@ -104,7 +142,7 @@ def client_config(
     conf.insert_json5("connect/endpoints", json.dumps([connect]))
     conf.insert_json5("connect/timeout_ms", str(int(timeout * 1000)))
     conf.insert_json5("connect/exit_on_failure", "true")
-    return _log_in(conf, credentials)
+    return _log_in(_tls(conf, connect), credentials)
 
 
 def close_session(session: zenoh.Session, timeout: float = 2.0) -> bool:

@@ -35,6 +35,7 @@ from cli.supervisor.supervision import Supervision
 from messages import DecodeError, ParameterEvent, decode
 from messages.keys import NODE_TOKEN_PREFIX, PARAMETER_EVENTS, domain_token, parse_node_token
 from runtime.config import ENV_VAR, Credentials, NodeConfig, encode_config
+from runtime.endpoint import TLS_ENV
 from runtime.session import close_session
 
 
@@ -54,6 +55,7 @@ class Supervisor:
         persist: bool = False,
         log_level: str = "INFO",
         secure: bool = False,
+        tls: Path | None = None,
     ):
         self.plan = plan
         self.persist = persist  # a node started again keeps the parameters set at run time
@@ -68,7 +70,8 @@ class Supervisor:
         self.log_parent = log_parent
         self.port = port
         self.host = host
-        self.endpoint = f"tcp/{host}:{port}" if port is not None else connect
+        self.tls = tls  # the folder of `turtlectl certs`: the router listens on tls/, mutual TLS
+        self.endpoint = f"{'tls' if tls else 'tcp'}/{host}:{port}" if port is not None else connect
         self.domain = domain
         self.printer = printer
         self.supervision = Supervision(plan, printer, self._child, since=cli.STARTED)
@@ -85,7 +88,12 @@ class Supervisor:
         kinds = {e.name: e.run for e in self.plan.launch.node}
         rights = {login.user: access.node_rights(name, kinds[name]) for name, login in self.logins.items()}
         rights |= {login.user: access.ROLES[role] for role, login in self.client_logins.items()}
-        session = open_router(self.port, self.host, "launch", str(users), access.access_control(rights, self.domain))
+        tls = None
+        if self.tls is not None:
+            tls = str(self.tls.resolve())
+            os.environ[TLS_ENV] = tls  # the nodes (started from now on) show its client certificate
+        rules = access.access_control(rights, self.domain)
+        session = open_router(self.port, self.host, "launch", str(users), rules, tls)
         where = credentials.publish(self.endpoint, self.client_logins)
         self.printer.system(
             f"secure: only logged-in sessions join, each allowed what its node or role needs; clients log in with {where}"

@@ -45,16 +45,21 @@ def port_in_use(port: int, command: str, host: str = "127.0.0.1") -> str:
 
 
 def open_router(
-    port: int, host: str, command: str, users_file: str | None = None, access: dict[str, Any] | None = None
+    port: int,
+    host: str,
+    command: str,
+    users_file: str | None = None,
+    access: dict[str, Any] | None = None,
+    tls: str | None = None,
 ) -> zenoh.Session:
     """A router session listening on tcp/``host``:``port`` (with ``users_file``: only for the
     sessions that log in as one of its users), or CannotStart saying why (a busy port names the
     ``command`` to type with a free one)."""
     try:
-        return zenoh.open(router_config(port, host, users_file, access))
+        return zenoh.open(router_config(port, host, users_file, access, tls))
     except zenoh.ZError as exc:
         reason = port_in_use(port, command, host) if "in use" in str(exc) else zenoh_reason(exc)
-        raise CannotStart(f"cannot listen on tcp/{host}:{port}: {reason}") from None
+        raise CannotStart(f"cannot listen on {'tls' if tls else 'tcp'}/{host}:{port}: {reason}") from None
 
 
 def join_router(endpoint: str, timeout: float = JOIN_TIMEOUT) -> zenoh.Session:

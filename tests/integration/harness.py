@@ -186,7 +186,8 @@ class System:
     ):
         """``join``: run no router, join the one at that endpoint.  ``domain``: the system's key prefix."""
         self.port = free_port()
-        self.endpoint = join or f"tcp/127.0.0.1:{self.port}"
+        scheme = "tls" if "--tls" in extra_args else "tcp"  # a --secure --tls system (TURTLECTL_TLS for us)
+        self.endpoint = join or f"{scheme}/127.0.0.1:{self.port}"
         self.domain = domain
         self.log_dir = Path(tempfile.mkdtemp(prefix="turtlectl-logs-"))
         self.lines: list[str] = []

@@ -115,3 +115,27 @@ def test_a_navigator_on_another_host_joins_the_system(hosts):
         if host_b is not None:
             host_b.stop()
         host_a.stop()
+
+
+def test_a_client_on_another_host_drives_a_secure_system_over_mutual_tls(hosts, tmp_path, monkeypatch):
+    """Issue 14: beyond loopback, --secure --tls: logins and data encrypted, both ends certified."""
+    a, b = hosts
+    port = free_port()
+    certs, other = tmp_path / "tls", tmp_path / "other"
+    assert sh(*turtlectl(), "certs", str(certs), "--host", "10.231.7.1").returncode == 0
+    assert sh(*turtlectl(), "certs", str(other)).returncode == 0  # another authority's
+    monkeypatch.setenv("TURTLECTL_CREDENTIALS", str(tmp_path / "credentials.json"))
+    monkeypatch.setenv("TURTLECTL_TLS", str(certs))
+    endpoint = f"tls/10.231.7.1:{port}"
+    host_a = Launch(a, "--secure", "--tls", str(certs), "--listen", "10.231.7.1", "--port", str(port))
+    try:
+        host_a.wait_for(r"all 4 nodes ready", 30)
+        goal = sh("ip", "netns", "exec", b, *turtlectl(), "goto", "3", "3", "45", "--connect", endpoint)
+        assert goal.returncode == 0 and "reached at (3.0" in goal.stdout, goal.stdout + goal.stderr
+        plain = sh("ip", "netns", "exec", b, *turtlectl(), "list", "--connect", f"tcp/10.231.7.1:{port}")
+        assert plain.returncode == 3 and "speaks TLS only (connect with tls/HOST:PORT)" in plain.stderr, plain.stderr
+        monkeypatch.setenv("TURTLECTL_TLS", str(other))
+        foreign = sh("ip", "netns", "exec", b, *turtlectl(), "list", "--connect", endpoint)
+        assert foreign.returncode == 3 and "is not one its authority signed" in foreign.stderr, foreign.stderr
+    finally:
+        host_a.stop()

@@ -85,7 +85,7 @@ def test_a_client_without_the_login_or_with_a_wrong_one_is_refused_within_3_s(se
     assert refused.stderr.strip().splitlines() == [
         f"turtlectl: error: the router at {secure.endpoint} did not let this client in within 2.5 s: a `launch --secure` "
         f"system takes only clients with its login, and {nothing} has none for {secure.endpoint} "
-        f"(or set TURTLECTL_CREDENTIALS)"
+        f"(or set TURTLECTL_CREDENTIALS); one with --tls speaks TLS only (connect with tls/HOST:PORT)"
     ]
     wrong = tmp_path / "wrong.json"
     credentials.publish(secure.endpoint, {"operator": Credentials(user="operator", password="guessed")}, wrong)
@@ -185,3 +185,25 @@ def run_as(system, env: dict[str, str], *args: str) -> tuple[subprocess.Complete
                 os.environ.pop(k, None)
             else:
                 os.environ[k] = v
+
+
+def test_secure_over_mutual_tls_takes_only_certificates_its_authority_signed(store, tmp_path, monkeypatch):
+    """Issue 14 on loopback (the two-host version runs in test_hosts where namespaces can be made)."""
+    from cli.certs import make
+
+    make(tmp_path / "tls", [])
+    make(tmp_path / "other", [])
+    monkeypatch.setenv("TURTLECTL_TLS", str(tmp_path / "tls"))
+    with running_system(extra_args=("--secure", "--tls", str(tmp_path / "tls"))) as system:
+        endpoint = system.endpoint
+        assert endpoint.startswith("tls/127.0.0.1:")
+        goal = subprocess.run(
+            [*turtlectl(), "goto", "6", "5.5", "0", "--connect", endpoint], capture_output=True, text=True, timeout=30
+        )
+        assert goal.returncode == 0, goal.stderr
+        plaintext = endpoint.replace("tls/", "tcp/")
+        plain = subprocess.run([*turtlectl(), "list", "--connect", plaintext], capture_output=True, text=True)
+        assert plain.returncode == ExitCode.UNREACHABLE and "speaks TLS only" in plain.stderr
+        monkeypatch.setenv("TURTLECTL_TLS", str(tmp_path / "other"))
+        foreign = subprocess.run([*turtlectl(), "list", "--connect", endpoint], capture_output=True, text=True)
+        assert foreign.returncode == ExitCode.UNREACHABLE and "is not one its authority signed" in foreign.stderr

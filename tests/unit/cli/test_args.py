@@ -78,3 +78,28 @@ def test_publish_count(once, rate, times, count):
 def test_publish_once_goes_alone(rate, times):
     with pytest.raises(BadInput, match="--once does not go with --rate or --times"):
         args.publish_count(True, rate, times)
+
+
+def test_certs_make_an_authority_and_certificates_it_signed(tmp_path):
+    """Issue 14: `turtlectl certs DIR`; the keys readable by their owner only; nothing overwritten."""
+    import stat
+
+    from cryptography import x509
+
+    from cli.certs import FILES, make
+
+    written = make(tmp_path / "tls", ["10.0.0.5", "robot.local"])
+    assert [p.name for p in written] == list(FILES)
+    assert all(stat.S_IMODE(p.stat().st_mode) == 0o600 for p in written if p.suffix == ".key")
+    ca = x509.load_pem_x509_certificate((tmp_path / "tls" / "ca.pem").read_bytes())
+    router = x509.load_pem_x509_certificate((tmp_path / "tls" / "router.pem").read_bytes())
+    router.verify_directly_issued_by(ca)
+    names = router.extensions.get_extension_for_class(x509.SubjectAlternativeName).value
+    assert "robot.local" in names.get_values_for_type(x509.DNSName) and "localhost" in names.get_values_for_type(
+        x509.DNSName
+    )
+    assert {str(ip) for ip in names.get_values_for_type(x509.IPAddress)} == {"10.0.0.5", "127.0.0.1"}
+    with pytest.raises(BadInput, match="already holds ca.pem"):
+        make(tmp_path / "tls", [])
+    with pytest.raises(BadInput, match="is not a host name or an IP address"):
+        make(tmp_path / "other", ["a/b"])

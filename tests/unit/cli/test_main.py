@@ -486,7 +486,10 @@ def test_teleop_without_a_terminal_is_bad_input_before_any_router_is_asked():
             "--listen 10.0.0.1 reaches beyond this machine, and without logins anyone",
         ),
         (("router", "--listen", "10.0.0.1"), "--listen 10.0.0.1 reaches beyond this machine"),
-        (("launch", "--secure", "--listen", "10.0.0.1"), "--secure --listen 10.0.0.1: logins would cross the network"),
+        (
+            ("launch", "--secure", "--listen", "10.0.0.1"),
+            "--secure --listen 10.0.0.1: logins would cross the network in clear",
+        ),
         (("launch", "--secure", "--connect", "tcp/127.0.0.1:7447"), "--secure runs a router of its own"),
         (("launch", "--secure", "--insecure"), "--secure and --insecure do not go together"),
     ],
@@ -498,4 +501,23 @@ def test_a_router_beyond_loopback_needs_insecure_to_insist(argv, message):
 
 def test_insecure_lets_a_launch_listen_on_a_network_address():
     code, text = invoke("launch", "--listen", "10.0.0.1", "--insecure", "--check")
+    assert code == ExitCode.OK, text
+
+
+def test_secure_beyond_loopback_needs_tls_and_tls_needs_its_certificates(tmp_path):
+    assert bad_input("launch", "--secure", "--listen", "10.0.0.1").endswith(
+        "add --tls DIR, with the certificates of `turtlectl certs DIR --host HOST`"
+    )
+    assert bad_input("launch", "--tls", str(tmp_path)).startswith("turtlectl: error: --tls goes with --secure")
+    assert bad_input("launch", "--secure", "--tls", str(tmp_path)) == (
+        f"turtlectl: error: --tls {tmp_path}: no ca.pem, router.pem, router.key, client.pem, client.key there "
+        f"(make them with `turtlectl certs {tmp_path}`)"
+    )
+    previous = signal.getsignal(signal.SIGINT)
+    try:
+        code, text = invoke("certs", str(tmp_path / "tls"), "--host", "10.0.0.1")  # prints its result: Ctrl-C ignored
+    finally:
+        signal.signal(signal.SIGINT, previous)
+    assert code == ExitCode.OK and "router.pem" in text, text
+    code, text = invoke("launch", "--secure", "--tls", str(tmp_path / "tls"), "--listen", "10.0.0.1", "--check")
     assert code == ExitCode.OK, text
