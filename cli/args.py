@@ -110,7 +110,9 @@ def log_level(text: str) -> str:
     return level
 
 
-def exposure(host: str, secure: bool, insecure: bool, joins: bool = False, tls: bool = False) -> None:
+def exposure(
+    host: str, secure: bool, insecure: bool, joins: bool = False, tls: bool = False, can_secure: bool = True
+) -> None:
     """Whether a router may listen on ``host`` (as ``listen_address`` wrote it): beyond loopback
     only with --secure --tls (logins and data encrypted, both ends certified), or when asked with
     --insecure, since anyone who reaches it could then drive the turtle."""
@@ -127,10 +129,14 @@ def exposure(host: str, secure: bool, insecure: bool, joins: bool = False, tls: 
             f"--secure --listen {host}: logins would cross the network in clear; add --tls DIR, with the "
             "certificates of `turtlectl certs DIR --host HOST`"
         )
+    way = (
+        "use --secure --tls DIR (see `turtlectl certs`), or "
+        if can_secure
+        else "(a secure router is `launch --secure --tls`) "
+    )
     raise BadInput(
         f"--listen {host} reaches beyond this machine, and without logins anyone who reaches it can drive the "
-        "turtle, serve a fake navigate_to or reset the robot; use --secure --tls DIR (see `turtlectl certs`), "
-        "or add --insecure to run it so on a network you trust"
+        f"turtle, serve a fake navigate_to or reset the robot; {way}add --insecure to run it so on a network you trust"
     )
 
 

@@ -27,7 +27,7 @@ from foxglove import Channel, Schema
 from foxglove.channels import LaserScanChannel, SceneUpdateChannel
 from foxglove.websocket import Capability, MessageSchema, ServerListener, Service, ServiceRequest, ServiceSchema
 
-from cli.client import client_session
+from cli.client import NotPermitted, client_session, logged_in_as
 from cli.scene import SCAN, SCENE, SceneMaker
 from cli.services import world as world_of
 from cli.topics import live_graph
@@ -195,6 +195,11 @@ def serve(
     """Serve the system at ``connect`` on ws://``host``:``port`` until ``stop`` is set; calls
     ``started(server)`` once it listens, then yields the number of channels each second."""
     with client_session(connect) as session:
+        if logged_in_as() not in (None, "viewer"):
+            raise NotPermitted(
+                f"foxglove serves what its role may to anyone who reaches its WebSocket, without a login: on a "
+                f"--secure system run it as a viewer (TURTLECTL_ROLE=viewer), not as {logged_in_as()}"
+            )
         bridge = Bridge(session)
         try:
             server = foxglove.start_server(

@@ -59,6 +59,8 @@ def _not_let_in(connect: str, logged_in: bool) -> str:
     why = f"the router at {connect} did not let this client in within {OPEN_TIMEOUT:g} s: "
     if connect.startswith("tls/") and not tls_folder():
         return why + f"a tls/ endpoint needs {TLS_ENV} naming the folder of ca.pem, client.pem, client.key"
+    if connect.startswith("tls/") and not os.path.isdir(tls_folder()):
+        return why + f"{TLS_ENV}={tls_folder()} is not a folder (the one `turtlectl certs` made)"
     if connect.startswith("tls/"):
         return why + (f"its TLS certificate ({tls_folder()}) is not one its authority signed, or its login was refused")
     if logged_in:
@@ -76,6 +78,11 @@ class NotPermitted(Failed):
     """A --secure system's router would drop it silently: the role may not do that."""
 
 
+def logged_in_as() -> str | None:
+    """The role this process logged in as to a --secure system, None without a login."""
+    return _ROLE[0] if _ROLE else None
+
+
 def require(verb: str, key: str) -> None:
     """NotPermitted (exit 1) if this process logged in with a role that may not ``verb``
     (publish, call, token) on ``key``: the router would drop it without a word."""
@@ -84,12 +91,11 @@ def require(verb: str, key: str) -> None:
     from cli import access
 
     role = _ROLE[0]
-    if not access.permitted(role, verb, key):
-        who = ", ".join(access.who_may(verb, key)) or "no client role"
-        raise NotPermitted(
-            f"not permitted: the {role} role may not {verb} {key} on this --secure system "
-            f"(may: {who}; TURTLECTL_ROLE chooses the role)"
-        )
+    plain = base_key(key)  # lab1/navigate_to from outside domain lab1: the rules are lab1's own
+    if not access.permitted(role, verb, plain):
+        who = access.who_may(verb, plain)
+        how = f"may: {', '.join(who)}; TURTLECTL_ROLE chooses the role" if who else "no client role may"
+        raise NotPermitted(f"not permitted: the {role} role may not {verb} {key} on this --secure system ({how})")
 
 
 def _listening(connect: str) -> bool:

@@ -18,6 +18,7 @@ from pathlib import Path
 
 import msgspec
 
+from cli.errors import BadInput
 from runtime.config import Credentials
 
 ENV = "TURTLECTL_CREDENTIALS"
@@ -25,9 +26,16 @@ ROLE_ENV = "TURTLECTL_ROLE"  # which of the system's client logins a command use
 DEFAULT_ROLE = "operator"
 
 
+ROLES = ("viewer", "operator", "teleop")
+
+
 def role() -> str:
-    """The role a client command logs in as: $TURTLECTL_ROLE, else operator."""
-    return os.environ.get(ROLE_ENV, "").strip() or DEFAULT_ROLE
+    """The role a client command logs in as: $TURTLECTL_ROLE, else operator (BadInput if it
+    names no role)."""
+    chosen = os.environ.get(ROLE_ENV, "").strip() or DEFAULT_ROLE
+    if chosen not in ROLES:
+        raise BadInput(f"{ROLE_ENV}={chosen!r} is not a role (roles: {', '.join(ROLES)})")
+    return chosen
 
 
 def store_path() -> Path:
@@ -70,10 +78,18 @@ Logins = dict[str, Credentials]  # role -> its login
 
 
 def _entries(path: Path) -> dict[str, Logins]:
+    """The file's entries ({} if there is none); BadInput if it cannot be used (never
+    overwritten then: the other systems' logins are in it)."""
     try:
-        return msgspec.json.decode(path.read_bytes(), type=dict[str, Logins])
-    except (OSError, msgspec.DecodeError):
+        data = path.read_bytes()
+    except FileNotFoundError:
         return {}
+    except OSError as exc:
+        raise BadInput(f"cannot read the credentials file {path}: {exc.strerror or exc}") from None
+    try:
+        return msgspec.json.decode(data, type=dict[str, Logins])
+    except msgspec.DecodeError as exc:
+        raise BadInput(f"the credentials file {path} is not one turtlectl wrote ({exc}): move it away") from None
 
 
 def publish(endpoint: str, logins: Logins, path: Path | None = None) -> Path:

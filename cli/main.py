@@ -262,7 +262,7 @@ def router(
     if (ctx.obj or {}).get("connect") is not None:
         raise BadInput("router takes no --connect: it is the router the others connect to (see --port, --listen)")
     host = args.listen_address(listen)
-    args.exposure(host, secure=False, insecure=insecure)
+    args.exposure(host, secure=False, insecure=insecure, can_secure=False)
     run_router(port, host, lambda: typer.echo(f"router listening on tcp/{host}:{port}; Ctrl-C stops it", err=False))
 
 

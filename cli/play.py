@@ -21,7 +21,7 @@ import msgspec
 import zenoh
 
 from cli.bag import Record, Recording
-from cli.client import check_key, client_session
+from cli.client import check_key, client_session, require
 from cli.errors import BadInput
 from messages import Message, encode, encoding_for
 from messages.keys import WORLD_KEY
@@ -150,6 +150,7 @@ def play(
                     key = targets[record.key]
                     pub = publishers.get((key, encoding))
                     if pub is None:
+                        require("publish", key)  # a --secure router would drop it without a word
                         pub = session.declare_publisher(key, encoding=zenoh.Encoding(encoding))
                         publishers[(key, encoding)] = pub
                     pub.put(payload)

@@ -67,6 +67,7 @@ class Supervisor:
             self.logins = {e.name: credentials.new_credentials(credentials.node_user(e.name)) for e in plan.launch.node}
             self.client_logins = {role: credentials.new_credentials(role) for role in access.ROLES}
         self.private: Path | None = None  # the folder of the router's list of users
+        self.published = False  # this launch's logins are in the credentials file
         self.log_parent = log_parent
         self.port = port
         self.host = host
@@ -95,13 +96,15 @@ class Supervisor:
         rules = access.access_control(rights, self.domain)
         session = open_router(self.port, self.host, "launch", str(users), rules, tls)
         where = credentials.publish(self.endpoint, self.client_logins)
+        self.published = True
         self.printer.system(
             f"secure: only logged-in sessions join, each allowed what its node or role needs; clients log in with {where}"
         )
         return session
 
     def _forget_logins(self) -> None:
-        if self.client_logins:
+        if self.published:  # only what this launch wrote: a launch that failed on a busy port wrote nothing
+            self.published = False
             try:
                 credentials.withdraw(self.endpoint)
             except OSError as exc:

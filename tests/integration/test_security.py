@@ -201,3 +201,15 @@ def test_secure_over_mutual_tls_takes_only_certificates_its_authority_signed(sto
         monkeypatch.setenv("TURTLECTL_TLS", str(tmp_path / "other"))
         foreign = subprocess.run([*turtlectl(), "list", "--connect", endpoint], capture_output=True, text=True)
         assert foreign.returncode == ExitCode.UNREACHABLE and "is not one its authority signed" in foreign.stderr
+
+
+def test_a_second_secure_launch_on_a_busy_port_leaves_the_running_system_s_logins(secure, store):
+    """Review of issue 14: the failed launch withdrew the running system's entry, locking its clients out."""
+    port = secure.endpoint.rsplit(":", 1)[1]
+    second = subprocess.run(
+        [*turtlectl(), "launch", "--secure", "--port", port], capture_output=True, text=True, timeout=30
+    )
+    assert second.returncode == ExitCode.CANNOT_START, second.stdout + second.stderr
+    assert secure.endpoint in json.loads(store.read_text())
+    still, _ = run(secure, "echo", "robot/status", "--once")
+    assert still.returncode == 0, still.stderr

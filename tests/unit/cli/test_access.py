@@ -33,3 +33,27 @@ def test_the_router_section_denies_by_default_and_allows_per_user_in_the_domain(
     )
     policy = {p["subjects"][0]: set(p["rules"]) for p in section["policies"]}
     assert all(rule.startswith("viewer:") for rule in policy["viewer"])
+
+
+def test_the_role_check_reads_a_domain_s_key_from_outside_it_and_roles_are_named(monkeypatch, tmp_path):
+    """Review of issue 14: `call lab1/navigate_to` as operator was "not permitted (may: no client role)";
+    an unknown TURTLECTL_ROLE looked like a missing login; a corrupt credentials file like an empty one."""
+    import pytest
+
+    from cli import client, credentials
+    from cli.errors import BadInput
+
+    monkeypatch.setattr(client, "_ROLE", ["operator"])
+    client.require("call", "lab1/navigate_to")
+    with pytest.raises(client.NotPermitted, match=r"may not publish lab1/turtle1/cmd_vel .*\(may: teleop;"):
+        client.require("publish", "lab1/turtle1/cmd_vel")
+    monkeypatch.setenv(credentials.ROLE_ENV, "Viewer")
+    with pytest.raises(BadInput, match=r"TURTLECTL_ROLE='Viewer' is not a role \(roles: viewer, operator, teleop\)"):
+        credentials.role()
+    broken = tmp_path / "credentials.json"
+    broken.write_text("{not json")
+    with pytest.raises(BadInput, match="is not one turtlectl wrote"):
+        credentials.for_endpoint("tcp/127.0.0.1:7447", broken, as_role="operator")
+    with pytest.raises(BadInput):
+        credentials.publish("tcp/127.0.0.1:7447", {}, broken)
+    assert broken.read_text() == "{not json"  # never overwritten
