@@ -33,6 +33,7 @@ from cli.errors import BadInput
 from messages.world import Limits, World
 from nodes.kinds import KINDS
 from runtime.config import NodeConfig
+from runtime.params import lookup
 
 #: the launch file that comes with turtlectl: the whole system on one machine
 PACKAGED_LAUNCH = Path(__file__).resolve().parent / "launch.toml"
@@ -385,12 +386,17 @@ def with_overrides(plan: LaunchPlan, assignments: list[Assignment], option: str)
             )
         if not keys:
             raise LaunchFileError(f"{option} {item.text!r}: name a key of {target}, as {target}.KEY=VALUE")
-        for depth, key in enumerate(keys[:-1]):
-            table = table.setdefault(key, {})
-            if not isinstance(table, dict):
-                raise LaunchFileError(f"{option} {'.'.join([target, *keys[: depth + 1]])}: is not a table")
-        table[keys[-1]] = item.value
+        _put(table, target, keys, item.value, option)
     return _validate(data, plan.source, _Report(option, list(names), override=True))
+
+
+def _put(table: dict[str, Any], target: str, keys: list[str], value: Any, option: str) -> None:
+    """Set ``keys`` (dotted into tables, made where missing) of ``target``'s ``table`` to ``value``."""
+    for depth, key in enumerate(keys[:-1]):
+        table = table.setdefault(key, {})
+        if not isinstance(table, dict):
+            raise LaunchFileError(f"{option} {'.'.join([target, *keys[: depth + 1]])}: is not a table")
+    table[keys[-1]] = value
 
 
 def running_change(
@@ -412,13 +418,7 @@ def running_change(
     assignment = parse_assignment(f"{node}.{name}={text}", label, f"{label} NODE NAME VALUE")
     before = _problem_text(data, report)
     changed = copy.deepcopy(data)
-    table = changed["node"][names.index(node)]["params"]
-    *path, last = assignment.keys[1:]
-    for depth, key in enumerate(path):
-        table = table.setdefault(key, {})
-        if not isinstance(table, dict):
-            raise LaunchFileError(f"{label} {'.'.join([node, *path[: depth + 1]])}: is not a table")
-    table[last] = assignment.value
+    _put(changed["node"][names.index(node)]["params"], node, list(assignment.keys[1:]), assignment.value, label)
     after = _problem_text(changed, report)
     if after is not None and after != before:
         where = f"{label} {node}.{name}"
@@ -428,10 +428,7 @@ def running_change(
         raise LaunchFileError(f"{where} = {text}: it would break a rule of the running system: {rule}")
     kind = KINDS[nodes[node][0]]
     typed = msgspec.convert(changed["node"][names.index(node)]["params"], kind.params, strict=True)
-    value: Any = msgspec.to_builtins(typed)
-    for key in assignment.keys[1:]:
-        value = value[key]
-    return value
+    return lookup(msgspec.to_builtins(typed), name)
 
 
 def _problem_text(data: dict[str, Any], report: _Report) -> str | None:

@@ -17,6 +17,7 @@ from messages import Ack, SetParameter
 from messages.keys import NodeDetails, node_key, param_set_key, params_key
 from messages.reference import ParamInfo, fixed_reason, param_infos
 from messages.world import World
+from runtime.params import lookup
 
 #: s a node has to answer
 TIMEOUT = 3.0
@@ -62,12 +63,10 @@ def fetch(connect: str, node: str) -> dict[str, Any]:
 
 def value(params: dict[str, Any], node: str, name: str) -> Any:
     """The parameter ``name`` (a dotted path reaches into a table: ``gains.lookahead``)."""
-    here: Any = params
-    for part in name.split("."):
-        if not isinstance(here, dict) or part not in here:
-            raise _no_param(node, name, names(params))
-        here = here[part]
-    return here
+    try:
+        return lookup(params, name)
+    except KeyError:
+        raise _no_param(node, name, names(params)) from None
 
 
 def names(params: dict[str, Any], prefix: str = "") -> list[str]:
@@ -186,9 +185,10 @@ def set_value(connect: str, node: str, name: str, text: str, timeout: float = TI
     system = running(connect)
     params_type = kind_of(system, node)
     nodes = {n: (d.kind, system.params[n]) for n, d in system.details.items() if n in system.params and d.kind in KINDS}
-    here = system.params.get(node, {})
-    for part in name.split("."):
-        here = here.get(part) if isinstance(here, dict) else None
+    try:
+        here = lookup(system.params.get(node, {}), name)
+    except KeyError:
+        here = None  # an unknown name: the launch file's validation says so below
     if isinstance(here, dict):
         raise BadInput(
             f"param set {node}.{name}: is a table: set one of its entries ({', '.join(names(here, name + '.'))})"
