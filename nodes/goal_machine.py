@@ -4,7 +4,9 @@ A goal's lifecycle, as Nav2's NavigateToPose:
 
 * accepted (or refused at once: invalid, unreachable past a declared obstacle, battery
   low), then fed back to its caller (``feedback``), and ended by one NavigateToResponse:
-  reached, or not with a reason;
+  reached (the turtle at rest within the tolerances: once the law is within them the
+  machine stops the turtle and answers with the pose it comes to rest in), or not with a
+  reason;
 * a new goal preempts the running one ("preempted"); a cancel ends it ("canceled", or the
   reason the canceller gives: the simulator sends "teleported" and "reset"); a caller whose
   liveliness token vanishes has its goal canceled ("caller gone"); no pose for
@@ -75,6 +77,11 @@ from nodes.scan import hit_points, off_walls, path_clearance, unexplained
 
 #: m: a turtle this far from its path has its path planned again from where it is
 OFF_PATH = 0.3
+
+#: m/s and rad/s: a turtle this slow is at rest (a goal is reached only at rest within the
+#: tolerances: braking from a turn carried one 2 deg past its heading, issue 22)
+REST_LINEAR = 1e-3
+REST_ANGULAR = 1e-3
 
 C = TypeVar("C")  # the shell's handle on a goal's caller (a runtime.Request); opaque here
 
@@ -435,7 +442,11 @@ class GoalMachine(Generic[C]):
             )
             goal.phase = cmd.phase
             if cmd.phase is Phase.DONE:
-                self._finish(now, True, "")
+                if at_rest(pose):
+                    self._finish(now, True, "")
+                else:  # within the tolerances but still moving: it is where it rests that counts
+                    goal.state = GoalState.TURNING
+                    self._out.append(Twist())
                 return
             to_go = math.hypot(goal.target.x - pose.x, goal.target.y - pose.y)
         else:
@@ -549,3 +560,8 @@ def _line(x: float, y: float, heading: float, length: float, spacing: float = 0.
     ``length`` m, and each one's distance from (x, y)."""
     along = np.linspace(0.0, length, max(2, math.ceil(length / spacing) + 1))
     return np.column_stack((x + along * math.cos(heading), y + along * math.sin(heading))), along
+
+
+def at_rest(pose: Pose) -> bool:
+    """Whether ``pose`` shows the turtle (nearly) still: both its speeds below REST_*."""
+    return abs(pose.linear_velocity) <= REST_LINEAR and abs(pose.angular_velocity) <= REST_ANGULAR

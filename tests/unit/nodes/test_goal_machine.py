@@ -201,6 +201,64 @@ def test_a_goal_reached_stops_the_turtle_then_answers():
     assert m.goal is None and m.pose(pose(x=8.0), 11.3) == []  # idle: no more commands
 
 
+def test_a_turtle_still_turning_within_the_tolerances_is_not_reached_until_it_rests():
+    """Issue 22: success was declared while the turtle turned at speed through the goal
+    heading; braking carried it 2 deg past.  Reached means at rest within the tolerances,
+    and the response gives the pose it rests in."""
+    m = machine()
+    running(m, now=10.0)
+    actions = m.pose(Pose(x=8.0, y=5.0, theta=0.001, angular_velocity=2.0), 11.0)
+    assert replies(actions) == [] and twists(actions) == [Twist()]  # stop turning, and wait
+    assert m.goal is not None
+    rest = Pose(x=8.0, y=5.0, theta=0.003)  # where braking left it: still within 0.25 deg
+    reply = only_reply(m.pose(rest, 11.05))
+    assert reply.response.success and reply.response.time_taken == pytest.approx(1.05)
+    assert reply.response.theta == pytest.approx(math.degrees(0.003))
+    assert reply.response.heading_error == pytest.approx(math.degrees(0.003))
+
+
+def test_a_turtle_that_comes_to_rest_outside_the_tolerance_turns_back():
+    m = machine()
+    running(m, now=0.0)
+    m.pose(Pose(x=8.0, y=5.0, theta=-0.002, angular_velocity=2.0), 1.0)
+    actions = m.pose(Pose(x=8.0, y=5.0, theta=0.03), 1.05)  # braked 1.7 deg past the heading
+    assert replies(actions) == [] and m.goal is not None
+    assert twists(actions)[-1].angular < 0.0  # back towards it
+
+
+def test_a_turtle_drifting_at_the_goal_position_is_not_reached_until_it_rests():
+    m = machine()
+    running(m, now=0.0)
+    actions = m.pose(Pose(x=8.0, y=5.0, theta=0.0, linear_velocity=0.3), 1.0)
+    assert replies(actions) == [] and m.goal is not None
+
+
+def test_closed_loop_with_a_late_command_rests_within_the_tolerances_where_it_said():
+    """The machine against the simulator's kinematics, each command taking effect a step late
+    (as in the system: the simulator applies the command that came after the pose it
+    published), arriving fast and turning: the response's pose is where it rests."""
+    m = machine()
+    now, outcome, pending = 0.0, None, [Twist()]
+    s = TurtleState(x=7.99, y=5.0, theta=math.radians(40.0), w=-LIMITS.max_angular_speed)
+    m.start(goal(x=8.0, theta=0.0), "caller", now)
+    for _ in range(2000):
+        pose = Pose(x=s.x, y=s.y, theta=s.theta, linear_velocity=s.v, angular_velocity=s.w)
+        actions = m.pose(pose, now) if m.goal is not None else []
+        outcome = outcome or next(iter(replies(actions)), None)
+        pending.append(twists(actions)[-1] if twists(actions) else pending[-1])
+        cmd = pending.pop(0)
+        v, w = effective_command(cmd.linear, cmd.angular, 0.0, LIMITS)
+        s = step(s, *accelerate(s, v, w, STEP, LIMITS), STEP, WORLD.size)
+        now += STEP
+        if outcome is not None and s.v == 0.0 and s.w == 0.0 and pending == [Twist()]:
+            break
+    assert outcome is not None and outcome.response.success, outcome
+    rest_heading = abs(math.degrees(s.theta))
+    assert rest_heading <= PARAMS.heading_tolerance
+    assert math.hypot(s.x - 8.0, s.y - 5.0) <= PARAMS.position_tolerance
+    assert outcome.response.theta == pytest.approx(math.degrees(s.theta) % 360.0, abs=1e-9)
+
+
 def test_a_goal_where_the_turtle_stands_is_reached_on_start():
     m = machine()
     m.pose(pose(x=8.0), 0.0)
