@@ -66,8 +66,8 @@ def _not_let_in(connect: str, logged_in: bool) -> str:
     if logged_in:
         return why + "its login in the credentials file was refused (a --secure system started again makes new ones)"
     return why + (
-        f"a `launch --secure` system takes only clients with its login, and {credentials.store_path()} has none "
-        f"for {connect} (or set {credentials.ENV}); one with --tls speaks TLS only (connect with tls/HOST:PORT)"
+        f"a `launch --secure` system takes only clients with its login, and {credentials.where_none(connect)}; "
+        "one with --tls speaks TLS only (connect with tls/HOST:PORT)"
     )
 
 

@@ -44,6 +44,18 @@ def store_path() -> Path:
     return Path(named) if named else Path.home() / ".turtlectl" / "credentials.json"
 
 
+def where_none(endpoint: str) -> str:
+    """Where a client looked for its login for ``endpoint`` and found none, for the message
+    of a refused client: the default file (then $TURTLECTL_CREDENTIALS is worth knowing), or
+    the file the variable names (then it is set already, and may name no file at all)."""
+    path = store_path()
+    if not os.environ.get(ENV):
+        return f"{path} has none for {endpoint} (or set {ENV})"
+    if not path.exists():
+        return f"{ENV} names {path}, which does not exist"
+    return f"{path} ({ENV}) has none for {endpoint}"
+
+
 def new_credentials(user: str) -> Credentials:
     """``user`` with a random password (32 URL-safe characters, 192 bits)."""
     return Credentials(user=user, password=secrets.token_urlsafe(24))

@@ -18,11 +18,15 @@ def _keys_of(name: str) -> list[str]:
     return [key for key, (kind, payload, *_) in KEYS.items() if kind != "queryable" and name in payload.split()]
 
 
+def summary(cls: type) -> str:
+    """The first paragraph of a type's documentation on one line: its whole first sentence,
+    however many source lines it spans."""
+    return " ".join(doc(cls).split("\n\n", 1)[0].split())
+
+
 def listing() -> list[dict[str, Any]]:
-    """Every message type: its name, the keys that carry it, and its summary line."""
-    return [
-        {"type": type_name(t), "keys": _keys_of(type_name(t)), "summary": doc(t).split("\n", 1)[0]} for t in ALL_TYPES
-    ]
+    """Every message type: its name, the keys that carry it, and its summary."""
+    return [{"type": type_name(t), "keys": _keys_of(type_name(t)), "summary": summary(t)} for t in ALL_TYPES]
 
 
 def listing_text(rows: list[dict[str, Any]]) -> str:

@@ -48,7 +48,7 @@ COMMAND_GROUPS: dict[str, tuple[str, ...]] = {
     "Services": ("call",),
     "Parameters": ("param",),
     "Introspection": ("list", "node", "interface", "view"),
-    "Recording and Foxglove": ("record", "info", "play", "foxglove"),
+    "Recording and Foxglove": ("record", "info", "play", "recover", "foxglove"),
 }
 
 
@@ -680,7 +680,7 @@ def interface_show(
 
 @app.command()
 def hz(
-    names: list[str] = typer.Argument(..., metavar="TOPIC", help="One or more key expressions."),
+    names: list[str] = typer.Argument(..., metavar="TOPIC...", help="One or more key expressions."),
     window: int = typer.Option(100, "--window", min=2, help="Messages per statistic."),
     duration: float | None = typer.Option(None, "--duration", min=0.5, help="Stop after S seconds."),
     json: bool = typer.Option(False, "--json", help="JSON lines."),
@@ -952,7 +952,12 @@ def play(
     keys = [client_key(t) for t in topics] or None
     recording = Recording(file)
     if not recording.closed:
-        typer.echo(f"warning: {file} was not closed (the recorder was killed?): playing what is complete", err=True)
+        from cli.recover import hint
+
+        typer.echo(
+            f"warning: {file} was not closed (the recorder was killed?): playing what is complete; {hint(file)}",
+            err=True,
+        )
     with stop_on_signals() as stop:
         live = sys.stdin.isatty() and sys.stderr.isatty()
         played = 0
@@ -975,6 +980,25 @@ def play(
         if live:
             typer.echo("\r\033[K", nl=False, err=True)
     _result(f"played {played} messages from {file}")
+
+
+@app.command()
+def recover(
+    file: Path = typer.Argument(..., metavar="FILE", help="A recording the recorder did not finish (MCAP file)."),
+    output: Path | None = typer.Option(
+        None, "-o", "--output", help="The file to write (must not exist).  [default: FILE-recovered.mcap]"
+    ),
+) -> None:
+    """Write a complete, indexed copy of a recording that was not closed (the recorder was
+    killed), as `mcap recover` and `ros2 bag reindex`: everything readable is kept, the file
+    itself is left as it is.
+
+    Example: turtlectl recover run.mcap   (writes run-recovered.mcap)
+    """
+    from cli.recover import recover as recover_file
+    from cli.recover import text
+
+    _result(text(recover_file(file, output)))
 
 
 @app.command()

@@ -84,8 +84,8 @@ def test_a_client_without_the_login_or_with_a_wrong_one_is_refused_within_3_s(se
     assert refused.returncode == ExitCode.UNREACHABLE and took < 3.0 + 1.5, took  # Python's start included
     assert refused.stderr.strip().splitlines() == [
         f"turtlectl: error: the router at {secure.endpoint} did not let this client in within 2.5 s: a `launch --secure` "
-        f"system takes only clients with its login, and {nothing} has none for {secure.endpoint} "
-        f"(or set TURTLECTL_CREDENTIALS); one with --tls speaks TLS only (connect with tls/HOST:PORT)"
+        f"system takes only clients with its login, and TURTLECTL_CREDENTIALS names {nothing}, which does not exist; "
+        f"one with --tls speaks TLS only (connect with tls/HOST:PORT)"
     ]
     wrong = tmp_path / "wrong.json"
     credentials.publish(secure.endpoint, {"operator": Credentials(user="operator", password="guessed")}, wrong)

@@ -66,3 +66,15 @@ def test_an_unknown_type_is_one_line_naming_the_known_ones_exit_2():
     assert done.returncode == ExitCode.BAD_INPUT, done
     assert done.stderr.strip().startswith("turtlectl: error: unknown message type 'Odometry' (known: Ack,"), done.stderr
     assert "Traceback" not in done.stderr and done.stdout == ""
+
+
+def test_list_gives_each_type_its_whole_first_sentence():
+    """Issue 22: `interface list` cut ParameterEvent's summary mid-sentence (its first line)."""
+    from cli.interface import listing
+    from messages.reference import doc
+
+    for row, t in zip(listing(), ALL_TYPES, strict=True):
+        first = " ".join(doc(t).split("\n\n", 1)[0].split())
+        assert row["summary"] == first and row["summary"].endswith("."), (t.__name__, row["summary"])
+    code, text = invoke("interface", "list")
+    assert "ParameterEvent" in text and "changes at run time (``turtlectl param set``)" in text

@@ -6,6 +6,7 @@ become exit codes in ``main`` only; ``turtlectl --help`` imports nothing heavy; 
 from __future__ import annotations
 
 import os
+import re
 import signal
 import socket
 import subprocess
@@ -521,3 +522,16 @@ def test_secure_beyond_loopback_needs_tls_and_tls_needs_its_certificates(tmp_pat
     assert code == ExitCode.OK and "router.pem" in text, text
     code, text = invoke("launch", "--secure", "--tls", str(tmp_path / "tls"), "--listen", "10.0.0.1", "--check")
     assert code == ExitCode.OK, text
+
+
+def test_usage_shows_an_argument_that_takes_several_as_name_dots():
+    """Issue 22: `hz`'s usage read `{TOPIC}` although it takes several topics."""
+    import typer.main
+
+    root = typer.main.get_command(app)
+    for path, command in _leaves(root):
+        usage = invoke(*path, "--help")[1].splitlines()[0]
+        for param in command.params:
+            if param.param_type_name == "argument" and param.nargs == -1:
+                name = (param.metavar or param.name.upper()).strip("[]{}.")
+                assert re.search(rf"\b{name}\]?\.\.\.", usage), usage
