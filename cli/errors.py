@@ -1,4 +1,5 @@
-"""What can go wrong for a user, and the exit code of each: the one table.
+"""What can go wrong for a user, and the exit code of each (the numbers: the one table of
+every turtlectl process, ``runtime.exitcodes.ExitCode``, which node processes use too).
 
 Logic modules raise the error that says what happened (``BadInput``, ``Unreachable``,
 …), never an exit code; ``cli.main.main`` is the one place that prints the message
@@ -7,16 +8,18 @@ on stderr and exits with ``exit_code(error)``.
 
 from __future__ import annotations
 
-import enum
+from runtime.exitcodes import ExitCode
 
-
-class ExitCode(enum.IntEnum):
-    OK = 0  # success: goal reached, messages printed, system stopped on request
-    FAILED = 1  # ran, but did not succeed: goal not reached, a required node died
-    BAD_INPUT = 2  # bad arguments or launch file; checked before anything is sent or started
-    UNREACHABLE = 3  # nothing to talk to: no router, no navigator, no publisher
-    CANNOT_START = 4  # launch could not start: the port is in use
-    INTERRUPTED = 130  # stopped by Ctrl-C before finishing (goto)
+__all__ = [
+    "BadInput",
+    "CannotStart",
+    "ExitCode",
+    "Failed",
+    "Interrupted",
+    "TurtlectlError",
+    "Unreachable",
+    "exit_code",
+]
 
 
 class TurtlectlError(Exception):

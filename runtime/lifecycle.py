@@ -9,7 +9,10 @@ work and returns the exit code, and ``run_main`` is the one place that exits:
 * 1 the node's own code raised (traceback logged once, shutdown hooks run, so the
   navigator still commands a stop; the supervisor's respawn applies);
 * 2 the configuration could not be used; 3 no Zenoh session; 4 another node
-  already holds what this one claims (see ``Node.claim``).
+  already holds what this one claims (see ``Node.claim``): the supervisor does not respawn
+  a node after a 2 or a 4, the next start would end the same way.
+
+The numbers are the one table of every turtlectl process, ``runtime.exitcodes.ExitCode``.
 """
 
 from __future__ import annotations
@@ -29,14 +32,9 @@ import zenoh
 
 from messages.keys import NodeInfo, node_token
 from runtime.config import ENV_VAR, SUPERVISOR_PID_VAR, decode_config
+from runtime.exitcodes import ExitCode
 from runtime.node import Node, NodeConflict, P
 from runtime.session import close_session, node_session_config
-
-EXIT_OK = 0
-EXIT_ERROR = 1  # the node's own code raised
-EXIT_CONFIG = 2  # the node's configuration could not be used
-EXIT_SESSION = 3  # could not open a Zenoh session
-EXIT_CONFLICT = 4  # another running node already holds what this one would claim
 
 _PR_SET_PDEATHSIG = 1
 _PARENT_CHECK_PERIOD = 0.5  # s
@@ -107,28 +105,28 @@ def run(node_class: Callable[[Node[P]], Any], params_type: type[P]) -> int:
     signal.signal(signal.SIGTERM, signal.SIG_DFL)
     parent_gone = _watch_parent()
     if parent_gone():
-        return EXIT_OK
+        return ExitCode.OK
     try:
         config = decode_config(os.environ[ENV_VAR])
         params = msgspec.convert(config.params, params_type, strict=True)
         logging.getLogger().setLevel(config.log_level)
     except KeyError:
         log.error("%s is not set: start nodes with `turtlectl launch` or `turtlectl run`", ENV_VAR)
-        return EXIT_CONFIG
+        return ExitCode.BAD_INPUT
     except (msgspec.ValidationError, msgspec.DecodeError) as exc:
         log.error("invalid node configuration: %s", exc)
-        return EXIT_CONFIG
+        return ExitCode.BAD_INPUT
 
     try:
         session = zenoh.open(node_session_config(config.connect, config.domain, config.credentials))
     except zenoh.ZError as exc:
         log.error("cannot open a Zenoh session to %s: %s", config.connect, exc)
-        return EXIT_SESSION
+        return ExitCode.UNREACHABLE
 
     _await_router(session, _ROUTER_WAIT)
     try:
         if early_stop or parent_gone():  # stopped while starting (the supervisor died): build nothing
-            return EXIT_OK
+            return ExitCode.OK
         node = Node(config, params, session, started)
         signal.signal(signal.SIGINT, node.stop)
         node.timer(_PARENT_CHECK_PERIOD, lambda: parent_gone() and node.stop())
@@ -141,23 +139,23 @@ def run(node_class: Callable[[Node[P]], Any], params_type: type[P]) -> int:
             signal.signal(signal.SIGTERM, node.stop)
             if node.stopping:  # stopped while it claimed: build nothing
                 node.shutdown()
-                return EXIT_OK
+                return ExitCode.OK
             node_class(node)
         except NodeConflict as exc:
             log.error("%s", exc)
             node.shutdown()
-            return EXIT_CONFLICT
+            return ExitCode.CANNOT_START
         except Exception:  # the node's own code: a defect, reported once, and the node still stops cleanly
             node.log.exception("failed while starting")
             node.shutdown()
-            return EXIT_ERROR
+            return ExitCode.FAILED
         me = NodeInfo(name=config.name, pid=os.getpid(), host=socket.gethostname(), start_ns=started)
         token = session.liveliness().declare_token(node_token(me))
         node.log.info("ready (pid %d)", os.getpid())
         ok = node.spin()
         token.undeclare()
         node.log.info("stopped" if ok else "stopped after an error")
-        return EXIT_OK if ok else EXIT_ERROR
+        return ExitCode.OK if ok else ExitCode.FAILED
     finally:
         if not close_session(session):
             log.warning("Zenoh session did not close within 2 s; exiting anyway")

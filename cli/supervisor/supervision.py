@@ -5,7 +5,10 @@ every rule is tested with fake children and a fake clock (tests/unit/cli/supervi
 * Start every node in the plan's order; a stop requested meanwhile starts no more.
 * A child that exits is respawned if its entry says so: first after respawn_delay s, then
   twice as long each time up to respawn_delay_max s, at most respawn_max times in a row (0:
-  no limit); a run of STABLE_RUN s or more starts the count again.
+  no limit); a run of STABLE_RUN s or more starts the count again.  Not after an exit that
+  the next start would repeat (runtime.exitcodes.respawn_can_help: 2, its configuration
+  cannot be used; 4, another process holds what it claims): given up on at once, one line
+  saying why.
 * A child that exits for good (no respawn, or respawns used up) is given up on; if it is
   required the system stops, exit code FAILED.  So does a system whose every node has exited.
 * Readiness comes from outside (``announce``, from any thread): a child is ready once this
@@ -29,6 +32,7 @@ from typing import Protocol
 from cli.errors import ExitCode
 from cli.launchfile import LaunchPlan
 from cli.supervisor.printer import Printer
+from runtime.exitcodes import node_exit, respawn_can_help
 
 POLL = 0.05  # s between checks of the children
 STABLE_RUN = 10.0  # s: a child that ran this long has its respawn count reset
@@ -155,18 +159,21 @@ class Supervision:
         """Decide what a child's exit means: respawn it (with backoff), or give up on it."""
         child.flush_output()
         entry = self.entries[name]
-        how = f"exited with code {code}" if code >= 0 else f"was killed by {signal.Signals(-code).name}"
+        how = node_exit(code)
         if now - self._started_at[name] >= STABLE_RUN:
             self._crashes[name] = 0
         crashes = self._crashes.get(name, 0)
-        if entry.respawn and (entry.respawn_max == 0 or crashes < entry.respawn_max):
+        hopeless = entry.respawn and not respawn_can_help(code)
+        if hopeless:
+            how += "; not respawning: respawning cannot help"
+        elif entry.respawn and (entry.respawn_max == 0 or crashes < entry.respawn_max):
             self._crashes[name] = crashes + 1
             delay = respawn_delay(entry.respawn_delay, entry.respawn_delay_max, crashes + 1)
             self.printer.system(f"{name} {how}; respawning in {delay:g} s (respawn {crashes + 1})")
             self._respawn_at[name] = now + delay
             return
         self._given_up.add(name)
-        if entry.respawn:
+        if entry.respawn and not hopeless:
             how += f", after {crashes} respawns in a row; giving up on it"
         if entry.required:
             self.printer.system(f"{name} {how}; it is required, stopping the system")

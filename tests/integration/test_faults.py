@@ -309,3 +309,35 @@ def test_a_node_that_is_gone_for_good_is_reported_once(tmp_path):
         reports = [line for line in system.lines if "obstacle_detector was killed" in line]
         assert len(reports) == 1, reports
         assert system.proc.poll() is None  # not required: the rest runs on
+
+
+SECOND_NAVIGATOR = """
+[[node]]
+name = "navigator"
+run = "navigator"
+respawn = true
+respawn_delay = 0.2
+respawn_max = 0
+"""
+
+
+def test_a_second_navigator_that_finds_navigate_to_served_is_not_respawned(system, tmp_path):
+    """Issue 22, item 7: its exit 4 (a conflict) would be the same at every start."""
+    path = tmp_path / "second.toml"
+    path.write_text(SECOND_NAVIGATOR)
+    second = subprocess.run(
+        [*turtlectl(), "launch", str(path), "--connect", system.endpoint],
+        capture_output=True,
+        text=True,
+        timeout=30,
+        stdin=subprocess.DEVNULL,
+        env={**os.environ, "TURTLECTL_LOG_DIR": str(tmp_path / "logs")},
+    )
+    out = second.stdout + second.stderr
+    assert second.returncode == 1, out  # its every node has exited
+    assert out.count("started navigator") == 1, out
+    assert (
+        "navigator exited with code 4 (could not start: another process already holds what it claims); "
+        "not respawning: respawning cannot help"
+    ) in out
+    assert "already serves navigate_to" in out

@@ -232,8 +232,9 @@ def test_a_required_node_gone_for_good_stops_the_system_with_exit_code_failed():
     system.process("sim", runs=(1.5,), code=2)
     navigator = system.process("navigator")
     assert system.run() == ExitCode.FAILED
-    assert system.supervision.stop_reason == "required node sim exited with code 2"
-    assert "sim exited with code 2; it is required, stopping the system" in system.lines()
+    why = "exited with code 2 (bad input: its configuration cannot be used)"
+    assert system.supervision.stop_reason == f"required node sim {why}"
+    assert f"sim {why}; it is required, stopping the system" in system.lines()
     assert navigator.got == [(pytest.approx(1.5, abs=LAG), INT)]  # the others stopped as on Ctrl-C
 
 
@@ -374,3 +375,43 @@ def test_children_are_stopped_even_when_starting_one_fails():
     with pytest.raises(OSError):
         system.run()
     assert sim.signals() == [TERM]
+
+
+# -- exits that respawning cannot help (issue 22, item 7) -------------------------------
+@pytest.mark.parametrize(
+    "code, why",
+    [
+        (2, "exited with code 2 (bad input: its configuration cannot be used)"),
+        (4, "exited with code 4 (could not start: another process already holds what it claims)"),
+    ],
+)
+def test_a_configuration_error_or_a_conflict_is_given_up_on_at_once_with_one_line_saying_why(code, why):
+    system = System(node("sim") + node("navigator", respawn=True, respawn_delay=0.2, respawn_max=0))
+    system.process("sim")
+    navigator = system.process("navigator", runs=(0.5,), code=code)
+    system.stop_at(10.0)
+    assert system.run() == ExitCode.OK  # optional: the rest runs on until asked to stop
+    assert len(navigator.starts) == 1  # never started again, although respawn has no limit
+    said = [line for line in system.lines() if line.startswith("navigator ")]
+    assert said == [f"navigator {why}; not respawning: respawning cannot help"]
+
+
+def test_a_required_node_with_a_conflict_stops_the_system_at_once_however_many_respawns_it_has():
+    system = System(node("sim", respawn=True, respawn_max=5) + node("navigator", required=True, respawn=True))
+    system.process("sim")
+    navigator = system.process("navigator", runs=(0.5,), code=4)
+    assert system.run() == ExitCode.FAILED
+    assert len(navigator.starts) == 1
+    assert system.clock.now == pytest.approx(0.5, abs=LAG + 2.0 + REAP)  # no respawn delay waited for
+    assert system.supervision.stop_reason.startswith("required node navigator exited with code 4 (could not start")
+    assert any(line.endswith("respawning cannot help; it is required, stopping the system") for line in system.lines())
+
+
+@pytest.mark.parametrize("code", [1, 3, -int(signal.SIGSEGV), -int(KILL), 0])
+def test_crashes_and_lost_sessions_are_still_respawned(code):
+    system = System(node("sim", respawn=True, respawn_delay=0.2, respawn_max=0))
+    sim = system.process("sim", runs=(0.5, math.inf), code=code)
+    system.stop_at(3.0)
+    assert system.run() == ExitCode.OK
+    assert len(sim.starts) == 2
+    assert not any("respawning cannot help" in line for line in system.lines())
