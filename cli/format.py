@@ -88,12 +88,32 @@ def csv_header(msg: Message) -> str:
     return ",".join(_fields(msg))
 
 
+def _csv_line(values: list[Any]) -> str:
+    """One CSV line; arrays as one quoted JSON cell."""
+    out = io.StringIO()
+    csv.writer(out, lineterminator="").writerow([json_value(v) if isinstance(v, list) else v for v in values])
+    return out.getvalue()
+
+
 def csv_row(msg: Message) -> str:
     """One CSV line of the message's fields; arrays as one quoted JSON cell."""
-    out = io.StringIO()
-    cells = [json_value(v) if isinstance(v, list) else v for v in _fields(msg).values()]
-    csv.writer(out, lineterminator="").writerow(cells)
-    return out.getvalue()
+    return _csv_line(list(_fields(msg).values()))
+
+
+def fields_header(paths: list[str]) -> str:
+    """The CSV header of ``echo --field`` (once or more): the fields' paths as typed."""
+    return _csv_line(paths)
+
+
+def fields_line(values: dict[str, Any], json: bool = False, csv: bool = False, full: bool = False) -> str:
+    """The fields ``echo --field`` selected of one message (path -> value), on one line: as
+    text separated by spaces, as one CSV line, or in JSON the bare value of one field, an
+    object by path of several."""
+    if csv:
+        return _csv_line(list(values.values()))
+    if json:
+        return json_value(next(iter(values.values())) if len(values) == 1 else values)
+    return " ".join(_value(v, full) for v in values.values())
 
 
 def heading_text(degrees: float, decimals: int = 1) -> str:
@@ -192,10 +212,13 @@ def recording_line(elapsed: float, messages: int, size: int) -> str:
 
 def info_text(info: Any) -> str:
     """`turtlectl info`, as `ros2 bag info` prints a bag (``info``: cli.bag.Info)."""
+    from cli.recover import hint
+
     lines = [
         f"File:      {info.path}",
         f"Size:      {size_text(info.size)}",
         f"Closed:    {'yes' if info.closed else 'NO: the recorder did not finish it (killed?); what is complete was read'}",
+        *([] if info.closed else [f"           {hint(info.path)}"]),
     ]
     if info.count:
         lines += [

@@ -382,7 +382,11 @@ def echo(
     count: int | None = typer.Option(None, "--count", min=1, help="Exit after N messages."),
     json: bool = typer.Option(False, "--json", help="One JSON object per line."),
     csv: bool = typer.Option(False, "--csv", help="CSV: a header line, then one line per message."),
-    field: str | None = typer.Option(None, "--field", help="Print only this field (dotted path, e.g. ranges.0)."),
+    field: list[str] = typer.Option(
+        [],
+        "--field",
+        help="Print only this field (dotted path, e.g. ranges.0); repeat it for several, one line per message.",
+    ),
     full: bool = typer.Option(False, "--full", help="Print long arrays whole."),
     timeout: float | None = typer.Option(None, "--timeout", min=0.1, help="Exit after S seconds."),
     connect: str = ConnectOption,
@@ -399,6 +403,7 @@ def echo(
     limit = args.echo_limit(once, count)
     header = False
     wildcard = "*" in topic
+    fields = list(dict.fromkeys(field))  # each once, in the order typed
     try:
         for item in topics.stream(connect, topic, limit, timeout):
             if isinstance(item, topics.Silence):
@@ -408,9 +413,12 @@ def echo(
                 typer.echo(f"skipped a message on {item.key}: {item.problem}", err=True)
                 continue
             msg = item.message
-            if field is not None:
-                value = format.select_field(msg, field)
-                typer.echo(format.json_value(value) if json or csv else format.value_text(value, full))
+            if fields:
+                values = {path: format.select_field(msg, path) for path in fields}
+                if csv and not header:
+                    typer.echo(format.fields_header(fields))
+                    header = True
+                typer.echo(format.fields_line(values, json, csv, full))
             elif json:
                 typer.echo(format.message_json(msg, item.key if wildcard else None))
             elif csv:
