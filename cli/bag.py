@@ -13,9 +13,11 @@ replay can draw it.  With ``record --scene`` the file also holds the Foxglove sc
 (cli.scene: channels ``scene`` and ``scene/scan``, Foxglove's well-known protobuf schemas),
 which ``play`` leaves out (it is drawn from the other messages).
 
-Crash safety.  The writer closes its chunk at least once a second (``BagWriter.tick``), so a
-recorder killed with SIGKILL loses at most the last second; a file that was never closed has
-no summary section, and reading it reads every complete chunk and says it was not closed.
+Crash safety.  A chunk is closed (and on disk) once its first message is ``CHUNK_SPAN`` old, by
+the messages' own receive times (``add``) and by the clock (``tick``), so a recorder killed with
+SIGKILL loses at most the last second; a file that was never closed has no summary section:
+reading it reads every complete chunk and says it was not closed, and ``turtlectl recover``
+(cli.recover) writes it whole and indexed.
 """
 
 from __future__ import annotations
@@ -37,7 +39,7 @@ JSON = "json"  # MCAP's well-known message encoding
 JSON_SCHEMA = "jsonschema"  # MCAP's well-known schema encoding
 PROTOBUF = "protobuf"  # the scene's encoding (Foxglove's well-known schemas)
 WORLD = "turtlectl/world"  # the attachment holding the world the run happened in (JSON)
-FLUSH_PERIOD = 1.0  # s: at most this much is lost when the recorder is killed
+CHUNK_SPAN = 800_000_000  # ns: a chunk is closed once its first message is this old (< 1 s lost)
 CHUNK_SIZE = 1 << 20  # bytes (uncompressed) a chunk may reach before it is closed anyway
 
 
@@ -99,8 +101,8 @@ class BagWriter:
         self._file.flush()  # the header is on disk at once: even a file killed now is an MCAP file
         self._schemas: dict[str, int] = {}
         self._channels: dict[tuple[str, str, str], int] = {}
-        self._last_flush = time.monotonic()
-        self.messages = 0
+        self._chunk_start: int | None = None  # receive time (ns) of the open chunk's first message
+        self.messages = 0  # scene messages included
         self.raw = 0  # payloads kept raw (no known type)
         self.closed = False
 
@@ -134,6 +136,7 @@ class BagWriter:
     def add(self, key: str, encoding: str, payload: bytes, received: int) -> Message | None:
         """One sample on ``key`` as received at ``received`` (ns since the epoch); the message
         it holds (None if it is kept raw)."""
+        self._before_adding(received)
         msg_type = type_from_encoding(encoding)
         message: Message | None = None
         if msg_type is not None:
@@ -157,6 +160,7 @@ class BagWriter:
 
     def add_scene(self, topic: str, drawing: Any, when: int) -> None:
         """A Foxglove well-known message (``drawing``: foxglove.messages) on ``topic`` at ``when``."""
+        self._before_adding(when)
         schema = drawing.get_schema()
         ident = (topic, schema.name, PROTOBUF)
         channel = self._channels.get(ident)
@@ -165,6 +169,7 @@ class BagWriter:
             self._schemas[schema.name] = sid
             channel = self._channels[ident] = self._writer.register_channel(topic, PROTOBUF, sid)
         self._writer.add_message(channel, log_time=when, publish_time=when, data=drawing.encode())
+        self.messages += 1
 
     def attach_world(self, document: bytes, when: int) -> None:
         """Keep the world the run happens in (``turtlectl/world``'s JSON), on disk at once."""
@@ -173,12 +178,19 @@ class BagWriter:
         )
         self._writer.flush()
 
-    def tick(self, now: float | None = None) -> None:
-        """Close the open chunk if ``FLUSH_PERIOD`` has passed since the last time (monotonic s)."""
-        now = time.monotonic() if now is None else now
-        if now - self._last_flush >= FLUSH_PERIOD:
-            self._last_flush = now
-            self._writer.flush()
+    def _before_adding(self, received: int) -> None:
+        """Close the open chunk if a message received at ``received`` would make it span too long."""
+        self.tick(received)
+        if self._chunk_start is None:
+            self._chunk_start = received
+
+    def tick(self, now: int | None = None) -> None:
+        """Close the open chunk, writing it to disk, once its first message is ``CHUNK_SPAN`` old at
+        ``now`` (ns since the epoch, as receive times)."""
+        now = time.time_ns() if now is None else now
+        if self._chunk_start is not None and now - self._chunk_start >= CHUNK_SPAN:
+            self._chunk_start = None
+            self._writer.flush()  # the chunk, and the file's buffer, written
 
     def close(self) -> None:
         """Finish the file: the summary section (index, statistics) and the footer."""
@@ -229,11 +241,10 @@ class Recording:
     Raises RecordingError if ``path`` is not an MCAP file or is unreadable."""
 
     def __init__(self, path: Path):
-        from mcap.exceptions import McapError
         from mcap.reader import make_reader
 
         self.path = path
-        self._damage = (*_DAMAGE, McapError, *_zstd_errors())
+        self._damage = read_errors()
         try:
             with open(path, "rb") as f:
                 magic = f.read(8)
@@ -381,9 +392,12 @@ def _record(schema: Any, channel: Any, message: Any) -> Record:
     )
 
 
-def _zstd_errors() -> tuple[type[BaseException], ...]:
+def read_errors() -> tuple[type[BaseException], ...]:
+    """What reading a damaged or cut MCAP file raises (mcap's own errors, zstd's, a short read)."""
+    from mcap.exceptions import McapError
+
     try:
         from zstandard import ZstdError
     except ImportError:
-        return ()
-    return (ZstdError,)
+        return (*_DAMAGE, McapError)
+    return (*_DAMAGE, McapError, ZstdError)

@@ -2,7 +2,7 @@
 
 Nothing here prints; ``record`` yields progress for the command to show.  Samples are taken
 with their receive time on Zenoh's threads and written on the caller's thread, which also
-closes a chunk once a second; when ``stop`` is set (Ctrl-C, SIGTERM) or the duration is over,
+closes a chunk before its first message is a second old (cli.bag.CHUNK_SPAN); when ``stop`` is set (Ctrl-C, SIGTERM) or the duration is over,
 what is queued is written and the file is finished.
 """
 
@@ -132,7 +132,7 @@ def record(
                     now = time.monotonic()
                     if drawing is not None:
                         drawing.tick()
-                    writer.tick(now)
+                    writer.tick()  # a chunk whose first message is old enough is closed
                     if now >= next_report:
                         next_report = now + PROGRESS_PERIOD
                         yield Progress(path, now - started, writer.messages, writer.size)

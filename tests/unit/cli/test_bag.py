@@ -160,3 +160,60 @@ def test_an_existing_file_is_never_overwritten(tmp_path):
         BagWriter(path)
     assert path.read_bytes() == b"precious"
     assert math.isfinite(1.0)
+
+
+def _chunks(data: bytes) -> list:
+    """The complete chunks of an MCAP file's bytes (a file still being written included)."""
+    import io
+
+    from mcap.records import Chunk
+    from mcap.stream_reader import StreamReader
+
+    chunks = []
+    try:
+        for record in StreamReader(io.BytesIO(data), emit_chunks=True).records:
+            if isinstance(record, Chunk):
+                chunks.append(record)
+    except Exception:  # noqa: BLE001 - the cut end of a file being written
+        pass
+    return chunks
+
+
+def test_a_chunk_closes_on_the_messages_own_times_so_at_most_a_second_is_ever_unwritten(tmp_path):
+    # messages received every 10 ms over 5 s, some queued (written late): what is on disk at any
+    # moment (a SIGKILL then) holds everything received more than a second before the last one
+    path = tmp_path / "run.mcap"
+    writer = BagWriter(path)
+    step = 10_000_000
+    for i in range(500):
+        writer.add("turtle1/pose", encoding_for(Pose), encode(_pose(i)), T0 + i * step)
+        on_disk = _chunks(path.read_bytes())
+        written = max((c.message_end_time for c in on_disk), default=T0 - step)
+        assert T0 + i * step - written <= 1_000_000_000, f"{(T0 + i * step - written) / 1e9:.2f} s unwritten"
+    spans = [(c.message_end_time - c.message_start_time) / 1e9 for c in _chunks(path.read_bytes())]
+    assert spans and max(spans) < 1.0, spans
+    writer.close()
+
+
+def test_tick_closes_a_chunk_whose_first_message_is_old_enough(tmp_path):
+    path = tmp_path / "run.mcap"
+    writer = BagWriter(path)
+    writer.add("turtle1/pose", encoding_for(Pose), encode(_pose(0)), T0)
+    writer.tick(T0 + 500_000_000)
+    assert _chunks(path.read_bytes()) == []  # half a second: still open
+    writer.tick(T0 + 1_000_000_000)
+    assert len(_chunks(path.read_bytes())) == 1
+    writer.close()
+
+
+def test_scene_messages_are_counted_with_the_others(tmp_path):
+    from cli.scene import SceneMaker
+    from messages.world import World
+
+    path = tmp_path / "run.mcap"
+    writer = BagWriter(path)
+    writer.add("turtle1/pose", encoding_for(Pose), encode(_pose(0)), T0)
+    topic, drawn = SceneMaker(World()).world_update(T0)
+    writer.add_scene(topic, drawn, T0 + 1)
+    writer.close()
+    assert writer.messages == Recording(path).info().count == 2
