@@ -78,13 +78,23 @@ def _allow_non_finite(schema: Any) -> Any:
     return out
 
 
+def _tag_optional(schema: dict[str, Any]) -> dict[str, Any]:
+    """A struct's schema with its ``type`` tag optional: decoding a known type accepts it absent
+    (and refuses another type's name), as requests are written (``{"x": 8, "y": 5, "theta": 90}``)."""
+    tag = schema.get("properties", {}).get("type", {})
+    if isinstance(tag.get("enum"), list) and len(tag["enum"]) == 1 and "type" in schema.get("required", []):
+        schema = dict(schema, required=[r for r in schema["required"] if r != "type"])
+    return schema
+
+
 def json_schema(msg_type: type[Message]) -> dict[str, Any]:
-    """The JSON Schema (draft 2020-12) of ``to_json``'s output for ``msg_type``: an object at the
-    top (as Foxglove expects), titled with the type's wire name, nested types under ``$defs``."""
+    """The JSON Schema (draft 2020-12) of what is accepted as ``msg_type`` (``to_json``'s output
+    among it): an object at the top (as Foxglove expects), titled with the type's wire name,
+    nested types under ``$defs``, the ``type`` tag optional."""
     generated = msgspec.json.schema(msg_type)
-    defs = dict(generated.get("$defs", {}))
+    defs = {k: _tag_optional(v) for k, v in generated.get("$defs", {}).items()}
     name = generated.get("$ref", "").rpartition("/")[2]
-    top = dict(defs.pop(name, generated))
+    top = _tag_optional(dict(defs.pop(name, generated)))
     top["title"] = type_name(msg_type)
     if defs:
         top["$defs"] = defs
