@@ -39,7 +39,8 @@ bench: bytecode  ## benchmark figures (see README, Performance)
 	$(BIN)/python bench/navigation.py
 	$(BIN)/python bench/faults.py
 
-soak: bytecode  ## goals back to back for 30 minutes: zero errors, every node alive, RSS growth per process
+soak: bytecode  ## the capstone's five minutes without errors (tests marked soak), then goals back to back for 30 minutes: errors, nodes alive, RSS growth
+	$(BIN)/python -m pytest -m soak
 	$(BIN)/python bench/system.py --minutes 30
 
 clean:
