@@ -33,6 +33,7 @@ from messages.keys import (
     WORLD_KEY,
     log_level_key,
     node_key,
+    param_describe_key,
     param_set_key,
     params_key,
 )
@@ -59,7 +60,7 @@ VERBS: dict[str, tuple[tuple[str, str], ...]] = {
 GRAPH_KEYS = ("@turtlectl/**", "*/@turtlectl/**")  # the graph, and (outside a domain) every domain's
 VIEWER: dict[str, tuple[str, ...]] = {
     "subscribe": ("**",),
-    "call": (params_key("*"), node_key("*"), WORLD_KEY),
+    "call": (params_key("*"), param_describe_key("*"), node_key("*"), WORLD_KEY),
     "watch": GRAPH_KEYS,
 }
 OPERATOR: dict[str, tuple[str, ...]] = {
@@ -82,7 +83,14 @@ def node_rights(name: str, kind: str) -> dict[str, tuple[str, ...]]:
     return {
         "publish": (*i.publishes, PARAMETER_EVENTS),
         "subscribe": i.subscribes,
-        "serve": (*i.serves, params_key(name), param_set_key(name), node_key(name), log_level_key(name)),
+        "serve": (
+            *i.serves,
+            params_key(name),
+            param_describe_key(name),
+            param_set_key(name),
+            node_key(name),
+            log_level_key(name),
+        ),
         "asked": (params_key("*"), node_key("*")),  # `param list`, `param set` ask every node at once
         "call": i.calls,
         "token": (f"{NODE_TOKEN_PREFIX}/{name}/**", f"{ENTITY_TOKEN_PREFIX}/{name}/**"),

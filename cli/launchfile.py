@@ -399,16 +399,24 @@ def _put(table: dict[str, Any], target: str, keys: list[str], value: Any, option
     table[keys[-1]] = value
 
 
+def launches(kind: str) -> bool:
+    """Whether a launch file runs nodes of ``kind`` (its rules then apply to ``param set``; a
+    user's own kind is checked by the node alone)."""
+    return kind in KINDS
+
+
 def running_change(
     nodes: dict[str, tuple[str, dict[str, Any]]], world: World, node: str, name: str, text: str, label: str
 ) -> Any:
     """The value to give ``node``'s parameter ``name`` for ``text`` (a TOML value, else the
     text), validated as ``launch --set`` validates a file, against what runs now: ``nodes``
-    (each node's kind and parameters) in ``world``.  A rule of the whole system that already
+    (each node's kind and parameters; those of kinds a launch file does not run are left
+    out) in ``world``; ``node`` is of a kind it runs.  A rule of the whole system that already
     fails now (a node respawned with its launch file's value may break one) refuses only
     changes that break it differently, so that the change that repairs it, and unrelated
     ones, go through.  LaunchFileError (exit 2) names ``label`` and, when the rule broken is
     about another parameter, that one."""
+    nodes = {n: (kind, p) for n, (kind, p) in nodes.items() if launches(kind)}
     data: dict[str, Any] = {
         "world": msgspec.to_builtins(world),
         "node": [{"name": n, "run": kind, "params": copy.deepcopy(p)} for n, (kind, p) in nodes.items()],

@@ -521,7 +521,8 @@ def param_set(
     domain: str = DomainOption,
 ) -> None:
     """Change a parameter of a running node at once, validated as the launch file is (same
-    errors, exit 2); parameters that cannot change at run time are refused with the reason.
+    errors, exit 2; a node of your own kind: as it describes its parameters, and by the node);
+    parameters that cannot change at run time are refused with the reason.
     The node publishes a ParameterEvent (`turtlectl echo turtlectl/parameter_events`).  A node
     that is started again (respawn) runs with the launch file's value unless the system was
     launched with --persist.

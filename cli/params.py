@@ -1,8 +1,11 @@
 """``turtlectl param``: a running node's parameters, as ``ros2 param list / get / set /
 describe / dump``.  Each node answers a get on ``turtlectl/params/<name>`` with its
 parameters as JSON (the launch file's ``[node.params]`` after validation), on
-``turtlectl/nodes/<name>`` with its kind, and changes one on ``turtlectl/params/<name>/set``;
-this module fetches, validates and shapes, and prints nothing itself."""
+``turtlectl/params/<name>/describe`` with their description (messages.params), and changes
+one on ``turtlectl/params/<name>/set``.  Everything here works from those answers alone, so
+a node of a kind this command line does not know (a user's own) works as the built-in ones
+do; a node of a kind a launch file runs is also held to the launch file's rules.  This module
+fetches, validates and shapes, and prints nothing itself."""
 
 from __future__ import annotations
 
@@ -14,8 +17,8 @@ import msgspec
 from cli.errors import BadInput, Failed
 from cli.services import NobodyServes, Raw, call_service, replies, service_session, world
 from messages import Ack, SetParameter
-from messages.keys import NodeDetails, node_key, param_set_key, params_key
-from messages.reference import ParamInfo, fixed_reason, param_infos
+from messages.keys import NodeDetails, node_key, param_describe_key, param_set_key, params_key
+from messages.params import ParamDescription, ParamInfo
 from messages.world import World
 from runtime.params import lookup
 
@@ -40,25 +43,50 @@ def no_node(node: str, running: list[str], hint: str = "") -> NobodyServes:
     return NobodyServes(f"no node named {node!r} answers{where} ({found}){'; ' + hint if hint and not running else ''}")
 
 
-def fetch(connect: str, node: str) -> dict[str, Any]:
-    """The parameters ``node`` runs with.  NobodyServes (exit 3) naming the live nodes if no
+def _served(connect: str, key: str, node: str, what: str) -> bytes:
+    """``node``'s JSON answer on ``key``.  NobodyServes (exit 3) naming the live nodes if no
     node of that name answers."""
     try:
-        answers = list(call_service(connect, params_key(node), b"", TIMEOUT))
+        answers = list(call_service(connect, key, b"", TIMEOUT))
     except NobodyServes:
         from cli import topics
 
         graph = topics.graph(connect)
         raise no_node(node, [n.name for n in graph.nodes], graph.hint) from None
     if not answers or not isinstance(answers[-1], Raw):
-        raise Failed(f"{node} sent no parameters")
+        raise Failed(f"{node} sent no {what}")
+    return answers[-1].payload
+
+
+def fetch(connect: str, node: str) -> dict[str, Any]:
+    """The parameters ``node`` runs with (NobodyServes naming the live nodes)."""
     try:
-        params = msgspec.json.decode(answers[-1].payload)
+        params = msgspec.json.decode(_served(connect, params_key(node), node, "parameters"))
     except msgspec.DecodeError as exc:
         raise Failed(f"{node} sent unreadable parameters: {exc}") from None
     if not isinstance(params, dict):
         raise Failed(f"{node} sent parameters that are not a table")
     return params
+
+
+def description(connect: str, node: str) -> ParamDescription:
+    """What ``node`` serves about its parameters, whatever its kind (NobodyServes naming the
+    live nodes)."""
+    try:
+        return msgspec.json.decode(
+            _served(connect, param_describe_key(node), node, "description of its parameters"), type=ParamDescription
+        )
+    except (msgspec.DecodeError, msgspec.ValidationError) as exc:
+        raise Failed(f"{node} sent an unreadable description of its parameters: {exc}") from None
+
+
+def _entries(described: ParamDescription, name: str) -> list[str]:
+    """The parameters inside table ``name`` (``gains`` -> ``gains.lookahead``, ...)."""
+    inside = [p.name for p in described.parameters if p.name.startswith(name + ".")]
+    here = next((p for p in described.parameters if p.name == name), None)
+    if here is not None and isinstance(here.value, dict):  # a map: its keys now
+        inside += names(here.value, name + ".")
+    return inside
 
 
 def value(params: dict[str, Any], node: str, name: str) -> Any:
@@ -131,27 +159,17 @@ def running(connect: str) -> Running:
         return Running(details=details, params=params, world=world(session))
 
 
-def kind_of(system: Running, node: str) -> type[msgspec.Struct]:
-    """The parameter Struct of ``node``'s kind (NobodyServes naming the live nodes)."""
-    from nodes.kinds import KINDS
-
-    details = system.details.get(node)
-    if details is None or details.kind not in KINDS:
-        raise no_node(node, list(system.details))
-    return KINDS[details.kind].params
-
-
 def describe(connect: str, node: str, name: str) -> tuple[ParamInfo, Any]:
     """Parameter ``name`` of ``node``: type, unit, range, default, meaning, whether it can
-    change at run time; and its value now."""
-    system = running(connect)
-    infos = {p.name: p for p in param_infos(kind_of(system, node))}
-    entries = [n for n in infos if n.startswith(name + ".")]
+    change at run time; and its value now (as the node describes them)."""
+    described = description(connect, node)
+    infos = {p.name: p for p in described.parameters}
+    entries = _entries(described, name)
     if name not in infos and entries:
         raise BadInput(f"{node} {name} is a table: describe one of its entries ({', '.join(entries)})")
     if name not in infos:
         raise _no_param(node, name, list(infos))
-    return infos[name], value(system.params.get(node, {}), node, name)
+    return infos[name], infos[name].value
 
 
 def plain(info: ParamInfo) -> dict[str, Any]:
@@ -175,28 +193,31 @@ def describe_text(node: str, info: ParamInfo, now: Any) -> str:
 
 
 def set_value(connect: str, node: str, name: str, text: str, timeout: float = TIMEOUT) -> str:
-    """Set ``node``'s parameter ``name`` to ``text`` (a TOML value, else the text), validated
-    first as ``launch --set`` validates a launch file (same errors, exit 2), against what runs
-    now (a detector's new rate is checked against the navigator's scan_timeout); a parameter
-    that cannot change at run time is refused with the reason.  Returns the node's answer."""
-    from cli.launchfile import running_change
-    from nodes.kinds import KINDS
+    """Set ``node``'s parameter ``name`` to ``text`` (a TOML value, else the text), checked
+    against what the node describes (unknown names, tables, what cannot change at run time,
+    refused with the reason); a node of a kind a launch file runs is validated first as
+    ``launch --set`` validates a launch file (same errors, exit 2), against what runs now (a
+    detector's new rate is checked against the navigator's scan_timeout).  The node validates
+    the value itself (its type and range; exit 2).  Returns the node's answer."""
+    from cli.launchfile import launches, parse_assignment, running_change, suggestion
 
-    system = running(connect)
-    params_type = kind_of(system, node)
-    nodes = {n: (d.kind, system.params[n]) for n, d in system.details.items() if n in system.params and d.kind in KINDS}
-    try:
-        here = lookup(system.params.get(node, {}), name)
-    except KeyError:
-        here = None  # an unknown name: the launch file's validation says so below
-    if isinstance(here, dict):
-        raise BadInput(
-            f"param set {node}.{name}: is a table: set one of its entries ({', '.join(names(here, name + '.'))})"
-        )
-    new = running_change(nodes, system.world, node, name, text, "param set")
-    reason = fixed_reason(params_type, name)
-    if reason is not None:
-        raise BadInput(f"param set {node}.{name}: cannot change while {node} runs: {reason}")
+    described = description(connect, node)
+    infos = {p.name: p for p in described.parameters}
+    entries = _entries(described, name)
+    if entries:
+        raise BadInput(f"param set {node}.{name}: is a table: set one of its entries ({', '.join(entries)})")
+    if launches(described.kind):
+        system = running(connect)
+        nodes = {n: (d.kind, system.params[n]) for n, d in system.details.items() if n in system.params}
+        new = running_change(nodes, system.world, node, name, text, "param set")
+    elif name not in infos:
+        known = list(infos)
+        raise BadInput(f"param set {node}.{name}: unknown key{suggestion(name, known)} (it has: {', '.join(known)})")
+    else:
+        new = parse_assignment(f"{node}.{name}={text}", "param set", "param set NODE NAME VALUE").value
+    info = infos.get(name)
+    if info is not None and not info.run_time:
+        raise BadInput(f"param set {node}.{name}: cannot change while {node} runs: {info.fixed_because}")
     request = SetParameter(name=name, value=new)
     answers = list(call_service(connect, param_set_key(node), request, timeout))
     acks = [a for a in answers if isinstance(a, Ack)]

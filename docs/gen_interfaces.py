@@ -24,7 +24,8 @@ if str(ROOT) not in sys.path:
 
 from messages import ALL_TYPES, keys  # noqa: E402
 from messages.codec import MEDIA_TYPE  # noqa: E402
-from messages.reference import FIELDS, KEYS, default_text, doc, param_infos, struct_fields, type_name  # noqa: E402
+from messages.params import ParamDescription, ParamInfo, field_comments, param_infos  # noqa: E402
+from messages.reference import FIELDS, KEYS, default_text, doc, struct_fields, type_name  # noqa: E402
 from messages.world import Limits, Obstacle, World  # noqa: E402
 from nodes.kinds import KINDS  # noqa: E402
 from sim.params import SimParams  # noqa: E402
@@ -83,6 +84,29 @@ def params_section() -> list[str]:
         for p in param_infos(cls):
             live = "yes" if p.run_time else f"no: {p.fixed_because}"
             out.append(_row(f"`{p.name}`", p.type, p.unit, p.range, p.default, p.meaning, live))
+    return out + describe_section()
+
+
+def describe_section() -> list[str]:
+    """The description every node serves of its parameters, whatever its kind."""
+    out = [
+        "",
+        f"### `{keys.param_describe_key('<node>')}` (JSON): every node's description of its parameters",
+        "",
+        "Each node, of any kind (a user's own too: it is the runtime's), answers a get on "
+        f"`{keys.param_describe_key('<its name>')}` with one JSON object (encoding `application/json`), made from "
+        "its parameter Struct: each field's `# unit: meaning` comment, its type's constraints, its default, the "
+        "Struct's `FIXED` (what cannot change at run time, and why), and the value it runs with now. "
+        "`turtlectl param describe` and `param set` work from this answer alone, so they work on any node. "
+        "The tables above are the built-in kinds' answers.",
+    ]
+    for cls in (ParamDescription, ParamInfo):
+        comments = field_comments(cls)
+        out += ["", f"#### {cls.__name__}", "", "```text", doc(cls), "```", ""]
+        out.append(_row("field", "type", "meaning"))
+        out.append(_row(*["---"] * 3))
+        for f in struct_fields(cls):
+            out.append(_row(f"`{f.name}`", type_name(f.type), comments.get(f.name, "")))
     return out
 
 
@@ -121,8 +145,9 @@ def conventions_section() -> list[str]:
         "open a session in `client` mode with `connect/endpoints` set to it and multicast scouting off. Nodes are "
         "peers that find each other through the router.",
         f"- **Payloads**: msgpack maps, one per sample, each with a `type` member naming its type; the sample's "
-        f"encoding says the same: `{MEDIA_TYPE};<Type>`. Two queryables answer JSON instead (`application/json`): "
-        "`turtlectl/params/<node>` and `turtlectl/world`.",
+        f"encoding says the same: `{MEDIA_TYPE};<Type>`. The queryables of parameters, node "
+        "details and the world answer JSON instead (`application/json`): `turtlectl/params/<node>`, "
+        "`turtlectl/params/<node>/describe`, `turtlectl/nodes/<node>` and `turtlectl/world`.",
         "- **Requests**: the `type` member may be left out; if present it must name the request type. An unknown "
         "field or a missing required one is an error; integers are accepted where floats are expected. Send the "
         f"encoding `{MEDIA_TYPE};<Type>` (the services decode by the key's request type whatever it says).",

@@ -169,6 +169,12 @@ def param_set_key(name: str) -> str:
     return f"{params_key(name)}/set"
 
 
+def param_describe_key(name: str) -> str:
+    """Queryable on which node ``name`` describes its parameters (JSON ParamDescription:
+    types, units, ranges, defaults, values now, whether each can change at run time)."""
+    return f"{params_key(name)}/describe"
+
+
 def node_key(name: str) -> str:
     """Queryable on which node ``name`` answers what it is (JSON): its kind, pid, host, start,
     log level."""

@@ -269,6 +269,13 @@ KEYS: dict[str, tuple[str, str, str, str, str]] = {
         "on request",
         "get; the parameters the node runs with",
     ),
+    keys.param_describe_key("<node>"): (
+        "queryable",
+        "JSON (application/json): ParamDescription, the node's parameters described (type, unit, range, default, meaning, whether each can change at run time and why not, value now)",
+        "each node (any kind) -> anyone",
+        "on request",
+        "get; `turtlectl param describe` and `param set` work from it alone",
+    ),
     keys.param_set_key("<node>"): (
         "service",
         "SetParameter -> Ack",
@@ -369,83 +376,3 @@ def doc(cls: type) -> str:
 
 def struct_fields(cls: type) -> list[msgspec.inspect.Field]:
     return list(msgspec.inspect.type_info(cls).fields)
-
-
-def field_comments(cls: type) -> dict[str, str]:
-    """``# comments`` after the fields in the class's source: parameter Structs keep each
-    field's ``unit: meaning`` there."""
-    found: dict[str, str] = {}
-    for line in inspect.getsource(cls).splitlines():
-        name, colon, rest = line.strip().partition(":")
-        if colon and name.isidentifier() and "#" in rest:
-            found[name] = rest.split("#", 1)[1].strip()
-    return found
-
-
-def fixed_reason(params_type: type, name: str) -> str | None:
-    """Why parameter ``name`` (dotted) of ``params_type`` cannot change while its node runs,
-    or None: a parameter Struct lists those in its class variable ``FIXED``."""
-    fixed: dict[str, str] = getattr(params_type, "FIXED", {})
-    return fixed.get(name, fixed.get(name.split(".", 1)[0]))
-
-
-def range_text(t: msgspec.inspect.Type) -> str:
-    """The values a constrained type takes: ``0.1 to 100``, ``> 0``, ``at most 100 items``."""
-    low = getattr(t, "ge", None), getattr(t, "gt", None)
-    high = getattr(t, "le", None), getattr(t, "lt", None)
-    big = 1e9  # the stand-in for "finite" (messages.units)
-    lo = next((f"{v:g}" for v in low if v is not None and v > -big), None)
-    hi = next((f"{v:g}" for v in high if v is not None and v < big), None)
-    if lo is not None and hi is not None:
-        return f"{lo} to {hi}"
-    if lo is not None:
-        return f"> {lo}" if low[1] is not None else f">= {lo}"
-    if hi is not None:
-        return f"< {hi}" if high[1] is not None else f"<= {hi}"
-    if isinstance(t, msgspec.inspect.ListType) and t.max_length is not None:
-        return f"at most {t.max_length} items"
-    if isinstance(t, msgspec.inspect.FloatType):
-        return "any finite number" if low[0] is not None else "any number"
-    return "any"
-
-
-class ParamInfo(msgspec.Struct, kw_only=True):
-    """One parameter of a node kind, as ``turtlectl param describe`` shows it."""
-
-    name: str  # dotted into tables
-    type: str
-    unit: str
-    range: str
-    default: str
-    meaning: str
-    run_time: bool  # can change while the node runs
-    fixed_because: str = ""
-
-
-def param_infos(params_type: type, prefix: str = "", root: type | None = None) -> list[ParamInfo]:
-    """Every parameter of ``params_type``, tables' entries dotted (``gains.lookahead``): type,
-    unit and meaning (its ``# unit: meaning`` comment), range, default, and whether it can
-    change at run time."""
-    root = root or params_type
-    comments = field_comments(params_type)
-    out: list[ParamInfo] = []
-    for f in struct_fields(params_type):
-        if isinstance(f.type, msgspec.inspect.StructType):
-            out += param_infos(f.type.cls, f"{prefix}{f.name}.", root)
-            continue
-        unit, _, meaning = comments.get(f.name, "-: ").partition(": ")
-        name = prefix + f.name
-        reason = fixed_reason(root, name)
-        out.append(
-            ParamInfo(
-                name=name,
-                type=type_name(f.type),
-                unit=unit,
-                range=range_text(f.type),
-                default=default_text(f),
-                meaning=meaning,
-                run_time=reason is None,
-                fixed_because=reason or "",
-            )
-        )
-    return out

@@ -58,13 +58,15 @@ from messages.keys import (
     entity_token,
     log_level_key,
     node_key,
+    param_describe_key,
     param_set_key,
     params_key,
     parse_entity_token,
 )
+from messages.params import ParamInfo, param_infos
 from messages.world import Limits, World
 from runtime.config import LOG_LEVELS, Claim, NodeConfig
-from runtime.params import ParamRefused, lookup, with_value
+from runtime.params import ParamRefused, describe, lookup, with_value
 from runtime.session import client_config, close_session
 
 P = TypeVar("P", bound=msgspec.Struct)
@@ -240,8 +242,10 @@ class Node(Generic[P]):
         self._running = True
         self._on_shutdown: list[Callable[[], None]] = []
         self._on_params: list[Callable[[P], None]] = []
-        # every node: its parameters (read and set), what it is, its log level
+        # every node: its parameters (read, describe and set), what it is, its log level
         self.answer_json(params_key(self.name), lambda: msgspec.json.encode(self.params))
+        self._param_infos: list[ParamInfo] | None = None  # made at the first describe
+        self.answer_json(param_describe_key(self.name), self._describe_params)
         self.answer_json(node_key(self.name), self._details)
         self._param_events = self.publisher(PARAMETER_EVENTS, ParameterEvent)
         self.serve(param_set_key(self.name), SetParameter, Ack, self._set_param)
@@ -393,6 +397,15 @@ class Node(Generic[P]):
             log_level=level,
         )
         return msgspec.json.encode(details)
+
+    def _describe_params(self) -> bytes:
+        """``turtlectl param describe`` and ``param set``'s checks: every parameter's type, unit,
+        range, default, value now and whether it can change, from the node's own Struct
+        (answered on the Zenoh thread: ``self.params`` is read once, swapped whole)."""
+        params = self.params
+        if self._param_infos is None:
+            self._param_infos = param_infos(type(params))
+        return msgspec.json.encode(describe(self.name, self.kind, params, self._param_infos))
 
     def _set_param(self, request: Request[SetParameter]) -> None:
         """``turtlectl param set``: validate, swap the Struct, run the hooks, tell everyone."""

@@ -3,7 +3,8 @@ while the node runs, and the new parameters validated as the node's config is.
 
 A parameter Struct lists what cannot change at run time, and why, in a class variable
 ``FIXED`` (``{"x": "the spawn pose is read once, at start"}``); everything else can, and
-the node applies it at once (its ``Node.on_params`` hooks)."""
+the node applies it at once (its ``Node.on_params`` hooks).  ``describe`` is what every node
+serves about its parameters, read from its Struct, whatever its kind."""
 
 from __future__ import annotations
 
@@ -11,7 +12,8 @@ from typing import Any
 
 import msgspec
 
-from messages.reference import fixed_reason
+from messages.params import ParamDescription, ParamInfo, fixed_reason, param_infos
+from messages.reference import doc
 
 
 class ParamRefused(ValueError):
@@ -51,3 +53,17 @@ def with_value(params: msgspec.Struct, name: str, value: Any) -> tuple[msgspec.S
     except msgspec.ValidationError as exc:
         raise ParamRefused(f"{name}: {exc}") from None
     return new, old
+
+
+def describe(node: str, kind: str, params: msgspec.Struct, infos: list[ParamInfo] | None = None) -> ParamDescription:
+    """What node ``node`` of ``kind`` serves about its parameters: each one's description
+    (``infos``, made from ``params``' Struct when not given) with its value in ``params``."""
+    table = msgspec.to_builtins(params)
+    described = []
+    for info in param_infos(type(params)) if infos is None else infos:
+        try:
+            now = lookup(table, info.name)
+        except KeyError:
+            now = None
+        described.append(msgspec.structs.replace(info, value=now))
+    return ParamDescription(node=node, kind=kind, doc=doc(type(params)), parameters=described)

@@ -57,3 +57,9 @@ def test_the_role_check_reads_a_domain_s_key_from_outside_it_and_roles_are_named
     with pytest.raises(BadInput):
         credentials.publish("tcp/127.0.0.1:7447", {}, broken)
     assert broken.read_text() == "{not json"  # never overwritten
+
+
+def test_every_node_serves_the_description_of_its_parameters_and_a_viewer_may_read_it():
+    """Issue 22 (5): `param describe` and `param set` ask turtlectl/params/<node>/describe."""
+    assert "turtlectl/params/navigator/describe" in node_rights("navigator", "navigator")["serve"]
+    assert permitted("viewer", "call", "turtlectl/params/navigator/describe")

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from messages.reference import param_infos
+from messages.params import param_infos
 from nodes.kinds import KINDS
 
 

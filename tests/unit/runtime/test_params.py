@@ -32,3 +32,39 @@ def test_a_value_is_set_converted_and_the_old_one_returned():
 def test_a_change_that_cannot_be_made_says_why(params, name, value, message):
     with pytest.raises(ParamRefused, match=message.replace("(", r"\(").replace(")", r"\)").replace("`", "`")):
         with_value(params, name, value)
+
+
+def test_describe_gives_every_parameter_with_its_value_now_and_why_it_cannot_change():
+    """Issue 22 (5): what every node serves on turtlectl/params/<node>/describe, whatever its kind."""
+    from runtime.params import describe
+
+    params, _ = with_value(StatusMonitorParams(), "rate", 2)
+    described = describe("status_monitor", "status_monitor", params)
+    infos = {p.name: p for p in described.parameters}
+    assert (described.node, described.kind) == ("status_monitor", "status_monitor")
+    assert [p.name for p in described.parameters] == ["rate", "battery", "drain_per_second", "drain_per_metre"]
+    rate = infos["rate"]
+    assert (rate.value, rate.unit, rate.range, rate.default, rate.run_time) == (2.0, "Hz", "0.1 to 100", "10", True)
+    assert not infos["battery"].run_time and "charge at start" in infos["battery"].fixed_because
+    lookahead = {p.name: p for p in describe("navigator", "navigator", NavigatorParams()).parameters}["gains.lookahead"]
+    assert lookahead.value == 0.5 and lookahead.unit == "m"
+
+
+def test_describe_works_for_a_kind_defined_without_source():
+    """A node kind written in `python -c` has no source to read its comments from: it is
+    described all the same (before: inspect raised on the Zenoh thread)."""
+    import msgspec
+
+    from runtime.params import describe
+
+    namespace: dict = {"msgspec": msgspec}
+    exec("class Loose(msgspec.Struct):\n    speed: float = 1.0  # m/s: how fast\n", namespace)  # noqa: S102
+    info = describe("loose", "loose", namespace["Loose"]()).parameters[0]
+    assert (info.name, info.type, info.unit, info.meaning, info.value, info.run_time) == (
+        "speed",
+        "float",
+        "-",
+        "",
+        1.0,
+        True,
+    )
