@@ -4,7 +4,7 @@ protocol (the foxglove-sdk's server).  Nothing here prints.
 * Every topic of the live graph is a channel of the same name, its messages JSON with the
   type's JSON Schema (messages.jsonform), appearing and disappearing with the graph (checked
   every ``GRAPH_PERIOD`` s).
-* The ready-made scene (cli.scene): ``scene`` and ``scene/scan`` in Foxglove's well-known
+* The ready-made scene (cli.scene): ``scene`` and ``scene/scan`` in Foxglove's well-known (protobuf)
   schemas, so the 3D panel shows the world, the turtle, its trail, the scan and the goal.
 * ``navigate_to``, ``navigate_to/cancel``, ``reset`` and ``turtle1/teleport_absolute`` are
   Foxglove services (JSON requests as for ``turtlectl call``): a goal can be sent from the app.

@@ -10,8 +10,9 @@ from typing import TYPE_CHECKING, Any
 import msgspec
 
 from cli.errors import BadInput
-from messages import Ack, Message, NavigateToFeedback, NavigateToResponse, to_builtins, to_json
+from messages import Ack, Message, NavigateToFeedback, NavigateToResponse, to_builtins
 from messages.angles import degrees_0_360
+from messages.jsonform import spelled, to_json
 
 if TYPE_CHECKING:  # launch files (nodes' parameters) are loaded by launch and run only
     from cli.launchfile import LaunchPlan
@@ -77,11 +78,13 @@ def message_json(msg: Message, key: str | None = None) -> str:
     if key is None:
         return to_json(msg).decode()
     data = to_builtins(msg)
-    return msgspec.json.encode({"type": data.pop("type"), "key": key, **data}).decode()
+    return json_value({"type": data.pop("type"), "key": key, **data})
 
 
 def json_value(value: Any) -> str:
-    return msgspec.json.encode(value).decode()
+    """``value`` as JSON, infinities and NaN spelled "Infinity", "-Infinity", "NaN" (as recordings
+    and the Foxglove server write them: messages.jsonform)."""
+    return msgspec.json.encode(spelled(value)).decode()
 
 
 def csv_header(msg: Message) -> str:

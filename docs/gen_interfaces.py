@@ -151,6 +151,10 @@ def conventions_section() -> list[str]:
         "- **Requests**: the `type` member may be left out; if present it must name the request type. An unknown "
         "field or a missing required one is an error; integers are accepted where floats are expected. Send the "
         f"encoding `{MEDIA_TYPE};<Type>` (the services decode by the key's request type whatever it says).",
+        "- **JSON**: wherever turtlectl writes a message as JSON (`echo --json` and every `--json`, recordings, the "
+        'Foxglove server), a non-finite float is the string `"Infinity"`, `"-Infinity"` or `"NaN"` (JSON has '
+        "none, and `null` could not tell an `inf` range from a NaN origin); turtlectl reads them back as floats. "
+        "msgpack carries them as floats.",
         "- **Replies**: each reply's encoding names its own type (a `navigate_to` feedback reply is "
         f"`{MEDIA_TYPE};NavigateToFeedback`); the payload's `type` member always does, so dispatch on it. A request "
         "that cannot be used gets a Zenoh *error* reply (`reply.err`) whose payload is an `ErrorReply` (encoding "

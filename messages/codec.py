@@ -28,7 +28,6 @@ TYPES_BY_NAME: dict[str, type[Message]] = {type_name(t): t for t in ALL_TYPES}
 _encoder = msgspec.msgpack.Encoder()
 _decoders: dict[type[Message], msgspec.msgpack.Decoder] = {t: msgspec.msgpack.Decoder(t) for t in ALL_TYPES}
 _any_decoder = msgspec.msgpack.Decoder(Union[ALL_TYPES])  # type: ignore[valid-type]  # noqa: UP007 (a tuple of types)
-_json_encoder = msgspec.json.Encoder()
 
 
 class DecodeError(ValueError):
@@ -75,5 +74,8 @@ def to_builtins(msg: Message) -> dict:
 
 
 def to_json(msg: Message) -> bytes:
-    """One-line JSON of a message (``inf``/``NaN`` become ``null``, as JSON has none)."""
-    return _json_encoder.encode(msg)
+    """One-line JSON of a message, ``inf``/``NaN`` spelled ``"Infinity"``, ``"-Infinity"``,
+    ``"NaN"`` (JSON has none): the one rule of every JSON turtlectl writes (messages.jsonform)."""
+    from messages.jsonform import to_json as spelled_json  # jsonform builds on this module
+
+    return spelled_json(msg)

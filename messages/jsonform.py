@@ -1,12 +1,13 @@
 """Messages as JSON, losslessly, for what reads JSON rather than msgpack: MCAP recordings that
 Foxglove opens, and tools.
 
-JSON has no infinity and no NaN (msgspec and ``turtlectl echo --json`` write ``null``, which
-cannot be told apart on the way back: a LaserScan's ``inf`` ranges and its ``NaN`` origin
-would both come back as null).  Here a non-finite float is written as the string
-``"Infinity"``, ``"-Infinity"`` or ``"NaN"`` (JavaScript's own spellings), and the JSON Schema
-of each type says so (``json_schema``), so ``from_json(to_json(m)) == m`` for every message,
-and its msgpack bytes are the original's.
+JSON has no infinity and no NaN (msgspec writes ``null``, which cannot be told apart on the way
+back: a LaserScan's ``inf`` ranges and its ``NaN`` origin would both come back as null).  Here
+a non-finite float is written as the string ``"Infinity"``, ``"-Infinity"`` or ``"NaN"``
+(JavaScript's own spellings), and the JSON Schema of each type says so (``json_schema``), so
+``from_json(to_json(m)) == m`` for every message, and its msgpack bytes are the original's.
+One rule wherever turtlectl writes JSON: recordings, the Foxglove server, ``echo --json`` and
+every other ``--json`` (cli.format), the docs.
 """
 
 from __future__ import annotations
@@ -30,16 +31,17 @@ class JsonFormError(ValueError):
     """JSON that is not a message of a known type (or not of the type expected)."""
 
 
-def _spelled(value: Any) -> Any:
-    """``value`` (msgspec builtins) with each non-finite float replaced by its spelling."""
+def spelled(value: Any) -> Any:
+    """``value`` (msgspec builtins) with each non-finite float replaced by its spelling: what
+    every JSON turtlectl writes goes through (recordings, the Foxglove server, ``--json``)."""
     if isinstance(value, float):
         if math.isfinite(value):
             return value
         return "NaN" if math.isnan(value) else ("Infinity" if value > 0 else "-Infinity")
     if isinstance(value, dict):
-        return {k: _spelled(v) for k, v in value.items()}
+        return {k: spelled(v) for k, v in value.items()}
     if isinstance(value, list):
-        return [_spelled(v) for v in value]
+        return [spelled(v) for v in value]
     return value
 
 
@@ -48,7 +50,7 @@ def to_json(msg: Message) -> bytes:
     data = _encoder.encode(msg)
     if b"null" not in data:  # no field is None or non-finite: msgspec's bytes are already ours
         return data
-    return _encoder.encode(_spelled(msgspec.to_builtins(msg)))
+    return _encoder.encode(spelled(msgspec.to_builtins(msg)))
 
 
 def from_json(data: bytes, msg_type: type[Message] | None = None) -> Message:
@@ -98,6 +100,6 @@ def json_schema(msg_type: type[Message]) -> dict[str, Any]:
     top["title"] = type_name(msg_type)
     if defs:
         top["$defs"] = defs
-    top = _spelled(_allow_non_finite(top))  # a NaN default too: JSON has no NaN
+    top = spelled(_allow_non_finite(top))  # a NaN default too: JSON has no NaN
     top["$schema"] = "https://json-schema.org/draft/2020-12/schema"
     return top

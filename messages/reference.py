@@ -70,7 +70,7 @@ FIELDS: dict[str, dict[str, tuple[str, str, str]]] = {
         "ranges": (
             "m",
             "[0, range_max] or inf",
-            'one per beam: distance to the first hit, walls and declared obstacles (and phantoms) alike; inf = nothing within range_max (null in `echo --json`, "Infinity" in recordings); 0 on every beam inside an obstacle',
+            'one per beam: distance to the first hit, walls and declared obstacles (and phantoms) alike; inf = nothing within range_max ("Infinity" in JSON); 0 on every beam inside an obstacle',
         ),
         "origin_x": ("m", "[0, world size] or NaN", "where the scan was taken (the turtle's position); NaN if unknown"),
         "origin_y": ("m", "[0, world size] or NaN", "where the scan was taken; NaN if unknown"),

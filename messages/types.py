@@ -85,7 +85,7 @@ class LaserScan(Message, tag="LaserScan"):
     Angles are rad in the turtle's frame (0 = straight ahead, CCW positive);
     beam i points at ``angle_min + i * angle_increment``.  ranges are m;
     a beam that hits nothing within ``range_max`` reads ``inf`` (REP 117;
-    ``null`` in `echo --json`, ``"Infinity"`` in recordings: JSON has no infinity).
+    ``"Infinity"`` in JSON, which has no infinity: ``echo --json``, recordings, Foxglove).
     origin_x, origin_y, origin_theta: the sensor's pose in the world when the
     scan was taken (m, m, rad), NaN if unknown; a moving reader needs it to
     place the hits (ROS would use tf for this).

@@ -130,6 +130,9 @@ def test_info_says_what_the_file_holds(goal_recording):
         subprocess.run([*turtlectl(), "info", str(path), "--json"], capture_output=True, timeout=30).stdout
     )
     assert data["closed"] is True and data["count"] == sum(t["count"] for t in data["topics"])
+    out = goal_recording[3]  # record --scene: the count it printed is the file's, the scene's included
+    assert f"recorded {data['count']} messages" in out, out
+    assert {t["key"]: t["encoding"] for t in data["topics"]}["scene"] == "protobuf"
 
 
 def test_play_into_a_router_without_a_system_gives_back_the_same_messages_at_the_same_intervals(goal_recording):

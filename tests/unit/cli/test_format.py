@@ -80,7 +80,7 @@ def test_wildcard_json_names_the_key():
     assert line["type"] == "Twist" and line["key"] == "turtle1/cmd_vel" and line["linear"] == 1.0
     assert "key" not in json.loads(message_json(Twist()))
     scan = LaserScan(angle_min=0, angle_max=0, angle_increment=0, range_min=0, range_max=1, ranges=[math.inf])
-    assert json.loads(message_json(scan, "obstacles"))["ranges"] == [None]
+    assert json.loads(message_json(scan, "obstacles"))["ranges"] == ["Infinity"]  # as in recordings (one rule)
 
 
 def test_the_outcome_says_why_and_what_to_do_next():
@@ -102,3 +102,26 @@ def test_a_block_never_rounds_a_heading_up_to_360_and_writes_booleans_as_json_do
     status = TurtleStatus(x=1.0, y=2.0, theta=359.99999, vel_x=0.0, vel_y=0.0, battery=50.0)
     assert "theta: 359.99999" in message_block(status)
     assert "contact: true" in message_block(Pose(x=2.0, y=8.5, theta=0.0, contact=True))
+
+
+def test_non_finite_floats_are_spelled_in_json_as_in_recordings_and_on_the_foxglove_server():
+    # one rule wherever turtlectl writes JSON: "Infinity", "-Infinity", "NaN" (messages.jsonform)
+    from cli import format as fmt
+    from messages import LaserScan
+    from messages.jsonform import to_json as recorded
+
+    scan = LaserScan(
+        angle_min=0.0,
+        angle_max=1.0,
+        angle_increment=0.5,
+        range_min=0.0,
+        range_max=5.0,
+        ranges=[1.0, math.inf, -math.inf],
+    )
+    assert fmt.message_json(scan) == recorded(scan).decode()
+    for line in (fmt.message_json(scan), fmt.message_json(scan, key="lab1/obstacles")):
+        data = json.loads(line)
+        assert data["ranges"] == [1.0, "Infinity", "-Infinity"] and data["origin_x"] == "NaN", line
+    assert fmt.fields_line({"ranges": scan.ranges}, json=True) == '[1.0,"Infinity","-Infinity"]'
+    assert fmt.fields_line({"origin_x": scan.origin_x}, json=True) == '"NaN"'
+    assert '"[1.0,""Infinity"",""-Infinity""]"' in fmt.csv_row(scan)
