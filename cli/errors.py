@@ -12,6 +12,7 @@ from runtime.exitcodes import ExitCode
 
 __all__ = [
     "BadInput",
+    "CancelUnconfirmed",
     "CannotStart",
     "ExitCode",
     "Failed",
@@ -50,12 +51,18 @@ class Interrupted(TurtlectlError):
     """Stopped by Ctrl-C before it finished."""
 
 
+class CancelUnconfirmed(TurtlectlError):
+    """A goal was given up on (--timeout, Ctrl-C) and nobody confirmed its cancel: the turtle
+    may still be driving to it."""
+
+
 EXIT_CODES: dict[type[TurtlectlError], ExitCode] = {
     BadInput: ExitCode.BAD_INPUT,
     Unreachable: ExitCode.UNREACHABLE,
     CannotStart: ExitCode.CANNOT_START,
     Failed: ExitCode.FAILED,
     Interrupted: ExitCode.INTERRUPTED,
+    CancelUnconfirmed: ExitCode.CANCEL_UNCONFIRMED,
 }
 
 

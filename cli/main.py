@@ -35,7 +35,8 @@ Exit codes: 0 success, or Ctrl-C on a command that runs until stopped (echo, hz,
 view, pub --rate); 1 ran but did not succeed (goal refused or not reached, an
 answer that says no, a required node died); 2 bad input (arguments, launch
 file); 3 nothing to talk to (no router, no navigator, no message, the router
-lost); 4 launch or router could not start (port in use, log folder); 130
+lost); 4 could not start (port in use, log folder, a second navigator); 5 a
+goal given up on (--timeout, Ctrl-C) whose cancel nobody confirmed; 130
 interrupted by Ctrl-C before its result (goto, call, and the other one-shot
 commands).
 """
@@ -291,7 +292,8 @@ def goto(
     """Send the turtle to (X, Y) facing THETA degrees and wait for the outcome.
 
     On a terminal a live progress line shows the goal's state; piped, only the
-    outcome is printed.  Ctrl-C cancels the goal (exit code 130).
+    outcome is printed.  Ctrl-C or --timeout cancels the goal (exit code 130 or 1), and
+    exit code 5 says that nobody confirmed the cancel: the turtle may still be driving.
 
     Example: turtlectl goto 8 5 90
     """
@@ -310,8 +312,8 @@ def goto(
         response, _ = services.navigate(
             connect, request, timeout if timeout is not None else services.NO_LIMIT, show if live else None
         )
-    except KeyboardInterrupt:
-        raise Interrupted("interrupted: the navigator cancels the goal") from None
+    except KeyboardInterrupt:  # before the goal was sent (one running is canceled and checked in navigate)
+        raise Interrupted("interrupted") from None
     finally:
         if live:
             typer.echo("\r\033[K", nl=False)
@@ -770,9 +772,9 @@ def call(
     Replies are printed as they arrive (navigate_to: its feedback, then its response).
     A missing service is reported within 3 s.
 
-    As goto and cancel: navigate_to holds a client token, so Ctrl-C (exit code 130) or
-    --timeout cancels the goal; an Ack with ok false or a response with success false is
-    exit code 1.
+    As goto and cancel: navigate_to holds a client token, and Ctrl-C (exit code 130) or
+    --timeout cancels the goal through navigate_to/cancel (exit code 5 if nobody confirms
+    it); an Ack with ok false or a response with success false is exit code 1.
     Example: turtlectl call turtle1/teleport_absolute '{"x": 2, "y": 2, "theta": 0}'
     """
     from cli import build, client, services
@@ -780,19 +782,23 @@ def call(
 
     key = client.check_key(service)
     body = build.service_request(client.base_key(key), request, type_name)
+
+    def show(reply: Any) -> None:
+        if isinstance(reply, services.Raw):
+            typer.echo(reply.payload.decode("utf-8", "replace"))
+        else:
+            typer.echo(format.message_json(reply) if json else format.message_block(reply))
+
     code = ExitCode.OK
-    try:
-        for reply in services.call_service(connect, key, body, timeout):
+    try:  # a goal's feedback is shown from inside the call: a Ctrl-C there cancels the goal and checks
+        for reply in services.call_service(connect, key, body, timeout, on_feedback=show):
             if not isinstance(reply, NavigateToFeedback):  # an answer: a Ctrl-C from now on changes nothing
                 ignore_sigint()
-            if isinstance(reply, services.Raw):
-                typer.echo(reply.payload.decode("utf-8", "replace"))
-                continue
-            typer.echo(format.message_json(reply) if json else format.message_block(reply))
-            code = max(code, services.reply_code(reply))
+            show(reply)
+            if not isinstance(reply, services.Raw):
+                code = max(code, services.reply_code(reply))
     except KeyboardInterrupt:
-        goal = services.is_goal_service(key)
-        raise Interrupted("interrupted" + (": the navigator cancels the goal" if goal else "")) from None
+        raise Interrupted("interrupted") from None
     raise typer.Exit(code)
 
 

@@ -4,9 +4,11 @@ Nothing here prints; functions return data or raise a TurtlectlError (cli.errors
 
 The rules every call follows (``goto``, ``cancel``, ``teleport``, ``reset`` and ``call``
 alike): replies are handed on as they arrive; a ``navigate_to`` caller holds a client
-token, so its goal is canceled when it goes away or gives up (--timeout); an answer that
-says no (``Ack.ok`` false, ``NavigateToResponse.success`` false) is exit code 1; nobody
-serving the key is exit code 3, with a hint when systems run in other domains.
+token, so its goal is canceled when it goes away; one that gives up (--timeout, Ctrl-C)
+also asks ``navigate_to/cancel`` and checks the answer (none within CANCEL_WAIT s: exit
+code 5, the turtle may still drive); an answer that says no (``Ack.ok`` false,
+``NavigateToResponse.success`` false) is exit code 1; nobody serving the key is exit
+code 3, with a hint when systems run in other domains.
 """
 
 from __future__ import annotations
@@ -19,10 +21,21 @@ from collections.abc import Callable, Iterator
 import msgspec
 import zenoh
 
-from cli.client import base_key, caller_token, check_key, client_session, domain_hint, require, router_lost
-from cli.errors import BadInput, ExitCode, Failed, Unreachable
+from cli.client import (
+    base_key,
+    caller_token,
+    check_key,
+    client_session,
+    domain_hint,
+    domain_prefix,
+    require,
+    router_lost,
+)
+from cli.errors import BadInput, CancelUnconfirmed, ExitCode, Failed, Interrupted, TurtlectlError, Unreachable
+from cli.sigint import sigint_deferred
 from messages import (
     Ack,
+    Cancel,
     DecodeError,
     ErrorReply,
     Message,
@@ -36,7 +49,7 @@ from messages import (
     type_from_encoding,
 )
 from messages.codec import MEDIA_TYPE
-from messages.keys import NAVIGATE_TO, WORLD_KEY
+from messages.keys import CANCEL, NAVIGATE_TO, WORLD_KEY
 from messages.world import World
 from runtime.endpoint import default_domain
 
@@ -175,25 +188,74 @@ def is_goal_service(key: str) -> bool:
     return base_key(key) == NAVIGATE_TO
 
 
-def goal_replies(
-    session: zenoh.Session, key: str, goal: NavigateToRequest, timeout: float
-) -> Iterator[NavigateToFeedback | NavigateToResponse]:
-    """A goal's replies as they arrive, feedback first and its NavigateToResponse last, while
-    holding a client token (released when this ends, however it ends: the navigator then
-    cancels a goal still running).  Raises Failed if the goal does not end within
-    ``timeout`` s or the navigator stops answering; RouterLost if the router goes away."""
+CANCEL_WAIT = 2.0  # s for navigate_to/cancel to confirm the cancel of a goal given up on
+
+
+def cancel_goal(session: zenoh.Session, key: str) -> Ack | str:
+    """Ask the ``navigate_to/cancel`` beside ``key`` (its domain) to stop the running goal: its
+    Ack, or why nobody confirmed within CANCEL_WAIT s (nothing serves it, an error, silence)."""
+    cancel_key = domain_prefix(key) + CANCEL
+    try:
+        for reply in replies(session, cancel_key, Cancel(), CANCEL_WAIT):
+            if isinstance(reply, Ack):
+                return reply
+    except TurtlectlError as exc:
+        return exc.message.split(" (")[0]  # its advice in parentheses is not for this line
+    return f"{cancel_key} sent no Ack"
+
+
+def given_up(why: str, answer: Ack | str, interrupted: bool) -> TurtlectlError:
+    """The error for a goal given up on (``why``: a --timeout, or "interrupted" by Ctrl-C),
+    given the cancel's ``answer`` (an Ack, or why nobody confirmed it).  Confirmed: Failed
+    (exit 1) or Interrupted (130), as a goal not reached or a Ctrl-C; a navigator that had no
+    goal running any more confirms too.  Unconfirmed: CancelUnconfirmed (exit 5), the turtle
+    may still be driving to the goal."""
+    lead = f"{why}: " if interrupted else f"{why}; "
+    if isinstance(answer, str):
+        return CancelUnconfirmed(
+            f"{lead}nobody confirmed the cancel: the turtle may still be driving to the goal "
+            f"({answer}; `turtlectl cancel` asks again)"
+        )
+    said = (
+        "the navigator canceled the goal"
+        if answer.ok
+        else f"the goal had ended meanwhile (the navigator: {answer.detail})"
+    )
+    return Interrupted(lead + said) if interrupted else Failed(lead + said)
+
+
+def run_goal(
+    session: zenoh.Session,
+    key: str,
+    goal: NavigateToRequest,
+    timeout: float,
+    on_feedback: Callable[[NavigateToFeedback], None] | None = None,
+) -> NavigateToResponse:
+    """Send a goal and wait for its NavigateToResponse, handing each feedback to
+    ``on_feedback`` as it arrives, while holding a client token (released when this ends,
+    however it ends: the navigator then cancels a goal still running).
+
+    A goal given up on before its response (``timeout`` s, or Ctrl-C anywhere in here,
+    ``on_feedback`` included) is canceled through ``navigate_to/cancel`` and the answer
+    checked (``given_up``).  Raises Failed if the navigator stops answering; RouterLost if
+    the router goes away."""
     with caller_token(session, key) as client_id:
         request = msgspec.structs.replace(goal, client=goal.client or client_id)
         try:
             for message in replies(session, key, request, timeout):
-                if isinstance(message, (NavigateToFeedback, NavigateToResponse)):
-                    yield message
                 if isinstance(message, NavigateToResponse):
-                    return
+                    return message
+                if isinstance(message, NavigateToFeedback) and on_feedback is not None:
+                    on_feedback(message)
         except NoAnswer as exc:
-            if not exc.answered:
-                raise
-            raise Failed(f"the goal did not end within --timeout {timeout:g} s; the navigator cancels it") from None
+            why = f"the goal did not end within --timeout {timeout:g} s" if exc.answered else exc.message
+            with sigint_deferred():  # bounded (CANCEL_WAIT): a Ctrl-C must not skip the check
+                answer = cancel_goal(session, key)
+            raise given_up(why, answer, interrupted=False) from None
+        except KeyboardInterrupt:
+            with sigint_deferred():
+                answer = cancel_goal(session, key)
+            raise given_up("interrupted", answer, interrupted=True) from None
         except RouterLost:
             raise RouterLost("lost the router before the goal ended (did `turtlectl launch` stop?)") from None
         if router_lost_soon(session, lasted=ROUTER_LOSS_WAIT):  # the replies ended without a response: why?
@@ -209,17 +271,14 @@ def navigate(
 ) -> tuple[NavigateToResponse, float]:
     """Call navigate_to and wait for the outcome; returns it and the time the client measured, s.
 
-    The call carries a liveliness token of this client: if the client goes away
-    (Ctrl-C, kill) or gives up (``timeout``), the navigator cancels the goal.
+    The call carries a liveliness token of this client: if the client goes away (kill), the
+    navigator cancels the goal; if it gives up (``timeout``, Ctrl-C) it cancels it too and
+    checks that the navigator confirmed (``run_goal``).
     """
     with service_session(connect) as session:
         started = time.monotonic()
-        for message in goal_replies(session, NAVIGATE_TO, goal, timeout):
-            if isinstance(message, NavigateToResponse):
-                return message, time.monotonic() - started
-            if on_feedback is not None:
-                on_feedback(message)
-    raise Failed("the navigator stopped answering before the goal ended (did it exit?)")
+        response = run_goal(session, NAVIGATE_TO, goal, timeout, on_feedback)
+        return response, time.monotonic() - started
 
 
 def simple_call(connect: str, key: str, request: Message, everyone: bool = False, timeout: float = 5.0) -> list[Ack]:
@@ -228,14 +287,22 @@ def simple_call(connect: str, key: str, request: Message, everyone: bool = False
         return [m for m in replies(session, key, request, timeout, everyone) if isinstance(m, Ack)]
 
 
-def call_service(connect: str, key: str, request: Message | bytes, timeout: float | None) -> Iterator[Message | Raw]:
+def call_service(
+    connect: str,
+    key: str,
+    request: Message | bytes,
+    timeout: float | None,
+    on_feedback: Callable[[NavigateToFeedback], None] | None = None,
+) -> Iterator[Message | Raw]:
     """Every reply of a generic service call, as it arrives (known services typed, others as
-    JSON).  ``navigate_to`` follows goto's rules (client token, timeout cancels the goal);
-    ``timeout`` None: the navigator's goal_timeout for goals, CALL_TIMEOUT s otherwise."""
+    JSON).  ``navigate_to`` follows goto's rules (``run_goal``: client token, a timeout or
+    Ctrl-C cancels the goal and checks the answer): its feedback goes to ``on_feedback`` as it
+    arrives, and only its response is yielded.  ``timeout`` None: the navigator's
+    goal_timeout for goals, CALL_TIMEOUT s otherwise."""
     key = check_key(key)
     with service_session(connect) as session:
         if is_goal_service(key) and isinstance(request, NavigateToRequest):
-            yield from goal_replies(session, key, request, NO_LIMIT if timeout is None else timeout)
+            yield run_goal(session, key, request, NO_LIMIT if timeout is None else timeout, on_feedback)
         else:
             yield from replies(session, key, request, CALL_TIMEOUT if timeout is None else timeout)
 

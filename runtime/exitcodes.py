@@ -26,6 +26,9 @@ class ExitCode(enum.IntEnum):
     #: could not start: a port or a role another process already holds (launch's port, a second
     #: navigator serving navigate_to), or a log folder that cannot be written
     CANNOT_START = 4
+    #: a goal given up on (--timeout, Ctrl-C) whose cancel nobody confirmed: the turtle may
+    #: still be driving to it
+    CANCEL_UNCONFIRMED = 5
     #: interrupted by Ctrl-C before its result
     INTERRUPTED = 130
 

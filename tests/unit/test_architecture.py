@@ -23,6 +23,7 @@ PURE = [
     "runtime.config",
     "runtime.endpoint",
     "runtime.params",
+    "runtime.exitcodes",
     "sim.kinematics",
     "sim.lidar",
     "sim.params",

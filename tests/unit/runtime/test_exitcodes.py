@@ -33,7 +33,7 @@ def test_the_readme_documents_every_code_of_the_table_and_no_other():
 
 @pytest.mark.parametrize(
     "code, helps",
-    [(0, True), (1, True), (3, True), (-9, True), (-11, True), (2, False), (4, False), (130, True)],
+    [(0, True), (1, True), (3, True), (-9, True), (-11, True), (2, False), (4, False), (5, True), (130, True)],
 )
 def test_only_a_configuration_error_or_a_conflict_is_not_worth_a_respawn(code, helps):
     assert respawn_can_help(code) is helps
