@@ -138,6 +138,22 @@ def choose_direction(pose: Planar, goal: Planar, limits: Limits) -> int:
     return 1 if turning(bearing) <= turning(bearing + math.pi) else -1
 
 
+def resting_pose(pose: Planar, linear: float, angular: float, limits: Limits, dt: float = STEP) -> Pose2D:
+    """Where a turtle at ``pose`` moving at (``linear`` m/s, ``angular`` rad/s) comes to rest
+    if told to stop now (m, m, rad): the simulator's next step still follows the command
+    before (the stop is on its way), then it brakes at the acceleration limits, ``dt`` s a
+    step: each speed covers v dt, then (v - a dt) dt, (v - 2 a dt) dt, ... until it is still."""
+
+    def travel(v: float, a: float) -> float:
+        speed, drop = abs(v), a * dt
+        n = math.floor(speed / drop)  # braking steps before the one that stops it
+        return math.copysign(speed * dt + n * speed * dt - drop * dt * n * (n + 1) / 2.0, v)
+
+    theta = wrap_angle(pose.theta + travel(angular, limits.max_angular_accel))
+    d = travel(linear, limits.max_linear_accel)
+    return Pose2D(pose.x + d * math.cos(pose.theta), pose.y + d * math.sin(pose.theta), theta)
+
+
 def control_step(
     pose: Planar,
     goal: Planar,

@@ -68,6 +68,7 @@ from nodes.control import (
     follow_step,
     path_remaining_time,
     remaining_time,
+    resting_pose,
 )
 from nodes.costmap import HIT_PAD, Costmap
 from nodes.goal import allowed_speed, goal_problem, no_way
@@ -441,12 +442,14 @@ class GoalMachine(Generic[C]):
                 tolerances=self.tolerances,
             )
             goal.phase = cmd.phase
-            if cmd.phase is Phase.DONE:
-                if at_rest(pose):
-                    self._finish(now, True, "")
-                else:  # within the tolerances but still moving: it is where it rests that counts
-                    goal.state = GoalState.TURNING
-                    self._out.append(Twist())
+            if cmd.phase is Phase.DONE and at_rest(pose):
+                self._finish(now, True, "")
+                return
+            if cmd.phase is Phase.DONE or self._stops_inside(goal, pose):
+                # within the tolerances, or would come to rest within them if stopped now: it is
+                # where it rests that counts, so stop, and answer from the pose at rest
+                goal.state = GoalState.TURNING
+                self._out.append(Twist())
                 return
             to_go = math.hypot(goal.target.x - pose.x, goal.target.y - pose.y)
         else:
@@ -463,6 +466,25 @@ class GoalMachine(Generic[C]):
             self._note(logging.INFO, "way clear: resuming")
         goal.state = GoalState.DRIVING if linear != 0.0 else GoalState.TURNING
         self._out.append(Twist(linear=linear, angular=cmd.angular))
+
+    def _stops_inside(self, goal: Goal[C], pose: Pose) -> bool:
+        """Whether the turtle, told to stop now, comes to rest where the law is done: so that
+        it need not creep the last of the way at the law's slowing speeds and then wait to stop."""
+        if goal.phase is not Phase.HEADING:
+            return False
+        rest = resting_pose(pose, pose.linear_velocity, pose.angular_velocity, self.limits)
+        return (
+            control_step(
+                rest,
+                goal.target,
+                phase=goal.phase,
+                direction=goal.direction or 1,
+                limits=self.limits,
+                gains=self.params.gains,
+                tolerances=self.tolerances,
+            ).phase
+            is Phase.DONE
+        )
 
     def _blocked(self, goal: Goal[C], angular: float, what: str, now: float) -> None:
         """Something is too close in the direction of travel: do not drive, but keep turning

@@ -15,10 +15,11 @@ from nodes.control import (
     choose_direction,
     control_step,
     remaining_time,
+    resting_pose,
     rotate_drive_rotate_time,
     trapezoid_time,
 )
-from sim.kinematics import STEP, TurtleState, accelerate, effective_command, step
+from sim.kinematics import STEP, TurtleState, accelerate, effective_command, step, wrap_angle
 
 LIMITS = Limits()
 GAINS = Gains()
@@ -146,3 +147,15 @@ def test_trapezoid_and_triangle_times():
 def test_remaining_time_is_zero_at_the_goal():
     assert remaining_time(Pose2D(1, 1, 0.3), Pose2D(1, 1, 0.3), 1, LIMITS) == 0.0
     assert remaining_time(Pose2D(1, 1, 0.0), Pose2D(5, 1, 0.0), 1, LIMITS) == pytest.approx(trapezoid_time(4, 4, 10))
+
+
+@pytest.mark.parametrize(("v", "w"), [(0.0, 6.0), (0.0, -1.5), (0.0, 0.2), (0.3, 0.0), (-2.0, 3.0), (4.0, -6.2)])
+def test_resting_pose_is_where_the_simulator_brakes_to_after_one_step_of_the_old_command(v, w):
+    s = TurtleState(x=5.0, y=5.0, theta=3.0, v=v, w=w)
+    rest = resting_pose(s, v, w, LIMITS)
+    s = step(s, *accelerate(s, v, w, STEP, LIMITS), STEP, 100.0)  # the stop is still on its way
+    while s.v != 0.0 or s.w != 0.0:
+        s = step(s, *accelerate(s, 0.0, 0.0, STEP, LIMITS), STEP, 100.0)
+    assert abs(wrap_angle(rest.theta - s.theta)) <= 1e-9
+    # the position follows the heading as it turns; the prediction keeps the present heading
+    assert math.hypot(rest.x - s.x, rest.y - s.y) <= (1e-9 if w == 0.0 else 0.1 * abs(v))

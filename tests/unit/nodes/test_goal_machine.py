@@ -233,6 +233,17 @@ def test_a_turtle_drifting_at_the_goal_position_is_not_reached_until_it_rests():
     assert replies(actions) == [] and m.goal is not None
 
 
+def test_a_turtle_that_would_rest_inside_the_tolerances_is_stopped_without_creeping_on():
+    """0.4 deg short of the heading, turning towards it at 0.25 rad/s: stopped now, it rests
+    0.17 deg short (inside the 0.25 deg the law aims at), so it is stopped, not slowed on."""
+    m = machine()
+    running(m, now=0.0)
+    actions = m.pose(Pose(x=8.0, y=5.0, theta=-math.radians(0.4), angular_velocity=0.25), 1.0)
+    assert replies(actions) == [] and twists(actions) == [Twist()]
+    reply = only_reply(m.pose(Pose(x=8.0, y=5.0, theta=-math.radians(0.4) + 0.25 * STEP), 1.03))
+    assert reply.response.success and reply.response.heading_error == pytest.approx(0.171, abs=1e-3)
+
+
 def test_closed_loop_with_a_late_command_rests_within_the_tolerances_where_it_said():
     """The machine against the simulator's kinematics, each command taking effect a step late
     (as in the system: the simulator applies the command that came after the pose it
