@@ -397,7 +397,9 @@ def echo(
     """Print the messages published on TOPIC, decoded whatever their type.
 
     Keeps printing across a publisher's restart; runs until Ctrl-C (exit code 0), --count or
-    --timeout.  With a wildcard each message names its key.  Example: turtlectl echo robot/status --field battery
+    --timeout.  When nothing arrives for 3 s (from the start, or after messages flowed) it says
+    why on stderr, once per silence; the router lost is exit code 3.  With a wildcard each
+    message names its key.  Example: turtlectl echo robot/status --field battery
     """
     from cli import topics
 
@@ -692,7 +694,7 @@ def interface_show(
 @app.command()
 def hz(
     names: list[str] = typer.Argument(..., metavar="TOPIC...", help="One or more key expressions."),
-    window: int = typer.Option(100, "--window", min=2, help="Messages per statistic."),
+    window: int = typer.Option(100, "--window", min=2, help="At most N messages (of the last 5 s) per statistic."),
     duration: float | None = typer.Option(None, "--duration", min=0.5, help="Stop after S seconds."),
     json: bool = typer.Option(False, "--json", help="JSON lines."),
     connect: str = ConnectOption,
@@ -700,24 +702,26 @@ def hz(
 ) -> None:
     """Rate of each TOPIC from arrival times (with jitter), and the publisher's own rate from stamps.
 
-    Runs until Ctrl-C (exit code 0) or --duration; a topic silent for 3 s is reported with the reason.
-    Example: turtlectl hz robot/status obstacles --duration 10
+    Each second, a line for each TOPIC that had messages since the last one, over the messages
+    of the last 5 s; a topic silent for 3 s (from the start, or after it stopped) is reported with
+    the reason, once per silence; the router lost is exit code 3.  Runs until Ctrl-C (exit code
+    0) or --duration.  Example: turtlectl hz robot/status obstacles --duration 10
     """
     from cli import topics
     from cli.rates import rate_line
 
-    last: list = []
+    printed = False
     try:
         for stats in topics.measure_rates(connect, names, window, duration):
             if isinstance(stats, topics.Silence):
                 typer.echo(stats.text, err=True)
                 continue
-            last = stats
+            printed = printed or bool(stats)
             for st in stats:
                 typer.echo(format.json_value(st) if json else rate_line(st))
     except KeyboardInterrupt:
         pass
-    if duration is not None and not last:
+    if duration is not None and not printed:
         raise Unreachable(f"no messages on {', '.join(names)} within {duration:g} s")
 
 

@@ -5,7 +5,6 @@ Nothing here prints; functions return data or raise a TurtlectlError (cli.errors
 
 from __future__ import annotations
 
-import collections
 import contextlib
 import queue
 import time
@@ -14,10 +13,11 @@ from collections.abc import Callable, Iterator
 import msgspec
 import zenoh
 
-from cli.client import base_key, check_key, client_session, domain_hint, require
+from cli.client import base_key, check_key, client_session, domain_hint, require, router_lost
 from cli.errors import Unreachable
 from cli.graph import Graph, build_graph
-from cli.rates import RateStats, rate_stats
+from cli.rates import SILENCE, Quiet, Rates, RateStats
+from cli.services import RouterLost
 from messages import DecodeError, Message, decode, decode_any, encode, encoding_for, type_from_encoding
 from messages.keys import CMD_VEL, DOMAIN_GRAPHS, FEEDBACK, GRAPH, PARAMETER_EVENTS
 from runtime.endpoint import default_domain
@@ -59,23 +59,25 @@ def subscription(session: zenoh.Session, key: str) -> Iterator[queue.SimpleQueue
         sub.undeclare()
 
 
-SILENCE = 3.0  # s without any message before echo tells the user
+ROUTER_CHECK = 0.5  # s between checks that the session still has its router
 
 
 class Silence:
-    """Yielded once when nothing has arrived on ``key`` for SILENCE seconds; ``text`` says
-    why, from the live graph (who publishes it, and when)."""
+    """Yielded once per silence when nothing has arrived on ``key`` for SILENCE seconds
+    (from the start, or after messages flowed); ``text`` says why, from the live graph (who
+    publishes it, and when)."""
 
     def __init__(self, key: str, text: str):
         self.key = key
         self.text = text
 
 
-def silence_text(key: str, current: Graph, hint: Callable[[], str], domain: str = "") -> str:
-    """Why nothing has arrived on ``key`` yet and what to do, given the live graph as a
-    client in ``domain`` sees it (pure but for ``hint()``, the domain hint, asked only when
-    no node runs at all)."""
+def silence_text(key: str, current: Graph, hint: Callable[[], str], domain: str = "", flowed: bool = False) -> str:
+    """Why nothing has arrived on ``key`` yet (or, ``flowed``, for SILENCE s after messages
+    did) and what to do, given the live graph as a client in ``domain`` sees it (pure but
+    for ``hint()``, the domain hint, asked only when no node runs at all)."""
     expr = zenoh.KeyExpr(key)
+    yet = f"for {SILENCE:g} s" if flowed else "yet"
     elsewhere = sorted(
         {
             d
@@ -89,10 +91,10 @@ def silence_text(key: str, current: Graph, hint: Callable[[], str], domain: str 
     if publishers:
         who = f"{', '.join(publishers)} publish{'es' * (len(publishers) == 1)} it"
         if all(base_key(t.key) in WHILE_A_GOAL_RUNS for t in published):
-            return f"nothing published on {key} yet: {who} only while a goal runs (start one with `turtlectl goto X Y THETA`)"
+            return f"nothing published on {key} {yet}: {who} only while a goal runs (start one with `turtlectl goto X Y THETA`)"
         if all(base_key(t.key) == PARAMETER_EVENTS for t in published):
             return (
-                f"nothing published on {key} yet: {who} only when a parameter changes "
+                f"nothing published on {key} {yet}: {who} only when a parameter changes "
                 "(`turtlectl param set NODE NAME VALUE`)"
             )
         return f"nothing published on {key} for {SILENCE:g} s although {who}: it may be stalled (see its log)"
@@ -103,55 +105,84 @@ def silence_text(key: str, current: Graph, hint: Callable[[], str], domain: str 
             f"add it before the command, `turtlectl --domain {elsewhere[0]} ...` (or use {elsewhere[0]}/{key})"
         )
     if current.nodes:
-        return f"nothing published on {key} yet: no running node publishes it (`turtlectl list` shows the topics)"
+        return f"nothing published on {key} {yet}: no running node publishes it (`turtlectl list` shows the topics)"
     where = f"in domain {domain}" if domain else "on this router"
-    return f"nothing published on {key} yet: no turtlectl node runs {where} (is `turtlectl launch` running?){hint()}"
+    return f"nothing published on {key} {yet}: no turtlectl node runs {where} (is `turtlectl launch` running?){hint()}"
 
 
-def _silence(session: zenoh.Session, connect: str, key: str) -> Silence:
-    return Silence(key, silence_text(key, live_graph(session), lambda: domain_hint(connect), default_domain()))
+def _silence(session: zenoh.Session, connect: str, key: str, flowed: bool) -> Silence:
+    return Silence(key, silence_text(key, live_graph(session), lambda: domain_hint(connect), default_domain(), flowed))
+
+
+class _RouterWatch:
+    """RouterLost (exit 3, as goto reports it) once the session has lost its router,
+    checked every ROUTER_CHECK s."""
+
+    def __init__(self, session: zenoh.Session, connect: str, key: str):
+        self.session, self.connect, self.key = session, connect, key
+        self.next = time.monotonic() + ROUTER_CHECK
+
+    def check(self, now: float) -> None:
+        if now < self.next:
+            return
+        self.next = now + ROUTER_CHECK
+        if router_lost(self.session):
+            raise RouterLost(
+                f"lost the router at {self.connect}: no more messages on {self.key} (did `turtlectl launch` stop?)"
+            )
 
 
 def stream(connect: str, topic: str, count: int | None, timeout: float | None) -> Iterator[Received | Silence]:
     """Decoded samples on ``key`` until ``count`` valid messages or ``timeout`` s.
 
-    Yields a ``Silence`` once if nothing at all arrives for SILENCE s, saying why.  Raises
-    Unreachable if ``timeout`` passes without any message.
+    Yields a ``Silence`` saying why once per silence of SILENCE s: nothing arrived yet, or
+    messages flowed and stopped.  Raises Unreachable if ``timeout`` passes without any
+    message, RouterLost (Unreachable) when the session loses its router.
     """
     key = check_key(topic)
     with client_session(connect) as session, subscription(session, key) as samples:
         started = time.monotonic()
         deadline = None if timeout is None else started + timeout
         received = 0
-        warned = False
+        quiet = Quiet(started)
+        router = _RouterWatch(session, connect, key)
         while count is None or received < count:
             now = time.monotonic()
             if deadline is not None and now >= deadline:
                 if received == 0:
                     raise Unreachable(f"no message on {key} within {timeout:g} s")
                 return
-            if not warned and received == 0 and now - started >= SILENCE:
-                warned = True
-                yield _silence(session, connect, key)
+            router.check(now)
+            if quiet.due(now):
+                yield _silence(session, connect, key, quiet.flowed)
             wait = 0.1 if deadline is None else min(0.1, max(0.0, deadline - now))
             try:
                 item = samples.get(timeout=wait)  # short waits keep Ctrl-C responsive
             except queue.Empty:
                 continue
+            quiet.heard(time.monotonic())
             if item.message is not None:
                 received += 1
             yield item
 
 
+def _stamp(payload: bytes) -> int:
+    """The message's ``stamp`` in ns, 0 if it has none or is no message."""
+    try:
+        return getattr(decode_any(payload), "stamp", 0) or 0
+    except DecodeError:
+        return 0
+
+
 def measure_rates(
     connect: str, topics: list[str], window: int, duration: float | None
 ) -> Iterator[list[RateStats] | Silence]:
-    """Every second, the rate statistics of each topic over its last ``window`` messages;
-    ends after ``duration`` s (None: until Ctrl-C).  A topic that stays silent for SILENCE s
-    gets one ``Silence`` saying why (as echo's)."""
+    """Every second, the rate statistics of the topics that had messages since the last
+    report, each over its last SPAN s (at most ``window`` messages; cli.rates); ends after
+    ``duration`` s (None: until Ctrl-C).  A topic silent for SILENCE s, from the start or
+    after messages flowed, gets one ``Silence`` per silence saying why (as echo's).  Raises
+    RouterLost (Unreachable) when the session loses its router."""
     keys = [check_key(t) for t in topics]
-    arrivals = {k: collections.deque(maxlen=window) for k in keys}
-    stamps = {k: collections.deque(maxlen=window) for k in keys}
     inbox: queue.SimpleQueue[tuple[str, float, bytes]] = queue.SimpleQueue()
     with client_session(connect) as session:
         subs = [
@@ -159,32 +190,27 @@ def measure_rates(
             for k in keys
         ]
         started = time.monotonic()
+        rates = Rates(keys, window, started)
+        router = _RouterWatch(session, connect, ", ".join(keys))
         next_report = started + 1.0
-        fresh = False  # messages since the last report
-        silent = True  # the silence check is still to come
-        while duration is None or time.monotonic() - started < duration:
-            try:
-                key, arrived, payload = inbox.get(timeout=0.05)
-                arrivals[key].append(arrived)
-                fresh = True
+        try:
+            while duration is None or time.monotonic() - started < duration:
                 try:
-                    stamps[key].append(getattr(decode_any(payload), "stamp", 0))
-                except DecodeError:
+                    key, arrived, payload = inbox.get(timeout=0.05)
+                    rates.add(key, arrived, _stamp(payload))
+                except queue.Empty:
                     pass
-            except queue.Empty:
-                pass
-            if silent and time.monotonic() - started >= SILENCE:
-                for key in [k for k in keys if not arrivals[k]]:
-                    yield _silence(session, connect, key)
-                silent = False
-            if time.monotonic() >= next_report:
-                next_report += 1.0
-                fresh = False
-                yield [st for k in keys if (st := rate_stats(k, list(arrivals[k]), list(stamps[k]))) is not None]
-        for sub in subs:
-            sub.undeclare()
-        if fresh:
-            yield [st for k in keys if (st := rate_stats(k, list(arrivals[k]), list(stamps[k]))) is not None]
+                now = time.monotonic()
+                router.check(now)
+                for key, flowed in rates.silences(now):
+                    yield _silence(session, connect, key, flowed)
+                if now >= next_report:
+                    next_report += 1.0
+                    yield rates.report(now)
+            yield rates.report(time.monotonic())
+        finally:
+            for sub in subs:
+                sub.undeclare()
 
 
 def publish(connect: str, topic: str, message: Message, rate: float | None, times: int | None) -> int:

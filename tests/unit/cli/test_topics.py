@@ -60,3 +60,18 @@ def test_silence_on_parameter_events_says_they_come_only_when_a_parameter_change
         "nothing published on turtlectl/parameter_events yet: sim publishes it only when a parameter changes "
         "(`turtlectl param set NODE NAME VALUE`)"
     )
+
+
+def test_a_stream_that_stopped_after_flowing_gets_the_same_reasons_without_yet():
+    """Issue 22: the hint came only if nothing ever arrived; a stream that stops says why too."""
+    feedback_pub = EntityInfo(
+        node="navigator", pid=2, role="pub", type_name="NavigateToFeedback", key="navigate_to/feedback"
+    )
+    text = silence_text("navigate_to/feedback", _graph_with(feedback_pub), lambda: "", flowed=True)
+    assert text == (
+        "nothing published on navigate_to/feedback for 3 s: navigator publishes it only while a goal runs "
+        "(start one with `turtlectl goto X Y THETA`)"
+    )
+    gone = silence_text("robot/status", build_graph([], 0), lambda: "", flowed=True)
+    assert gone.startswith("nothing published on robot/status for 3 s: no turtlectl node runs on this router")
+    assert "yet" not in silence_text("nosuch", _graph_with(), lambda: "", flowed=True)
