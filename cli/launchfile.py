@@ -59,6 +59,8 @@ class NodeEntry(msgspec.Struct, forbid_unknown_fields=True, kw_only=True):
     respawn: restart it when it exits, first after respawn_delay s, then twice as long each
     time up to respawn_delay_max s (both 0 to 3600); at most respawn_max times in a row (0: no
     limit).  A run longer than STABLE_RUN s counts as healthy and starts the count again.
+    An exit with code 2 (its configuration cannot be used) or 4 (another process holds what
+    it claims) is never respawned: respawning cannot help (runtime.exitcodes).
     """
 
     name: str
