@@ -60,6 +60,7 @@ from messages.angles import degrees_0_360, heading_degrees, heading_difference_d
 from messages.keys import CLIENT_TOKEN_PREFIX, POSE
 from messages.world import Limits, World
 from nodes.control import (
+    Command,
     Phase,
     Pose2D,
     Tolerances,
@@ -432,15 +433,7 @@ class GoalMachine(Generic[C]):
             if goal.track.s[goal.progress] >= goal.track.final_start - 0.01:
                 goal.track = None  # the final straight run: to the goal itself
         if goal.track is None:
-            cmd = control_step(
-                pose,
-                goal.target,
-                phase=goal.phase,
-                direction=goal.direction or 1,
-                limits=self.limits,
-                gains=self.params.gains,
-                tolerances=self.tolerances,
-            )
+            cmd = self._law(goal, pose)
             goal.phase = cmd.phase
             if cmd.phase is Phase.DONE and at_rest(pose):
                 self._finish(now, True, "")
@@ -473,17 +466,18 @@ class GoalMachine(Generic[C]):
         if goal.phase is not Phase.HEADING:
             return False
         rest = resting_pose(pose, pose.linear_velocity, pose.angular_velocity, self.limits)
-        return (
-            control_step(
-                rest,
-                goal.target,
-                phase=goal.phase,
-                direction=goal.direction or 1,
-                limits=self.limits,
-                gains=self.params.gains,
-                tolerances=self.tolerances,
-            ).phase
-            is Phase.DONE
+        return self._law(goal, rest).phase is Phase.DONE
+
+    def _law(self, goal: Goal[C], pose: Pose | Pose2D) -> Command:
+        """The control law's step from ``pose`` to the goal itself (its final straight run)."""
+        return control_step(
+            pose,
+            goal.target,
+            phase=goal.phase,
+            direction=goal.direction or 1,
+            limits=self.limits,
+            gains=self.params.gains,
+            tolerances=self.tolerances,
         )
 
     def _blocked(self, goal: Goal[C], angular: float, what: str, now: float) -> None:
