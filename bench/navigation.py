@@ -10,7 +10,9 @@ nodes.control.rotate_drive_rotate_time).  Straight-line goals: target mean ratio
 Errors are measured where the turtle comes to rest (the first pose with both speeds zero
 after the response), not in the response alone: a goal is reached when the turtle at rest
 is within the tolerances (1 cm, 0.5 deg by default).  "response vs rest" is how far the
-response's final pose is from that rest pose (0 when the navigator answers at rest).
+response's final pose is from that rest pose (0 when the navigator answers at rest).  "at rest"
+times each goal from the call to the first pose at rest (client clock): the time a turtle
+really takes, whatever the response says.
 
 Set "world" (launch.toml, the default world and its three obstacles): goals, half spread
 over the world and half behind an obstacle as seen from their start (starts and goals
@@ -32,6 +34,7 @@ import queue
 import random
 import statistics
 import sys
+import time
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -51,18 +54,51 @@ FREE = ROOT / "bench" / "navigation.toml"
 WORLD = ROOT / "launch.toml"
 
 
-def at_rest(system, response, goal: tuple[float, float, float]) -> tuple[float, float, float]:
-    """Where the turtle comes to rest after ``response``: (position error m, heading error
-    deg, largest gap between the response's final pose and that rest pose, m or deg)."""
-    pose = system.wait_stopped()
+class Poses:
+    """Every pose with its arrival time (monotonic s), from a subscriber of the bench's own."""
+
+    def __init__(self, system):
+        self.queue: queue.SimpleQueue[tuple[float, Pose]] = queue.SimpleQueue()
+        self.sub = system.session.declare_subscriber(
+            POSE, lambda s: self.queue.put((time.monotonic(), decode(s.payload.to_bytes(), Pose)))
+        )
+
+    def take(self) -> list[tuple[float, Pose]]:
+        out = []
+        while not self.queue.empty():
+            out.append(self.queue.get())
+        return out
+
+
+def drive(system, poses: Poses, goal: tuple[float, float, float], timeout: float):
+    """Run a goal, then wait for the turtle at rest: (response, client seconds, feedback,
+    (position error m, heading error deg, gap between the response's final pose and the rest
+    pose m or deg), seconds from the call to the first pose at rest, the poses seen)."""
+    poses.take()
+    started = time.monotonic()
+    response, elapsed, feedback = system.navigate(*goal, timeout=timeout)
+    system.wait_stopped()
+    seen = poses.take()
+    moving = [k for k, (_, p) in enumerate(seen) if p.linear_velocity != 0.0 or p.angular_velocity != 0.0]
+    rest_at, pose = seen[moving[-1] + 1] if moving and moving[-1] + 1 < len(seen) else seen[-1]
     gx, gy, gt = goal
-    position = math.hypot(pose.x - gx, pose.y - gy)
-    heading = abs((math.degrees(pose.theta) - gt + 180.0) % 360.0 - 180.0)
-    gap = max(
-        math.hypot(pose.x - response.x, pose.y - response.y),
-        abs((math.degrees(pose.theta) - response.theta + 180.0) % 360.0 - 180.0),
+    errors = (
+        math.hypot(pose.x - gx, pose.y - gy),
+        abs((math.degrees(pose.theta) - gt + 180.0) % 360.0 - 180.0),
+        max(
+            math.hypot(pose.x - response.x, pose.y - response.y),
+            abs((math.degrees(pose.theta) - response.theta + 180.0) % 360.0 - 180.0),
+        ),
     )
-    return position, heading, gap
+    return response, elapsed, feedback, errors, max(rest_at - started, elapsed), [p for _, p in seen]
+
+
+def rest_line(to_rest: list[float], baselines: list[float]) -> str:
+    ratios = [t / b for t, b in zip(to_rest, baselines, strict=True) if b > 0]
+    return (
+        f"at rest (call to the first pose at rest, client clock): mean time {statistics.mean(to_rest):.3f} s, "
+        f"mean ratio {statistics.mean(ratios):.3f}, p95 ratio {pct(ratios, 95):.3f}"
+    )
 
 
 def pct(values: list[float], q: float) -> float:
@@ -81,14 +117,17 @@ def free_set(goals: int, seed: int) -> None:
         )
         for _ in range(goals)
     ]
-    rows, rest = [], []
+    rows, rest, to_rest = [], [], []
     with running_system(FREE, NODES) as system:
+        poses = Poses(system)
         for start, goal in cases:
             system.teleport(*start)
-            response, elapsed, _ = system.navigate(*goal, timeout=30.0)
+            response, elapsed, _, errors, resting, _ = drive(system, poses, goal, 30.0)
             baseline = rotate_drive_rotate_time(Pose2D(*start), Pose2D(goal[0], goal[1], math.radians(goal[2])), limits)
             rows.append((response, elapsed, baseline))
-            rest.append(at_rest(system, response, goal))
+            rest.append(errors)
+            to_rest.append(resting)
+        poses.sub.undeclare()
 
     ok = [r for r, _, _ in rows if r.success]
     times = [r.time_taken for r, _, _ in rows]
@@ -114,6 +153,7 @@ def free_set(goals: int, seed: int) -> None:
         f"max heading error {max(r.heading_error for r, _, _ in rows):.2f} deg; "
         f"response vs rest: max {max(g for _, _, g in rest):.4f} (m or deg)"
     )
+    print(rest_line(to_rest, [b for _, _, b in rows]))
     client_gap = [e - r.time_taken for r, e, _ in rows]
     print(f"client time - time_taken: p50 {pct(client_gap, 50) * 1000:.2f} ms, max {max(client_gap) * 1000:.2f} ms")
 
@@ -148,20 +188,15 @@ def world_set(goals: int, seed: int) -> None:
     for k in range(goals):  # half spread over the world, half behind an obstacle
         start, goal = (free_point(), free_point()) if k % 2 == 0 else behind()
         cases.append(((*start, rng.uniform(-math.pi, math.pi)), (*goal, rng.uniform(0.0, 360.0))))
-    rows, rest = [], []
+    rows, rest, to_rest = [], [], []
     replans: list[int] = []  # per goal: how many times its path was planned again
     with running_system(WORLD, NODES) as system:
-        poses: queue.SimpleQueue[Pose] = queue.SimpleQueue()
-        sub = system.session.declare_subscriber(POSE, lambda s: poses.put(decode(s.payload.to_bytes(), Pose)))
+        poses = Poses(system)
         for start, goal in cases:
             system.teleport(*start)
-            while not poses.empty():
-                poses.get()
-            response, elapsed, feedback = system.navigate(*goal, timeout=40.0)
-            rest.append(at_rest(system, response, goal))
-            seen = []
-            while not poses.empty():
-                seen.append(poses.get())
+            response, elapsed, feedback, errors, resting, seen = drive(system, poses, goal, 40.0)
+            rest.append(errors)
+            to_rest.append(resting)
             nearest = min(
                 (math.hypot(p.x - o.x, p.y - o.y) - o.radius for p in seen for o in world.obstacles), default=math.inf
             )
@@ -169,7 +204,7 @@ def world_set(goals: int, seed: int) -> None:
             baseline = path_time(start[2], path, math.radians(goal[2]), limits) if path is not None else math.nan
             rows.append((response, baseline, nearest, path))
             replans.append(max((f.replans for f in feedback), default=0))
-        sub.undeclare()
+        poses.sub.undeclare()
 
     ok = [r for r, _, _, _ in rows if r.success]
     times = [r.time_taken for r, _, _, _ in rows if r.success]
@@ -197,6 +232,11 @@ def world_set(goals: int, seed: int) -> None:
         f"in the responses: max position error {max(r.position_error for r in ok) * 1000:.1f} mm, "
         f"max heading error {max(r.heading_error for r in ok):.2f} deg; "
         f"response vs rest: max {max(g for _, _, g in rest):.4f} (m or deg)"
+    )
+    print(
+        rest_line(
+            [t for t, (r, *_) in zip(to_rest, rows, strict=True) if r.success], [b for r, b, _, _ in rows if r.success]
+        )
     )
     round_ratios = [r.time_taken / b for r, b, _, p in rows if r.success and p is not None and not p.direct]
     if round_ratios:

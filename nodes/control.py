@@ -138,16 +138,19 @@ def choose_direction(pose: Planar, goal: Planar, limits: Limits) -> int:
     return 1 if turning(bearing) <= turning(bearing + math.pi) else -1
 
 
-def resting_pose(pose: Planar, linear: float, angular: float, limits: Limits, dt: float = STEP) -> Pose2D:
+def resting_pose(
+    pose: Planar, linear: float, angular: float, limits: Limits, *, lag: int = 0, dt: float = STEP
+) -> Pose2D:
     """Where a turtle at ``pose`` moving at (``linear`` m/s, ``angular`` rad/s) comes to rest
-    if told to stop now (m, m, rad): the simulator's next step still follows the command
-    before (the stop is on its way), then it brakes at the acceleration limits, ``dt`` s a
-    step: each speed covers v dt, then (v - a dt) dt, (v - 2 a dt) dt, ... until it is still."""
+    if told to stop now (m, m, rad), as the simulator moves it in steps of ``dt`` s: ``lag``
+    more steps at the speeds it has (0: the stop reaches the simulator before its next step,
+    as it does while the navigator answers each pose in time), then braking at the
+    acceleration limits, each speed covering (v - a dt) dt, (v - 2 a dt) dt, ... till still."""
 
     def travel(v: float, a: float) -> float:
         speed, drop = abs(v), a * dt
-        n = math.floor(speed / drop)  # braking steps before the one that stops it
-        return math.copysign(speed * dt + n * speed * dt - drop * dt * n * (n + 1) / 2.0, v)
+        n = math.floor(speed / drop)  # braking steps that still move it
+        return math.copysign(lag * speed * dt + n * speed * dt - drop * dt * n * (n + 1) / 2.0, v)
 
     theta = wrap_angle(pose.theta + travel(angular, limits.max_angular_accel))
     d = travel(linear, limits.max_linear_accel)

@@ -56,7 +56,7 @@ from messages import (
     TurtleStatus,
     Twist,
 )
-from messages.angles import degrees_0_360, heading_degrees, heading_difference_degrees, heading_radians
+from messages.angles import degrees_0_360, heading_degrees, heading_difference_degrees, heading_radians, wrap_radians
 from messages.keys import CLIENT_TOKEN_PREFIX, POSE
 from messages.world import Limits, World
 from nodes.control import (
@@ -435,7 +435,7 @@ class GoalMachine(Generic[C]):
         if goal.track is None:
             cmd = self._law(goal, pose)
             goal.phase = cmd.phase
-            if cmd.phase is Phase.DONE and at_rest(pose):
+            if at_rest(pose) and (cmd.phase is Phase.DONE or self._within_tolerances(goal, pose)):
                 self._finish(now, True, "")
                 return
             if cmd.phase is Phase.DONE or self._stops_inside(goal, pose):
@@ -459,6 +459,16 @@ class GoalMachine(Generic[C]):
             self._note(logging.INFO, "way clear: resuming")
         goal.state = GoalState.DRIVING if linear != 0.0 else GoalState.TURNING
         self._out.append(Twist(linear=linear, angular=cmd.angular))
+
+    def _within_tolerances(self, goal: Goal[C], pose: Pose) -> bool:
+        """Whether ``pose`` is within the caller's tolerances of the goal (the law aims at half
+        of each: a turtle at rest between the two has arrived all the same)."""
+        target = goal.target
+        return (
+            goal.phase is Phase.HEADING
+            and math.hypot(target.x - pose.x, target.y - pose.y) <= self.tolerances.position
+            and abs(wrap_radians(target.theta - pose.theta)) <= self.tolerances.heading
+        )
 
     def _stops_inside(self, goal: Goal[C], pose: Pose) -> bool:
         """Whether the turtle, told to stop now, comes to rest where the law is done: so that

@@ -226,6 +226,16 @@ def test_a_turtle_that_comes_to_rest_outside_the_tolerance_turns_back():
     assert twists(actions)[-1].angular < 0.0  # back towards it
 
 
+def test_a_turtle_at_rest_between_the_aim_and_the_tolerance_has_arrived():
+    """The law aims at half the tolerances; a turtle that comes to rest 0.4 deg off (of 0.5)
+    is within what the caller asked: reached, not turned again."""
+    m = machine()
+    running(m, now=0.0)
+    m.pose(Pose(x=8.0, y=5.0, theta=-0.001, angular_velocity=2.0), 1.0)
+    reply = only_reply(m.pose(Pose(x=8.0, y=5.0, theta=math.radians(0.4)), 1.05))
+    assert reply.response.success and reply.response.heading_error == pytest.approx(0.4)
+
+
 def test_a_turtle_drifting_at_the_goal_position_is_not_reached_until_it_rests():
     m = machine()
     running(m, now=0.0)
