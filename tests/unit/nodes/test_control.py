@@ -149,11 +149,13 @@ def test_remaining_time_is_zero_at_the_goal():
     assert remaining_time(Pose2D(1, 1, 0.0), Pose2D(5, 1, 0.0), 1, LIMITS) == pytest.approx(trapezoid_time(4, 4, 10))
 
 
+@pytest.mark.parametrize("lag", [0, 1])
 @pytest.mark.parametrize(("v", "w"), [(0.0, 6.0), (0.0, -1.5), (0.0, 0.2), (0.3, 0.0), (-2.0, 3.0), (4.0, -6.2)])
-def test_resting_pose_is_where_the_simulator_brakes_to_after_one_step_of_the_old_command(v, w):
+def test_resting_pose_is_where_the_simulator_brakes_to_after_lag_steps_of_the_old_command(v, w, lag):
     s = TurtleState(x=5.0, y=5.0, theta=3.0, v=v, w=w)
-    rest = resting_pose(s, v, w, LIMITS)
-    s = step(s, *accelerate(s, v, w, STEP, LIMITS), STEP, 100.0)  # the stop is still on its way
+    rest = resting_pose(s, v, w, LIMITS, lag=lag)
+    for _ in range(lag):  # the stop is still on its way
+        s = step(s, *accelerate(s, v, w, STEP, LIMITS), STEP, 100.0)
     while s.v != 0.0 or s.w != 0.0:
         s = step(s, *accelerate(s, 0.0, 0.0, STEP, LIMITS), STEP, 100.0)
     assert abs(wrap_angle(rest.theta - s.theta)) <= 1e-9
