@@ -127,6 +127,7 @@ class Goal(Generic[C]):
         self.progress = 0  # index of the turtle's place on the track
         self.off_path = 0.0  # m from the track, at the last step
         self.replans = 0
+        self.stopping = True  # the last command given for it was a stop (none yet: taken as one)
 
 
 #: the detail of a goal canceled with a reason of its own
@@ -411,7 +412,7 @@ class GoalMachine(Generic[C]):
             # unless scans have stopped (then only the declared obstacles remain: the way may open)
             self._replan(goal, now, "")
         if goal.path is None:  # no way round what the scan sees: wait
-            self._out.append(Twist())
+            self._command(goal, Twist())
             target = goal.target
             gap, near = self.costmap.nearest(target.x, target.y) if self.scans_fresh(now) else (math.inf, None)
             why = (
@@ -435,14 +436,15 @@ class GoalMachine(Generic[C]):
         if goal.track is None:
             cmd = self._law(goal, pose)
             goal.phase = cmd.phase
-            if at_rest(pose) and (cmd.phase is Phase.DONE or self._within_tolerances(goal, pose)):
+            if goal.stopping and at_rest(pose) and (cmd.phase is Phase.DONE or self._within_tolerances(goal, pose)):
+                # at rest, and no command but a stop on its way to the simulator: it stays here
                 self._finish(now, True, "")
                 return
             if cmd.phase is Phase.DONE or self._stops_inside(goal, pose):
                 # within the tolerances, or would come to rest within them if stopped now: it is
                 # where it rests that counts, so stop, and answer from the pose at rest
                 goal.state = GoalState.TURNING
-                self._out.append(Twist())
+                self._command(goal, Twist())
                 return
             to_go = math.hypot(goal.target.x - pose.x, goal.target.y - pose.y)
         else:
@@ -458,7 +460,12 @@ class GoalMachine(Generic[C]):
             goal.blocked_since = None
             self._note(logging.INFO, "way clear: resuming")
         goal.state = GoalState.DRIVING if linear != 0.0 else GoalState.TURNING
-        self._out.append(Twist(linear=linear, angular=cmd.angular))
+        self._command(goal, Twist(linear=linear, angular=cmd.angular))
+
+    def _command(self, goal: Goal[C], twist: Twist) -> None:
+        """Send ``twist`` for ``goal``, remembering whether it was a stop."""
+        goal.stopping = twist.linear == 0.0 and twist.angular == 0.0
+        self._out.append(twist)
 
     def _within_tolerances(self, goal: Goal[C], pose: Pose) -> bool:
         """Whether ``pose`` is within the caller's tolerances of the goal (the law aims at half
@@ -499,10 +506,10 @@ class GoalMachine(Generic[C]):
             self._note(logging.INFO, f"{what} within {p.safety_distance:.2f} m in the direction of travel: stopped")
             self._replan(goal, now, f"{what} is in the way")
         if goal.path is None:  # no way: _replan said so, and waits
-            self._out.append(Twist())
+            self._command(goal, Twist())
         else:
             goal.state = GoalState.BLOCKED
-            self._out.append(Twist(linear=0.0, angular=angular))
+            self._command(goal, Twist(linear=0.0, angular=angular))
         self._check_blocked_timeout(
             goal, now, f"{what} stayed within the safety distance ({p.safety_distance:g} m) ahead"
         )

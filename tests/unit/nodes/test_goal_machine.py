@@ -192,7 +192,8 @@ def test_the_goal_heading_is_reduced_in_degrees():
 def test_a_goal_reached_stops_the_turtle_then_answers():
     m = machine()
     running(m, now=10.0)
-    actions = m.pose(pose(x=8.0), 11.25)
+    assert m.pose(pose(x=8.0), 11.2) == [Twist()]  # there: stopped (the last command drove it)
+    actions = m.pose(pose(x=8.0), 11.25)  # and still there, with nothing but the stop on its way
     assert actions[0] == Twist()  # the stop comes before the answer
     reply = only_reply(actions)
     assert reply.to == "caller" and reply.response.success and reply.response.reason == ""
@@ -244,14 +245,16 @@ def test_a_turtle_drifting_at_the_goal_position_is_not_reached_until_it_rests():
 
 
 def test_a_turtle_that_would_rest_inside_the_tolerances_is_stopped_without_creeping_on():
-    """0.4 deg short of the heading, turning towards it at 0.25 rad/s: stopped now, it rests
-    0.17 deg short (inside the 0.25 deg the law aims at), so it is stopped, not slowed on."""
+    """2 deg short of the heading, turning towards it at 2 rad/s: stopped now, it brakes
+    1.98 deg in three steps and rests inside the 0.25 deg the law aims at, so it is stopped
+    (the law would turn on at 1.4 rad/s)."""
     m = machine()
     running(m, now=0.0)
-    actions = m.pose(Pose(x=8.0, y=5.0, theta=-math.radians(0.4), angular_velocity=0.25), 1.0)
+    actions = m.pose(Pose(x=8.0, y=5.0, theta=-math.radians(2.0), angular_velocity=2.0), 1.0)
     assert replies(actions) == [] and twists(actions) == [Twist()]
-    reply = only_reply(m.pose(Pose(x=8.0, y=5.0, theta=-math.radians(0.4) + 0.25 * STEP), 1.03))
-    assert reply.response.success and reply.response.heading_error == pytest.approx(0.171, abs=1e-3)
+    rest = -math.radians(2.0) + (1.36 + 0.72 + 0.08) * STEP  # 2 rad/s less 0.64 rad/s a step
+    reply = only_reply(m.pose(Pose(x=8.0, y=5.0, theta=rest), 1.05))
+    assert reply.response.success and reply.response.heading_error == pytest.approx(0.02, abs=0.005)
 
 
 def test_closed_loop_with_a_late_command_rests_within_the_tolerances_where_it_said():
@@ -649,6 +652,7 @@ def test_log_levels_say_success_and_trouble():
     ack, actions = m.cancel("", 1.0)
     assert [a.level for a in actions if isinstance(a, Note)] == [logging.WARNING]
     running(m)
+    m.pose(pose(x=8.0), 1.9)  # there: stopped
     assert [a.level for a in m.pose(pose(x=8.0), 2.0) if isinstance(a, Note)] == [logging.INFO]
 
 
