@@ -12,7 +12,9 @@ every rule is tested with fake children and a fake clock (tests/unit/cli/supervi
 * A child that exits for good (no respawn, or respawns used up) is given up on; if it is
   required the system stops, exit code FAILED.  So does a system whose every node has exited.
 * Readiness comes from outside (``announce``, from any thread): a child is ready once this
-  very process (its pid) has announced itself.
+  very process (its pid) has announced itself.  An announcement under a node's name from
+  any other pid (another system's node joined through --connect, an earlier start) counts
+  for nothing: not towards "ready", nor against it when it goes away.
 * Shutdown escalates SIGINT -> SIGTERM -> SIGKILL with the launch file's waits, each child
   getting each signal once.  A child that has not announced itself yet is still importing
   and gets SIGTERM first: a SIGINT there raises KeyboardInterrupt inside an import (a
@@ -188,15 +190,19 @@ class Supervision:
             except queue.Empty:
                 return
             child = self.children.get(name)
-            if alive and child is not None and child.pid != pid and child.running():
-                self.printer.system(
-                    f"warning: another process (pid {pid}) also calls itself {name}; `turtlectl list` shows both"
-                )
+            if child is None or child.pid != pid:
+                # not the process started here (another system's node of that name, or an
+                # earlier start of this one): it makes nothing ready and unreadies nothing
+                if alive and child is not None and child.running():
+                    self.printer.system(
+                        f"warning: another process (pid {pid}) also calls itself {name}; `turtlectl list` shows both"
+                    )
+                continue
             if alive:
                 self._alive[name] = pid
-            elif self._alive.get(name) == pid:
-                del self._alive[name]
-            if not self._ready_reported and set(self.entries) <= set(self._alive):
+            else:
+                self._alive.pop(name, None)
+            if not self._ready_reported and all(self.ready(n) for n in self.entries):
                 self._ready_reported = True
                 elapsed = self.clock() - self._t0
                 count = len(self.entries)

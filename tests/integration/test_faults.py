@@ -341,3 +341,4 @@ def test_a_second_navigator_that_finds_navigate_to_served_is_not_respawned(syste
         "not respawning: respawning cannot help"
     ) in out
     assert "already serves navigate_to" in out
+    assert "ready in" not in out, out  # the running system's navigator is not the one started here

@@ -415,3 +415,32 @@ def test_crashes_and_lost_sessions_are_still_respawned(code):
     assert system.run() == ExitCode.OK
     assert len(sim.starts) == 2
     assert not any("respawning cannot help" in line for line in system.lines())
+
+
+# -- readiness counts only this supervisor's processes (issue 22 review, A) -------------
+def test_another_process_calling_itself_by_a_node_s_name_does_not_make_that_node_ready():
+    """A second launch joining a running system: its navigator conflicts with the running one
+    (exit 4) and never announces itself; the other system's navigator token (another pid,
+    seen at once through the token history) made it "1 node ready"."""
+    system = System(node("navigator", respawn=True))
+    navigator = system.process("navigator", runs=(0.6,), code=4, ready_after=None)
+    other = 4242
+    system.supervision.announce(True, "navigator", other)  # the running system's, before ours starts
+    system.clock.at(0.3, lambda: system.supervision.announce(True, "navigator", other))
+    system.run()
+    assert len(navigator.starts) == 1
+    assert not any("ready in" in line for line in system.lines())
+    assert not system.supervision.ready("navigator")
+    assert any(f"another process (pid {other}) also calls itself navigator" in line for line in system.lines())
+
+
+def test_another_process_going_away_does_not_unready_this_supervisor_s_node():
+    system = System(node("sim"))
+    sim = system.process("sim", ready_after=0.2)
+    system.clock.at(0.5, lambda: system.supervision.announce(True, "sim", 4242))
+    system.clock.at(0.7, lambda: system.supervision.announce(False, "sim", 4242))
+    seen: list[bool] = []
+    system.clock.at(1.0, lambda: seen.append(system.supervision.ready("sim")))
+    system.stop_at(1.5)
+    system.run()
+    assert seen == [True] and sim.signals() == [INT]  # still ready: SIGINT, not SIGTERM
