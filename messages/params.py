@@ -41,22 +41,22 @@ def fixed_reason(params_type: type, name: str) -> str | None:
 
 
 def range_text(t: msgspec.inspect.Type) -> str:
-    """The values a constrained type takes: ``0.1 to 100``, ``> 0``, ``at most 100 items``."""
-    low = getattr(t, "ge", None), getattr(t, "gt", None)
-    high = getattr(t, "le", None), getattr(t, "lt", None)
+    """The values a constrained type takes: ``0.1 to 100`` (both ends allowed), ``> 0``,
+    ``> 0 and <= 50`` (an end not allowed is written as such), ``at most 100 items``."""
     big = 1e9  # the stand-in for "finite" (messages.units)
-    lo = next((f"{v:g}" for v in low if v is not None and v > -big), None)
-    hi = next((f"{v:g}" for v in high if v is not None and v < big), None)
+    bounds = [(op, getattr(t, key, None)) for key, op in (("ge", ">="), ("gt", ">"), ("le", "<="), ("lt", "<"))]
+    lo = next((f"{op} {v:g}" for op, v in bounds[:2] if v is not None and v > -big), None)
+    hi = next((f"{op} {v:g}" for op, v in bounds[2:] if v is not None and v < big), None)
     if lo is not None and hi is not None:
-        return f"{lo} to {hi}"
-    if lo is not None:
-        return f"> {lo}" if low[1] is not None else f">= {lo}"
-    if hi is not None:
-        return f"< {hi}" if high[1] is not None else f"<= {hi}"
+        if lo.startswith(">=") and hi.startswith("<="):
+            return f"{lo[3:]} to {hi[3:]}"
+        return f"{lo} and {hi}"
+    if lo is not None or hi is not None:
+        return lo or hi or ""
     if isinstance(t, msgspec.inspect.ListType) and t.max_length is not None:
         return f"at most {t.max_length} items"
     if isinstance(t, msgspec.inspect.FloatType):
-        return "any finite number" if low[0] is not None else "any number"
+        return "any finite number" if bounds[0][1] is not None else "any number"
     return "any"
 
 
@@ -66,7 +66,7 @@ class ParamInfo(msgspec.Struct, kw_only=True):
     name: str  # dotted into tables (gains.lookahead)
     type: str  # float, int, bool, str, list[...], map, any
     unit: str  # "-" when it has none
-    range: str  # the values it takes: "0.1 to 100", "> 0", "any"
+    range: str  # the values it takes: "0.1 to 100", "> 0", "> 0 and <= 50", "any"
     default: str  # its default, as text ("required" if it has none)
     meaning: str  # what it does (from the field's comment; "" if it has none)
     run_time: bool  # can change while the node runs (`turtlectl param set`)

@@ -2,6 +2,10 @@
 
 from __future__ import annotations
 
+from typing import Annotated
+
+import msgspec
+
 from messages.params import param_infos
 from nodes.kinds import KINDS
 
@@ -27,3 +31,25 @@ def test_describe_reads_constraints_defaults_and_what_is_fixed():
     assert not sim["x"].run_time and "teleport" in sim["x"].fixed_because and sim["cmd_timeout"].run_time
     detector = {i.name: i for i in param_infos(KINDS["obstacle_detector"].params)}
     assert detector["undeclared_obstacles"].range == "at most 100 items" and detector["beams"].type == "int"
+
+
+def test_an_exclusive_bound_reads_as_exclusive_beside_the_other_one():
+    """A user node's ``Annotated[float, Meta(gt=0, le=50)]`` read "0 to 50", as if 0 were allowed."""
+    ranges = {info.name: info.range for info in param_infos(_Bounded)}
+    assert ranges == {
+        "rate": "> 0 and <= 50",
+        "share": ">= 0 and < 1",
+        "gap": "> -1 and < 1",
+        "span": "0.1 to 100",
+        "floor": "> 0",
+        "ceiling": "< 5",
+    }
+
+
+class _Bounded(msgspec.Struct):
+    rate: Annotated[float, msgspec.Meta(gt=0, le=50)] = 10.0
+    share: Annotated[float, msgspec.Meta(ge=0, lt=1)] = 0.5
+    gap: Annotated[float, msgspec.Meta(gt=-1, lt=1)] = 0.0
+    span: Annotated[float, msgspec.Meta(ge=0.1, le=100)] = 1.0
+    floor: Annotated[float, msgspec.Meta(gt=0)] = 1.0
+    ceiling: Annotated[int, msgspec.Meta(lt=5)] = 1
