@@ -15,7 +15,7 @@ from typing import Any
 import msgspec
 
 from cli.errors import BadInput, Failed
-from cli.services import NobodyServes, Raw, call_service, replies, service_session, world
+from cli.services import NobodyServes, Raw, Rejected, call_service, replies, service_session, world
 from messages import Ack, SetParameter
 from messages.keys import NodeDetails, node_key, param_describe_key, param_set_key, params_key
 from messages.params import ParamDescription, ParamInfo
@@ -192,13 +192,34 @@ def describe_text(node: str, info: ParamInfo, now: Any) -> str:
     )
 
 
+def _check_value(node: str, kind: str, now: dict[str, Any], name: str, text: str) -> None:
+    """The value itself (its type and range), checked here as the node would check it
+    (runtime.params), so that a built-in node's refusal reads as a user node's does:
+    ``navigator: goal_timeout must be >= 0.1 (got -1)``."""
+    from cli.launchfile import parse_assignment
+    from nodes.kinds import KINDS
+    from runtime.params import ParamRefused, with_value
+
+    value = parse_assignment(f"{node}.{name}={text}", "param set", "param set NODE NAME VALUE").value
+    try:
+        params = msgspec.convert(now, KINDS[kind].params, strict=True)
+    except msgspec.ValidationError:
+        return  # what it runs with does not read back: the launch file's checks will say why
+    try:
+        with_value(params, name, value)
+    except ParamRefused as exc:
+        raise BadInput(f"{node}: {exc}") from None
+
+
 def set_value(connect: str, node: str, name: str, text: str, timeout: float = TIMEOUT) -> str:
     """Set ``node``'s parameter ``name`` to ``text`` (a TOML value, else the text), checked
     against what the node describes (unknown names, tables, what cannot change at run time,
     refused with the reason); a node of a kind a launch file runs is validated first as
     ``launch --set`` validates a launch file (same errors, exit 2), against what runs now (a
-    detector's new rate is checked against the navigator's scan_timeout).  The node validates
-    the value itself (its type and range; exit 2).  Returns the node's answer."""
+    detector's new rate is checked against the navigator's scan_timeout), its value itself
+    first as the node checks it.  The node validates the value itself (its type and range;
+    exit 2): its refusal is its one line (``mine: rate must be <= 50 (got 60)``), the same
+    wording as a built-in kind's.  Returns the node's answer."""
     from cli.launchfile import launches, parse_assignment, running_change, suggestion
 
     described = description(connect, node)
@@ -206,8 +227,11 @@ def set_value(connect: str, node: str, name: str, text: str, timeout: float = TI
     entries = _entries(described, name)
     if entries:
         raise BadInput(f"param set {node}.{name}: is a table: set one of its entries ({', '.join(entries)})")
+    info = infos.get(name)
     if launches(described.kind):
         system = running(connect)
+        if info is not None and info.run_time and node in system.params:
+            _check_value(node, described.kind, system.params[node], name, text)
         nodes = {n: (d.kind, system.params[n]) for n, d in system.details.items() if n in system.params}
         new = running_change(nodes, system.world, node, name, text, "param set")
     elif name not in infos:
@@ -215,11 +239,13 @@ def set_value(connect: str, node: str, name: str, text: str, timeout: float = TI
         raise BadInput(f"param set {node}.{name}: unknown key{suggestion(name, known)} (it has: {', '.join(known)})")
     else:
         new = parse_assignment(f"{node}.{name}={text}", "param set", "param set NODE NAME VALUE").value
-    info = infos.get(name)
     if info is not None and not info.run_time:
         raise BadInput(f"param set {node}.{name}: cannot change while {node} runs: {info.fixed_because}")
     request = SetParameter(name=name, value=new)
-    answers = list(call_service(connect, param_set_key(node), request, timeout))
+    try:
+        answers = list(call_service(connect, param_set_key(node), request, timeout))
+    except Rejected as exc:  # the node's own check (runtime.params): its one line, as _check_value's
+        raise BadInput(exc.reason) from None
     acks = [a for a in answers if isinstance(a, Ack)]
     if not acks:
         raise Failed(f"{node} did not confirm the change")

@@ -159,6 +159,14 @@ def replies(
         raise NobodyServes(f"nothing serves {key} (is the node running?)")
 
 
+class Rejected(BadInput):
+    """The service refused the request (its ErrorReply); ``reason``: its own words."""
+
+    def __init__(self, key: str, reason: str):
+        super().__init__(f"{key} rejected the request: {reason}")
+        self.reason = reason
+
+
 def _read_reply(reply: zenoh.Reply, key: str, timeout: float) -> Message | Raw:
     if reply.ok is not None:
         sample = reply.ok
@@ -172,7 +180,7 @@ def _read_reply(reply: zenoh.Reply, key: str, timeout: float) -> Message | Raw:
     err = reply.err
     payload = err.payload.to_bytes() if err is not None else b""
     if err is not None and type_from_encoding(str(err.encoding)) is ErrorReply:
-        raise BadInput(f"{key} rejected the request: {decode(payload, ErrorReply).error}")
+        raise Rejected(key, decode(payload, ErrorReply).error)
     # not the service's word but Zenoh's: the query timed out or the route broke
     if payload == b"Timeout":
         raise NoAnswer(f"{key} did not answer within {timeout:g} s")

@@ -8,6 +8,7 @@ serves about its parameters, read from its Struct, whatever its kind."""
 
 from __future__ import annotations
 
+import re
 from typing import Any
 
 import msgspec
@@ -51,8 +52,40 @@ def with_value(params: msgspec.Struct, name: str, value: Any) -> tuple[msgspec.S
     try:
         new = msgspec.convert(table, type(params), strict=True)
     except msgspec.ValidationError as exc:
-        raise ParamRefused(f"{name}: {exc}") from None
+        raise ParamRefused(refusal(name, value, str(exc))) from None
     return new, old
+
+
+_AT = re.compile(r"^(?P<what>.*?)(?: - at `\$\.?(?P<path>[^`]*)`)?$", re.S)
+_BOUND = re.compile(r"^Expected `\w+` (?P<op>[<>]=?) (?P<bound>\S+)$")
+_TYPE = re.compile(r"^Expected `(?P<type>[^`]+)`, got `[^`]+`$")
+_LENGTH = re.compile(r"^Expected `(?P<type>\w+)` of length (?P<op>[<>]=?) (?P<count>\d+)$")
+_KINDS = {"float": "a number", "int": "a whole number", "str": "text", "bool": "true or false"}
+_KINDS |= {"array": "a list", "object": "a table", "null": "null"}
+BIG = 1e9  # the stand-in for "finite" (messages.units)
+
+
+def refusal(name: str, value: Any, error: str) -> str:
+    """msgspec's ``error`` for parameter ``name`` set to ``value``, as one line a user reads,
+    the same for every node kind: ``rate must be <= 50 (got 60)``, ``count must be a whole
+    number (got 1.5)``; a problem inside the value (an item of a list) is named by its place,
+    ``points[1].x must be a number``; anything else keeps msgspec's own words."""
+    match = _AT.match(error)
+    what, path = (match["what"], match["path"] or "") if match else (error, "")
+    where = path if path.startswith(name) else name
+    got = f" (got {msgspec.json.encode(value).decode()})" if where == name else ""
+    if bound := _BOUND.match(what):
+        limit = float(bound["bound"])
+        if abs(limit) >= BIG:
+            return f"{where} must be a finite number{got}"
+        return f"{where} must be {bound['op']} {limit:g}{got}"
+    if length := _LENGTH.match(what):
+        most = "at most" if length["op"].startswith("<") else "at least"
+        items = "characters" if length["type"] == "str" else "items"
+        return f"{where} must have {most} {length['count']} {items}{got}"
+    if kind := _TYPE.match(what):
+        return f"{where} must be {_KINDS.get(kind['type'], kind['type'])}{got}"
+    return f"{where}: {what}"
 
 
 def describe(node: str, kind: str, params: msgspec.Struct, infos: list[ParamInfo] | None = None) -> ParamDescription:

@@ -86,7 +86,7 @@ def test_param_set_refuses_as_the_launch_file_does_and_names_what_cannot_change(
     same = "navigator.goal_timeot: unknown key; did you mean goal_timeout?"
     assert same in typo.stderr and same in launch.stderr, (typo.stderr, launch.stderr)
     low = system.run_cli("param", "set", "navigator", "goal_timeout", "-5")
-    assert low.returncode == ExitCode.BAD_INPUT and "navigator.goal_timeout: Expected `float` >= 0.1" in low.stderr
+    assert low.returncode == ExitCode.BAD_INPUT and "navigator: goal_timeout must be >= 0.1 (got -5)" in low.stderr
     slow_scan = system.run_cli("param", "set", "obstacle_detector", "rate", "0.5")
     assert slow_scan.returncode == ExitCode.BAD_INPUT and "is not longer than the scan period" in slow_scan.stderr
     spawn = system.run_cli("param", "set", "sim", "x", "3")

@@ -3,11 +3,15 @@
 from __future__ import annotations
 
 import tomllib
+from typing import Annotated, Any
 
+import msgspec
 import pytest
 
-from cli.errors import BadInput
+from cli.errors import BadInput, ExitCode, exit_code
 from cli.params import dump, names, value
+from messages.keys import NodeDetails
+from messages.world import World
 
 PARAMS = {
     "goal_timeout": 30.0,
@@ -69,3 +73,56 @@ def test_no_node_says_where_systems_run_when_none_runs_here(monkeypatch):
         "a system runs outside any domain on this router: run the command without --domain lab2"
     )
     assert no_node("x", ["sim"], "ignored").message == "no node named 'x' answers in domain lab2 (running: sim)"
+
+
+# -- a value refused reads the same for every node kind (issue 22 review, C) -----------
+def _described(node: str, kind: str, params: Any):
+    from runtime.params import describe
+
+    return describe(node, kind, params)
+
+
+def test_a_user_node_s_refusal_is_its_one_line_reason_exit_2(monkeypatch):
+    """It read "turtlectl/params/mine/set rejected the request: mine: rate: Expected `float`
+    <= 50.0 - at `$.rate`"."""
+    from cli import params, services
+    from runtime.params import ParamRefused, with_value
+
+    mine = _Mine()
+    monkeypatch.setattr(params, "description", lambda connect, node: _described(node, "mine", mine))
+
+    def node_answers(connect, key, request, timeout):  # as the node's runtime refuses
+        try:
+            with_value(mine, request.name, request.value)
+        except ParamRefused as exc:
+            raise services.Rejected(key, f"mine: {exc}") from None
+        raise AssertionError("accepted")
+
+    monkeypatch.setattr(params, "call_service", node_answers)
+    with pytest.raises(BadInput) as refused:
+        params.set_value("tcp/127.0.0.1:1", "mine", "rate", "60")
+    assert refused.value.message == "mine: rate must be <= 50 (got 60)"
+    assert exit_code(refused.value) == ExitCode.BAD_INPUT
+
+
+def test_a_built_in_node_s_refusal_has_the_same_wording(monkeypatch):
+    from cli import params
+    from nodes.params import NavigatorParams
+
+    monkeypatch.setattr(params, "description", lambda connect, node: _described(node, "navigator", NavigatorParams()))
+    running = params.Running(
+        details={"navigator": NodeDetails(name="navigator", pid=1, kind="navigator")},
+        params={"navigator": msgspec.to_builtins(NavigatorParams())},
+        world=World(),
+    )
+    monkeypatch.setattr(params, "running", lambda connect: running)
+    monkeypatch.setattr(params, "call_service", lambda *a: pytest.fail("sent a value the node refuses"))
+    with pytest.raises(BadInput) as refused:
+        params.set_value("tcp/127.0.0.1:1", "navigator", "goal_timeout", "-1")
+    assert refused.value.message == "navigator: goal_timeout must be >= 0.1 (got -1)"
+
+
+class _Mine(msgspec.Struct):
+    """A user's own node kind's parameters."""
+
+    rate: Annotated[float, msgspec.Meta(gt=0, le=50)] = 10.0

@@ -2,6 +2,9 @@
 
 from __future__ import annotations
 
+from typing import Annotated
+
+import msgspec
 import pytest
 
 from nodes.params import NavigatorParams, ObstacleDetectorParams, StatusMonitorParams
@@ -21,8 +24,8 @@ def test_a_value_is_set_converted_and_the_old_one_returned():
     [
         (NavigatorParams(), "goal_timeot", 1, "no parameter 'goal_timeot'"),
         (NavigatorParams(), "gains", 1, "gains is a table: set one of its entries (gains.KEY)"),
-        (NavigatorParams(), "goal_timeout", -1, "goal_timeout: Expected `float` >= 0.1"),
-        (NavigatorParams(), "goal_timeout", "soon", "goal_timeout: Expected `float`, got `str`"),
+        (NavigatorParams(), "goal_timeout", -1, "goal_timeout must be >= 0.1 (got -1)"),
+        (NavigatorParams(), "goal_timeout", "soon", 'goal_timeout must be a number (got "soon")'),
         (ObstacleDetectorParams(), "angle_max", -190, "angle_max must be above angle_min"),
         (SimParams(), "x", 2, "x cannot change at run time: the spawn pose is read once, at start"),
         (StatusMonitorParams(), "battery", 50, "battery cannot change at run time: it is the charge at start"),
@@ -68,3 +71,35 @@ def test_describe_works_for_a_kind_defined_without_source():
         1.0,
         True,
     )
+
+
+class _Point(msgspec.Struct):
+    x: float
+    y: float
+
+
+class _Mine(msgspec.Struct):
+    """A user's own node kind's parameters."""
+
+    rate: Annotated[float, msgspec.Meta(gt=0, le=50)] = 10.0
+    count: Annotated[int, msgspec.Meta(ge=1)] = 3
+    names: Annotated[list[str], msgspec.Meta(max_length=2)] = msgspec.field(default_factory=list)
+    points: list[_Point] = msgspec.field(default_factory=list)
+
+
+@pytest.mark.parametrize(
+    ("name", "value", "message"),
+    [
+        ("rate", 60, "rate must be <= 50 (got 60)"),
+        ("rate", 0, "rate must be > 0 (got 0)"),
+        ("rate", True, "rate must be a number (got true)"),
+        ("count", 1.5, "count must be a whole number (got 1.5)"),
+        ("names", ["a", "b", "c"], 'names must have at most 2 items (got ["a","b","c"])'),
+        ("points", [{"x": 1, "y": 2}, {"x": "far", "y": 2}], "points[1].x must be a number"),
+    ],
+)
+def test_a_value_refused_says_what_it_must_be_in_one_line_without_msgspec_s_path(name, value, message):
+    """Issue 22 review (C): a user node's refusal read "rate: Expected `float` <= 50.0 - at `$.rate`"."""
+    with pytest.raises(ParamRefused) as refused:
+        with_value(_Mine(), name, value)
+    assert str(refused.value) == message
