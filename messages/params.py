@@ -66,7 +66,7 @@ class ParamInfo(msgspec.Struct, kw_only=True):
     name: str  # dotted into tables (gains.lookahead)
     type: str  # float, int, bool, str, list[...], map, any
     unit: str  # "-" when it has none
-    range: str  # the values it takes: "0.1 to 100", "> 0", "> 0 and <= 50", "any"
+    range: str  # the values it takes: "0.1 to 100" (both ends allowed), "> 0", "> 0 and <= 50", "any"
     default: str  # its default, as text ("required" if it has none)
     meaning: str  # what it does (from the field's comment; "" if it has none)
     run_time: bool  # can change while the node runs (`turtlectl param set`)
