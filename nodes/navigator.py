@@ -1,8 +1,9 @@
 """The navigator process: serves ``navigate_to`` and drives the turtle there.
 
 The goal lifecycle (accepted or refused, feedback, reached, preempted, canceled, caller
-gone, no pose, timeout, blocked, teleported, reset) is nodes.goal_machine, pure and
-tested with a fake clock; this module is its wiring to Zenoh.  Each input (a goal, a
+gone, no pose, timeout, blocked, teleported, reset) is nodes.goal_machine, and the
+driving of a goal (path, control law, obstacles, arriving at rest) nodes.driver, both pure
+and tested with a fake clock; this module is their wiring to Zenoh.  Each input (a goal, a
 cancel, a pose, a scan, a status, a caller's liveliness token going away, the watchdog
 and feedback timers, shutdown) becomes an event of the machine with ``time.monotonic()``,
 and what the machine returns is carried out: ``turtle1/cmd_vel`` published, callers
@@ -64,9 +65,10 @@ class Navigator:
         self.catch_up()
         self.carry_out(self.machine.start(request.body, request, time.monotonic()))
         goal = self.machine.goal
-        if goal is not None and goal.path is not None:
-            how = "straight" if goal.path.direct else f"round obstacles, {len(goal.outline)} points"
-            self.node.log.debug("planned %.2f m %s", goal.path.length, how)
+        path = goal.driver.path if goal is not None else None
+        if goal is not None and path is not None:
+            how = "straight" if path.direct else f"round obstacles, {len(goal.driver.outline)} points"
+            self.node.log.debug("planned %.2f m %s", path.length, how)
 
     def on_cancel(self, request: Request[Cancel]) -> None:
         ack, actions = self.machine.cancel(request.body.reason, time.monotonic())

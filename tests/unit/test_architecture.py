@@ -31,6 +31,8 @@ PURE = [
     "nodes.scan",
     "nodes.goal",
     "nodes.goal_machine",
+    "nodes.driver",
+    "nodes.surroundings",
     "nodes.battery",
     "nodes.params",
     "nodes.kinds",
