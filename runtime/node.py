@@ -63,10 +63,10 @@ from messages.keys import (
     params_key,
     parse_entity_token,
 )
-from messages.params import ParamInfo, param_infos
+from messages.params import ParamInfo
 from messages.world import Limits, World
 from runtime.config import LOG_LEVELS, Claim, NodeConfig
-from runtime.params import ParamRefused, describe, lookup, with_value
+from runtime.params import ParamRefused, describe, lookup, param_infos, with_value
 from runtime.session import client_config, close_session
 
 P = TypeVar("P", bound=msgspec.Struct)

@@ -1,4 +1,4 @@
-"""messages.reference.param_infos: what `turtlectl param describe` shows, for every parameter."""
+"""runtime.params.param_infos: what `turtlectl param describe` shows, for every parameter of every node kind."""
 
 from __future__ import annotations
 
@@ -6,8 +6,8 @@ from typing import Annotated
 
 import msgspec
 
-from messages.params import param_infos
 from nodes.kinds import KINDS
+from runtime.params import param_infos
 
 
 def test_every_parameter_of_every_kind_has_a_unit_a_meaning_and_a_range():
