@@ -3,7 +3,7 @@ PYTHON ?= python3
 VENV ?= .venv
 BIN := $(VENV)/bin
 
-.PHONY: install bytecode lint run test unit bench soak clean
+.PHONY: install bytecode lint run test unit bench soak docs clean
 
 $(BIN)/.installed: pyproject.toml
 	$(PYTHON) -m venv $(VENV)
@@ -28,13 +28,14 @@ lint: install  ## ruff: lint rules and formatting (configuration in pyproject.to
 	$(BIN)/ruff check .
 	$(BIN)/ruff format --check .
 
+# the tests include a strict build of the documentation site (tests/unit/docs/test_site.py)
 test: lint bytecode  ## lint, then unit and multi-process integration tests
 	$(BIN)/python -m pytest
 
 unit: bytecode  ## unit tests only
 	$(BIN)/python -m pytest -m "not integration"
 
-bench: bytecode  ## benchmark figures (see README, Performance)
+bench: bytecode  ## benchmark figures (see docs/explanation/performance.md)
 	$(BIN)/python bench/system.py
 	$(BIN)/python bench/navigation.py
 	$(BIN)/python bench/faults.py
@@ -43,5 +44,8 @@ soak: bytecode  ## the capstone's five minutes without errors (tests marked soak
 	$(BIN)/python -m pytest -m soak
 	$(BIN)/python bench/system.py --minutes 30
 
+docs: install  ## the documentation site (mkdocs.yml, docs/) into site/
+	$(BIN)/python -m mkdocs build --strict --site-dir site
+
 clean:
-	rm -rf $(VENV) *.egg-info .pytest_cache
+	rm -rf $(VENV) *.egg-info .pytest_cache site

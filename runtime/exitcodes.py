@@ -1,6 +1,6 @@
 """The one table of exit codes, for every turtlectl process: a command (``cli.errors`` maps its
 errors here, ``cli.main.main`` exits with the code) and a node process (``runtime.lifecycle``)
-give each number the same meaning.  README's "Exit codes" section documents it.
+give each number the same meaning.  docs/reference/exit-codes.md documents it (docs/gen_exitcodes.py).
 
 Pure: no zenoh, no I/O (the command line imports it at once).
 """

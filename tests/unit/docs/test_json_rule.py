@@ -1,18 +1,19 @@
-"""One rule for infinities and NaN in JSON, said where a reader looks: the README's Interfaces
-section and docs/interfaces.md say "Infinity" (as recordings, the Foxglove server and
-``echo --json`` write it), never ``null``; the README says each recorded channel's encoding."""
+"""One rule for infinities and NaN in JSON, said where a reader looks: the interfaces in short
+(docs/how-to/raw-clients.md, once the README's Interfaces section) and docs/interfaces.md say
+"Infinity" (as recordings, the Foxglove server and ``echo --json`` write it), never ``null``; the
+record-and-replay guide (once the README's section) says each recorded channel's encoding."""
 
 from pathlib import Path
 
 from messages.reference import FIELDS
 
 ROOT = Path(__file__).resolve().parents[3]
-README = (ROOT / "README.md").read_text()
 DOC = (ROOT / "docs" / "interfaces.md").read_text()
+PAGES = {"Interfaces": "how-to/raw-clients.md", "Recording and replay": "how-to/record-and-replay.md"}
 
 
 def _section(title: str) -> str:
-    return README.split(f"\n## {title}\n", 1)[1].split("\n## ", 1)[0]
+    return (ROOT / "docs" / PAGES[title]).read_text()
 
 
 def test_the_interfaces_section_and_the_reference_spell_infinity_as_recordings_do():

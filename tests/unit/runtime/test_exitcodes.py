@@ -1,5 +1,5 @@
 """One table of exit codes for every turtlectl process (issue 22, item 7): a command and a
-node process give each number the same meaning, README's Exit codes section lists each, and
+node process give each number the same meaning, docs/reference/exit-codes.md lists each, and
 the supervisor respawns only the exits that a new start could change."""
 
 from __future__ import annotations
@@ -24,9 +24,8 @@ def test_commands_and_node_processes_use_the_one_table():
     assert not [name for name in vars(errors) if re.fullmatch(r"[A-Z_]+", name) and name != "EXIT_CODES"]
 
 
-def test_the_readme_documents_every_code_of_the_table_and_no_other():
-    text = (ROOT / "README.md").read_text()
-    section = text.split("### Exit codes", 1)[1].split("\n## ", 1)[0]
+def test_the_reference_documents_every_code_of_the_table_and_no_other():
+    section = (ROOT / "docs" / "reference" / "exit-codes.md").read_text()
     documented = {int(m) for m in re.findall(r"^\| (\d+) \|", section, re.MULTILINE)}
     assert documented == {int(code) for code in ExitCode}
 
