@@ -80,12 +80,19 @@ def params_section() -> list[str]:
     for kind, spec in KINDS.items():
         cls = spec.params
         out += ["", f"### kind `{kind}`: {cls.__name__}", "", "```text", doc(cls), "```", ""]
-        out.append(_row("parameter", "type", "unit", "range", "default", "meaning", "at run time"))
-        out.append(_row(*["---"] * 7))
-        for p in param_infos(cls):
-            live = "yes" if p.run_time else f"no: {p.fixed_because}"
-            out.append(_row(f"`{p.name}`", p.type, p.unit, p.range, p.default, p.meaning, live))
+        out += param_table(cls)
     return out + describe_section()
+
+
+def param_table(cls: type, run_time: bool = True, first: str = "parameter") -> list[str]:
+    """A parameter Struct as a table: each parameter (tables' entries dotted) with its type, unit, range,
+    default, meaning and (``run_time``) whether it can change at run time (docs/gen_launchfile.py uses it too)."""
+    head = [first, "type", "unit", "range", "default", "meaning"] + (["at run time"] if run_time else [])
+    out = [_row(*head), _row(*["---"] * len(head))]
+    for p in param_infos(cls):
+        live = ["yes" if p.run_time else f"no: {p.fixed_because}"] if run_time else []
+        out.append(_row(f"`{p.name}`", p.type, p.unit, p.range, p.default, p.meaning, *live))
+    return out
 
 
 def describe_section() -> list[str]:

@@ -17,16 +17,16 @@ TURTLESIM_SIZE = (500.0 - 1.0) / 45.0
 class Obstacle(msgspec.Struct, frozen=True, forbid_unknown_fields=True, kw_only=True):
     """A circular obstacle: centre (x, y) in m, radius in m."""
 
-    x: Finite
-    y: Finite
-    radius: Positive
+    x: Finite  # m: centre, from the world's left wall
+    y: Finite  # m: centre, from the world's bottom wall
+    radius: Positive  # m: radius
 
 
 class World(msgspec.Struct, frozen=True, forbid_unknown_fields=True, kw_only=True):
     """A square world from (0, 0) to (size, size), in m, with circular obstacles."""
 
-    size: Positive = TURTLESIM_SIZE
-    obstacles: list[Obstacle] = msgspec.field(default_factory=list)
+    size: Positive = TURTLESIM_SIZE  # m: side of the square world
+    obstacles: list[Obstacle] = msgspec.field(default_factory=list)  # -: circles, { x, y, radius } tables
 
     def contains(self, x: float, y: float) -> bool:
         """True if (x, y), in m, lies inside the world (walls included)."""
@@ -40,7 +40,7 @@ class Limits(msgspec.Struct, frozen=True, forbid_unknown_fields=True, kw_only=Tr
     max_linear_accel: m/s^2 (speeding up and braking).  max_angular_accel: rad/s^2.
     """
 
-    max_linear_speed: Positive = 4.0
-    max_angular_speed: Positive = 6.2832
-    max_linear_accel: Positive = 10.0
-    max_angular_accel: Positive = 40.0
+    max_linear_speed: Positive = 4.0  # m/s: fastest forwards or backwards
+    max_angular_speed: Positive = 6.2832  # rad/s: fastest turn
+    max_linear_accel: Positive = 10.0  # m/s^2: speeding up and braking
+    max_angular_accel: Positive = 40.0  # rad/s^2: angular acceleration
