@@ -42,7 +42,7 @@ sys.path.insert(0, str(ROOT))
 
 import msgspec  # noqa: E402
 
-from cli.launchfile import load_launch  # noqa: E402
+from cli.system.launchfile import load_launch  # noqa: E402
 from messages import Pose, decode  # noqa: E402
 from messages.keys import POSE  # noqa: E402
 from nodes.control import Pose2D, path_time, rotate_drive_rotate_time  # noqa: E402

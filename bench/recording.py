@@ -7,7 +7,7 @@
    that the subscriber saw (lost by the recorder: must be 0) and gaps neither saw (lost on
    the wire), and the recorder's CPU and RSS.
 2. Play timing: the first --play-minutes of that recording played into a router without a
-   system at rate 1 and at rate 10 (cli.play.play, the code `turtlectl play` runs);
+   system at rate 1 and at rate 10 (cli.recording.play.play, the code `turtlectl play` runs);
    |actual - scheduled| per message: p50, p99, max.
 
 Usage: python bench/recording.py [--minutes 10] [--play-minutes 5] [--file PATH] [--play-only]
@@ -34,8 +34,8 @@ ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
 from bench.system import goal, machine, random_goal, summary  # noqa: E402
-from cli.bag import Record, Recording  # noqa: E402
-from cli.play import play  # noqa: E402
+from cli.recording.bag import Record, Recording  # noqa: E402
+from cli.recording.play import play  # noqa: E402
 from messages import Reset, decode_any  # noqa: E402
 from messages.keys import RESET  # noqa: E402
 from tests.integration.harness import Router, System, turtlectl  # noqa: E402

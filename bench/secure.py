@@ -26,8 +26,8 @@ ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
 from bench.system import Stamped, machine, summary  # noqa: E402
-from cli import credentials  # noqa: E402
-from cli.certs import make  # noqa: E402
+from cli.system import credentials  # noqa: E402
+from cli.system.certs import make  # noqa: E402
 from messages import Pose, decode  # noqa: E402
 from messages.keys import POSE  # noqa: E402
 from runtime.endpoint import TLS_ENV  # noqa: E402

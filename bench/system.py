@@ -33,7 +33,7 @@ import zenoh
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
-from cli.launchfile import load_launch  # noqa: E402
+from cli.system.launchfile import load_launch  # noqa: E402
 from messages import NavigateToResponse, Reset, TurtleStatus, decode  # noqa: E402
 from messages.keys import POSE, RESET, STATUS  # noqa: E402
 from runtime.session import close_session, peer_config  # noqa: E402

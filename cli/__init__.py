@@ -68,7 +68,7 @@ def entry() -> None:
     signal.signal(signal.SIGINT, _interrupted_while_starting)
     if command_of(sys.argv[1:]) == "launch" and not {"--help", "-h", "--check"} & set(sys.argv):
         # the zygote imports the nodes' modules while this process imports typer (2 cores)
-        from cli.supervisor import zygote
+        from cli.system.supervisor import zygote
 
         zygote.start_early()
     from cli.main import main

@@ -49,7 +49,7 @@ def node_name(text: str) -> tuple[str, str]:
     """A node's name as ``turtlectl list`` shows it: (its domain, or "", the name).  A ROS-style
     leading ``/`` is accepted (``/navigator``); ``lab1/navigator`` names navigator in domain
     lab1.  Names are letters, digits, _ and - (as the launch file's): no wildcards."""
-    from cli.launchfile import NAME_RE
+    from cli.system.launchfile import NAME_RE
 
     domain_part, _, name = text.strip().lstrip("/").rpartition("/")
     if (domain_part and not DOMAIN_RE.match(domain_part)) or not NAME_RE.match(name):

@@ -7,7 +7,7 @@ a non-finite float is written as the string ``"Infinity"``, ``"-Infinity"`` or `
 (JavaScript's own spellings), and the JSON Schema of each type says so (``json_schema``), so
 ``from_json(to_json(m)) == m`` for every message, and its msgpack bytes are the original's.
 One rule wherever turtlectl writes JSON: recordings, the Foxglove server, ``echo --json`` and
-every other ``--json`` (cli.format), the docs.
+every other ``--json`` (cli.tools.format), the docs.
 """
 
 from __future__ import annotations

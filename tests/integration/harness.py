@@ -33,7 +33,7 @@ import numpy as np
 import psutil
 import zenoh
 
-from cli import credentials
+from cli.system import credentials
 from messages import (
     Message,
     NavigateToFeedback,

@@ -7,8 +7,8 @@ import time
 
 import pytest
 
-from cli import client, services, topics
 from cli.errors import ExitCode, TurtlectlError, exit_code
+from cli.tools import client, services, topics
 from messages import NavigateToRequest
 from tests.integration.harness import free_port, running_system, turtlectl
 

@@ -20,7 +20,7 @@ import numpy as np
 import pytest
 import zenoh
 
-from cli.launchfile import load_launch, parse_launch
+from cli.system.launchfile import load_launch, parse_launch
 from messages import ErrorReply, LaserScan, NavigateToResponse, Pose, Reset, TurtleStatus, decode
 from messages.keys import NAVIGATE_TO, OBSTACLES, POSE, RESET, STATUS
 from tests.integration.harness import DEFAULT_LAUNCH, NODES, obstacles_in_view, running_system, turtlectl

@@ -20,8 +20,8 @@ import msgspec
 import pytest
 import zenoh
 
-from cli.bag import Recording
-from cli.launchfile import load_launch
+from cli.recording.bag import Recording
+from cli.system.launchfile import load_launch
 from messages import decode_any, encode
 from messages.keys import WORLD_KEY
 from runtime.session import client_config, close_session

@@ -15,8 +15,8 @@ import psutil
 import pytest
 import zenoh
 
-from cli import credentials
 from cli.errors import ExitCode
+from cli.system import credentials
 from messages import Twist, encode, encoding_for
 from messages.keys import CMD_VEL, NAVIGATE_TO
 from runtime.config import Credentials
@@ -183,7 +183,7 @@ def run_as(system, env: dict[str, str], *args: str) -> tuple[subprocess.Complete
 
 def test_secure_over_mutual_tls_takes_only_certificates_its_authority_signed(store, tmp_path, monkeypatch):
     """Issue 14 on loopback (the two-host version runs in test_hosts where namespaces can be made)."""
-    from cli.certs import make
+    from cli.system.certs import make
 
     make(tmp_path / "tls", [])
     make(tmp_path / "other", [])

@@ -11,8 +11,8 @@ import time
 import pyte
 import pytest
 
-from cli import services
 from cli.errors import ExitCode, TurtlectlError, exit_code
+from cli.tools import services
 from messages import TurtleStatus
 from messages.keys import GRAPH, STATUS
 from tests.integration.harness import NODES, pump, running_system, set_winsize, turtlectl, view_in_pty
@@ -295,7 +295,7 @@ def test_param_list_get_and_dump_read_what_the_node_runs_with(system):
     """Issue 13: `turtlectl param` against the real system; dump reads back as the launch file's table."""
     import tomllib
 
-    from cli.launchfile import load_launch
+    from cli.system.launchfile import load_launch
     from tests.integration.harness import DEFAULT_LAUNCH
 
     listed = system.run_cli("param", "list", "navigator", "--json")

@@ -36,14 +36,14 @@ PURE = [
     "nodes.battery",
     "nodes.params",
     "nodes.kinds",
-    "cli.launchfile",
+    "cli.system.launchfile",
     "cli.args",
-    "cli.format",
-    "cli.graph",
-    "cli.rates",
-    "cli.keyboard",
-    "cli.bag",  # recordings: MCAP files, read and written without a session
-    "cli.supervisor.supervision",  # the supervision policy: processes and clock come from outside
+    "cli.tools.format",
+    "cli.tools.graph",
+    "cli.tools.rates",
+    "cli.tools.keyboard",
+    "cli.recording.bag",  # recordings: MCAP files, read and written without a session
+    "cli.system.supervisor.supervision",  # the supervision policy: processes and clock come from outside
 ]
 
 

@@ -1,8 +1,8 @@
-"""cli.access: the rules of a --secure router (deny by default) and the clients' own check."""
+"""cli.system.access: the rules of a --secure router (deny by default) and the clients' own check."""
 
 from __future__ import annotations
 
-from cli.access import ROLES, access_control, node_rights, permitted, who_may
+from cli.system.access import ROLES, access_control, node_rights, permitted, who_may
 
 
 def test_roles_grow_viewer_operator_teleop():
@@ -40,8 +40,9 @@ def test_the_role_check_reads_a_domain_s_key_from_outside_it_and_roles_are_named
     an unknown TURTLECTL_ROLE looked like a missing login; a corrupt credentials file like an empty one."""
     import pytest
 
-    from cli import client, credentials
     from cli.errors import BadInput
+    from cli.system import credentials
+    from cli.tools import client
 
     monkeypatch.setattr(client, "_ROLE", ["operator"])
     client.require("call", "lab1/navigate_to")

@@ -10,7 +10,7 @@ import pytest
 
 jsonschema = pytest.importorskip("jsonschema")
 
-from cli.bridge import SERVICES, _message_schema  # noqa: E402
+from cli.foxglove.bridge import SERVICES, _message_schema  # noqa: E402
 from messages import Cancel, NavigateToRequest, Reset, TeleportAbsolute, decode_any, encode  # noqa: E402
 from messages.jsonform import from_json, json_schema, to_json  # noqa: E402
 from tests.unit.messages.samples import SAMPLES  # noqa: E402

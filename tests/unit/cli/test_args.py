@@ -86,7 +86,7 @@ def test_certs_make_an_authority_and_certificates_it_signed(tmp_path):
 
     from cryptography import x509
 
-    from cli.certs import FILES, make
+    from cli.system.certs import FILES, make
 
     written = make(tmp_path / "tls", ["10.0.0.5", "robot.local"])
     assert [p.name for p in written] == list(FILES)

@@ -1,4 +1,4 @@
-"""cli.bag with real files: what is written reads back (typed messages equal, raw payloads as
+"""cli.recording.bag with real files: what is written reads back (typed messages equal, raw payloads as
 they came, times and sequence numbers kept); a file never closed reads up to its last complete
 chunk and says so; files that are not recordings are refused with one clear error (exit 2)."""
 
@@ -13,8 +13,8 @@ import textwrap
 
 import pytest
 
-from cli.bag import BagWriter, Recording, RecordingError
 from cli.errors import ExitCode, exit_code
+from cli.recording.bag import BagWriter, Recording, RecordingError
 from messages import LaserScan, Pose, TurtleStatus, decode_any, encode, encoding_for
 from tests.unit.messages.samples import SAMPLES as WRITTEN
 
@@ -87,7 +87,7 @@ KILLED_WRITER = textwrap.dedent(
     """
     import os, sys, time
     from pathlib import Path
-    from cli.bag import BagWriter
+    from cli.recording.bag import BagWriter
     from messages import Pose, encode, encoding_for
     writer = BagWriter(Path(sys.argv[1]))
     start = time.monotonic()
@@ -207,7 +207,7 @@ def test_tick_closes_a_chunk_whose_first_message_is_old_enough(tmp_path):
 
 
 def test_scene_messages_are_counted_with_the_others(tmp_path):
-    from cli.scene import SceneMaker
+    from cli.foxglove.scene import SceneMaker
     from messages.world import World
 
     path = tmp_path / "run.mcap"

@@ -1,9 +1,9 @@
-"""cli.build: messages and requests from JSON, with the bad field named."""
+"""cli.tools.build: messages and requests from JSON, with the bad field named."""
 
 import pytest
 
-from cli.build import message_from_json, service_request, topic_message
 from cli.errors import BadInput, ExitCode, TurtlectlError, exit_code
+from cli.tools.build import message_from_json, service_request, topic_message
 from messages import (
     Cancel,
     Pose,

@@ -8,8 +8,8 @@ import json
 import pytest
 from typer.testing import CliRunner
 
-from cli import topics
 from cli.main import app
+from cli.tools import topics
 from messages import TurtleStatus
 
 STATUSES = [

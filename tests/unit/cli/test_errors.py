@@ -5,8 +5,8 @@ from __future__ import annotations
 import pytest
 
 from cli.errors import BadInput, CannotStart, ExitCode, Failed, Interrupted, Unreachable, exit_code
-from cli.launchfile import LaunchFileError
-from cli.services import NoAnswer, NobodyServes, RouterLost
+from cli.system.launchfile import LaunchFileError
+from cli.tools.services import NoAnswer, NobodyServes, RouterLost
 
 
 @pytest.mark.parametrize(

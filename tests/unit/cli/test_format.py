@@ -1,4 +1,4 @@
-"""cli.format: how messages, goals and plans are shown (headings in [0, 360), lines that fit)."""
+"""cli.tools.format: how messages, goals and plans are shown (headings in [0, 360), lines that fit)."""
 
 import json
 import math
@@ -6,7 +6,7 @@ import math
 import pytest
 
 from cli.errors import BadInput
-from cli.format import (
+from cli.tools.format import (
     csv_header,
     csv_row,
     heading_text,
@@ -106,7 +106,7 @@ def test_a_block_never_rounds_a_heading_up_to_360_and_writes_booleans_as_json_do
 
 def test_non_finite_floats_are_spelled_in_json_as_in_recordings_and_on_the_foxglove_server():
     # one rule wherever turtlectl writes JSON: "Infinity", "-Infinity", "NaN" (messages.jsonform)
-    from cli import format as fmt
+    from cli.tools import format as fmt
     from messages import LaserScan
     from messages.jsonform import to_json as recorded
 

@@ -1,8 +1,8 @@
-"""cli.keyboard: keys from terminal bytes, and when teleop publishes what (a fake clock)."""
+"""cli.tools.keyboard: keys from terminal bytes, and when teleop publishes what (a fake clock)."""
 
 from __future__ import annotations
 
-from cli.keyboard import PERIOD, RELEASE, Driver, Shown, keys, status_line
+from cli.tools.keyboard import PERIOD, RELEASE, Driver, Shown, keys, status_line
 from messages import Twist
 
 

@@ -16,20 +16,20 @@ import pytest
 from typer.testing import CliRunner
 
 from cli.errors import BadInput, ExitCode, Interrupted, TurtlectlError, exit_code
-from cli.launchfile import PACKAGED_LAUNCH
 from cli.main import app, error_line, main
+from cli.system.launchfile import PACKAGED_LAUNCH
 from runtime.endpoint import CONNECT_ENV, DOMAIN_ENV
 
 HEAVY = [
     "numpy",
     "curses",
-    "cli.view",
-    "cli.client",
-    "cli.services",
-    "cli.topics",
-    "cli.launchfile",
-    "cli.supervisor.manager",
-    "cli.supervisor.router",
+    "cli.tools.view",
+    "cli.tools.client",
+    "cli.tools.services",
+    "cli.tools.topics",
+    "cli.system.launchfile",
+    "cli.system.supervisor.manager",
+    "cli.system.supervisor.router",
     "runtime.node",
     "runtime.lifecycle",
     "nodes.kinds",
@@ -378,7 +378,7 @@ def test_record_into_an_existing_file_is_refused_before_it_says_it_records(tmp_p
 
 
 def test_play_from_past_the_end_says_how_long_the_recording_is(tmp_path):
-    from cli.bag import BagWriter
+    from cli.recording.bag import BagWriter
     from messages import Pose, encode, encoding_for
 
     writer = BagWriter(tmp_path / "run.mcap")

@@ -1,4 +1,4 @@
-"""cli.params, the pure parts: names, dotted lookup, and TOML a launch file accepts."""
+"""cli.tools.params, the pure parts: names, dotted lookup, and TOML a launch file accepts."""
 
 from __future__ import annotations
 
@@ -9,7 +9,7 @@ import msgspec
 import pytest
 
 from cli.errors import BadInput, ExitCode, exit_code
-from cli.params import dump, names, value
+from cli.tools.params import dump, names, value
 from messages.keys import NodeDetails
 from messages.world import World
 
@@ -51,7 +51,7 @@ def test_dump_is_toml_that_reads_back_as_the_same_table():
 def test_an_unknown_parameter_suggests_the_nearest():
     """Review of issue 13: `param get` dumped the whole list where `param set` said "did you mean"."""
     from cli.errors import BadInput
-    from cli.params import value
+    from cli.tools.params import value
 
     with pytest.raises(
         BadInput, match=r"navigator has no parameter 'goal_timeot'; did you mean goal_timeout\? \(it has: "
@@ -61,7 +61,7 @@ def test_an_unknown_parameter_suggests_the_nearest():
 
 def test_no_node_says_where_systems_run_when_none_runs_here(monkeypatch):
     """Second review of issue 13: `--domain lab2 param get navigator ...` said "(running: none)" and no more."""
-    from cli.params import no_node
+    from cli.tools.params import no_node
     from runtime.endpoint import DOMAIN_ENV
 
     monkeypatch.setenv(DOMAIN_ENV, "lab2")
@@ -85,7 +85,7 @@ def _described(node: str, kind: str, params: Any):
 def test_a_user_node_s_refusal_is_its_one_line_reason_exit_2(monkeypatch):
     """It read "turtlectl/params/mine/set rejected the request: mine: rate: Expected `float`
     <= 50.0 - at `$.rate`"."""
-    from cli import params, services
+    from cli.tools import params, services
     from runtime.params import ParamRefused, with_value
 
     mine = _Mine()
@@ -106,7 +106,7 @@ def test_a_user_node_s_refusal_is_its_one_line_reason_exit_2(monkeypatch):
 
 
 def test_a_built_in_node_s_refusal_has_the_same_wording(monkeypatch):
-    from cli import params
+    from cli.tools import params
     from nodes.params import NavigatorParams
 
     monkeypatch.setattr(params, "description", lambda connect, node: _described(node, "navigator", NavigatorParams()))

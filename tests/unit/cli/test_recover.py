@@ -1,13 +1,13 @@
-"""cli.recover: a recording that was never closed (cut as a SIGKILL leaves it) is written again
+"""cli.recording.recover: a recording that was never closed (cut as a SIGKILL leaves it) is written again
 whole and indexed, so that an indexed MCAP reader opens it; nothing existing is overwritten."""
 
 from __future__ import annotations
 
 import pytest
 
-from cli.bag import BagWriter, Recording, RecordingError
 from cli.errors import BadInput
-from cli.recover import default_output, hint, recover, text
+from cli.recording.bag import BagWriter, Recording, RecordingError
+from cli.recording.recover import default_output, hint, recover, text
 from messages import Pose, TurtleStatus, encode, encoding_for
 
 T0 = 1_700_000_000_000_000_000

@@ -1,6 +1,6 @@
-"""cli.scene: the Foxglove scene drawn from turtlectl's messages (no server needed)."""
+"""cli.foxglove.scene: the Foxglove scene drawn from turtlectl's messages (no server needed)."""
 
-from cli.scene import goal_entity
+from cli.foxglove.scene import goal_entity
 from messages import NavigateToFeedback
 from tests.protobuf_schemas import decoded
 

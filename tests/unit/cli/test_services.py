@@ -1,9 +1,9 @@
-"""cli.services: which answers are failures."""
+"""cli.tools.services: which answers are failures."""
 
 import pytest
 
 from cli.errors import ExitCode, Interrupted, exit_code
-from cli.services import given_up, reply_code
+from cli.tools.services import given_up, reply_code
 from messages import (
     Ack,
     NavigateToResponse,

@@ -1,7 +1,7 @@
-"""cli.topics: what a silent topic says."""
+"""cli.tools.topics: what a silent topic says."""
 
-from cli.graph import build_graph
-from cli.topics import silence_text
+from cli.tools.graph import build_graph
+from cli.tools.topics import silence_text
 from messages.keys import (
     EntityInfo,
     NodeInfo,

@@ -1,8 +1,8 @@
-"""cli.view: the picture drawn from the latest messages (no terminal needed)."""
+"""cli.tools.view: the picture drawn from the latest messages (no terminal needed)."""
 
 import math
 
-from cli.view import Scene, render
+from cli.tools.view import Scene, render
 from messages import (
     LaserScan,
     NavigateToFeedback,

@@ -1,0 +1,147 @@
+"""turtlectl's Goals and driving commands: goto, cancel, teleport, reset, teleop.
+
+Sessions, goals and the keyboard (cli.tools) are imported inside each command."""
+
+from __future__ import annotations
+
+import shutil
+import sys
+
+import typer
+
+from cli import args
+from cli.commands.options import ConnectOption, DomainOption, format, result
+from cli.errors import ExitCode, Failed, Interrupted
+
+
+def goto(
+    x: str = typer.Argument(..., metavar="X", help="Goal x, m."),
+    y: str = typer.Argument(..., metavar="Y", help="Goal y, m."),
+    theta: str = typer.Argument(..., metavar="THETA", help="Goal heading, degrees (negative values are fine)."),
+    timeout: float | None = typer.Option(
+        None,
+        "--timeout",
+        min=0.1,
+        help="Stop waiting (and cancel the goal) after S seconds; default: the navigator's goal_timeout.",
+    ),
+    json: bool = typer.Option(False, "--json", help="Print the response as one JSON object."),
+    connect: str = ConnectOption,
+    domain: str = DomainOption,
+) -> None:
+    """Send the turtle to (X, Y) facing THETA degrees and wait for the outcome.
+
+    On a terminal a live progress line shows the goal's state; piped, only the
+    outcome is printed.  Ctrl-C or --timeout cancels the goal (exit code 130 or 1), and
+    exit code 5 says that nobody confirmed the cancel: the turtle may still be driving.
+
+    Example: turtlectl goto 8 5 90
+    """
+    from cli.tools import services
+    from messages import NavigateToFeedback, NavigateToRequest
+
+    request = NavigateToRequest(
+        x=args.finite_number(x, "x"), y=args.finite_number(y, "y"), theta=args.finite_number(theta, "theta")
+    )
+    live = sys.stdout.isatty() and not json
+
+    def show(fb: NavigateToFeedback) -> None:  # the terminal's width now: it may be resized meanwhile
+        typer.echo("\r\033[K" + format.progress_line(fb, shutil.get_terminal_size().columns), nl=False)
+
+    try:
+        response, _ = services.navigate(
+            connect, request, timeout if timeout is not None else services.NO_LIMIT, show if live else None
+        )
+    except KeyboardInterrupt:  # before the goal was sent (one running is canceled and checked in navigate)
+        raise Interrupted("interrupted") from None
+    finally:
+        if live:
+            typer.echo("\r\033[K", nl=False)
+    result(format.message_json(response) if json else format.outcome_line(response))
+    raise typer.Exit(ExitCode.OK if response.success else ExitCode.FAILED)
+
+
+def cancel(connect: str = ConnectOption, domain: str = DomainOption) -> None:
+    """Cancel the running goal: the turtle brakes at once; its caller gets reason "canceled".
+
+    Exit code 1 if no goal was running.
+
+    Example: turtlectl cancel
+    """
+    from cli.tools import services
+    from messages import Cancel, keys
+
+    (ack,) = services.simple_call(connect, keys.CANCEL, Cancel())
+    result(ack.detail)
+    raise typer.Exit(ExitCode.OK if ack.ok else ExitCode.FAILED)
+
+
+def teleport(
+    x: str = typer.Argument(..., metavar="X", help="x, m."),
+    y: str = typer.Argument(..., metavar="Y", help="y, m."),
+    theta: str = typer.Argument(..., metavar="THETA", help="Heading, degrees (as for goto)."),
+    connect: str = ConnectOption,
+    domain: str = DomainOption,
+) -> None:
+    """Put the turtle at (X, Y) facing THETA degrees, at rest (turtlesim's teleport_absolute).
+
+    Example: turtlectl teleport 2 2 45
+    """
+    from cli.tools import services
+    from messages import TeleportAbsolute, keys
+    from messages.angles import heading_radians
+
+    degrees = args.finite_number(theta, "theta")
+    request = TeleportAbsolute(
+        x=args.finite_number(x, "x"), y=args.finite_number(y, "y"), theta=heading_radians(degrees)
+    )
+    acks = services.simple_call(connect, keys.TELEPORT, request)
+    if not all(a.ok for a in acks):  # the simulator's own words (they are in radians, as its request)
+        raise Failed(format.ack_lines(acks))
+    result(format.teleport_line(request.x, request.y, degrees))
+
+
+def reset(connect: str = ConnectOption, domain: str = DomainOption) -> None:
+    """Put the turtle back at its spawn pose and fill the battery (turtlesim's reset).
+
+    Example: turtlectl reset
+    """
+    from cli.tools import services
+    from messages import Reset, keys
+
+    acks = services.simple_call(connect, keys.RESET, Reset(), everyone=True)
+    result(format.ack_lines(acks))
+    raise typer.Exit(ExitCode.OK if all(a.ok for a in acks) else ExitCode.FAILED)
+
+
+def teleop(
+    linear: float = typer.Option(2.0, "--linear", min=0.0, help="Speed of up/down (w/s), m/s."),
+    angular: float = typer.Option(2.0, "--angular", min=0.0, help="Turn rate of left/right (a/d), rad/s."),
+    connect: str = ConnectOption,
+    domain: str = DomainOption,
+) -> None:
+    """Drive the turtle from the keyboard, as turtlesim's teleop_turtle_key: arrow keys or
+    w/a/s/d (a held key keeps the turtle going; it stops 0.7 s after the key is released),
+    space stops (and cancels a running goal), q or Ctrl-C quits (exit code 0).  A goal
+    running when the keys start driving is canceled (reason "teleop").  The status line
+    shows the command being sent and the turtle's pose.  Its input must be a terminal
+    (exit code 2 otherwise).
+
+    Example: turtlectl teleop --linear 1.0
+    """
+    from cli.tools import client
+    from cli.tools.teleop import run_teleop, terminal_fd
+
+    args.finite_option(linear, "--linear")
+    args.finite_option(angular, "--angular")
+    fd = terminal_fd(sys.stdin)
+    with client.client_session(connect) as session:
+        run_teleop(session, linear, angular, connect, fd, sys.stdout)
+
+
+def register(app: typer.Typer) -> None:
+    """Add this group's commands to ``app``."""
+    app.command(context_settings={"ignore_unknown_options": True})(goto)
+    app.command()(cancel)
+    app.command(context_settings={"ignore_unknown_options": True})(teleport)
+    app.command()(reset)
+    app.command()(teleop)

@@ -1,0 +1,112 @@
+"""turtlectl's Introspection commands: list, node info, interface list and show, view.
+
+The graph, node reports, message types and the curses view (cli.tools) are imported inside
+each command."""
+
+from __future__ import annotations
+
+import typer
+
+from cli.commands.options import ConnectOption, DomainOption, NodeArgument, format, result
+
+
+def list_graph(
+    json: bool = typer.Option(False, "--json", help="The graph as one JSON object."),
+    all_: bool = typer.Option(False, "--all", help="Also each node's own services (parameters, node info, log level)."),
+    connect: str = ConnectOption,
+    domain: str = DomainOption,
+) -> None:
+    """The live graph: nodes (name, pid, host, uptime), topics with their publishers and
+    subscribers, and services; read from liveliness tokens now, never from a cache.
+    Without --domain, systems running in domains are listed too, their names and keys
+    prefixed with the domain (lab1/sim, lab1/robot/status).  The services every node has
+    (turtlectl/params/<node>, turtlectl/nodes/<node>, ...) are counted, not listed, unless --all.
+
+    Example: turtlectl list
+    """
+    from cli.tools import topics
+    from cli.tools.graph import graph_text, without_node_services
+
+    current = topics.graph(connect)
+    if not all_:
+        current = without_node_services(current)
+    result(format.json_value(current) if json else graph_text(current))
+
+
+node_app = typer.Typer(help="Running nodes in detail (as `ros2 node`).\n\nExample: turtlectl node info navigator")
+
+
+@node_app.command("info")
+def node_info(
+    node: str = NodeArgument,
+    json: bool = typer.Option(False, "--json", help="One JSON object."),
+    connect: str = ConnectOption,
+    domain: str = DomainOption,
+) -> None:
+    """A running node: kind, pid, host, uptime, log level, what it publishes, subscribes to and
+    serves (with types), and its parameters.
+
+    Example: turtlectl node info navigator
+    """
+    from cli.tools import introspect
+
+    report = introspect.node_report(connect, node)
+    result(format.json_value(report) if json else introspect.node_text(report))
+
+
+interface_app = typer.Typer(
+    help="Message types: list them, show one's fields, units and defaults.\n\nExample: turtlectl interface show Twist"
+)
+
+
+@interface_app.command("list")
+def interface_list(json: bool = typer.Option(False, "--json", help="One JSON array.")) -> None:
+    """Every message type on the wire, with the keys that carry it (as `ros2 interface list`).
+
+    Example: turtlectl interface list
+    """
+    from cli.tools import interface
+
+    rows = interface.listing()
+    result(format.json_value(rows) if json else interface.listing_text(rows))
+
+
+@interface_app.command("show")
+def interface_show(
+    type_: str = typer.Argument(..., metavar="TYPE", help="A message type, e.g. Twist (any case)."),
+    json: bool = typer.Option(False, "--json", help="One JSON object."),
+) -> None:
+    """A message type's fields: type, default, unit, range and meaning; its wire tag,
+    encoding and keys (as `ros2 interface show`).
+
+    Example: turtlectl interface show TurtleStatus
+    """
+    from cli.tools import interface
+
+    described = interface.description(type_)
+    result(format.json_value(described) if json else interface.description_text(described))
+
+
+def view(connect: str = ConnectOption, domain: str = DomainOption) -> None:
+    """Draw the world live in this terminal: walls, obstacles, the turtle and its trail,
+    the goal, the laser hits, a legend and a status line.  c clears the trail; q or Ctrl-C
+    quits (exit code 0).
+
+    Example: turtlectl view
+    """
+    from cli.tools import client, services
+    from cli.tools.view import run_view  # curses: only for this command
+
+    try:
+        with client.client_session(connect) as session:
+            run_view(session, services.world(session), connect)
+    except KeyboardInterrupt:
+        pass
+
+
+def register(app: typer.Typer) -> None:
+    """Add this group's commands to ``app``."""
+    app.command("list")(list_graph)
+    app.command()(view)
+    app.add_typer(node_app, name="node")
+    app.add_typer(interface_app, name="interface")

@@ -1,0 +1,71 @@
+"""The options and arguments that several groups of commands share, and how a one-shot
+command prints its result."""
+
+from __future__ import annotations
+
+import os
+
+import typer
+
+from cli import args, lazy_module
+from cli.errors import BadInput
+from cli.sigint import ignore_sigint
+from runtime.endpoint import CONNECT_ENV, DEFAULT_ENDPOINT, DOMAIN_ENV
+
+format = lazy_module("cli.tools.format")  # msgspec and the message types load when a command prints one
+
+
+ConnectOption = typer.Option(
+    DEFAULT_ENDPOINT, "--connect", envvar=CONNECT_ENV, help="Router endpoint of the system to talk to."
+)
+
+
+def use_domain(domain: str) -> str:
+    """Check ``--domain`` and make it the domain of every session this process opens; the same
+    option before or after the command (``turtlectl --domain lab1 list`` = ``turtlectl list --domain lab1``)."""
+    if args.domain(domain):
+        os.environ[DOMAIN_ENV] = domain  # read by every session this process opens
+    return domain
+
+
+DomainOption = typer.Option(
+    "",
+    "--domain",
+    envvar=DOMAIN_ENV,
+    callback=use_domain,
+    help="Keys of the system live under this prefix (two systems never mix); before or after the command.",
+)
+
+
+LogLevelOption = typer.Option(
+    "INFO", "--log-level", help="Least severe log line the nodes write: DEBUG, INFO, WARNING or ERROR (any case)."
+)
+
+
+def result(text: str) -> None:
+    """Print a one-shot command's result: from now on a Ctrl-C changes nothing (no 130, no
+    traceback from Zenoh's threads while the process ends)."""
+    ignore_sigint()
+    typer.echo(text)
+
+
+def use_node(text: str | None) -> str | None:
+    """NODE checked; ``lab1/navigator`` (as `list` shows a node of domain lab1 to a client without
+    --domain) makes lab1 the domain of this command."""
+    if text is None:
+        return None
+    in_domain, name = args.node_name(text)
+    if in_domain:
+        chosen = os.environ.get(DOMAIN_ENV, "")
+        if chosen and chosen != in_domain:
+            raise BadInput(f"node {text!r} is in domain {in_domain!r}, not in --domain {chosen!r}")
+        os.environ[DOMAIN_ENV] = in_domain
+    return name
+
+
+NodeArgument = typer.Argument(
+    ...,
+    metavar="NODE",
+    callback=use_node,
+    help="A node's name, as `turtlectl list` shows it (lab1/sim: in domain lab1).",
+)

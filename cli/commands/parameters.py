@@ -1,0 +1,125 @@
+"""turtlectl's Parameters commands: param list, get, set, describe, dump.
+
+The logic (cli.tools.params) is imported inside each command."""
+
+from __future__ import annotations
+
+import typer
+
+from cli.commands.options import ConnectOption, DomainOption, NodeArgument, format, result, use_node
+
+param_app = typer.Typer(
+    help="A running node's parameters: list, get, set, describe, dump (as `ros2 param`).\n\n"
+    "Example: turtlectl param set navigator goal_timeout 60"
+)
+
+
+ParamArgument = typer.Argument(..., metavar="NAME", help="A parameter, e.g. goal_timeout or gains.lookahead.")
+
+
+@param_app.command("list")
+def param_list(
+    node: str | None = typer.Argument(
+        None, metavar="[NODE]", callback=use_node, help="A node's name (default: every running node)."
+    ),
+    json: bool = typer.Option(False, "--json", help="One JSON array of names (by node without NODE)."),
+    connect: str = ConnectOption,
+    domain: str = DomainOption,
+) -> None:
+    """The names of a running node's parameters (a table's entries dotted: gains.lookahead),
+    or of every node's.
+
+    Example: turtlectl param list navigator
+    """
+    from cli.tools import params
+
+    if node is None:
+        by_node = params.listing_all(connect)
+        result(format.json_value(by_node) if json else params.listing_text(by_node))
+        return
+    names = params.names(params.fetch(connect, node))
+    result(format.json_value(names) if json else "\n".join(names))
+
+
+@param_app.command("set", context_settings={"ignore_unknown_options": True})  # negative VALUEs
+def param_set(
+    node: str = NodeArgument,
+    name: str = ParamArgument,
+    value: str = typer.Argument(
+        ..., metavar="VALUE", help='A TOML value as in a launch file: 60, 0.5, true, [1, 2], "text".'
+    ),
+    connect: str = ConnectOption,
+    domain: str = DomainOption,
+) -> None:
+    """Change a parameter of a running node at once, validated as the launch file is (same
+    errors, exit 2; a node of your own kind: as it describes its parameters, and by the node);
+    parameters that cannot change at run time are refused with the reason.
+    The node publishes a ParameterEvent (`turtlectl echo turtlectl/parameter_events`).  A node
+    that is started again (respawn) runs with the launch file's value unless the system was
+    launched with --persist.
+
+    Example: turtlectl param set navigator goal_timeout 60
+    """
+    from cli.tools import params
+
+    result(params.set_value(connect, node, name, value))
+
+
+@param_app.command("describe")
+def param_describe(
+    node: str = NodeArgument,
+    name: str = ParamArgument,
+    json: bool = typer.Option(False, "--json", help="One JSON object."),
+    connect: str = ConnectOption,
+    domain: str = DomainOption,
+) -> None:
+    """A parameter's type, unit, range, default, meaning, value now, and whether it can change
+    at run time.
+
+    Example: turtlectl param describe navigator goal_timeout
+    """
+    from cli.tools import params
+
+    info, now = params.describe(connect, node, name)
+    if json:
+        result(format.json_value({**params.plain(info), "value": now}))
+    else:
+        result(params.describe_text(node, info, now))
+
+
+@param_app.command("get")
+def param_get(
+    node: str = NodeArgument,
+    name: str = ParamArgument,
+    connect: str = ConnectOption,
+    domain: str = DomainOption,
+) -> None:
+    """One parameter's value as the node runs with it, in JSON.
+
+    Example: turtlectl param get navigator goal_timeout
+    """
+    from cli.tools import params
+
+    result(format.json_value(params.value(params.fetch(connect, node), node, name)))
+
+
+@param_app.command("dump")
+def param_dump(
+    node: str = NodeArgument,
+    json: bool = typer.Option(False, "--json", help="One JSON object instead of TOML."),
+    connect: str = ConnectOption,
+    domain: str = DomainOption,
+) -> None:
+    """Every parameter of a running node, as TOML for its [node.params] table in a launch file.
+
+    Example: turtlectl param dump navigator > navigator.toml
+    """
+    from cli.tools import params
+
+    values = params.fetch(connect, node)
+    result(format.json_value(values) if json else params.dump(node, values))
+
+
+def register(app: typer.Typer) -> None:
+    """Add this group's commands to ``app``."""
+    app.add_typer(param_app, name="param")

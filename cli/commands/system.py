@@ -1,0 +1,177 @@
+"""turtlectl's System commands: launch, router, run, log-level, certs.
+
+The launch side's logic lives in cli.system (launch files, the supervisor, certificates);
+it is imported inside each command, so that ``--help`` does not pay for it."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import typer
+
+from cli import args
+from cli.commands.options import ConnectOption, DomainOption, LogLevelOption, NodeArgument, format, result
+from cli.errors import BadInput
+from runtime.endpoint import DEFAULT_PORT, default_domain
+
+
+def launch(
+    ctx: typer.Context,
+    file: Path | None = typer.Argument(
+        None, metavar="FILE", help="Launch file (default: ./launch.toml, else the packaged one)."
+    ),
+    port: int = typer.Option(DEFAULT_PORT, "--port", min=1, max=65535, help="Router port."),
+    listen: str = typer.Option("127.0.0.1", "--listen", help="Address the router listens on (other hosts: theirs)."),
+    join: str | None = typer.Option(None, "--connect", help="Run no router: join the one at this endpoint."),
+    only: list[str] = typer.Option([], "--only", help="Run only this node (repeatable)."),
+    exclude: list[str] = typer.Option([], "--exclude", help="Do not run this node (repeatable)."),
+    set_: list[str] = typer.Option(
+        [],
+        "--set",
+        help="NODE.PARAM=VALUE or world/limits/supervisor.KEY=VALUE override (repeatable), validated like the file.",
+    ),
+    check: bool = typer.Option(False, "--check", help="Validate the file (and overrides), print the plan, and exit."),
+    persist: bool = typer.Option(
+        False, "--persist", help="A node started again (respawn) keeps parameters changed by `param set`."
+    ),
+    secure: bool = typer.Option(
+        False, "--secure", help="Only sessions that log in join: a new login per node and for local clients."
+    ),
+    insecure: bool = typer.Option(
+        False, "--insecure", help="Listen beyond loopback without logins (anyone who reaches it can drive)."
+    ),
+    tls: Path | None = typer.Option(
+        None, "--tls", metavar="DIR", help="With --secure: mutual TLS with the certificates of `turtlectl certs DIR`."
+    ),
+    log_level: str = LogLevelOption,
+    log_dir: Path | None = typer.Option(
+        None, "--log-dir", envvar="TURTLECTL_LOG_DIR", help="Parent folder of run folders (default ~/.turtlectl/log)."
+    ),
+    domain: str = DomainOption,
+) -> None:
+    """Start the router and every node of a launch file; Ctrl-C stops them all.
+
+    Each node's output is prefixed with its name and also written to <log-dir>/<run>/<node>.log.
+
+    Example: turtlectl launch --port 7448 --set navigator.goal_timeout=60
+    """
+    from cli.system.launchfile import default_launch_file, launch_plan
+    from cli.system.supervisor import logs
+    from cli.system.supervisor.manager import Supervisor
+    from cli.system.supervisor.printer import Printer
+
+    if join is None:  # `turtlectl --connect E launch` joins E, as `turtlectl launch --connect E`
+        join = (ctx.obj or {}).get("connect")
+    level = args.log_level(log_level)
+    host = args.listen_address(listen)
+    args.exposure(host, secure, insecure, joins=join is not None, tls=tls is not None)
+    if tls is not None:
+        args.tls_folder(tls)
+    plan = launch_plan(file or default_launch_file(), only, exclude, set_)
+    if check:
+        typer.echo(format.plan_text(plan))
+        return
+    connect = args.endpoint(join) if join is not None else ""
+    printer = Printer([e.name for e in plan.launch.node])
+    supervisor = Supervisor(
+        plan,
+        printer,
+        None if join else port,
+        connect,
+        default_domain(),
+        host,
+        log_dir or logs.default_parent(),
+        persist=persist,
+        log_level=level,
+        secure=secure,
+        tls=tls,
+    )
+    try:
+        code = supervisor.run()
+    finally:
+        printer.close()
+    raise typer.Exit(code)
+
+
+def certs(
+    folder: Path = typer.Argument(
+        ..., metavar="DIR", help="Folder to write them into (made if missing; never overwritten)."
+    ),
+    host: list[str] = typer.Option([], "--host", help="A name or address the router is reached by (repeatable)."),
+) -> None:
+    """Make a certificate authority and the router's and clients' certificates for
+    `launch --secure --tls DIR` (mutual TLS); the keys are readable by you only.  Another
+    machine that joins copies ca.pem, client.pem and client.key and sets TURTLECTL_TLS.
+
+    Example: turtlectl certs ~/.turtlectl/tls --host 192.168.1.20
+    """
+    from cli.system.certs import make
+
+    written = make(folder, host)
+    result("wrote " + ", ".join(str(p) for p in written))
+
+
+def router(
+    ctx: typer.Context,
+    port: int = typer.Option(DEFAULT_PORT, "--port", min=1, max=65535, help="Port to listen on."),
+    listen: str = typer.Option("127.0.0.1", "--listen", help="Address to listen on (loopback by default)."),
+    insecure: bool = typer.Option(
+        False, "--insecure", help="Listen beyond loopback without logins (anyone who reaches it can drive)."
+    ),
+) -> None:
+    """Run a Zenoh router alone, for nodes started with `launch --connect` (as rmw_zenohd).
+
+    Example: turtlectl router --port 7447
+    """
+    from cli.system.supervisor.router import run_router
+
+    if (ctx.obj or {}).get("connect") is not None:
+        raise BadInput("router takes no --connect: it is the router the others connect to (see --port, --listen)")
+    host = args.listen_address(listen)
+    args.exposure(host, secure=False, insecure=insecure, can_secure=False)
+    run_router(port, host, lambda: typer.echo(f"router listening on tcp/{host}:{port}; Ctrl-C stops it", err=False))
+
+
+def run(
+    node: str = typer.Argument(..., metavar="NODE", help="Name of a node in the launch file."),
+    param: list[str] = typer.Option([], "--param", "-p", help="KEY=VALUE override (repeatable; a.b=1 for tables)."),
+    file: Path | None = typer.Option(None, "--file", help="Launch file (default as for launch)."),
+    log_level: str = LogLevelOption,
+    connect: str = ConnectOption,
+    domain: str = DomainOption,
+) -> None:
+    """Run one node in the foreground with the parameters the launch file gives it (and
+    overrides), joining the system at --connect: for debugging, or on another machine.
+
+    Example: turtlectl run navigator -p goal_timeout=60 --log-level DEBUG
+    """
+    from cli.system.launchfile import default_launch_file, load_launch, node_config
+    from cli.system.supervisor.process import exec_node
+
+    level = args.log_level(log_level)
+    path = file or default_launch_file()
+    exec_node(node_config(load_launch(path), node, args.endpoint(connect), param, default_domain(), level))
+
+
+def log_level_command(
+    node: str = NodeArgument,
+    level: str = typer.Argument(..., metavar="LEVEL", help="DEBUG, INFO, WARNING (or WARN) or ERROR, any case."),
+    connect: str = ConnectOption,
+    domain: str = DomainOption,
+) -> None:
+    """Change a running node's log level at once (`launch --log-level` sets it for all at start).
+
+    Example: turtlectl log-level navigator DEBUG
+    """
+    from cli.tools import introspect
+
+    result(introspect.set_log_level(connect, node, level))
+
+
+def register(app: typer.Typer) -> None:
+    """Add this group's commands to ``app``."""
+    app.command()(launch)
+    app.command()(certs)
+    app.command()(router)
+    app.command()(run)
+    app.command("log-level")(log_level_command)

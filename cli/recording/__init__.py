@@ -1,0 +1,1 @@
+"""Recordings: MCAP files read and written (``bag``), ``record``, ``play`` and ``recover``."""

@@ -1,0 +1,403 @@
+"""Recordings (``record``, ``play``, ``info``): MCAP files of turtlectl messages.  No Zenoh here.
+
+What a recording holds.  An MCAP file, chunked with zstd.  Each key recorded is a channel
+whose topic is the key; each message type a schema named by its wire name ("Pose"), a JSON
+Schema (``messages.jsonform.json_schema``), and messages are JSON (``messages.jsonform``,
+lossless: ``inf`` and ``NaN`` survive), so Foxglove opens the file as it is.  Per message:
+``log_time`` is when the recorder received it, ``publish_time`` its own ``stamp`` (its log
+time if it has none), ``sequence`` its ``seq``.  A payload that is not a known message (a
+raw publisher, garbage) is kept as it came: a channel without schema whose message encoding
+is the sample's Zenoh encoding, the bytes unchanged.  The world the run happened in (the
+simulator's ``turtlectl/world`` answer) is attached as ``turtlectl/world`` (JSON), so that a
+replay can draw it.  With ``record --scene`` the file also holds the Foxglove scene
+(cli.foxglove.scene: channels ``scene`` and ``scene/scan``, Foxglove's well-known protobuf schemas),
+which ``play`` leaves out (it is drawn from the other messages).
+
+Crash safety.  A chunk is closed (and on disk) once its first message is ``CHUNK_SPAN`` old, by
+the messages' own receive times (``add``) and by the clock (``tick``), so a recorder killed with
+SIGKILL loses at most the last second; a file that was never closed has no summary section:
+reading it reads every complete chunk and says it was not closed, and ``turtlectl recover``
+(cli.recording.recover) writes it whole and indexed.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import struct
+import time
+from collections.abc import Iterator
+from pathlib import Path
+from typing import IO, Any
+
+from cli.errors import BadInput
+from messages import DecodeError, Message, decode, encoding_for, type_from_encoding
+from messages.codec import TYPES_BY_NAME, type_name
+from messages.jsonform import JsonFormError, from_json, json_schema, to_json
+
+PROFILE = ""  # no MCAP profile: our own JSON messages (ros1/ros2 profiles mean their encodings)
+JSON = "json"  # MCAP's well-known message encoding
+JSON_SCHEMA = "jsonschema"  # MCAP's well-known schema encoding
+PROTOBUF = "protobuf"  # the scene's encoding (Foxglove's well-known schemas)
+WORLD = "turtlectl/world"  # the attachment holding the world the run happened in (JSON)
+CHUNK_SPAN = 800_000_000  # ns: a chunk is closed once its first message is this old (< 1 s lost)
+CHUNK_SIZE = 1 << 20  # bytes (uncompressed) a chunk may reach before it is closed anyway
+
+
+class RecordingError(BadInput):
+    """A file that is not a recording turtlectl can read (exit 2)."""
+
+
+@dataclasses.dataclass(frozen=True)
+class Record:
+    """One recorded message.  ``type_name`` is "" for a payload kept raw (no known type);
+    ``encoding`` is the Zenoh encoding it travelled with; ``data`` is what the file holds
+    (JSON for a typed message, the raw bytes otherwise)."""
+
+    key: str
+    type_name: str
+    encoding: str
+    log_time: int  # ns since the epoch: received by the recorder
+    publish_time: int  # ns since the epoch: the message's own stamp
+    sequence: int
+    data: bytes
+    scene: bool = False  # a drawing for Foxglove (record --scene), not a message of the system
+
+    def message(self) -> Message | None:
+        """The message, or None for a raw payload.  Raises RecordingError if the JSON is bad."""
+        if not self.type_name or self.scene:
+            return None
+        try:
+            return from_json(self.data, TYPES_BY_NAME[self.type_name])
+        except JsonFormError as exc:
+            raise RecordingError(f"a message on {self.key} cannot be read: {exc}") from None
+
+
+# -- writing ---------------------------------------------------------------------------------
+
+
+def refuse_existing(path: Path) -> None:
+    """A recording is never written over an existing file: say so (exit 2) before anything starts."""
+    if path.exists():
+        raise BadInput(f"{path} already exists: choose another name with -o")
+
+
+class BagWriter:
+    """Writes a recording at ``path`` (which must not exist yet): ``add`` each sample as it was
+    received, ``tick`` often (it closes the chunk once a second), ``close`` at the end."""
+
+    def __init__(self, path: Path, library: str = "turtlectl"):
+        from mcap.writer import CompressionType, Writer  # here: only record imports mcap's writer
+
+        self.path = path
+        try:
+            self._file: IO[bytes] = open(path, "xb")  # noqa: SIM115 - closed by close()
+        except FileExistsError:
+            refuse_existing(path)  # created since it was checked: the same words
+            raise
+        except OSError as exc:
+            raise BadInput(f"cannot write {path}: {exc.strerror or exc}") from None
+        self._writer = Writer(self._file, chunk_size=CHUNK_SIZE, compression=CompressionType.ZSTD)
+        self._writer.start(profile=PROFILE, library=library)
+        self._file.flush()  # the header is on disk at once: even a file killed now is an MCAP file
+        self._schemas: dict[str, int] = {}
+        self._channels: dict[tuple[str, str, str], int] = {}
+        self._chunk_start: int | None = None  # receive time (ns) of the open chunk's first message
+        self.messages = 0  # scene messages included
+        self.raw = 0  # payloads kept raw (no known type)
+        self.closed = False
+
+    @property
+    def size(self) -> int:
+        """Bytes written to the file so far."""
+        return self._file.tell()
+
+    def _channel(self, key: str, msg_type: type[Message] | None, encoding: str) -> int:
+        name = type_name(msg_type) if msg_type is not None else ""
+        ident = (key, name, "" if msg_type is not None else encoding)
+        channel = self._channels.get(ident)
+        if channel is None:
+            schema = 0  # none: a raw payload
+            if msg_type is not None:
+                schema = self._schemas.get(name, 0)
+                if not schema:
+                    import json
+
+                    data = json.dumps(json_schema(msg_type), allow_nan=False).encode()
+                    schema = self._schemas[name] = self._writer.register_schema(name, JSON_SCHEMA, data)
+            channel = self._writer.register_channel(
+                topic=key,
+                message_encoding=JSON if msg_type is not None else encoding or "application/octet-stream",
+                schema_id=schema,
+                metadata={"zenoh_encoding": encoding_for(msg_type) if msg_type is not None else encoding},
+            )
+            self._channels[ident] = channel
+        return channel
+
+    def add(self, key: str, encoding: str, payload: bytes, received: int) -> Message | None:
+        """One sample on ``key`` as received at ``received`` (ns since the epoch); the message
+        it holds (None if it is kept raw)."""
+        self._before_adding(received)
+        msg_type = type_from_encoding(encoding)
+        message: Message | None = None
+        if msg_type is not None:
+            try:
+                message = decode(payload, msg_type)
+            except DecodeError:
+                msg_type = None  # garbage under a known type's name: kept as it came
+        if message is None:
+            self.raw += 1
+            channel = self._channel(key, None, encoding)
+            self._writer.add_message(channel, log_time=received, publish_time=received, data=payload, sequence=0)
+        else:
+            stamp = getattr(message, "stamp", 0) or received
+            seq = getattr(message, "seq", 0) & 0xFFFFFFFF  # MCAP's sequence is 32 bits
+            channel = self._channel(key, type(message), encoding)
+            self._writer.add_message(
+                channel, log_time=received, publish_time=stamp, data=to_json(message), sequence=seq
+            )
+        self.messages += 1
+        return message
+
+    def add_scene(self, topic: str, drawing: Any, when: int) -> None:
+        """A Foxglove well-known message (``drawing``: foxglove.messages) on ``topic`` at ``when``."""
+        self._before_adding(when)
+        schema = drawing.get_schema()
+        ident = (topic, schema.name, PROTOBUF)
+        channel = self._channels.get(ident)
+        if channel is None:
+            sid = self._schemas.get(schema.name, 0) or self._writer.register_schema(schema.name, PROTOBUF, schema.data)
+            self._schemas[schema.name] = sid
+            channel = self._channels[ident] = self._writer.register_channel(topic, PROTOBUF, sid)
+        self._writer.add_message(channel, log_time=when, publish_time=when, data=drawing.encode())
+        self.messages += 1
+
+    def attach_world(self, document: bytes, when: int) -> None:
+        """Keep the world the run happens in (``turtlectl/world``'s JSON), on disk at once."""
+        self._writer.add_attachment(
+            create_time=when, log_time=when, name=WORLD, media_type="application/json", data=document
+        )
+        self._writer.flush()
+
+    def _before_adding(self, received: int) -> None:
+        """Close the open chunk if a message received at ``received`` would make it span too long."""
+        self.tick(received)
+        if self._chunk_start is None:
+            self._chunk_start = received
+
+    def tick(self, now: int | None = None) -> None:
+        """Close the open chunk, writing it to disk, once its first message is ``CHUNK_SPAN`` old at
+        ``now`` (ns since the epoch, as receive times)."""
+        now = time.time_ns() if now is None else now
+        if self._chunk_start is not None and now - self._chunk_start >= CHUNK_SPAN:
+            self._chunk_start = None
+            self._writer.flush()  # the chunk, and the file's buffer, written
+
+    def close(self) -> None:
+        """Finish the file: the summary section (index, statistics) and the footer."""
+        if not self.closed:
+            self.closed = True
+            self._writer.finish()
+            self._file.close()
+
+
+# -- reading ---------------------------------------------------------------------------------
+
+
+@dataclasses.dataclass(frozen=True)
+class TopicInfo:
+    key: str
+    type_name: str  # "" for raw payloads
+    encoding: str  # the MCAP message encoding
+    count: int
+    rate: float  # mean messages per second over the recording (0 if it spans no time)
+
+
+@dataclasses.dataclass(frozen=True)
+class Info:
+    path: str
+    size: int
+    closed: bool  # False: no summary section (the recorder was killed); what is complete was read
+    start: int  # ns since the epoch (0 when empty)
+    end: int
+    count: int
+    topics: list[TopicInfo]
+
+    @property
+    def duration(self) -> float:
+        """Seconds from the first message to the last."""
+        return (self.end - self.start) / 1e9
+
+
+_DAMAGE: tuple[type[BaseException], ...] = (
+    struct.error,
+    ValueError,
+    EOFError,
+    OSError,
+)  # OSError: a seek before the start
+
+
+class Recording:
+    """A recording opened for reading: ``records()`` in log-time order, ``info()``.
+    Raises RecordingError if ``path`` is not an MCAP file or is unreadable."""
+
+    def __init__(self, path: Path):
+        from mcap.reader import make_reader
+
+        self.path = path
+        self._damage = read_errors()
+        try:
+            with open(path, "rb") as f:
+                magic = f.read(8)
+        except FileNotFoundError:
+            raise RecordingError(f"{path}: no such file") from None
+        except OSError as exc:
+            raise RecordingError(f"cannot read {path}: {exc.strerror or exc}") from None
+        if magic != b"\x89MCAP0\r\n":
+            raise RecordingError(f"{path} is not an MCAP file (a recording made by `turtlectl record`)")
+        self.summary: Any = None
+        try:
+            with open(path, "rb") as f:
+                self.summary = make_reader(f).get_summary()
+        except self._damage:
+            self.summary = None
+        self.closed = self.summary is not None
+        if not self.closed:
+            self._check_header()
+        self._check_schemas()
+
+    def _check_header(self) -> None:
+        from mcap.records import Header
+        from mcap.stream_reader import StreamReader
+
+        try:
+            with open(self.path, "rb") as f:
+                first = next(iter(StreamReader(f).records), None)
+        except self._damage:
+            first = None
+        if not isinstance(first, Header):
+            raise RecordingError(f"{self.path} is truncated: not even its header can be read")
+
+    def _check_schemas(self) -> None:
+        for schema, channel in self._channels():
+            if channel.message_encoding == PROTOBUF and schema is not None and schema.name.startswith("foxglove."):
+                continue  # the scene of record --scene
+            unknown = schema is None or schema.name not in TYPES_BY_NAME
+            if channel.message_encoding == PROTOBUF or (channel.message_encoding == JSON and unknown):
+                name = schema.name if schema is not None else "no schema"
+                known = ", ".join(sorted(TYPES_BY_NAME))
+                raise RecordingError(
+                    f"{self.path}: channel {channel.topic} has an unknown type ({name}); turtlectl knows {known}"
+                )
+
+    def _channels(self) -> Iterator[tuple[Any, Any]]:
+        """(schema or None, channel) of every channel: from the summary, or from a scan."""
+        if self.summary is not None:
+            for channel in self.summary.channels.values():
+                yield self.summary.schemas.get(channel.schema_id), channel
+            return
+        seen: set[int] = set()
+        for schema, channel, _ in self._scan():
+            if channel.id not in seen:
+                seen.add(channel.id)
+                yield schema, channel
+
+    def _scan(self) -> Iterator[tuple[Any, Any, Any]]:
+        """Every complete message of a file that was not closed, in file order; stops at the damage."""
+        from mcap.reader import NonSeekingReader
+
+        with open(self.path, "rb") as f:
+            try:
+                yield from NonSeekingReader(f, validate_crcs=True).iter_messages(log_time_order=False)
+            except self._damage:
+                return
+
+    def records(self, keys: list[str] | None = None) -> Iterator[Record]:
+        """Every message (of channels ``keys`` only, if given) in log-time order."""
+        if self.summary is not None:
+            from mcap.reader import make_reader
+
+            with open(self.path, "rb") as f:
+                try:
+                    for schema, channel, message in make_reader(f).iter_messages(topics=keys, log_time_order=True):
+                        yield _record(schema, channel, message)
+                except self._damage as exc:
+                    raise RecordingError(f"{self.path} is damaged: {exc}") from None
+            return
+        # no index: the file's order, which is the order received (each log time is its arrival)
+        for schema, channel, message in self._scan():
+            if keys is None or channel.topic in keys:
+                yield _record(schema, channel, message)
+
+    def world(self) -> bytes | None:
+        """The world attached to the recording (JSON), or None."""
+        from mcap.records import Attachment
+        from mcap.stream_reader import StreamReader
+
+        with open(self.path, "rb") as f:
+            try:
+                for record in StreamReader(f, emit_chunks=True).records:  # chunks skipped whole
+                    if isinstance(record, Attachment) and record.name == WORLD:
+                        return bytes(record.data)
+            except self._damage:
+                pass
+        return None
+
+    def info(self) -> Info:
+        counts: dict[int, int] = {}
+        channels: dict[int, tuple[Any, Any]] = {}
+        start = end = 0
+        if self.summary is not None and self.summary.statistics is not None:
+            stats = self.summary.statistics
+            counts = dict(stats.channel_message_counts)
+            channels = {c.id: (self.summary.schemas.get(c.schema_id), c) for c in self.summary.channels.values()}
+            start, end = (stats.message_start_time, stats.message_end_time) if stats.message_count else (0, 0)
+        else:
+            for schema, channel, message in self._scan():
+                channels.setdefault(channel.id, (schema, channel))
+                counts[channel.id] = counts.get(channel.id, 0) + 1
+                start = message.log_time if not start else min(start, message.log_time)
+                end = max(end, message.log_time)
+        span = (end - start) / 1e9
+        topics = [
+            TopicInfo(
+                key=channel.topic,
+                type_name=schema.name if schema is not None else "",
+                encoding=channel.message_encoding,
+                count=counts.get(cid, 0),
+                rate=counts.get(cid, 0) / span if span > 0 else 0.0,
+            )
+            for cid, (schema, channel) in sorted(channels.items(), key=lambda item: item[1][1].topic)
+        ]
+        return Info(
+            path=str(self.path),
+            size=self.path.stat().st_size,
+            closed=self.closed,
+            start=start,
+            end=end,
+            count=sum(counts.values()),
+            topics=topics,
+        )
+
+
+def _record(schema: Any, channel: Any, message: Any) -> Record:
+    return Record(
+        key=channel.topic,
+        type_name=schema.name if schema is not None and channel.message_encoding == JSON else "",
+        encoding=channel.metadata.get("zenoh_encoding", channel.message_encoding),
+        log_time=message.log_time,
+        publish_time=message.publish_time,
+        sequence=message.sequence,
+        data=message.data,
+        scene=channel.message_encoding == PROTOBUF,
+    )
+
+
+def read_errors() -> tuple[type[BaseException], ...]:
+    """What reading a damaged or cut MCAP file raises (mcap's own errors, zstd's, a short read)."""
+    from mcap.exceptions import McapError
+
+    try:
+        from zstandard import ZstdError
+    except ImportError:
+        return (*_DAMAGE, McapError)
+    return (*_DAMAGE, McapError, ZstdError)

@@ -1,0 +1,207 @@
+"""``turtlectl play``: a recording published again, each message at its recorded offset.
+
+Nothing here prints.  ``plan`` (pure) picks and remaps what is played; ``play`` publishes it
+on an absolute schedule: message i is due at ``start + (log_time_i - first) / rate`` on the
+monotonic clock (time spent paused moves the start), so delays never add up; messages get a
+fresh ``stamp`` unless ``keep_stamps``.  It yields each message's lateness (actual − scheduled)
+for the progress line and the benchmark.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import dataclasses
+import os
+import sys
+import threading
+import time
+from collections.abc import Callable, Iterable, Iterator
+
+import msgspec
+import zenoh
+
+from cli.errors import BadInput
+from cli.recording.bag import Record, Recording
+from cli.tools.client import check_key, client_session, require
+from messages import Message, encode, encoding_for
+from messages.keys import WORLD_KEY
+
+SPIN = 0.0015  # s before a message is due when sleeping stops and the wait spins (timer slack)
+
+
+@dataclasses.dataclass(frozen=True)
+class Played:
+    key: str
+    offset: float  # s from the first message played, in the recording's time
+    late: float  # s: when it went out minus when it was due (wall, after dividing by the rate)
+    index: int
+    total: int
+    loop: int
+    paused: bool = False  # yielded once as a pause begins (the message is not sent yet)
+
+
+def parse_remaps(remaps: list[str]) -> dict[str, str]:
+    """``OLD:=NEW`` pairs (as ROS's remapping) as a dict; BadInput if malformed."""
+    out: dict[str, str] = {}
+    for text in remaps:
+        old, sep, new = text.partition(":=")
+        if not sep or not old or not new:
+            raise BadInput(f"--remap {text!r}: write it as OLD:=NEW, e.g. robot/status:=replay/status")
+        out[check_key(old, publish=True)] = check_key(new, publish=True)
+    return out
+
+
+def _plain(topic: str) -> str:
+    """A recorded channel's topic as a key: a ROS-style leading '/' dropped."""
+    return topic[1:] if topic.startswith("/") and len(topic) > 1 else topic
+
+
+def plan(records: Iterable[Record], start_offset: float) -> list[Record]:
+    """The records to play, those from ``start_offset`` s after the first one on."""
+    chosen = [r for r in records if not r.scene]  # the scene is drawn from the rest
+    if not chosen:
+        return chosen
+    first = chosen[0].log_time
+    return [r for r in chosen if (r.log_time - first) / 1e9 >= start_offset]
+
+
+def _payload(record: Record, message: Message | None, keep_stamps: bool) -> tuple[bytes, str]:
+    """What to publish for ``record`` (whose ``message()`` is ``message``): msgpack of the
+    message (freshly stamped unless ``keep_stamps``), or its raw bytes; and their encoding."""
+    if message is None:
+        return record.data, record.encoding
+    if not keep_stamps and "stamp" in type(message).__struct_fields__:
+        message = msgspec.structs.replace(message, stamp=time.time_ns())
+    return encode(message), encoding_for(type(message))
+
+
+def serve_world(session: zenoh.Session, document: bytes | None) -> zenoh.Queryable | None:
+    """Answer ``turtlectl/world`` with the recorded world while playing, unless a simulator
+    answers it already (``turtlectl view`` draws it; the queryable ends with the session)."""
+    if document is None or any(r.ok is not None for r in session.get(WORLD_KEY, timeout=0.5)):
+        return None
+
+    def on_query(query: zenoh.Query) -> None:
+        query.reply(WORLD_KEY, document, encoding=zenoh.Encoding.APPLICATION_JSON)
+
+    return session.declare_queryable(WORLD_KEY, on_query)
+
+
+def play(
+    connect: str,
+    recording: Recording,
+    rate: float,
+    start_offset: float,
+    keys: list[str] | None,
+    remap: dict[str, str],
+    keep_stamps: bool,
+    loop: bool,
+    paused: Callable[[], bool],
+    stopped: Callable[[], bool],
+) -> Iterator[Played]:
+    """Publish the recording (``keys`` only if given, renamed by ``remap``) at ``rate`` times its
+    speed, from ``start_offset`` s; again and again with ``loop``.  ``paused()`` holds the
+    schedule; ``stopped()`` ends it."""
+    if rate <= 0:
+        raise BadInput("--rate must be above 0")
+    # channels are keys as recorded; a ROS 2 bag's start with '/', dropped as everywhere in turtlectl
+    wanted = None if keys is None else set(keys)
+    selected = [r for r in recording.records() if wanted is None or _plain(r.key) in wanted]
+    records = plan(selected, start_offset)
+    if not records and start_offset > 0.0 and plan(selected, 0.0):
+        length = recording.info().duration
+        raise BadInput(f"--start-offset {start_offset:g} s is past the end of {recording.path} ({length:.3g} s long)")
+    if not records:
+        raise BadInput(f"nothing to play in {recording.path}" + (f" on {', '.join(keys)}" if keys else ""))
+    targets = {}  # recorded channel -> the key it is played on
+    for topic in {r.key for r in records}:
+        try:
+            targets[topic] = check_key(remap.get(_plain(topic), _plain(topic)), publish=True)
+        except BadInput as exc:
+            raise BadInput(f"{recording.path}: channel {topic!r} cannot be played: {exc.message}") from None
+    first = records[0].log_time
+    with client_session(connect) as session:
+        world = serve_world(session, recording.world())  # kept: a queryable lives while referenced
+        publishers: dict[tuple[str, str], zenoh.Publisher] = {}
+        round_ = 0
+        try:
+            while True:
+                start = time.monotonic()
+                for index, record in enumerate(records):
+                    offset = (record.log_time - first) / 1e9
+                    message = record.message()  # decoded before it is due: only stamping is left then
+                    while True:
+                        if stopped():
+                            return
+                        if paused():
+                            yield Played(record.key, offset, 0.0, index, len(records), round_, paused=True)
+                            held = time.monotonic()
+                            while paused() and not stopped():
+                                time.sleep(0.02)  # pacing: paused by the user
+                            start += time.monotonic() - held
+                            continue
+                        due = start + offset / rate
+                        wait = due - time.monotonic()
+                        if wait <= 0:
+                            break
+                        if wait > SPIN:
+                            time.sleep(min(wait - SPIN, 0.05))  # pacing: the schedule (short, to see pause/stop)
+                    payload, encoding = _payload(record, message, keep_stamps)
+                    key = targets[record.key]
+                    pub = publishers.get((key, encoding))
+                    if pub is None:
+                        require("publish", key)  # a --secure router would drop it without a word
+                        pub = session.declare_publisher(key, encoding=zenoh.Encoding(encoding))
+                        publishers[(key, encoding)] = pub
+                    pub.put(payload)
+                    late = time.monotonic() - due
+                    yield Played(record.key, offset, late, index, len(records), round_)
+                if not loop:
+                    return
+                round_ += 1
+        finally:
+            for pub in publishers.values():
+                pub.undeclare()
+            if world is not None:
+                world.undeclare()
+
+
+@contextlib.contextmanager
+def space_toggles(active: bool) -> Iterator[Callable[[], bool]]:
+    """On a terminal (``active``): the space key toggles pause while the block runs, the
+    terminal restored after; yields ``paused()``.  Otherwise ``paused()`` is always False."""
+    state = threading.Event()
+    if not active:
+        yield state.is_set
+        return
+    import termios
+    import tty
+
+    fd = sys.stdin.fileno()
+    saved = termios.tcgetattr(fd)
+    done = threading.Event()
+
+    def read_keys() -> None:
+        import select
+
+        while not done.is_set():
+            ready, _, _ = select.select([fd], [], [], 0.1)
+            if ready:
+                key = os.read(fd, 1)
+                if key == b" ":
+                    if state.is_set():
+                        state.clear()
+                    else:
+                        state.set()
+                elif not key:
+                    return
+
+    tty.setcbreak(fd)
+    reader = threading.Thread(target=read_keys, name="keys", daemon=True)
+    reader.start()
+    try:
+        yield state.is_set
+    finally:
+        done.set()
+        reader.join(0.5)
+        termios.tcsetattr(fd, termios.TCSADRAIN, saved)

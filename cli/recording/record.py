@@ -1,0 +1,150 @@
+"""``turtlectl record``: what arrives on key expressions, written to a recording (cli.recording.bag).
+
+Nothing here prints; ``record`` yields progress for the command to show.  Samples are taken
+with their receive time on Zenoh's threads and written on the caller's thread, which also
+closes a chunk before its first message is a second old (cli.recording.bag.CHUNK_SPAN); when ``stop`` is set (Ctrl-C, SIGTERM) or the duration is over,
+what is queued is written and the file is finished.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import datetime
+import queue
+import threading
+import time
+from collections.abc import Iterator
+from pathlib import Path
+
+import msgspec
+import zenoh
+
+from cli.recording.bag import BagWriter
+from cli.tools.client import check_key, client_session
+from messages.keys import WORLD_KEY
+from messages.world import World
+
+ALL = "**"  # every key (not turtlectl's liveliness tokens: keys under @ are not matched by **)
+PROGRESS_PERIOD = 0.5  # s between two progress reports
+
+
+@dataclasses.dataclass(frozen=True)
+class Progress:
+    path: Path
+    elapsed: float  # s since recording began
+    messages: int
+    size: int  # bytes written so far
+    done: bool = False
+
+
+def default_path(now: datetime.datetime | None = None) -> Path:
+    """``turtlectl_<date>-<time>.mcap`` in the current folder, as rosbag2 names its bags."""
+    now = now or datetime.datetime.now()
+    return Path(f"turtlectl_{now:%Y_%m_%d-%H_%M_%S}.mcap")
+
+
+def keys_to_record(topics: list[str], everything: bool, exclude: list[str]) -> tuple[list[str], list[str]]:
+    """The key expressions to subscribe to and those to leave out, checked (BadInput)."""
+    from cli.errors import BadInput
+
+    if everything and topics:
+        raise BadInput("give topics or -a/--all, not both")
+    if not everything and not topics:
+        raise BadInput("nothing to record: give topics (key expressions) or -a/--all for every topic")
+    keys = [ALL] if everything else list(dict.fromkeys(check_key(t) for t in topics))
+    return keys, [check_key(e) for e in exclude]
+
+
+class _Drawing:
+    """The scene for ``record --scene``: drawn from each message, the world once a second."""
+
+    def __init__(self, writer: BagWriter, world: World):
+        from cli.foxglove.scene import SceneMaker  # foxglove: only when asked for
+
+        self.writer = writer
+        self.maker = SceneMaker(world)
+        self._next_world = 0
+
+    def draw(self, key: str, message: object, when: int) -> None:
+        for topic, drawn in self.maker.on_message(key, message, when):
+            self.writer.add_scene(topic, drawn, when)
+
+    def tick(self) -> None:
+        now = time.time_ns()
+        if now >= self._next_world:
+            self._next_world = now + 1_000_000_000
+            topic, drawn = self.maker.world_update(now)
+            self.writer.add_scene(topic, drawn, now)
+
+
+def record(
+    connect: str,
+    keys: list[str],
+    exclude: list[str],
+    path: Path,
+    duration: float | None,
+    stop: threading.Event,
+    library: str = "turtlectl",
+    scene: bool = False,
+) -> Iterator[Progress]:
+    """Record ``keys`` (minus ``exclude``) into ``path`` until ``stop`` is set or ``duration`` s
+    have passed; yields a Progress about twice a second and a last one once the file is closed.
+    With ``scene``, the Foxglove scene drawn from the messages is recorded too (cli.foxglove.scene)."""
+    exprs = [zenoh.KeyExpr(k) for k in keys]
+    excluded = [zenoh.KeyExpr(k) for k in exclude]
+    inbox: queue.SimpleQueue[tuple[str, str, bytes, int]] = queue.SimpleQueue()
+
+    def taker(index: int):
+        earlier = exprs[:index]
+
+        def on_sample(sample: zenoh.Sample) -> None:  # Zenoh thread: stamp and queue only
+            received = time.time_ns()
+            key = sample.key_expr
+            # a key matched by two of the expressions reaches two subscribers: kept once
+            if any(e.intersects(key) for e in earlier) or any(e.intersects(key) for e in excluded):
+                return
+            inbox.put((str(key), str(sample.encoding), sample.payload.to_bytes(), received))
+
+        return on_sample
+
+    with client_session(connect) as session:
+        writer = BagWriter(path, library)
+        try:
+            world = World()
+            for reply in session.get(WORLD_KEY, timeout=1.0):  # the world, for a replay to draw
+                if reply.ok is not None:
+                    writer.attach_world(reply.ok.payload.to_bytes(), time.time_ns())
+                    world = msgspec.json.decode(reply.ok.payload.to_bytes(), type=World)
+                    break
+            drawing = _Drawing(writer, world) if scene else None
+            subs = [session.declare_subscriber(k, taker(i)) for i, k in enumerate(keys)]
+            started = time.monotonic()
+            next_report = started
+            try:
+                while not stop.is_set() and (duration is None or time.monotonic() - started < duration):
+                    try:
+                        sample = inbox.get(timeout=0.05)
+                        message = writer.add(*sample)
+                        if drawing is not None and message is not None:
+                            drawing.draw(sample[0], message, sample[3])
+                    except queue.Empty:
+                        pass
+                    now = time.monotonic()
+                    if drawing is not None:
+                        drawing.tick()
+                    writer.tick()  # a chunk whose first message is old enough is closed
+                    if now >= next_report:
+                        next_report = now + PROGRESS_PERIOD
+                        yield Progress(path, now - started, writer.messages, writer.size)
+            finally:
+                for sub in subs:
+                    sub.undeclare()
+                while True:  # what was received before the end is kept
+                    try:
+                        writer.add(*inbox.get_nowait())
+                    except queue.Empty:
+                        break
+            elapsed = time.monotonic() - started
+        finally:
+            writer.close()
+    yield Progress(path, elapsed, writer.messages, path.stat().st_size, done=True)

@@ -1,0 +1,254 @@
+"""The supervision policy: what to do with the children of a launch plan, with no Zenoh and
+no real process (they come from a factory, time from a clock and a sleep function), so
+every rule is tested with fake children and a fake clock (tests/unit/cli/system/supervisor).
+
+* Start every node in the plan's order; a stop requested meanwhile starts no more.
+* A child that exits is respawned if its entry says so: first after respawn_delay s, then
+  twice as long each time up to respawn_delay_max s, at most respawn_max times in a row (0:
+  no limit); a run of STABLE_RUN s or more starts the count again.  Not after an exit that
+  the next start would repeat (runtime.exitcodes.respawn_can_help: 2, its configuration
+  cannot be used; 4, another process holds what it claims): given up on at once, one line
+  saying why.
+* A child that exits for good (no respawn, or respawns used up) is given up on; if it is
+  required the system stops, exit code FAILED.  So does a system whose every node has exited.
+* Readiness comes from outside (``announce``, from any thread): a child is ready once this
+  very process (its pid) has announced itself.  An announcement under a node's name from
+  any other pid (another system's node joined through --connect, an earlier start) counts
+  for nothing: not towards "ready", nor against it when it goes away.
+* Shutdown escalates SIGINT -> SIGTERM -> SIGKILL with the launch file's waits, each child
+  getting each signal once.  A child that has not announced itself yet is still importing
+  and gets SIGTERM first: a SIGINT there raises KeyboardInterrupt inside an import (a
+  traceback).
+
+Never prints directly: everything goes through the Printer.
+"""
+
+from __future__ import annotations
+
+import queue
+import signal
+import time
+from collections.abc import Callable
+from typing import Protocol
+
+from cli.errors import ExitCode
+from cli.system.launchfile import LaunchPlan
+from cli.system.supervisor.printer import Printer
+from runtime.exitcodes import node_exit, respawn_can_help
+
+POLL = 0.05  # s between checks of the children
+STABLE_RUN = 10.0  # s: a child that ran this long has its respawn count reset
+KILL_WAIT = 1.0  # s for the kernel to reap SIGKILLed children
+REAP_POLL = 0.02  # s between checks while children stop
+
+
+class ChildProcess(Protocol):
+    """One node's process, started again on each respawn (cli.system.supervisor.process.Child)."""
+
+    @property
+    def pid(self) -> int | None: ...
+
+    def start(self) -> None: ...
+
+    def poll(self) -> int | None:
+        """The exit code once it has exited (a signal: minus its number), else None."""
+
+    def running(self) -> bool: ...
+
+    def send(self, sig: signal.Signals) -> None: ...
+
+    def flush_output(self, timeout: float = 1.0) -> None: ...
+
+
+def respawn_delay(first: float, cap: float, attempt: int) -> float:
+    """Delay (s) before respawn number ``attempt`` (1, 2, …): doubling from ``first``, at most ``cap``."""
+    return min(cap, first * 2.0 ** (attempt - 1)) if first > 0 else 0.0
+
+
+class Supervision:
+    """The children of ``plan``, each made once by ``spawn(name)`` and started on demand."""
+
+    def __init__(
+        self,
+        plan: LaunchPlan,
+        printer: Printer,
+        spawn: Callable[[str], ChildProcess],
+        clock: Callable[[], float] = time.monotonic,
+        sleep: Callable[[float], None] = time.sleep,
+        since: float | None = None,
+    ):
+        """``since``: when the launch began, on ``clock`` (default: now), the start of "ready in"."""
+        self.entries = {e.name: e for e in plan.launch.node}
+        self.settings = plan.launch.supervisor
+        self.printer = printer
+        self.spawn = spawn
+        self.clock = clock
+        self.sleep = sleep
+        self.children: dict[str, ChildProcess] = {}
+        self.stop_reason: str | None = None
+        self.exit_code = ExitCode.OK
+        self._started_at: dict[str, float] = {}
+        self._respawn_at: dict[str, float] = {}
+        self._crashes: dict[str, int] = {}  # respawns in a row, per node
+        self._given_up: set[str] = set()  # nodes that exited for good: no longer watched
+        self._events: queue.SimpleQueue[tuple[bool, str, int]] = queue.SimpleQueue()
+        self._alive: dict[str, int] = {}  # node name -> pid announced
+        self._ready_reported = False
+        self._t0 = clock() if since is None else since
+
+    # -- input ----------------------------------------------------------------
+    def announce(self, alive: bool, name: str, pid: int) -> None:
+        """Node ``name`` (process ``pid``) announced itself (``alive``) or went away; any thread."""
+        self._events.put((alive, name, pid))
+
+    def stop(self, reason: str, code: ExitCode = ExitCode.OK) -> None:
+        """Ask the system to stop (the first reason and code win); safe in a signal handler."""
+        if self.stop_reason is None:
+            self.stop_reason = reason
+            self.exit_code = code
+
+    # -- the whole run ----------------------------------------------------------
+    def run(self) -> ExitCode:
+        """Start every node, watch them until stopped, then stop them all (always)."""
+        try:
+            self.start_all()
+            self.watch()
+        finally:
+            self.shutdown()
+        return self.exit_code
+
+    def start_all(self) -> None:
+        for name in self.entries:
+            if self.stop_reason is not None:  # stopped while starting: start no more
+                break
+            self._start(name)
+
+    def watch(self) -> None:
+        while self.stop_reason is None:
+            self.step()
+            self.sleep(POLL)  # pacing: the supervisor's poll period
+
+    def step(self) -> None:
+        """One check of every child: respawns due, exits, readiness."""
+        self._drain_events()
+        now = self.clock()
+        for name, child in self.children.items():
+            if name in self._given_up:
+                continue
+            if name in self._respawn_at:
+                if now >= self._respawn_at[name]:
+                    del self._respawn_at[name]
+                    self._start(name)
+                continue
+            code = child.poll()
+            if code is not None:
+                self._exited(name, child, code, now)
+                if self.stop_reason is not None:
+                    return
+        if self.stop_reason is None and self._given_up >= set(self.entries):
+            # every exit handled and none to be respawned (not merely none running right now:
+            # a respawned child that has exited already is respawned again at the next check)
+            self.stop("every node has exited", ExitCode.FAILED)
+
+    # -- children -------------------------------------------------------------
+    def _start(self, name: str) -> None:
+        child = self.children.get(name) or self.children.setdefault(name, self.spawn(name))
+        child.start()
+        self._started_at[name] = self.clock()
+        self.printer.system(f"started {name} (pid {child.pid})")
+
+    def _exited(self, name: str, child: ChildProcess, code: int, now: float) -> None:
+        """Decide what a child's exit means: respawn it (with backoff), or give up on it."""
+        child.flush_output()
+        entry = self.entries[name]
+        how = node_exit(code)
+        if now - self._started_at[name] >= STABLE_RUN:
+            self._crashes[name] = 0
+        crashes = self._crashes.get(name, 0)
+        hopeless = entry.respawn and not respawn_can_help(code)
+        if hopeless:
+            how += "; not respawning: respawning cannot help"
+        elif entry.respawn and (entry.respawn_max == 0 or crashes < entry.respawn_max):
+            self._crashes[name] = crashes + 1
+            delay = respawn_delay(entry.respawn_delay, entry.respawn_delay_max, crashes + 1)
+            self.printer.system(f"{name} {how}; respawning in {delay:g} s (respawn {crashes + 1})")
+            self._respawn_at[name] = now + delay
+            return
+        self._given_up.add(name)
+        if entry.respawn and not hopeless:
+            how += f", after {crashes} respawns in a row; giving up on it"
+        if entry.required:
+            self.printer.system(f"{name} {how}; it is required, stopping the system")
+            self.stop(f"required node {name} {how}", ExitCode.FAILED)
+        else:
+            self.printer.system(f"{name} {how}")
+
+    def _drain_events(self) -> None:
+        while True:
+            try:
+                alive, name, pid = self._events.get_nowait()
+            except queue.Empty:
+                return
+            child = self.children.get(name)
+            if child is None or child.pid != pid:
+                # not the process started here (another system's node of that name, or an
+                # earlier start of this one): it makes nothing ready and unreadies nothing
+                if alive and child is not None and child.running():
+                    self.printer.system(
+                        f"warning: another process (pid {pid}) also calls itself {name}; `turtlectl list` shows both"
+                    )
+                continue
+            if alive:
+                self._alive[name] = pid
+            else:
+                self._alive.pop(name, None)
+            if not self._ready_reported and all(self.ready(n) for n in self.entries):
+                self._ready_reported = True
+                elapsed = self.clock() - self._t0
+                count = len(self.entries)
+                self.printer.system(
+                    f"{'all ' * (count > 1)}{count} node{'s' * (count != 1)} ready in {elapsed:.2f} s"
+                    " (since turtlectl started)"
+                )
+
+    def ready(self, name: str) -> bool:
+        """True once this very process of node ``name`` has announced itself."""
+        child = self.children.get(name)
+        return child is not None and child.pid is not None and self._alive.get(name) == child.pid
+
+    # -- stopping ---------------------------------------------------------------
+    def shutdown(self) -> None:
+        """SIGINT, wait, SIGTERM, wait, SIGKILL: each child gets each signal at most once.
+
+        A child not ready yet is still starting (importing numpy and zenoh), where SIGINT
+        would raise KeyboardInterrupt and print a traceback: it gets SIGTERM at the first
+        step instead, which ends it silently (the default action) or, once the node runtime
+        has installed its handler, stops it as SIGINT does.
+        """
+        self._drain_events()
+        steps = (
+            (signal.SIGINT, self.settings.sigint_timeout),
+            (signal.SIGTERM, self.settings.sigterm_timeout),
+            (signal.SIGKILL, KILL_WAIT),
+        )
+        sent: dict[str, set[signal.Signals]] = {name: set() for name in self.children}
+        for sig, wait in steps:
+            targets = [(name, c) for name, c in self.children.items() if c.running()]
+            if not targets:
+                break
+            sends = []
+            for name, child in targets:
+                first = signal.SIGTERM if sig is signal.SIGINT and not self.ready(name) else sig
+                if first not in sent[name]:
+                    sends.append((name, child, first))
+            escalated = [name for name, _, s in sends if sig is not signal.SIGINT]
+            if escalated:
+                self.printer.system(f"sending {sig.name} to {', '.join(escalated)}")
+            for name, child, first in sends:
+                child.send(first)
+                sent[name].add(first)
+            until = self.clock() + wait
+            while self.clock() < until and any(c.running() for _, c in targets):
+                self.sleep(REAP_POLL)  # pacing: reaping children
+        for child in self.children.values():
+            child.flush_output(0.2)

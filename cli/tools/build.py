@@ -1,0 +1,74 @@
+"""Messages and parameters built from what a user types (pure: no zenoh).
+
+Everything is validated before anything is sent or started; errors are
+BadInput naming the field.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import msgspec
+
+from cli.errors import BadInput
+from cli.system.launchfile import validation_parts
+from messages import Message
+from messages.codec import TYPES_BY_NAME
+from messages.keys import TOPICS, service_types
+
+
+def _problem(exc: msgspec.ValidationError) -> str:
+    what, path = validation_parts(exc)
+    path = path.lstrip(".")
+    return f"{path}: {what}" if path else what
+
+
+def type_named(name: str) -> type[Message]:
+    """The message type called ``name`` (any case); BadInput naming the known ones otherwise."""
+    found = {n.lower(): t for n, t in TYPES_BY_NAME.items()}.get(name.lower())
+    if found is None:
+        names = ", ".join(sorted(TYPES_BY_NAME))
+        raise BadInput(f"unknown message type {name!r} (known: {names}; `turtlectl interface show TYPE` for fields)")
+    return found
+
+
+def message_type(key: str, type_name: str | None, table: dict[str, Any], verb: str = "carries") -> type[Message]:
+    """The message type for ``key``: the one ``table`` declares (a known key keeps its own
+    type: ``--type`` naming another is refused, "KEY <verb> Twist, not Pose"), else ``type_name``."""
+    entry = table.get(key)
+    known = None if entry is None else (entry[0] if isinstance(entry, tuple) else entry)
+    if type_name is not None:
+        found = type_named(type_name)
+        if known is not None and found is not known:
+            raise BadInput(f"{key} {verb} {known.__name__}, not {found.__name__}")
+        return found
+    if known is None:
+        raise BadInput(f"no known message type for {key!r}: give one with --type")
+    return known
+
+
+def message_from_json(text: str, msg_type: type[Message]) -> Message:
+    """``msg_type`` from JSON text (the ``type`` tag may be left out)."""
+    try:
+        return msgspec.json.decode(text.encode(), type=msg_type)
+    except msgspec.ValidationError as exc:
+        raise BadInput(f"not a valid {msg_type.__name__}: {_problem(exc)}") from None
+    except msgspec.DecodeError as exc:
+        raise BadInput(f"not valid JSON: {exc}") from None
+
+
+def topic_message(key: str, text: str, type_name: str | None = None) -> Message:
+    return message_from_json(text, message_type(key, type_name, TOPICS))
+
+
+def service_request(key: str, text: str, type_name: str | None = None) -> Message | bytes:
+    """The request for ``key``: a typed message for a known service, else the JSON text as bytes."""
+    types = service_types(key)
+    if type_name is None and types is None:
+        try:
+            msgspec.json.decode(text.encode())
+        except msgspec.DecodeError as exc:
+            raise BadInput(f"not valid JSON: {exc}") from None
+        return text.encode()
+    table = {} if types is None else {key: types}
+    return message_from_json(text, message_type(key, type_name, table, verb="takes"))

@@ -1,0 +1,217 @@
+"""Client sessions of the command-line tools, and checks of what users type for them.
+
+Nothing here prints; functions return data or raise a TurtlectlError (cli.errors).  Service calls
+live in cli.tools.services, topics in cli.tools.topics; the check of --connect in cli.args.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import os
+import secrets
+import socket
+from collections.abc import Iterator
+
+import zenoh
+
+from cli.args import ENDPOINT_RE, endpoint
+from cli.errors import BadInput, Failed, TurtlectlError, Unreachable
+from cli.sigint import sigint_deferred
+from messages.keys import (
+    DOMAIN_GRAPHS,
+    DOMAIN_TOKEN_PREFIX,
+    NAVIGATE_TO,
+    NODE_TOKEN_PREFIX,
+    SERVICES,
+    TOPICS,
+    client_token,
+    parse_domain_token,
+)
+from runtime.endpoint import default_domain
+from runtime.session import client_config, close_session
+
+OPEN_TIMEOUT = 2.5  # s to reach the router before reporting "nothing to talk to"
+
+
+def check_key(text: str, publish: bool = False) -> str:
+    """A topic as typed by a user as a Zenoh key expression: a ROS-style leading '/' is
+    dropped; anything Zenoh would refuse is BadInput.  With ``publish``, one
+    plain key: no wildcards, nothing of turtlectl's own ``@`` space."""
+    key = text[1:] if text.startswith("/") and len(text) > 1 else text
+    try:
+        key = str(zenoh.KeyExpr(key))
+    except zenoh.ZError:
+        raise BadInput(f"{text!r} is not a valid key expression (like robot/status or turtle1/*)") from None
+    if publish and ("*" in key or "$" in key or key.startswith("@")):
+        raise BadInput(f"{text!r}: publish on one plain key, without wildcards or '@'")
+    return key
+
+
+def _no_system(connect: str) -> Unreachable:
+    return Unreachable(f"no turtlectl system at {connect} (is `turtlectl launch` running?)")
+
+
+def _not_let_in(connect: str, logged_in: bool) -> str:
+    """Why a router that is there may not have let this client in."""
+    from cli.system import credentials
+    from runtime.endpoint import TLS_ENV, tls_folder
+
+    why = f"the router at {connect} did not let this client in within {OPEN_TIMEOUT:g} s: "
+    if connect.startswith("tls/") and not tls_folder():
+        return why + f"a tls/ endpoint needs {TLS_ENV} naming the folder of ca.pem, client.pem, client.key"
+    if connect.startswith("tls/") and not os.path.isdir(tls_folder()):
+        return why + f"{TLS_ENV}={tls_folder()} is not a folder (the one `turtlectl certs` made)"
+    if connect.startswith("tls/"):
+        return why + (f"its TLS certificate ({tls_folder()}) is not one its authority signed, or its login was refused")
+    if logged_in:
+        return why + "its login in the credentials file was refused (a --secure system started again makes new ones)"
+    return why + (
+        f"a `launch --secure` system takes only clients with its login, and {credentials.where_none(connect)}; "
+        "one with --tls speaks TLS only (connect with tls/HOST:PORT)"
+    )
+
+
+_ROLE: list[str] = []  # the role this process logged in as to a --secure system (none: no login)
+
+
+class NotPermitted(Failed):
+    """A --secure system's router would drop it silently: the role may not do that."""
+
+
+def logged_in_as() -> str | None:
+    """The role this process logged in as to a --secure system, None without a login."""
+    return _ROLE[0] if _ROLE else None
+
+
+def require(verb: str, key: str) -> None:
+    """NotPermitted (exit 1) if this process logged in with a role that may not ``verb``
+    (publish, call, token) on ``key``: the router would drop it without a word."""
+    if not _ROLE:
+        return
+    from cli.system import access
+
+    role = _ROLE[0]
+    plain = base_key(key)  # lab1/navigate_to from outside domain lab1: the rules are lab1's own
+    if not access.permitted(role, verb, plain):
+        who = access.who_may(verb, plain)
+        how = f"may: {', '.join(who)}; TURTLECTL_ROLE chooses the role" if who else "no client role may"
+        raise NotPermitted(f"not permitted: the {role} role may not {verb} {key} on this --secure system ({how})")
+
+
+def _listening(connect: str) -> bool:
+    """Whether something accepts TCP connections at a ``tcp/`` endpoint (True for other protocols)."""
+    match = ENDPOINT_RE.match(endpoint(connect))
+    if match is None or match.group(1) != "tcp":
+        return True
+    try:
+        socket.create_connection((match.group(2).strip("[]"), int(match.group(3))), timeout=OPEN_TIMEOUT).close()
+    except OSError:
+        return False
+    return True
+
+
+def probe(connect: str) -> None:
+    """Unreachable at once if nothing listens at a ``tcp/`` endpoint (Zenoh itself
+    would retry for OPEN_TIMEOUT s before saying so); other protocols are left to Zenoh."""
+    if not _listening(connect):
+        raise _no_system(connect)
+
+
+@contextlib.contextmanager
+def client_session(connect: str, domain: str | None = None) -> Iterator[zenoh.Session]:
+    """A Zenoh client session to the router at ``connect``, closed (bounded) on exit; in
+    ``domain`` (default: --domain / TURTLECTL_DOMAIN; "" for none)."""
+    from cli.system import credentials
+
+    probe(connect)
+    login = credentials.for_endpoint(connect)
+    _ROLE[:] = [credentials.role()] if login is not None else []
+    try:
+        session = zenoh.open(
+            client_config(connect, OPEN_TIMEOUT, default_domain() if domain is None else domain, login)
+        )
+    except zenoh.ZError:
+        if _listening(connect):  # a router is there and did not let this client in
+            raise Unreachable(_not_let_in(connect, login is not None)) from None
+        raise _no_system(connect) from None
+    try:
+        yield session
+    finally:
+        with sigint_deferred():  # a Ctrl-C now must not interrupt Zenoh half-way through closing
+            close_session(session)
+
+
+def router_lost(session: zenoh.Session) -> bool:
+    """True if this client session has no router any more (the router stopped or went away)."""
+    return not session.info.routers_zid()
+
+
+def new_client_id() -> str:
+    """An id for ``NavigateToRequest.client``: ``<pid>-<8 hex digits>``, one key chunk."""
+    return f"{os.getpid()}-{secrets.token_hex(4)}"
+
+
+def domain_prefix(key: str) -> str:
+    """The domain part of a key a client without --domain uses to reach into a domain
+    (``lab1/`` in ``lab1/navigate_to``), else ""."""
+    known = TOPICS.keys() | SERVICES.keys()
+    head, slash, rest = key.partition("/")
+    return head + "/" if slash and not default_domain() and rest in known and key not in known else ""
+
+
+def base_key(key: str) -> str:
+    """``key`` without the domain prefix of ``domain_prefix`` (``lab1/navigate_to`` -> ``navigate_to``)."""
+    return key[len(domain_prefix(key)) :]
+
+
+@contextlib.contextmanager
+def caller_token(session: zenoh.Session, service_key: str = NAVIGATE_TO) -> Iterator[str]:
+    """Hold ``@turtlectl/client/<id>`` while the block runs and yield ``<id>``: the navigator
+    cancels the goal of a caller whose token vanishes (Ctrl-C, kill -9, a timeout here).
+    The token lives in the service's domain (``lab1/@turtlectl/client/<id>`` for ``lab1/navigate_to``)."""
+    client_id = new_client_id()
+    token = session.liveliness().declare_token(domain_prefix(service_key) + client_token(client_id))
+    try:
+        yield client_id
+    finally:
+        token.undeclare()
+
+
+def domains_on_router(connect: str) -> tuple[list[str], bool]:
+    """The domains with a system on the router at ``connect`` (a supervisor's domain token, or
+    nodes in the domain), and whether nodes run there outside any domain.  Asked outside
+    any namespace, so it works whatever --domain this client has."""
+    with client_session(connect, domain="") as session:
+        found: set[str] = set()
+        plain = False
+        for selector in (f"{DOMAIN_TOKEN_PREFIX}/*", DOMAIN_GRAPHS, f"{NODE_TOKEN_PREFIX}/**"):
+            for reply in session.liveliness().get(selector, timeout=1.0):
+                if reply.ok is None:
+                    continue
+                key = str(reply.ok.key_expr)
+                if key.startswith(NODE_TOKEN_PREFIX + "/"):
+                    plain = True
+                elif (domain := parse_domain_token(key)) is not None:
+                    found.add(domain)
+                elif "/@turtlectl/" in key:
+                    found.add(key.partition("/")[0])
+    return sorted(found), plain
+
+
+def domain_hint(connect: str) -> str:
+    """A hint, starting with "; ", when the systems on this router run in other domains than
+    this client's (--domain), else "".  Never raises: it only adds to another error."""
+    mine = default_domain()
+    try:
+        found, plain = domains_on_router(connect)
+    except TurtlectlError:
+        return ""
+    others = [d for d in found if d != mine]
+    if plain and mine:
+        return f"; a system runs outside any domain on this router: run the command without `--domain {mine}`" + (
+            f" (or use --domain {others[0]})" if others else ""
+        )
+    if others:
+        which = ", ".join(others)
+        return f"; systems run in domain{'s' * (len(others) > 1)} {which} on this router: add it before the command, `turtlectl --domain {others[0]} ...`"
+    return ""

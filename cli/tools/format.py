@@ -1,0 +1,254 @@
+"""Text for people and for programs: how messages and outcomes are printed (pure)."""
+
+from __future__ import annotations
+
+import csv
+import io
+import math
+from typing import TYPE_CHECKING, Any
+
+import msgspec
+
+from cli.errors import BadInput
+from messages import Ack, Message, NavigateToFeedback, NavigateToResponse, to_builtins
+from messages.angles import degrees_0_360
+from messages.jsonform import spelled, to_json
+
+if TYPE_CHECKING:  # launch files (nodes' parameters) are loaded by launch and run only
+    from cli.system.launchfile import LaunchPlan
+
+SHORT = 8  # array items shown before "..." unless --full
+
+
+def _value(value: object, full: bool) -> str:
+    if isinstance(value, float):
+        if math.isinf(value):
+            return "inf" if value > 0 else "-inf"
+        if value == 0:
+            return "0"
+        text = f"{value:.6g}"
+        # 359.99999 is not 360: a heading must read below 360, so give the digits it needs
+        return f"{value:.12g}" if float(text) != value and abs(float(text)) >= 360.0 > abs(value) else text
+    if isinstance(value, bool):
+        return "true" if value else "false"  # as the JSON and the interface reference write it
+    if isinstance(value, list):
+        items = value if full or len(value) <= SHORT else value[:SHORT]
+        more = "" if len(items) == len(value) else f", ... ({len(value)} values)"
+        return "[" + ", ".join(_value(v, full) for v in items) + more + "]"
+    return str(value)
+
+
+def _fields(msg: Message) -> dict[str, Any]:
+    """The message's fields as plain data, without the type tag."""
+    data = to_builtins(msg)
+    data.pop("type", None)
+    return data
+
+
+def select_field(msg: Message, path: str) -> Any:
+    """The value at a dotted ``path`` (``ranges.0`` indexes a list); BadInput if there is none."""
+    value: Any = _fields(msg)
+    for part in path.split("."):
+        if isinstance(value, dict) and part in value:
+            value = value[part]
+        elif isinstance(value, list) and part.lstrip("-").isdigit():
+            if not -len(value) <= int(part) < len(value):
+                raise BadInput(f"{path!r}: index {part} is out of range ({len(value)} values)")
+            value = value[int(part)]
+        else:
+            raise BadInput(f"{type(msg).__name__} has no field {path!r}")
+    return value
+
+
+def message_block(msg: Message, full: bool = False, key: str | None = None) -> str:
+    """A readable block, as ``ros2 topic echo`` prints: the type (and the key, when given),
+    one ``field: value`` per line, then ``---``."""
+    header = f"# {type(msg).__name__}" + (f" on {key}" if key else "")
+    lines = [header] + [f"{name}: {_value(value, full)}" for name, value in _fields(msg).items()]
+    return "\n".join(lines) + "\n---"
+
+
+def value_text(value: Any, full: bool = False) -> str:
+    return _value(value, full)
+
+
+def message_json(msg: Message, key: str | None = None) -> str:
+    """One JSON object on one line (its ``type`` names the message type); with ``key``, a
+    ``"key"`` member after ``type`` names the key it came on (echo of a wildcard)."""
+    if key is None:
+        return to_json(msg).decode()
+    data = to_builtins(msg)
+    return json_value({"type": data.pop("type"), "key": key, **data})
+
+
+def json_value(value: Any) -> str:
+    """``value`` as JSON, infinities and NaN spelled "Infinity", "-Infinity", "NaN" (as recordings
+    and the Foxglove server write them: messages.jsonform)."""
+    return msgspec.json.encode(spelled(value)).decode()
+
+
+def csv_header(msg: Message) -> str:
+    return ",".join(_fields(msg))
+
+
+def _csv_line(values: list[Any]) -> str:
+    """One CSV line; arrays as one quoted JSON cell."""
+    out = io.StringIO()
+    csv.writer(out, lineterminator="").writerow([json_value(v) if isinstance(v, list) else v for v in values])
+    return out.getvalue()
+
+
+def csv_row(msg: Message) -> str:
+    """One CSV line of the message's fields; arrays as one quoted JSON cell."""
+    return _csv_line(list(_fields(msg).values()))
+
+
+def fields_header(paths: list[str]) -> str:
+    """The CSV header of ``echo --field`` (once or more): the fields' paths as typed."""
+    return _csv_line(paths)
+
+
+def fields_line(values: dict[str, Any], json: bool = False, csv: bool = False, full: bool = False) -> str:
+    """The fields ``echo --field`` selected of one message (path -> value), on one line: as
+    text separated by spaces, as one CSV line, or in JSON the bare value of one field, an
+    object by path of several."""
+    if csv:
+        return _csv_line(list(values.values()))
+    if json:
+        return json_value(next(iter(values.values())) if len(values) == 1 else values)
+    return " ".join(_value(v, full) for v in values.values())
+
+
+def heading_text(degrees: float, decimals: int = 1) -> str:
+    """A heading (degrees, any value) as people read it: in [0, 360) as printed, so 359.97
+    shows as 0.0, never 360.0 (reduced with messages.angles before and after rounding)."""
+    shown = degrees_0_360(round(degrees_0_360(degrees), decimals)) + 0.0  # + 0.0: no "-0.0"
+    return f"{shown:.{decimals}f}"
+
+
+def outcome_line(response: NavigateToResponse) -> str:
+    """One line for people: what happened to a goal."""
+    where = f"at ({response.x:.3f}, {response.y:.3f}, {heading_text(response.theta)} deg)"
+    errors = f"error {response.position_error:.4f} m, {response.heading_error:.2f} deg"
+    if response.success:
+        return f"reached {where} in {response.time_taken:.3f} s ({errors})"
+    why = f" ({response.detail})" if response.detail else ""
+    if response.refused:
+        return f"refused: {response.reason}{why}"
+    return f"not reached: {response.reason} after {response.time_taken:.3f} s{why}; {where}, {errors}"
+
+
+def progress_line(fb: NavigateToFeedback, width: int = 80) -> str:
+    """The live progress of a goal on one line of at most ``width - 1`` characters (it is
+    rewritten in place, so it must never wrap; the last column stays free because some
+    terminals wrap on writing it).  Parts are dropped, least useful first, to fit: the
+    elapsed time, the pose, the eta, then the heading; a very narrow line is cut."""
+    parts = [  # (priority: lower is kept longer, text)
+        (0, f"{fb.state:8s} {fb.distance_remaining:6.3f} m"),
+        (3, f"{fb.heading_remaining:5.1f} deg to go"),
+        (1, "no scan: avoiding declared obstacles only" if fb.scan_stale else ""),
+        (2, f"eta {fb.eta:4.1f} s"),
+        (4, f"at ({fb.x:.2f}, {fb.y:.2f}, {heading_text(fb.theta, 0)} deg)"),
+        (5, f"{fb.elapsed:.1f} s"),
+    ]
+    parts = [(rank, text) for rank, text in parts if text]
+    room = max(1, width - 1)
+    while True:
+        line = " | ".join(text for _, text in parts)
+        if len(line) <= room or len(parts) == 1:
+            return line[:room]
+        parts.remove(max(parts, key=lambda p: p[0]))
+
+
+def ack_lines(acks: list[Ack]) -> str:
+    return "\n".join(a.detail for a in acks)
+
+
+def teleport_line(x: float, y: float, theta_degrees: float) -> str:
+    """What ``teleport`` says, in the units it was given (m, m, degrees in [0, 360))."""
+    return f"teleported to ({x:g}, {y:g}, {heading_text(theta_degrees, 6).rstrip('0').rstrip('.')} deg)"
+
+
+def plan_text(plan: LaunchPlan) -> str:
+    """What ``launch --check`` prints: the validated plan, nodes with their parameters."""
+    launch = plan.launch
+    w, lim, sup = launch.world, launch.limits, launch.supervisor
+    lines = [
+        f"{plan.source}: valid",
+        f"world: {w.size:g} m square, {len(w.obstacles)} obstacles"
+        + "".join(f"; ({o.x:g}, {o.y:g}) r {o.radius:g}" for o in w.obstacles),
+        f"limits: {lim.max_linear_speed:g} m/s, {lim.max_linear_accel:g} m/s^2, "
+        f"{lim.max_angular_speed:g} rad/s, {lim.max_angular_accel:g} rad/s^2",
+        f"shutdown: SIGINT, {sup.sigint_timeout:g} s, SIGTERM, {sup.sigterm_timeout:g} s, SIGKILL",
+        "nodes:",
+    ]
+    for e in launch.node:
+        how = ["required" if e.required else "optional"]
+        if e.respawn:
+            limit = "no limit" if e.respawn_max == 0 else f"at most {e.respawn_max} in a row"
+            how.append(f"respawn after {e.respawn_delay:g} s doubling to {e.respawn_delay_max:g} s, {limit}")
+        lines.append(f"  {e.name} (run {e.run}; {'; '.join(how)}): {json_value(plan.params[e.name])}")
+    return "\n".join(lines)
+
+
+def size_text(size: int) -> str:
+    """A byte count for people: B, KiB, MiB or GiB."""
+    value = float(size)
+    for unit in ("B", "KiB", "MiB"):
+        if value < 1024:
+            return f"{value:.0f} {unit}" if unit == "B" else f"{value:.1f} {unit}"
+        value /= 1024
+    return f"{value:.2f} GiB"
+
+
+def _local_time(ns: int) -> str:
+    import datetime
+
+    when = datetime.datetime.fromtimestamp(ns / 1e9).astimezone()
+    return f"{when:%Y-%m-%d %H:%M:%S}.{when.microsecond // 1000:03d} {when:%Z}"
+
+
+def recording_line(elapsed: float, messages: int, size: int) -> str:
+    """The live line of `record`: elapsed time, messages written, file size."""
+    return f"recording: {elapsed:7.1f} s, {messages} messages, {size_text(size)}"
+
+
+def info_text(info: Any) -> str:
+    """`turtlectl info`, as `ros2 bag info` prints a bag (``info``: cli.recording.bag.Info)."""
+    from cli.recording.recover import hint
+
+    lines = [
+        f"File:      {info.path}",
+        f"Size:      {size_text(info.size)}",
+        f"Closed:    {'yes' if info.closed else 'NO: the recorder did not finish it (killed?); what is complete was read'}",
+        *([] if info.closed else [f"           {hint(info.path)}"]),
+    ]
+    if info.count:
+        lines += [
+            f"Duration:  {info.duration:.3f} s",
+            f"Start:     {_local_time(info.start)}",
+            f"End:       {_local_time(info.end)}",
+        ]
+    lines.append(f"Messages:  {info.count}")
+    if info.topics:
+        rows = [("topic", "type", "count", "rate", "encoding")]
+        rows += [(t.key, t.type_name or "(raw)", str(t.count), f"{t.rate:.2f} Hz", t.encoding) for t in info.topics]
+        widths = [max(len(r[i]) for r in rows) for i in range(5)]
+        lines.append("Topics:")
+        for r in rows:
+            lines.append(
+                "  "
+                + "  ".join(
+                    c.rjust(w) if i in (2, 3) else c.ljust(w) for i, (c, w) in enumerate(zip(r, widths, strict=True))
+                ).rstrip()
+            )
+    return "\n".join(lines)
+
+
+def info_json(info: Any) -> str:
+    """`turtlectl info --json`: one object (times in ns since the epoch, duration in s)."""
+    import dataclasses
+
+    data = dataclasses.asdict(info)
+    data["duration"] = info.duration
+    return msgspec.json.encode(data).decode()

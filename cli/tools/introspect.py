@@ -1,0 +1,204 @@
+"""``turtlectl node info``, ``topic info`` and ``log-level``: one node or one topic in detail,
+as ``ros2 node info`` / ``ros2 topic info -v``, from the liveliness graph and the node's own
+answers (``turtlectl/nodes/<name>``, ``turtlectl/params/<name>``).  Prints nothing."""
+
+from __future__ import annotations
+
+import time
+from typing import Any
+
+import msgspec
+
+from cli import args
+from cli.errors import BadInput, Failed
+from cli.tools.graph import Graph
+from cli.tools.services import NobodyServes, Raw, call_service
+from messages import Ack, SetLogLevel
+from messages.keys import NodeDetails, log_level_key, node_key
+
+TIMEOUT = 3.0  # s a node has to answer
+RATE_WINDOW = 1.0  # s over which `topic info -v` measures the rate
+
+
+class Endpoint(msgspec.Struct):
+    key: str
+    type: str
+
+
+class NodeReport(msgspec.Struct):
+    """One node: what it is, and what it publishes, subscribes to and serves."""
+
+    name: str
+    kind: str
+    pid: int
+    host: str
+    uptime: float  # s
+    log_level: str
+    publishers: list[Endpoint]
+    subscribers: list[Endpoint]
+    services: list[Endpoint]
+    parameters: dict[str, Any]
+
+
+def _no_node(node: str, graph: Graph) -> NobodyServes:
+    from cli.tools.params import no_node
+
+    return no_node(node, [n.name for n in graph.nodes], graph.hint)
+
+
+def _details(connect: str, node: str) -> NodeDetails:
+    answers = [a for a in call_service(connect, node_key(node), b"", TIMEOUT) if isinstance(a, Raw)]
+    if not answers:
+        raise Failed(f"{node} did not say what it is")
+    try:
+        return msgspec.json.decode(answers[-1].payload, type=NodeDetails)
+    except msgspec.DecodeError as exc:
+        raise Failed(f"{node} sent an unreadable answer: {exc}") from None
+
+
+def node_report(connect: str, node: str) -> NodeReport:
+    """Node ``node`` in detail (NobodyServes, exit 3, naming the running nodes if none is called so)."""
+    from cli.tools import params, topics
+
+    graph = topics.graph(connect)
+    if node not in {n.name for n in graph.nodes}:
+        raise _no_node(node, graph)
+    details = _details(connect, node)
+    return NodeReport(
+        name=node,
+        kind=details.kind,
+        pid=details.pid,
+        host=details.host,
+        uptime=max(0.0, (time.time_ns() - details.start_ns) / 1e9),
+        log_level=details.log_level,
+        publishers=[Endpoint(t.key, t.type) for t in graph.topics if node in t.publishers],
+        subscribers=[Endpoint(t.key, t.type) for t in graph.topics if node in t.subscribers],
+        services=[Endpoint(s.key, s.type) for s in graph.services if node in s.servers],
+        parameters=params.fetch(connect, node),
+    )
+
+
+def _rows(endpoints: list[Endpoint]) -> list[str]:
+    width = max([len(e.key) for e in endpoints] + [10])
+    return [f"  {e.key:{width}s} {e.type}" for e in endpoints] or ["  (none)"]
+
+
+def node_text(report: NodeReport) -> str:
+    from cli.tools import params
+
+    lines = [
+        f"{report.name}  kind {report.kind}, pid {report.pid}, host {report.host}, "
+        f"up {report.uptime:.1f} s, log level {report.log_level}",
+        "PUBLISHERS",
+        *_rows(report.publishers),
+        "SUBSCRIBERS",
+        *_rows(report.subscribers),
+        "SERVICES",
+        *_rows(report.services),
+        "PARAMETERS",
+    ]
+    for name in params.names(report.parameters):
+        lines.append(f"  {name} = {msgspec.json.encode(params.value(report.parameters, report.name, name)).decode()}")
+    return "\n".join(lines)
+
+
+class TopicEnd(msgspec.Struct):
+    node: str
+    pid: int
+    host: str
+
+
+class TopicReport(msgspec.Struct):
+    """One topic: its type, who publishes and who subscribes, and (``-v``) its rate."""
+
+    key: str
+    type: str
+    publishers: list[TopicEnd]
+    subscribers: list[TopicEnd]
+    rate: float | None = None  # Hz over RATE_WINDOW s (None: not measured)
+    messages: int | None = None  # received while measuring
+
+
+def topic_report(connect: str, key: str, verbose: bool) -> TopicReport:
+    """Topic ``key`` from the live graph; with ``verbose`` its rate measured over a second.
+    A key no node publishes or subscribes to is NobodyServes (exit 3) naming the known topics."""
+    from cli.tools import topics
+    from cli.tools.client import check_key
+
+    key = check_key(key)
+    graph = topics.graph(connect)
+    row = next((t for t in graph.topics if t.key == key), None)
+    service = next((s for s in graph.services if s.key == key), None)
+    if row is None and service is not None:
+        raise BadInput(
+            f"{key} is a service ({service.type}, served by {', '.join(service.servers)}), not a topic: "
+            f"`turtlectl call {key} JSON` calls it"
+        )
+    if row is None:
+        known = ", ".join(t.key for t in graph.topics) or "none"
+        raise NobodyServes(f"no node publishes or subscribes to {key!r} (topics: {known})")
+    nodes = {n.name: n for n in graph.nodes}
+
+    def end(name: str) -> TopicEnd:
+        n = nodes.get(name)
+        return TopicEnd(node=name, pid=n.pid if n else 0, host=n.host if n else "")
+
+    report = TopicReport(
+        key=key,
+        type=row.type,
+        publishers=[end(n) for n in row.publishers],
+        subscribers=[end(n) for n in row.subscribers],
+    )
+    if verbose:
+        report.messages, report.rate = _measure(connect, key)
+    return report
+
+
+def _measure(connect: str, key: str) -> tuple[int, float]:
+    """Messages received on ``key`` over RATE_WINDOW s, and their rate (Hz, from the first to
+    the last arrival; 0 below two messages)."""
+    import queue
+
+    from cli.tools.client import client_session
+
+    arrivals: queue.SimpleQueue[float] = queue.SimpleQueue()
+    with client_session(connect) as session:
+        sub = session.declare_subscriber(key, lambda _sample: arrivals.put(time.monotonic()))
+        time.sleep(RATE_WINDOW)  # the measuring window itself, not a wait for readiness
+        sub.undeclare()
+    times = []
+    while not arrivals.empty():
+        times.append(arrivals.get())
+    rate = (len(times) - 1) / (times[-1] - times[0]) if len(times) >= 2 and times[-1] > times[0] else 0.0
+    return len(times), rate
+
+
+def topic_text(report: TopicReport) -> str:
+    def ends(items: list[TopicEnd]) -> list[str]:
+        return [f"  {e.node} (pid {e.pid}, host {e.host})" for e in items] or ["  (none)"]
+
+    lines = [f"{report.key}  type {report.type}"]
+    if report.rate is not None:
+        lines.append(f"rate {report.rate:.2f} Hz ({report.messages} messages in {RATE_WINDOW:g} s)")
+    lines += [
+        f"PUBLISHERS ({len(report.publishers)})",
+        *ends(report.publishers),
+        f"SUBSCRIBERS ({len(report.subscribers)})",
+        *ends(report.subscribers),
+    ]
+    return "\n".join(lines)
+
+
+def set_log_level(connect: str, node: str, level: str) -> str:
+    """Make ``node`` log ``level`` and above from now on; returns its answer."""
+    level = args.log_level(level)
+    try:
+        answers = list(call_service(connect, log_level_key(node), SetLogLevel(level=level), TIMEOUT))
+    except NobodyServes:
+        from cli.tools import topics
+
+        raise _no_node(node, topics.graph(connect)) from None
+    acks = [a for a in answers if isinstance(a, Ack)]
+    if not acks:
+        raise Failed(f"{node} did not confirm its log level")
+    return acks[-1].detail

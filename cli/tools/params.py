@@ -1,0 +1,262 @@
+"""``turtlectl param``: a running node's parameters, as ``ros2 param list / get / set /
+describe / dump``.  Each node answers a get on ``turtlectl/params/<name>`` with its
+parameters as JSON (the launch file's ``[node.params]`` after validation), on
+``turtlectl/params/<name>/describe`` with their description (messages.params), and changes
+one on ``turtlectl/params/<name>/set``.  Everything here works from those answers alone, so
+a node of a kind this command line does not know (a user's own) works as the built-in ones
+do; a node of a kind a launch file runs is also held to the launch file's rules.  This module
+fetches, validates and shapes, and prints nothing itself."""
+
+from __future__ import annotations
+
+import json
+from typing import Any
+
+import msgspec
+
+from cli.errors import BadInput, Failed
+from cli.tools.services import NobodyServes, Raw, Rejected, call_service, replies, service_session, world
+from messages import Ack, SetParameter
+from messages.keys import NodeDetails, node_key, param_describe_key, param_set_key, params_key
+from messages.params import ParamDescription, ParamInfo
+from messages.world import World
+from runtime.params import lookup
+
+#: s a node has to answer
+TIMEOUT = 3.0
+
+
+def _no_param(node: str, name: str, known: list[str]) -> BadInput:
+    """An unknown parameter: the nearest one suggested, all of them named."""
+    from cli.system.launchfile import suggestion
+
+    return BadInput(f"{node} has no parameter {name!r}{suggestion(name, known)} (it has: {', '.join(known)})")
+
+
+def no_node(node: str, running: list[str], hint: str = "") -> NobodyServes:
+    """No node called ``node`` answers in this command's domain; ``hint``: where systems run
+    when none runs here (the live graph's hint)."""
+    from runtime.endpoint import default_domain
+
+    where = f" in domain {default_domain()}" if default_domain() else ""
+    found = f"running: {', '.join(sorted(running))}" if running else f"no node runs{where}"
+    return NobodyServes(f"no node named {node!r} answers{where} ({found}){'; ' + hint if hint and not running else ''}")
+
+
+def _served(connect: str, key: str, node: str, what: str) -> bytes:
+    """``node``'s JSON answer on ``key``.  NobodyServes (exit 3) naming the live nodes if no
+    node of that name answers."""
+    try:
+        answers = list(call_service(connect, key, b"", TIMEOUT))
+    except NobodyServes:
+        from cli.tools import topics
+
+        graph = topics.graph(connect)
+        raise no_node(node, [n.name for n in graph.nodes], graph.hint) from None
+    if not answers or not isinstance(answers[-1], Raw):
+        raise Failed(f"{node} sent no {what}")
+    return answers[-1].payload
+
+
+def fetch(connect: str, node: str) -> dict[str, Any]:
+    """The parameters ``node`` runs with (NobodyServes naming the live nodes)."""
+    try:
+        params = msgspec.json.decode(_served(connect, params_key(node), node, "parameters"))
+    except msgspec.DecodeError as exc:
+        raise Failed(f"{node} sent unreadable parameters: {exc}") from None
+    if not isinstance(params, dict):
+        raise Failed(f"{node} sent parameters that are not a table")
+    return params
+
+
+def description(connect: str, node: str) -> ParamDescription:
+    """What ``node`` serves about its parameters, whatever its kind (NobodyServes naming the
+    live nodes)."""
+    try:
+        return msgspec.json.decode(
+            _served(connect, param_describe_key(node), node, "description of its parameters"), type=ParamDescription
+        )
+    except (msgspec.DecodeError, msgspec.ValidationError) as exc:
+        raise Failed(f"{node} sent an unreadable description of its parameters: {exc}") from None
+
+
+def _entries(described: ParamDescription, name: str) -> list[str]:
+    """The parameters inside table ``name`` (``gains`` -> ``gains.lookahead``, ...)."""
+    inside = [p.name for p in described.parameters if p.name.startswith(name + ".")]
+    here = next((p for p in described.parameters if p.name == name), None)
+    if here is not None and isinstance(here.value, dict):  # a map: its keys now
+        inside += names(here.value, name + ".")
+    return inside
+
+
+def value(params: dict[str, Any], node: str, name: str) -> Any:
+    """The parameter ``name`` (a dotted path reaches into a table: ``gains.lookahead``)."""
+    try:
+        return lookup(params, name)
+    except KeyError:
+        raise _no_param(node, name, names(params)) from None
+
+
+def names(params: dict[str, Any], prefix: str = "") -> list[str]:
+    """Every parameter's name, tables' entries dotted (``gains.lookahead``), in the node's order."""
+    out = []
+    for key, item in params.items():
+        if isinstance(item, dict):
+            out += names(item, f"{prefix}{key}.")
+        else:
+            out.append(prefix + key)
+    return out
+
+
+def toml_value(item: Any) -> str:
+    """``item`` as a TOML value (tables inline)."""
+    if isinstance(item, bool):
+        return "true" if item else "false"
+    if isinstance(item, (int, float)):
+        return repr(item)
+    if isinstance(item, str):
+        return json.dumps(item)  # a TOML basic string: the same escapes
+    if isinstance(item, list):
+        return "[" + ", ".join(toml_value(v) for v in item) + "]"
+    if isinstance(item, dict):
+        return "{ " + ", ".join(f"{k} = {toml_value(v)}" for k, v in item.items()) + " }" if item else "{}"
+    raise BadInput(f"cannot write {item!r} as TOML")
+
+
+def dump(node: str, params: dict[str, Any]) -> str:
+    """``params`` as the body of a launch file's ``[node.params]`` table for ``node``."""
+    lines = [f"# {node}: the body of its [node.params] table in a launch file"]
+    lines += [f"{key} = {toml_value(item)}" for key, item in params.items()]
+    return "\n".join(lines)
+
+
+class Running(msgspec.Struct):
+    """What runs now: each node's details and parameters (by name), and the world."""
+
+    details: dict[str, NodeDetails]
+    params: dict[str, dict[str, Any]]
+    world: World
+
+
+def _answers(session: Any, key: str) -> dict[str, bytes]:
+    """Each node's JSON answer on ``key`` (ending in ``*``), by node name; none: {}."""
+    try:
+        found = replies(session, key, b"", TIMEOUT, everyone=True)
+        return {a.key.rsplit("/", 1)[-1]: a.payload for a in found if isinstance(a, Raw)}
+    except NobodyServes:
+        return {}
+
+
+def running(connect: str) -> Running:
+    """Every running node's details and parameters, and the world (NobodyServes: no node)."""
+    with service_session(connect) as session:
+        details = {
+            name: msgspec.json.decode(body, type=NodeDetails) for name, body in _answers(session, node_key("*")).items()
+        }
+        if not details:
+            raise NobodyServes("no node is running (is `turtlectl launch` running?)")
+        params = {name: msgspec.json.decode(body) for name, body in _answers(session, params_key("*")).items()}
+        return Running(details=details, params=params, world=world(session))
+
+
+def describe(connect: str, node: str, name: str) -> tuple[ParamInfo, Any]:
+    """Parameter ``name`` of ``node``: type, unit, range, default, meaning, whether it can
+    change at run time; and its value now (as the node describes them)."""
+    described = description(connect, node)
+    infos = {p.name: p for p in described.parameters}
+    entries = _entries(described, name)
+    if name not in infos and entries:
+        raise BadInput(f"{node} {name} is a table: describe one of its entries ({', '.join(entries)})")
+    if name not in infos:
+        raise _no_param(node, name, list(infos))
+    return infos[name], infos[name].value
+
+
+def plain(info: ParamInfo) -> dict[str, Any]:
+    return msgspec.to_builtins(info)
+
+
+def describe_text(node: str, info: ParamInfo, now: Any) -> str:
+    live = "yes" if info.run_time else f"no: {info.fixed_because}"
+    return "\n".join(
+        [
+            f"{node} {info.name}",
+            f"  value:       {msgspec.json.encode(now).decode()}",
+            f"  type:        {info.type}",
+            f"  unit:        {info.unit}",
+            f"  range:       {info.range}",
+            f"  default:     {info.default}",
+            f"  meaning:     {info.meaning}",
+            f"  at run time: {live}",
+        ]
+    )
+
+
+def _check_value(node: str, kind: str, now: dict[str, Any], name: str, text: str) -> None:
+    """The value itself (its type and range), checked here as the node would check it
+    (runtime.params), so that a built-in node's refusal reads as a user node's does:
+    ``navigator: goal_timeout must be >= 0.1 (got -1)``."""
+    from cli.system.launchfile import parse_assignment
+    from nodes.kinds import KINDS
+    from runtime.params import ParamRefused, with_value
+
+    value = parse_assignment(f"{node}.{name}={text}", "param set", "param set NODE NAME VALUE").value
+    try:
+        params = msgspec.convert(now, KINDS[kind].params, strict=True)
+    except msgspec.ValidationError:
+        return  # what it runs with does not read back: the launch file's checks will say why
+    try:
+        with_value(params, name, value)
+    except ParamRefused as exc:
+        raise BadInput(f"{node}: {exc}") from None
+
+
+def set_value(connect: str, node: str, name: str, text: str, timeout: float = TIMEOUT) -> str:
+    """Set ``node``'s parameter ``name`` to ``text`` (a TOML value, else the text), checked
+    against what the node describes (unknown names, tables, what cannot change at run time,
+    refused with the reason); a node of a kind a launch file runs is validated first as
+    ``launch --set`` validates a launch file (same errors, exit 2), against what runs now (a
+    detector's new rate is checked against the navigator's scan_timeout), its value itself
+    first as the node checks it.  The node validates the value itself (its type and range;
+    exit 2): its refusal is its one line (``mine: rate must be <= 50 (got 60)``), the same
+    wording as a built-in kind's.  Returns the node's answer."""
+    from cli.system.launchfile import launches, parse_assignment, running_change, suggestion
+
+    described = description(connect, node)
+    infos = {p.name: p for p in described.parameters}
+    entries = _entries(described, name)
+    if entries:
+        raise BadInput(f"param set {node}.{name}: is a table: set one of its entries ({', '.join(entries)})")
+    info = infos.get(name)
+    if launches(described.kind):
+        system = running(connect)
+        if info is not None and info.run_time and node in system.params:
+            _check_value(node, described.kind, system.params[node], name, text)
+        nodes = {n: (d.kind, system.params[n]) for n, d in system.details.items() if n in system.params}
+        new = running_change(nodes, system.world, node, name, text, "param set")
+    elif name not in infos:
+        known = list(infos)
+        raise BadInput(f"param set {node}.{name}: unknown key{suggestion(name, known)} (it has: {', '.join(known)})")
+    else:
+        new = parse_assignment(f"{node}.{name}={text}", "param set", "param set NODE NAME VALUE").value
+    if info is not None and not info.run_time:
+        raise BadInput(f"param set {node}.{name}: cannot change while {node} runs: {info.fixed_because}")
+    request = SetParameter(name=name, value=new)
+    try:
+        answers = list(call_service(connect, param_set_key(node), request, timeout))
+    except Rejected as exc:  # the node's own check (runtime.params): its one line, as _check_value's
+        raise BadInput(exc.reason) from None
+    acks = [a for a in answers if isinstance(a, Ack)]
+    if not acks:
+        raise Failed(f"{node} did not confirm the change")
+    return acks[-1].detail
+
+
+def listing_all(connect: str) -> dict[str, list[str]]:
+    """Every running node's parameter names, by node (``param list`` without NODE)."""
+    system = running(connect)
+    return {node: names(system.params[node]) for node in sorted(system.params)}
+
+
+def listing_text(by_node: dict[str, list[str]]) -> str:
+    return "\n".join(f"{node}:\n" + "\n".join(f"  {n}" for n in names_) for node, names_ in by_node.items())

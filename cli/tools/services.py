@@ -1,0 +1,336 @@
+"""Service calls of the command-line tools: any queryable, goals with feedback, simple Acks.
+
+Nothing here prints; functions return data or raise a TurtlectlError (cli.errors).
+
+The rules every call follows (``goto``, ``cancel``, ``teleport``, ``reset`` and ``call``
+alike): replies are handed on as they arrive; a ``navigate_to`` caller holds a client
+token, so its goal is canceled when it goes away; one that gives up (--timeout, Ctrl-C)
+also asks ``navigate_to/cancel`` and checks the answer (none within CANCEL_WAIT s: exit
+code 5, the turtle may still drive); an answer that says no (``Ack.ok`` false,
+``NavigateToResponse.success`` false) is exit code 1; nobody serving the key is exit
+code 3, with a hint when systems run in other domains.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import queue
+import time
+from collections.abc import Callable, Iterator
+
+import msgspec
+import zenoh
+
+from cli.errors import BadInput, CancelUnconfirmed, ExitCode, Failed, Interrupted, TurtlectlError, Unreachable
+from cli.sigint import sigint_deferred
+from cli.tools.client import (
+    base_key,
+    caller_token,
+    check_key,
+    client_session,
+    domain_hint,
+    domain_prefix,
+    require,
+    router_lost,
+)
+from messages import (
+    Ack,
+    Cancel,
+    DecodeError,
+    ErrorReply,
+    Message,
+    NavigateToFeedback,
+    NavigateToRequest,
+    NavigateToResponse,
+    decode,
+    decode_any,
+    encode,
+    encoding_for,
+    type_from_encoding,
+)
+from messages.codec import MEDIA_TYPE
+from messages.keys import CANCEL, NAVIGATE_TO, WORLD_KEY
+from messages.world import World
+from runtime.endpoint import default_domain
+
+ZENOH_GRACE = 1.0  # s: Zenoh's own query timeout is ours plus this; our deadline decides
+
+
+class NoAnswer(Failed):
+    """The call's time ran out; ``answered``: the service had sent replies (feedback) by then."""
+
+    def __init__(self, message: str, answered: bool = False):
+        super().__init__(message)
+        self.answered = answered
+
+
+class NobodyServes(Unreachable):
+    """No queryable matches the key."""
+
+
+class RouterLost(Unreachable):
+    """The client session lost its router while waiting."""
+
+
+class Raw(msgspec.Struct):
+    """A reply that is not a turtlectl message (e.g. a node's parameters as JSON)."""
+
+    key: str
+    encoding: str
+    payload: bytes
+
+
+@contextlib.contextmanager
+def service_session(connect: str) -> Iterator[zenoh.Session]:
+    """A client session whose "nothing serves" errors say which domains have a system."""
+    with client_session(connect) as session:
+        try:
+            yield session
+        except RouterLost as exc:
+            raise RouterLost(exc.message.replace("lost the router", f"lost the router at {connect}", 1)) from None
+        except NobodyServes as exc:
+            where = f" in domain {default_domain()}" if default_domain() else ""
+            raise NobodyServes(exc.message.replace(" (", f"{where} (", 1) + domain_hint(connect)) from None
+
+
+ROUTER_LOSS_WAIT = 0.5  # s: how long a query's end may come before the session notices its router is gone
+
+
+def router_lost_soon(session: zenoh.Session, lasted: float) -> bool:
+    """Whether the router went away, given a query that ended without any reply after ``lasted``
+    s.  One that ends at once means nobody serves the key; one that ran for a while may have
+    ended because the router died, which the session notices a moment later: wait for that."""
+    if lasted < 0.05:
+        return False
+    until = time.monotonic() + ROUTER_LOSS_WAIT
+    while not router_lost(session):
+        if time.monotonic() >= until:
+            return False
+        time.sleep(0.02)  # pacing: polling the session's router list under a deadline
+    return True
+
+
+def replies(
+    session: zenoh.Session, key: str, request: Message | bytes, timeout: float, everyone: bool = False
+) -> Iterator[Message | Raw]:
+    """Send ``request`` to the queryable(s) at ``key``; yield each reply, decoded, as it arrives.
+
+    All replies are kept (no consolidation), so a service can stream feedback
+    before its answer; ``everyone`` asks every matching queryable, not just one.
+    Raises NobodyServes (Unreachable) if nobody serves ``key``, RouterLost
+    (Unreachable) if the router goes away, NoAnswer (Failed) when ``timeout`` s pass
+    before the replies end, BadInput if the service rejects the request.
+    """
+    require("call", key)
+    inbox: queue.SimpleQueue[zenoh.Reply | None] = queue.SimpleQueue()
+    started = time.monotonic()
+    deadline = started + timeout
+    if isinstance(request, bytes):
+        payload, encoding = request, zenoh.Encoding.APPLICATION_JSON
+    else:
+        payload, encoding = encode(request), zenoh.Encoding(encoding_for(type(request)))
+    session.get(
+        key,
+        zenoh.handlers.Callback(inbox.put, lambda: inbox.put(None)),
+        payload=payload,
+        encoding=encoding,
+        consolidation=zenoh.ConsolidationMode.NONE,
+        target=zenoh.QueryTarget.ALL if everyone else zenoh.QueryTarget.BEST_MATCHING,
+        timeout=timeout + ZENOH_GRACE,
+    )
+    answered = False
+    while True:
+        remaining = deadline - time.monotonic()
+        if remaining <= 0.0:
+            if answered:
+                raise NoAnswer(f"{key} answered but did not finish within {timeout:g} s", True)
+            raise NoAnswer(f"{key} did not answer within {timeout:g} s")
+        try:
+            reply = inbox.get(timeout=min(0.1, remaining))  # short waits keep Ctrl-C responsive
+        except queue.Empty:
+            continue
+        if reply is None:
+            break
+        answered = True
+        yield _read_reply(reply, key, timeout)
+    if router_lost(session) or (not answered and router_lost_soon(session, time.monotonic() - started)):
+        raise RouterLost(f"lost the router while waiting for {key} (did `turtlectl launch` stop?)")
+    if not answered:
+        raise NobodyServes(f"nothing serves {key} (is the node running?)")
+
+
+class Rejected(BadInput):
+    """The service refused the request (its ErrorReply); ``reason``: its own words."""
+
+    def __init__(self, key: str, reason: str):
+        super().__init__(f"{key} rejected the request: {reason}")
+        self.reason = reason
+
+
+def _read_reply(reply: zenoh.Reply, key: str, timeout: float) -> Message | Raw:
+    if reply.ok is not None:
+        sample = reply.ok
+        payload, encoding = sample.payload.to_bytes(), str(sample.encoding)
+        if not encoding.startswith(MEDIA_TYPE):
+            return Raw(key=str(sample.key_expr), encoding=encoding, payload=payload)
+        try:
+            return decode_any(payload)  # by the type tag: whatever the encoding says
+        except DecodeError as exc:
+            raise Failed(f"{key} sent an unreadable answer: {exc}") from None
+    err = reply.err
+    payload = err.payload.to_bytes() if err is not None else b""
+    if err is not None and type_from_encoding(str(err.encoding)) is ErrorReply:
+        raise Rejected(key, decode(payload, ErrorReply).error)
+    # not the service's word but Zenoh's: the query timed out or the route broke
+    if payload == b"Timeout":
+        raise NoAnswer(f"{key} did not answer within {timeout:g} s")
+    raise Failed(f"{key} failed: {payload.decode('utf-8', 'replace') or 'unknown error'}")
+
+
+NO_LIMIT = 24 * 3600.0  # s: wait for the navigator's own goal_timeout
+CALL_TIMEOUT = 5.0  # s: default of `call` for services other than navigate_to
+
+
+def is_goal_service(key: str) -> bool:
+    """True for ``navigate_to`` (also ``lab1/navigate_to`` from a client without --domain)."""
+    return base_key(key) == NAVIGATE_TO
+
+
+CANCEL_WAIT = 2.0  # s for navigate_to/cancel to confirm the cancel of a goal given up on
+
+
+def cancel_goal(session: zenoh.Session, key: str) -> Ack | str:
+    """Ask the ``navigate_to/cancel`` beside ``key`` (its domain) to stop the running goal: its
+    Ack, or why nobody confirmed within CANCEL_WAIT s (nothing serves it, an error, silence)."""
+    cancel_key = domain_prefix(key) + CANCEL
+    try:
+        for reply in replies(session, cancel_key, Cancel(), CANCEL_WAIT):
+            if isinstance(reply, Ack):
+                return reply
+    except TurtlectlError as exc:
+        return exc.message.split(" (")[0]  # its advice in parentheses is not for this line
+    return f"{cancel_key} sent no Ack"
+
+
+def given_up(why: str, answer: Ack | str, interrupted: bool) -> TurtlectlError:
+    """The error for a goal given up on (``why``: a --timeout, or "interrupted" by Ctrl-C),
+    given the cancel's ``answer`` (an Ack, or why nobody confirmed it).  Confirmed: Failed
+    (exit 1) or Interrupted (130), as a goal not reached or a Ctrl-C; a navigator that had no
+    goal running any more confirms too.  Unconfirmed: CancelUnconfirmed (exit 5), the turtle
+    may still be driving to the goal."""
+    lead = f"{why}: " if interrupted else f"{why}; "
+    if isinstance(answer, str):
+        return CancelUnconfirmed(
+            f"{lead}nobody confirmed the cancel: the turtle may still be driving to the goal "
+            f"({answer}; `turtlectl cancel` asks again)"
+        )
+    said = (
+        "the navigator canceled the goal"
+        if answer.ok
+        else f"the goal had ended meanwhile (the navigator: {answer.detail})"
+    )
+    return Interrupted(lead + said) if interrupted else Failed(lead + said)
+
+
+def run_goal(
+    session: zenoh.Session,
+    key: str,
+    goal: NavigateToRequest,
+    timeout: float,
+    on_feedback: Callable[[NavigateToFeedback], None] | None = None,
+) -> NavigateToResponse:
+    """Send a goal and wait for its NavigateToResponse, handing each feedback to
+    ``on_feedback`` as it arrives, while holding a client token (released when this ends,
+    however it ends: the navigator then cancels a goal still running).
+
+    A goal given up on before its response (``timeout`` s, or Ctrl-C anywhere in here,
+    ``on_feedback`` included) is canceled through ``navigate_to/cancel`` and the answer
+    checked (``given_up``).  Raises Failed if the navigator stops answering; RouterLost if
+    the router goes away."""
+    with caller_token(session, key) as client_id:
+        request = msgspec.structs.replace(goal, client=goal.client or client_id)
+        try:
+            for message in replies(session, key, request, timeout):
+                if isinstance(message, NavigateToResponse):
+                    return message
+                if isinstance(message, NavigateToFeedback) and on_feedback is not None:
+                    on_feedback(message)
+        except NoAnswer as exc:
+            why = f"the goal did not end within --timeout {timeout:g} s" if exc.answered else exc.message
+            with sigint_deferred():  # bounded (CANCEL_WAIT): a Ctrl-C must not skip the check
+                answer = cancel_goal(session, key)
+            raise given_up(why, answer, interrupted=False) from None
+        except KeyboardInterrupt:
+            with sigint_deferred():
+                answer = cancel_goal(session, key)
+            raise given_up("interrupted", answer, interrupted=True) from None
+        except RouterLost:
+            raise RouterLost("lost the router before the goal ended (did `turtlectl launch` stop?)") from None
+        if router_lost_soon(session, lasted=ROUTER_LOSS_WAIT):  # the replies ended without a response: why?
+            raise RouterLost("lost the router before the goal ended (did `turtlectl launch` stop?)")
+    raise Failed("the navigator stopped answering before the goal ended (did it exit?)")
+
+
+def navigate(
+    connect: str,
+    goal: NavigateToRequest,
+    timeout: float,
+    on_feedback: Callable[[NavigateToFeedback], None] | None = None,
+) -> tuple[NavigateToResponse, float]:
+    """Call navigate_to and wait for the outcome; returns it and the time the client measured, s.
+
+    The call carries a liveliness token of this client: if the client goes away (kill), the
+    navigator cancels the goal; if it gives up (``timeout``, Ctrl-C) it cancels it too and
+    checks that the navigator confirmed (``run_goal``).
+    """
+    with service_session(connect) as session:
+        started = time.monotonic()
+        response = run_goal(session, NAVIGATE_TO, goal, timeout, on_feedback)
+        return response, time.monotonic() - started
+
+
+def simple_call(connect: str, key: str, request: Message, everyone: bool = False, timeout: float = 5.0) -> list[Ack]:
+    """Call a simple service (Ack answers); with ``everyone``, collect every server's answer."""
+    with service_session(connect) as session:
+        return [m for m in replies(session, key, request, timeout, everyone) if isinstance(m, Ack)]
+
+
+def call_service(
+    connect: str,
+    key: str,
+    request: Message | bytes,
+    timeout: float | None,
+    on_feedback: Callable[[NavigateToFeedback], None] | None = None,
+) -> Iterator[Message | Raw]:
+    """Every reply of a generic service call, as it arrives (known services typed, others as
+    JSON).  ``navigate_to`` follows goto's rules (``run_goal``: client token, a timeout or
+    Ctrl-C cancels the goal and checks the answer): its feedback goes to ``on_feedback`` as it
+    arrives, and only its response is yielded.  ``timeout`` None: the navigator's
+    goal_timeout for goals, CALL_TIMEOUT s otherwise."""
+    key = check_key(key)
+    with service_session(connect) as session:
+        if is_goal_service(key) and isinstance(request, NavigateToRequest):
+            yield run_goal(session, key, request, NO_LIMIT if timeout is None else timeout, on_feedback)
+        else:
+            yield from replies(session, key, request, CALL_TIMEOUT if timeout is None else timeout)
+
+
+def reply_code(reply: Message | Raw) -> ExitCode:
+    """The exit code a final reply means: 1 for an answer that says no (Ack ok=false,
+    NavigateToResponse success=false), else 0."""
+    if isinstance(reply, Ack) and not reply.ok:
+        return ExitCode.FAILED
+    if isinstance(reply, NavigateToResponse) and not reply.success:
+        return ExitCode.FAILED
+    return ExitCode.OK
+
+
+def world(session: zenoh.Session) -> World:
+    """The world as the simulator declares it (the default world if no simulator answers)."""
+    for reply in session.get(WORLD_KEY, timeout=2.0):
+        if reply.ok is not None:
+            try:
+                return msgspec.json.decode(reply.ok.payload.to_bytes(), type=World)
+            except msgspec.DecodeError:
+                break
+    return World()

@@ -1,0 +1,207 @@
+"""``turtlectl teleop``: drive the turtle from the keyboard, as turtlesim's
+``teleop_turtle_key``.  The shell around cli.tools.keyboard (which decides what to send when): the
+terminal in cbreak mode, a client session publishing ``turtle1/cmd_vel``, the pose for the
+status line, and a cancel (reason "teleop") of a goal running when the keys start driving.
+
+The terminal is restored on every way out: q, Ctrl-C, SIGTERM, SIGHUP (the terminal went
+away: nothing more is written to it), the router lost; a stop command goes out first
+whenever anything was being sent.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import select
+import signal
+import termios
+import threading
+import time
+import tty
+from typing import TextIO
+
+import zenoh
+
+from cli.errors import BadInput, Unreachable
+from cli.sigint import stop_on_signals
+from cli.tools.client import require, router_lost
+from cli.tools.keyboard import Driver, Shown, keys, status_line
+from messages import Cancel, Pose, Twist, decode, encode, encoding_for
+from messages.angles import heading_degrees
+from messages.keys import CANCEL, CMD_VEL, FEEDBACK, POSE
+
+POLL = 0.02  # s: the longest a key waits to be read
+LINE_PERIOD = 0.1  # s between redraws of the status line
+ROUTER_CHECK = 0.5  # s between checks that the router is still there
+GOAL_SEEN = 0.5  # s: feedback this recent means a goal is running
+NOT_A_TERMINAL = "teleop reads keys from a terminal, and its input is not one (run it in a terminal)"
+HELP = "arrows or w/a/s/d drive (held: go, released: stop); space stops; q quits"
+
+
+class _Goals:
+    """Whether a goal is running (its feedback is recent), and a cancel of it, without waiting."""
+
+    def __init__(self, session: zenoh.Session):
+        self.session = session
+        self.last_feedback = -math.inf  # monotonic s
+        self.canceled_at = -math.inf
+        self._sub = session.declare_subscriber(FEEDBACK, self._on_feedback)
+
+    def _on_feedback(self, _sample: zenoh.Sample) -> None:  # Zenoh thread: a time only
+        self.last_feedback = time.monotonic()
+
+    def running(self, now: float) -> bool:
+        return now - self.last_feedback < GOAL_SEEN
+
+    def cancel(self, now: float) -> None:
+        """Cancel the running goal (reason "teleop"); the Ack is not waited for."""
+        self.canceled_at = now
+        self.session.get(
+            CANCEL,
+            lambda _reply: None,
+            payload=encode(Cancel(reason="teleop")),
+            encoding=zenoh.Encoding(encoding_for(Cancel)),
+            timeout=2.0,
+        )
+
+    def close(self) -> None:
+        self._sub.undeclare()
+
+
+class _Teleop:
+    """One teleop run: the session's publisher and subscribers, the driver, the terminal."""
+
+    def __init__(self, session: zenoh.Session, driver: Driver, endpoint: str, fd: int, out: TextIO):
+        self.session, self.driver, self.endpoint, self.fd, self.out = session, driver, endpoint, fd, out
+        self.latest: Pose | None = None
+        self.seq = 0
+        self.hung_up = False
+        self.note = ""
+        self.publisher = session.declare_publisher(CMD_VEL, encoding=zenoh.Encoding(encoding_for(Twist)))
+        self.pose_sub = session.declare_subscriber(POSE, self._on_pose)
+        self.goals = _Goals(session)
+
+    def _on_pose(self, sample: zenoh.Sample) -> None:  # Zenoh thread: keep the newest valid pose
+        try:
+            self.latest = decode(sample.payload.to_bytes(), Pose)
+        except ValueError:
+            pass
+
+    def send(self, twist: Twist) -> None:
+        self.publisher.put(
+            encode(Twist(linear=twist.linear, angular=twist.angular, stamp=time.time_ns(), seq=self.seq))
+        )
+        self.seq += 1
+
+    def write(self, text: str) -> None:
+        """Write to the terminal unless it has gone away."""
+        if self.hung_up:
+            return
+        try:
+            self.out.write(text)
+            self.out.flush()
+        except OSError:
+            self.hung_up = True
+
+    def drive(self, stop: threading.Event) -> str:
+        """Read keys and publish until told to stop; returns why it ended."""
+        next_line = next_check = 0.0
+        while not stop.is_set():
+            ready, _, _ = select.select([self.fd], [], [], POLL)
+            now = time.monotonic()
+            if ready:
+                try:
+                    data = os.read(self.fd, 64)
+                except OSError:
+                    data = b""
+                if not data:  # the terminal went away
+                    self.hung_up = True
+                    return "the terminal went away"
+                for key in keys(data):
+                    if key == "quit":
+                        return "quit"
+                    if self.driver.press(key, now) and self.goals.running(now):
+                        self.cancel_goal(now)
+                    elif key == "stop":  # space stops a goal's driving too, one just started included
+                        self.goals.cancel(now)
+                        if self.goals.running(now):
+                            self.note = "canceled the running goal (reason teleop)"
+            goals = self.goals
+            if self.driver.sending and goals.last_feedback > goals.canceled_at + 0.2 and goals.running(now):
+                self.cancel_goal(now)  # a goal started while the keys drive
+            command = self.driver.tick(now)
+            if command is not None:
+                self.send(command)
+            if now >= next_check:
+                next_check = now + ROUTER_CHECK
+                if router_lost(self.session):
+                    raise Unreachable(
+                        f"lost the router at {self.endpoint}: stopped driving (did `turtlectl launch` stop?)"
+                    )
+            if now >= next_line:
+                next_line = now + LINE_PERIOD
+                self.write("\r\x1b[K" + status_line(self.shown(), self.width()))
+        return "the terminal went away" if self.hung_up else "stopped"
+
+    def cancel_goal(self, now: float) -> None:
+        self.goals.cancel(now)
+        self.note = "canceled the running goal (reason teleop)"
+
+    def width(self) -> int:
+        """The terminal's width now (it may be resized), 80 if it cannot tell."""
+        try:
+            return os.get_terminal_size(self.fd).columns or 80
+        except OSError:
+            return 80
+
+    def shown(self) -> Shown:
+        pose = self.latest
+        where = None if pose is None else (pose.x, pose.y, heading_degrees(pose.theta))
+        return Shown(command=self.driver.command, pose=where, note=self.note)
+
+    def close(self) -> None:
+        """A stop command if anything was sent, then the session's entities undeclared."""
+        last = self.driver.halt()
+        if last is not None:
+            self.send(last)
+        self.goals.close()
+        self.pose_sub.undeclare()
+        self.publisher.undeclare()
+
+
+def terminal_fd(stream: TextIO) -> int:
+    """The file descriptor of ``stream`` if it is a terminal, else BadInput (checked before
+    anything is opened)."""
+    try:
+        fd = stream.fileno()
+    except (OSError, ValueError):  # io.UnsupportedOperation is both: no file under it
+        fd = -1
+    if fd < 0 or not os.isatty(fd):
+        raise BadInput(NOT_A_TERMINAL)
+    return fd
+
+
+def run_teleop(session: zenoh.Session, linear: float, angular: float, endpoint: str, fd: int, out: TextIO) -> str:
+    """Drive until q, Ctrl-C, SIGTERM or SIGHUP; returns why it ended.  Raises BadInput if
+    ``fd`` is not a terminal, Unreachable if the router goes away."""
+    if not os.isatty(fd):
+        raise BadInput(NOT_A_TERMINAL)
+    require("publish", CMD_VEL)
+    teleop = _Teleop(session, Driver(linear, angular), endpoint, fd, out)
+    terminal = termios.tcgetattr(fd)
+    try:
+        tty.setcbreak(fd)  # keys as they are typed, no echo; Ctrl-C still a signal
+        teleop.write(HELP + "\n")
+        with stop_on_signals(also=(signal.SIGHUP,)) as stop:
+            # SIGHUP: the terminal is gone; nothing more is written to it
+            signal.signal(signal.SIGHUP, lambda *_: (setattr(teleop, "hung_up", True), stop.set()))
+            return teleop.drive(stop)
+    finally:
+        teleop.close()
+        teleop.write("\r\x1b[K" + status_line(teleop.shown(), teleop.width()))  # the last word: stopped
+        if not teleop.hung_up:
+            try:
+                termios.tcsetattr(fd, termios.TCSADRAIN, terminal)
+            except termios.error:
+                pass
+        teleop.write("\n")

@@ -1,0 +1,258 @@
+"""Topics for the command-line tools: echo's stream, hz's rates, pub, and the live graph.
+
+Nothing here prints; functions return data or raise a TurtlectlError (cli.errors).
+"""
+
+from __future__ import annotations
+
+import contextlib
+import queue
+import time
+from collections.abc import Callable, Iterator
+
+import msgspec
+import zenoh
+
+from cli.errors import Unreachable
+from cli.tools.client import base_key, check_key, client_session, domain_hint, require, router_lost
+from cli.tools.graph import Graph, build_graph
+from cli.tools.rates import SILENCE, Quiet, Rates, RateStats
+from cli.tools.services import RouterLost
+from messages import DecodeError, Message, decode, decode_any, encode, encoding_for, type_from_encoding
+from messages.keys import CMD_VEL, DOMAIN_GRAPHS, FEEDBACK, GRAPH, PARAMETER_EVENTS
+from runtime.endpoint import default_domain
+
+WHILE_A_GOAL_RUNS = (FEEDBACK, CMD_VEL)  # published by the navigator only while a goal runs
+
+
+class Received:
+    """One sample as echo sees it: the key, the decoded message or why it is not one."""
+
+    def __init__(self, key: str, message: Message | None, problem: str = ""):
+        self.key = key
+        self.message = message
+        self.problem = problem
+
+
+def decode_sample(key: str, payload: bytes, encoding: str) -> Received:
+    """Decode by the type named in the sample's encoding (any tagged message otherwise)."""
+    msg_type = type_from_encoding(encoding)
+    try:
+        message = decode(payload, msg_type) if msg_type is not None else decode_any(payload)
+    except DecodeError as exc:
+        return Received(key, None, f"{exc} (encoding {encoding!r}, {len(payload)} bytes)")
+    return Received(key, message)
+
+
+@contextlib.contextmanager
+def subscription(session: zenoh.Session, key: str) -> Iterator[queue.SimpleQueue[Received]]:
+    """Queue of decoded samples on ``key`` (a key expression) for the caller's thread."""
+    samples: queue.SimpleQueue[Received] = queue.SimpleQueue()
+
+    def on_sample(sample: zenoh.Sample) -> None:  # Zenoh thread: decode and queue
+        samples.put(decode_sample(str(sample.key_expr), sample.payload.to_bytes(), str(sample.encoding)))
+
+    sub = session.declare_subscriber(key, on_sample)
+    try:
+        yield samples
+    finally:
+        sub.undeclare()
+
+
+ROUTER_CHECK = 0.5  # s between checks that the session still has its router
+
+
+class Silence:
+    """Yielded once per silence when nothing has arrived on ``key`` for SILENCE seconds
+    (from the start, or after messages flowed); ``text`` says why, from the live graph (who
+    publishes it, and when)."""
+
+    def __init__(self, key: str, text: str):
+        self.key = key
+        self.text = text
+
+
+def silence_text(key: str, current: Graph, hint: Callable[[], str], domain: str = "", flowed: bool = False) -> str:
+    """Why nothing has arrived on ``key`` yet (or, ``flowed``, for SILENCE s after messages
+    did) and what to do, given the live graph as a client in ``domain`` sees it (pure but
+    for ``hint()``, the domain hint, asked only when no node runs at all)."""
+    expr = zenoh.KeyExpr(key)
+    yet = f"for {SILENCE:g} s" if flowed else "yet"
+    elsewhere = sorted(
+        {
+            d
+            for d in current.domains
+            for t in current.topics
+            if t.publishers and t.key.startswith(d + "/") and expr.intersects(zenoh.KeyExpr(t.key[len(d) + 1 :]))
+        }
+    )
+    published = [t for t in current.topics if t.publishers and expr.intersects(zenoh.KeyExpr(t.key))]
+    publishers = sorted({p for t in published for p in t.publishers})
+    if publishers:
+        who = f"{', '.join(publishers)} publish{'es' * (len(publishers) == 1)} it"
+        if all(base_key(t.key) in WHILE_A_GOAL_RUNS for t in published):
+            return f"nothing published on {key} {yet}: {who} only while a goal runs (start one with `turtlectl goto X Y THETA`)"
+        if all(base_key(t.key) == PARAMETER_EVENTS for t in published):
+            return (
+                f"nothing published on {key} {yet}: {who} only when a parameter changes "
+                "(`turtlectl param set NODE NAME VALUE`)"
+            )
+        return f"nothing published on {key} for {SILENCE:g} s although {who}: it may be stalled (see its log)"
+    if elsewhere:
+        which = ", ".join(elsewhere)
+        return (
+            f"nothing published on {key} here: it is published in domain{'s' * (len(elsewhere) > 1)} {which}: "
+            f"add it before the command, `turtlectl --domain {elsewhere[0]} ...` (or use {elsewhere[0]}/{key})"
+        )
+    if current.nodes:
+        return f"nothing published on {key} {yet}: no running node publishes it (`turtlectl list` shows the topics)"
+    where = f"in domain {domain}" if domain else "on this router"
+    return f"nothing published on {key} {yet}: no turtlectl node runs {where} (is `turtlectl launch` running?){hint()}"
+
+
+def _silence(session: zenoh.Session, connect: str, key: str, flowed: bool) -> Silence:
+    return Silence(key, silence_text(key, live_graph(session), lambda: domain_hint(connect), default_domain(), flowed))
+
+
+class _RouterWatch:
+    """RouterLost (exit 3, as goto reports it) once the session has lost its router,
+    checked every ROUTER_CHECK s."""
+
+    def __init__(self, session: zenoh.Session, connect: str, key: str):
+        self.session, self.connect, self.key = session, connect, key
+        self.next = time.monotonic() + ROUTER_CHECK
+
+    def check(self, now: float) -> None:
+        if now < self.next:
+            return
+        self.next = now + ROUTER_CHECK
+        if router_lost(self.session):
+            raise RouterLost(
+                f"lost the router at {self.connect}: no more messages on {self.key} (did `turtlectl launch` stop?)"
+            )
+
+
+def stream(connect: str, topic: str, count: int | None, timeout: float | None) -> Iterator[Received | Silence]:
+    """Decoded samples on ``key`` until ``count`` valid messages or ``timeout`` s.
+
+    Yields a ``Silence`` saying why once per silence of SILENCE s: nothing arrived yet, or
+    messages flowed and stopped.  Raises Unreachable if ``timeout`` passes without any
+    message, RouterLost (Unreachable) when the session loses its router.
+    """
+    key = check_key(topic)
+    with client_session(connect) as session, subscription(session, key) as samples:
+        started = time.monotonic()
+        deadline = None if timeout is None else started + timeout
+        received = 0
+        quiet = Quiet(started)
+        router = _RouterWatch(session, connect, key)
+        while count is None or received < count:
+            now = time.monotonic()
+            if deadline is not None and now >= deadline:
+                if received == 0:
+                    raise Unreachable(f"no message on {key} within {timeout:g} s")
+                return
+            router.check(now)
+            if quiet.due(now):
+                yield _silence(session, connect, key, quiet.flowed)
+            wait = 0.1 if deadline is None else min(0.1, max(0.0, deadline - now))
+            try:
+                item = samples.get(timeout=wait)  # short waits keep Ctrl-C responsive
+            except queue.Empty:
+                continue
+            quiet.heard(time.monotonic())
+            if item.message is not None:
+                received += 1
+            yield item
+
+
+def _stamp(payload: bytes) -> int:
+    """The message's ``stamp`` in ns, 0 if it has none or is no message."""
+    try:
+        return getattr(decode_any(payload), "stamp", 0) or 0
+    except DecodeError:
+        return 0
+
+
+def measure_rates(
+    connect: str, topics: list[str], window: int, duration: float | None
+) -> Iterator[list[RateStats] | Silence]:
+    """Every second, the rate statistics of the topics that had messages since the last
+    report, each over its last SPAN s (at most ``window`` messages; cli.tools.rates); ends after
+    ``duration`` s (None: until Ctrl-C).  A topic silent for SILENCE s, from the start or
+    after messages flowed, gets one ``Silence`` per silence saying why (as echo's).  Raises
+    RouterLost (Unreachable) when the session loses its router."""
+    keys = [check_key(t) for t in topics]
+    inbox: queue.SimpleQueue[tuple[str, float, bytes]] = queue.SimpleQueue()
+    with client_session(connect) as session:
+        subs = [
+            session.declare_subscriber(k, lambda s, k=k: inbox.put((k, time.monotonic(), s.payload.to_bytes())))
+            for k in keys
+        ]
+        started = time.monotonic()
+        rates = Rates(keys, window, started)
+        router = _RouterWatch(session, connect, ", ".join(keys))
+        next_report = started + 1.0
+        try:
+            while duration is None or time.monotonic() - started < duration:
+                try:
+                    key, arrived, payload = inbox.get(timeout=0.05)
+                    rates.add(key, arrived, _stamp(payload))
+                except queue.Empty:
+                    pass
+                now = time.monotonic()
+                router.check(now)
+                for key, flowed in rates.silences(now):
+                    yield _silence(session, connect, key, flowed)
+                if now >= next_report:
+                    next_report += 1.0
+                    yield rates.report(now)
+            yield rates.report(time.monotonic())
+        finally:
+            for sub in subs:
+                sub.undeclare()
+
+
+def publish(connect: str, topic: str, message: Message, rate: float | None, times: int | None) -> int:
+    """Publish ``message`` on ``topic`` ``times`` times (None: until Ctrl-C) at ``rate`` Hz,
+    stamping each copy; returns how many were sent."""
+    key = check_key(topic)
+    sent = 0
+    with client_session(connect) as session:
+        require("publish", key)
+        pub = session.declare_publisher(key, encoding=zenoh.Encoding(encoding_for(type(message))))
+        period = 1.0 / rate if rate else 0.0
+        start = time.monotonic()
+        try:
+            while times is None or sent < times:
+                if sent:
+                    time.sleep(max(0.0, start + sent * period - time.monotonic()))  # absolute schedule
+                stamped = message
+                if "stamp" in type(message).__struct_fields__:
+                    stamped = msgspec.structs.replace(message, stamp=time.time_ns(), seq=sent)
+                pub.put(encode(stamped))
+                sent += 1
+        finally:
+            pub.undeclare()
+    return sent
+
+
+def live_graph(session: zenoh.Session) -> Graph:
+    """The live graph as this session sees it.  Outside any domain that includes every
+    domain's graph, its names and keys prefixed with the domain (``lab1/sim``): tokens
+    declared in a namespace are ``lab1/@turtlectl/...``, which ``@turtlectl/**`` cannot match
+    (Zenoh never matches a chunk starting with ``@`` by a wildcard), hence the second query."""
+    selectors = [GRAPH] if default_domain() else [GRAPH, DOMAIN_GRAPHS]
+    keys = {
+        str(r.ok.key_expr) for sel in selectors for r in session.liveliness().get(sel, timeout=2.0) if r.ok is not None
+    }
+    return build_graph(sorted(keys), time.time_ns())
+
+
+def graph(connect: str) -> Graph:
+    """The live graph: asked of the router's liveliness table now, never cached."""
+    with client_session(connect) as session:
+        current = live_graph(session)
+    if not current.nodes:
+        current.hint = domain_hint(connect).removeprefix("; ")
+    return current

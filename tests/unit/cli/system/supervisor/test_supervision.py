@@ -1,0 +1,446 @@
+"""The supervision policy with fake processes and a fake clock: every rule in milliseconds.
+
+Each test scripts a history (when a child exits, when it announces itself, when a stop is
+asked for, how it reacts to each signal), runs ``Supervision.run`` on a clock that only
+moves when the policy sleeps, and checks what the policy did and when, as honcho tests
+its manager with scripted event histories.
+"""
+
+from __future__ import annotations
+
+import io
+import itertools
+import math
+import re
+import signal
+from collections.abc import Callable
+
+import pytest
+
+from cli.errors import ExitCode
+from cli.system.launchfile import parse_launch
+from cli.system.supervisor.printer import Printer
+from cli.system.supervisor.supervision import KILL_WAIT, POLL, REAP_POLL, STABLE_RUN, Supervision, respawn_delay
+
+INT, TERM, KILL = signal.SIGINT, signal.SIGTERM, signal.SIGKILL
+LAG = 2 * POLL + 1e-6  # how late the policy may notice something: it looks every POLL s
+REAP = 2 * REAP_POLL + 1e-6  # how late a wait of the shutdown may end: it looks every REAP_POLL s
+
+
+class Clock:
+    """Fake monotonic time: moves only in ``sleep``, firing what was scheduled on the way."""
+
+    def __init__(self) -> None:
+        self.now = 0.0
+        self._due: list[tuple[float, int, Callable[[], None]]] = []
+        self._order = itertools.count()
+
+    def __call__(self) -> float:
+        return self.now
+
+    def at(self, when: float, action: Callable[[], None]) -> None:
+        self._due.append((when, next(self._order), action))
+        self._due.sort(key=lambda item: item[:2])
+
+    def sleep(self, seconds: float) -> None:
+        assert seconds > 0
+        until = self.now + seconds
+        while self._due and self._due[0][0] <= until:
+            when, _, action = self._due.pop(0)
+            self.now = max(self.now, when)
+            action()
+        self.now = until
+        assert self.now < 3600, "the policy never stopped"
+
+
+_pids = itertools.count(1000)
+
+
+class FakeProcess:
+    """One node's process, started again on each respawn.
+
+    Start number i runs ``runs[i]`` s (the last one repeats; inf: until signalled) and then
+    exits with ``code``; it announces itself ``ready_after`` s after starting (None: never).
+    ``stops_on``: the signals it handles, and how long it then takes to exit (code 0);
+    SIGKILL always ends it at once (code -9).
+    """
+
+    def __init__(
+        self,
+        name: str,
+        system: System,
+        runs: tuple[float, ...] = (math.inf,),
+        code: int = 1,
+        ready_after: float | None = 0.5,
+        stops_on: dict[signal.Signals, float] | None = None,
+    ):
+        self.name, self.system, self.runs, self.code, self.ready_after = name, system, runs, code, ready_after
+        self.stops_on = {INT: 0.1, TERM: 0.1} if stops_on is None else stops_on
+        self.pid: int | None = None
+        self.starts: list[float] = []
+        self.got: list[tuple[float, signal.Signals]] = []
+        self._exit_at = math.inf
+        self._exit_code = 0
+
+    def start(self) -> None:
+        clock = self.system.clock
+        assert not self.running(), f"{self.name} started while still running"
+        self.pid = next(_pids)
+        self.starts.append(clock.now)
+        self._exit_at = clock.now + self.runs[min(len(self.starts), len(self.runs)) - 1]
+        self._exit_code = self.code
+        if self.ready_after is not None:
+            pid = self.pid
+            clock.at(clock.now + self.ready_after, lambda: self._announce(pid))
+
+    def _announce(self, pid: int) -> None:
+        if pid == self.pid and self.running():
+            self.system.supervision.announce(True, self.name, pid)
+
+    def poll(self) -> int | None:
+        return self._exit_code if self.pid is not None and self.system.clock.now >= self._exit_at else None
+
+    def running(self) -> bool:
+        return self.pid is not None and self.poll() is None
+
+    def send(self, sig: signal.Signals) -> None:
+        now = self.system.clock.now
+        self.got.append((now, sig))
+        if sig is KILL:
+            self._exit_at, self._exit_code = now, -int(KILL)
+        elif sig in self.stops_on and now + self.stops_on[sig] < self._exit_at:
+            self._exit_at, self._exit_code = now + self.stops_on[sig], 0
+
+    def signals(self) -> list[signal.Signals]:
+        return [sig for _, sig in self.got]
+
+    def flush_output(self, timeout: float = 1.0) -> None:
+        pass
+
+
+class System:
+    """A Supervision of ``nodes`` (launch-file [[node]] tables) on a fake clock."""
+
+    def __init__(
+        self, nodes: str, sigint_timeout: float = 2.0, sigterm_timeout: float = 1.0, since: float | None = None
+    ):
+        text = f"[supervisor]\nsigint_timeout = {sigint_timeout}\nsigterm_timeout = {sigterm_timeout}\n{nodes}"
+        plan = parse_launch(text)
+        self.clock = Clock()
+        self.out = io.StringIO()
+        self.processes: dict[str, FakeProcess] = {}
+        self.spawned: list[str] = []
+        names = [e.name for e in plan.launch.node]
+        printer = Printer(names, self.out, colour=False)
+        self.supervision = Supervision(
+            plan, printer, self._spawn, clock=self.clock, sleep=self.clock.sleep, since=since
+        )
+
+    def process(self, name: str, **how) -> FakeProcess:
+        self.processes[name] = FakeProcess(name, self, **how)
+        return self.processes[name]
+
+    def _spawn(self, name: str) -> FakeProcess:
+        self.spawned.append(name)
+        return self.processes.setdefault(name, FakeProcess(name, self))
+
+    def stop_at(self, when: float, reason: str = "received SIGINT") -> None:
+        self.clock.at(when, lambda: self.supervision.stop(reason))
+
+    def run(self) -> ExitCode:
+        return self.supervision.run()
+
+    def lines(self) -> list[str]:
+        return [line.partition(" | ")[2] for line in self.out.getvalue().splitlines()]
+
+
+def node(name: str, **keys) -> str:
+    body = "".join(f"{k} = {str(v).lower() if isinstance(v, bool) else v}\n" for k, v in keys.items())
+    return f'[[node]]\nname = "{name}"\nrun = "{name}"\n{body}'
+
+
+def gaps(times: list[float]) -> list[float]:
+    return [b - a for a, b in itertools.pairwise(times)]
+
+
+# -- respawn -----------------------------------------------------------------------
+def test_respawn_delay_doubles_from_the_first_delay_up_to_the_cap():
+    assert [respawn_delay(0.5, 3.0, n) for n in range(1, 6)] == [0.5, 1.0, 2.0, 3.0, 3.0]
+    assert respawn_delay(0.0, 30.0, 4) == 0.0
+
+
+def test_a_crashing_node_is_respawned_after_delays_doubling_up_to_respawn_delay_max():
+    system = System(node("sim", respawn=True, respawn_delay=1.0, respawn_delay_max=4.0, respawn_max=0))
+    sim = system.process("sim", runs=(0.0,), code=3)
+    system.stop_at(16.0)
+    assert system.run() == ExitCode.OK
+    assert len(sim.starts) == 6
+    for gap, delay in zip(gaps(sim.starts), [1.0, 2.0, 4.0, 4.0, 4.0], strict=True):
+        assert delay <= gap <= delay + LAG
+    said = [line for line in system.lines() if "respawning" in line]
+    assert said[:4] == [
+        "sim exited with code 3; respawning in 1 s (respawn 1)",
+        "sim exited with code 3; respawning in 2 s (respawn 2)",
+        "sim exited with code 3; respawning in 4 s (respawn 3)",
+        "sim exited with code 3; respawning in 4 s (respawn 4)",
+    ]
+
+
+@pytest.mark.parametrize("long_run, reset", [(STABLE_RUN, True), (STABLE_RUN - 0.5, False)])
+def test_a_run_of_STABLE_RUN_starts_the_respawn_count_and_its_backoff_again(long_run, reset):
+    system = System(node("sim", respawn=True, respawn_delay=1.0, respawn_max=3))
+    sim = system.process("sim", runs=(0.5, 0.5, long_run, 0.5, 0.5, math.inf))
+    system.stop_at(40.0)
+    system.run()
+    said = [
+        re.sub(r"^sim exited with code 1[;,] ", "", line) for line in system.lines() if line.startswith("sim exited")
+    ]
+    if reset:  # the long run was healthy: count and delay start again, and it never gives up
+        assert said == [
+            "respawning in 1 s (respawn 1)",
+            "respawning in 2 s (respawn 2)",
+            "respawning in 1 s (respawn 1)",
+            "respawning in 2 s (respawn 2)",
+            "respawning in 4 s (respawn 3)",
+        ]
+        assert len(sim.starts) == 6
+    else:  # one run short of healthy: the fourth exit in a row is one too many
+        assert said[:3] == [
+            "respawning in 1 s (respawn 1)",
+            "respawning in 2 s (respawn 2)",
+            "respawning in 4 s (respawn 3)",
+        ]
+        assert said[3] == "after 3 respawns in a row; giving up on it"
+        assert len(sim.starts) == 4
+
+
+def test_a_node_is_given_up_on_after_the_launch_file_s_max_respawns_and_the_rest_runs_on():
+    system = System(node("sim") + node("status_monitor", respawn=True, respawn_delay=0.2, respawn_max=2))
+    sim = system.process("sim")
+    monitor = system.process("status_monitor", runs=(0.1,), code=-int(KILL))
+    system.stop_at(10.0)
+    assert system.run() == ExitCode.OK  # it was optional: the system stops only when asked to
+    assert len(monitor.starts) == 3  # the first run and 2 respawns, then nothing
+    assert "status_monitor was killed by SIGKILL, after 2 respawns in a row; giving up on it" in system.lines()
+    assert system.supervision.stop_reason == "received SIGINT"
+    assert sim.got and sim.got[0][0] == pytest.approx(10.0, abs=LAG)
+
+
+# -- required ----------------------------------------------------------------------
+def test_a_required_node_gone_for_good_stops_the_system_with_exit_code_failed():
+    system = System(node("sim", required=True) + node("navigator"))
+    system.process("sim", runs=(1.5,), code=2)
+    navigator = system.process("navigator")
+    assert system.run() == ExitCode.FAILED
+    why = "exited with code 2 (bad input: its configuration cannot be used)"
+    assert system.supervision.stop_reason == f"required node sim {why}"
+    assert f"sim {why}; it is required, stopping the system" in system.lines()
+    assert navigator.got == [(pytest.approx(1.5, abs=LAG), INT)]  # the others stopped as on Ctrl-C
+
+
+def test_a_required_node_that_used_up_its_respawns_stops_the_system():
+    system = System(node("sim", required=True, respawn=True, respawn_delay=0.2, respawn_max=2) + node("navigator"))
+    sim = system.process("sim", runs=(0.3,), code=-int(KILL))
+    system.process("navigator")
+    assert system.run() == ExitCode.FAILED
+    assert len(sim.starts) == 3
+    assert system.supervision.stop_reason == (
+        "required node sim was killed by SIGKILL, after 2 respawns in a row; giving up on it"
+    )
+
+
+def test_a_system_whose_every_node_has_exited_for_good_stops_with_exit_code_failed():
+    system = System(node("sim") + node("navigator"))
+    system.process("sim", runs=(1.0,), code=0)
+    system.process("navigator", runs=(2.0,), code=1)
+    assert system.run() == ExitCode.FAILED
+    assert system.supervision.stop_reason == "every node has exited"
+    assert system.clock.now == pytest.approx(2.0, abs=LAG)
+
+
+def test_a_pending_respawn_keeps_the_system_up_while_nothing_runs():
+    system = System(node("sim", respawn=True, respawn_delay=3.0))
+    sim = system.process("sim", runs=(0.1, math.inf))
+    system.stop_at(5.0)
+    assert system.run() == ExitCode.OK
+    assert len(sim.starts) == 2
+
+
+# -- starting and readiness -----------------------------------------------------------
+def test_a_stop_while_starting_starts_no_more_nodes_and_stops_the_started_ones():
+    system = System(node("sim") + node("navigator") + node("status_monitor"))
+    sim = system.process("sim")
+    navigator = system.process("navigator")
+    original = navigator.start
+
+    def start_then_ctrl_c() -> None:
+        original()
+        system.supervision.stop("received SIGINT")
+
+    navigator.start = start_then_ctrl_c  # type: ignore[method-assign]
+    assert system.run() == ExitCode.OK
+    assert system.spawned == ["sim", "navigator"]
+    assert sim.signals() == [TERM] and navigator.signals() == [TERM]  # neither had announced itself
+
+
+def test_all_nodes_ready_is_reported_once_when_the_last_one_announces_itself():
+    system = System(node("sim") + node("navigator"))
+    system.process("sim", ready_after=0.4)
+    system.process("navigator", ready_after=1.2)
+    system.stop_at(3.0)
+    system.run()
+    ready = [line for line in system.lines() if "ready in" in line]
+    assert len(ready) == 1
+    seconds = float(re.fullmatch(r"all 2 nodes ready in (\S+) s \(since turtlectl started\)", ready[0])[1])
+    assert 1.2 <= seconds <= 1.2 + LAG
+
+
+def test_ready_counts_from_when_the_command_began_not_from_the_first_start():
+    """Issue 10: "ready in" left out everything before the supervision began (imports, router)."""
+    system = System(node("sim"), since=-0.7)
+    system.process("sim", ready_after=0.4)
+    system.stop_at(2.0)
+    system.run()
+    ready = [line for line in system.lines() if "ready in" in line]
+    seconds = float(re.fullmatch(r"1 node ready in (\S+) s \(since turtlectl started\)", ready[0])[1])
+    assert 1.1 <= seconds <= 1.1 + LAG
+
+
+def test_a_respawned_node_is_ready_only_once_its_new_process_announces_itself():
+    system = System(node("sim", respawn=True, respawn_delay=0.2))
+    sim = system.process("sim", runs=(1.0, math.inf), ready_after=0.5)
+    system.stop_at(1.5)  # the new process started at ~1.2, announces itself at ~1.7
+    system.run()
+    assert len(sim.starts) == 2 and sim.signals() == [TERM]
+
+
+# -- shutdown ----------------------------------------------------------------------
+def test_shutdown_escalates_sigint_sigterm_sigkill_with_the_launch_file_s_waits_each_signal_once():
+    system = System(node("sim") + node("navigator") + node("status_monitor"), sigint_timeout=2.0, sigterm_timeout=1.5)
+    polite = system.process("sim", stops_on={INT: 0.3})
+    deaf = system.process("navigator", stops_on={TERM: 0.1})
+    stuck = system.process("status_monitor", stops_on={})
+    system.stop_at(5.0)
+    assert system.run() == ExitCode.OK
+    assert polite.got == [(pytest.approx(5.0, abs=LAG), INT)]
+    t0 = polite.got[0][0]
+    assert deaf.got == [(t0, INT), (pytest.approx(t0 + 2.0, abs=REAP), TERM)]
+    assert stuck.got == [
+        (t0, INT),
+        (pytest.approx(t0 + 2.0, abs=REAP), TERM),
+        (pytest.approx(t0 + 3.5, abs=REAP), KILL),
+    ]
+    assert "sending SIGTERM to navigator, status_monitor" in system.lines()
+    assert "sending SIGKILL to status_monitor" in system.lines()
+    assert system.clock.now <= t0 + 3.5 + KILL_WAIT + LAG
+
+
+def test_shutdown_waits_only_as_long_as_the_children_take():
+    system = System(node("sim") + node("navigator"), sigint_timeout=10.0, sigterm_timeout=10.0)
+    system.process("sim", stops_on={INT: 0.2})
+    system.process("navigator", stops_on={INT: 0.4})
+    system.stop_at(2.0)
+    system.run()
+    assert system.clock.now == pytest.approx(2.4, abs=LAG + REAP)
+    assert not any(line.startswith("sending") for line in system.lines())
+
+
+def test_a_child_not_yet_ready_gets_sigterm_first_never_a_sigint_inside_its_imports():
+    system = System(node("sim") + node("navigator"), sigint_timeout=2.0, sigterm_timeout=1.0)
+    ready = system.process("sim", ready_after=0.5, stops_on={})
+    importing = system.process("navigator", ready_after=None, stops_on={})
+    system.stop_at(3.0)
+    system.run()
+    t0 = ready.got[0][0]
+    assert ready.got == [
+        (t0, INT),
+        (pytest.approx(t0 + 2.0, abs=REAP), TERM),
+        (pytest.approx(t0 + 3.0, abs=REAP), KILL),
+    ]
+    # SIGTERM at once, not again at the SIGTERM step, then SIGKILL after both waits
+    assert importing.got == [(t0, TERM), (pytest.approx(t0 + 3.0, abs=REAP), KILL)]
+    assert "sending SIGTERM to sim" in system.lines()
+
+
+def test_children_are_stopped_even_when_starting_one_fails():
+    """No orphans: an error while starting (or watching) still runs the shutdown."""
+    system = System(node("sim") + node("navigator"))
+    sim = system.process("sim")
+    navigator = system.process("navigator")
+
+    def cannot_start() -> None:
+        raise OSError("no such interpreter")
+
+    navigator.start = cannot_start  # type: ignore[method-assign]
+    with pytest.raises(OSError):
+        system.run()
+    assert sim.signals() == [TERM]
+
+
+# -- exits that respawning cannot help (issue 22, item 7) -------------------------------
+@pytest.mark.parametrize(
+    "code, why",
+    [
+        (2, "exited with code 2 (bad input: its configuration cannot be used)"),
+        (4, "exited with code 4 (could not start: another process already holds what it claims)"),
+    ],
+)
+def test_a_configuration_error_or_a_conflict_is_given_up_on_at_once_with_one_line_saying_why(code, why):
+    system = System(node("sim") + node("navigator", respawn=True, respawn_delay=0.2, respawn_max=0))
+    system.process("sim")
+    navigator = system.process("navigator", runs=(0.5,), code=code)
+    system.stop_at(10.0)
+    assert system.run() == ExitCode.OK  # optional: the rest runs on until asked to stop
+    assert len(navigator.starts) == 1  # never started again, although respawn has no limit
+    said = [line for line in system.lines() if line.startswith("navigator ")]
+    assert said == [f"navigator {why}; not respawning: respawning cannot help"]
+
+
+def test_a_required_node_with_a_conflict_stops_the_system_at_once_however_many_respawns_it_has():
+    system = System(node("sim", respawn=True, respawn_max=5) + node("navigator", required=True, respawn=True))
+    system.process("sim")
+    navigator = system.process("navigator", runs=(0.5,), code=4)
+    assert system.run() == ExitCode.FAILED
+    assert len(navigator.starts) == 1
+    assert system.clock.now == pytest.approx(0.5, abs=LAG + 2.0 + REAP)  # no respawn delay waited for
+    assert system.supervision.stop_reason.startswith("required node navigator exited with code 4 (could not start")
+    assert any(line.endswith("respawning cannot help; it is required, stopping the system") for line in system.lines())
+
+
+@pytest.mark.parametrize("code", [1, 3, -int(signal.SIGSEGV), -int(KILL), 0])
+def test_crashes_and_lost_sessions_are_still_respawned(code):
+    system = System(node("sim", respawn=True, respawn_delay=0.2, respawn_max=0))
+    sim = system.process("sim", runs=(0.5, math.inf), code=code)
+    system.stop_at(3.0)
+    assert system.run() == ExitCode.OK
+    assert len(sim.starts) == 2
+    assert not any("respawning cannot help" in line for line in system.lines())
+
+
+# -- readiness counts only this supervisor's processes (issue 22 review, A) -------------
+def test_another_process_calling_itself_by_a_node_s_name_does_not_make_that_node_ready():
+    """A second launch joining a running system: its navigator conflicts with the running one
+    (exit 4) and never announces itself; the other system's navigator token (another pid,
+    seen at once through the token history) made it "1 node ready"."""
+    system = System(node("navigator", respawn=True))
+    navigator = system.process("navigator", runs=(0.6,), code=4, ready_after=None)
+    other = 4242
+    system.supervision.announce(True, "navigator", other)  # the running system's, before ours starts
+    system.clock.at(0.3, lambda: system.supervision.announce(True, "navigator", other))
+    system.run()
+    assert len(navigator.starts) == 1
+    assert not any("ready in" in line for line in system.lines())
+    assert not system.supervision.ready("navigator")
+    assert any(f"another process (pid {other}) also calls itself navigator" in line for line in system.lines())
+
+
+def test_another_process_going_away_does_not_unready_this_supervisor_s_node():
+    system = System(node("sim"))
+    sim = system.process("sim", ready_after=0.2)
+    system.clock.at(0.5, lambda: system.supervision.announce(True, "sim", 4242))
+    system.clock.at(0.7, lambda: system.supervision.announce(False, "sim", 4242))
+    seen: list[bool] = []
+    system.clock.at(1.0, lambda: seen.append(system.supervision.ready("sim")))
+    system.stop_at(1.5)
+    system.run()
+    assert seen == [True] and sim.signals() == [INT]  # still ready: SIGINT, not SIGTERM
