@@ -55,7 +55,8 @@ def launch(
 
     Example: turtlectl launch --port 7448 --set navigator.goal_timeout=60
     """
-    from cli.system.launchfile import default_launch_file, launch_plan
+    from cli.system.launchfile import default_launch_file
+    from cli.system.overrides import launch_plan
     from cli.system.supervisor import logs
     from cli.system.supervisor.manager import Supervisor
     from cli.system.supervisor.printer import Printer
@@ -145,7 +146,8 @@ def run(
 
     Example: turtlectl run navigator -p goal_timeout=60 --log-level DEBUG
     """
-    from cli.system.launchfile import default_launch_file, load_launch, node_config
+    from cli.system.launchfile import default_launch_file, load_launch
+    from cli.system.overrides import node_config
     from cli.system.supervisor.process import exec_node
 
     level = args.log_level(log_level)

@@ -12,13 +12,11 @@ in the world and outside every obstacle, no obstacle covers the world or lies
 outside it, at most one node of each kind (they use fixed keys), and the
 navigator's scan_timeout outlasts the scan period.
 
-Overrides (``launch --set NODE.PARAM=VALUE`` or ``--set world.size=20``,
-``run NODE -p PARAM=VALUE``) are applied to the plan and validated the same way.
+Overrides (``launch --set``, ``run -p``, ``param set``) are in cli.system.overrides.
 """
 
 from __future__ import annotations
 
-import copy
 import difflib
 import math
 import re
@@ -32,8 +30,6 @@ import msgspec.inspect as mi
 from cli.errors import BadInput
 from messages.world import Limits, World
 from nodes.kinds import KINDS
-from runtime.config import NodeConfig
-from runtime.params import lookup
 
 #: the launch file that comes with turtlectl: the whole system on one machine
 PACKAGED_LAUNCH = Path(__file__).resolve().parent / "launch.toml"
@@ -150,7 +146,7 @@ def _problem(exc: msgspec.ValidationError, root: type) -> tuple[Parts, str]:
     return parts, what
 
 
-class _Report:
+class Report:
     """Turns a key path into the text users read: ``node[1] (navigator).params.rate`` in a
     file, ``navigator.rate`` for an override of a node's parameter."""
 
@@ -189,7 +185,7 @@ def _raw_names(data: Any) -> list[str | None]:
     return [n["name"] if isinstance(n, dict) and isinstance(n.get("name"), str) else None for n in nodes]
 
 
-def _validate(data: Any, source: str, report: _Report) -> LaunchPlan:
+def validate(data: Any, source: str, report: Report) -> LaunchPlan:
     """The whole launch file, each value and then the file as a whole."""
     try:
         launch = msgspec.convert(data, LaunchFile, strict=True)
@@ -250,7 +246,7 @@ def _validate(data: Any, source: str, report: _Report) -> LaunchPlan:
     return LaunchPlan(source=source, launch=launch, params=params)
 
 
-def _check_world(world: World, report: _Report) -> None:
+def _check_world(world: World, report: Report) -> None:
     """Obstacles that make no sense in this world: covering all of it, or entirely outside it."""
     size = world.size
     for j, o in enumerate(world.obstacles):
@@ -268,7 +264,7 @@ def _check_world(world: World, report: _Report) -> None:
             )
 
 
-def _check_spawn(world: World, i: int, sim: dict[str, Any], report: _Report) -> None:
+def _check_spawn(world: World, i: int, sim: dict[str, Any], report: Report) -> None:
     """The simulator's spawn: inside the world and outside every obstacle (the node itself
     would only clamp it to the walls, or leave the turtle stuck in an obstacle)."""
     x, y = sim["x"], sim["y"]
@@ -291,7 +287,7 @@ def parse_launch(text: str, source: str = "launch.toml") -> LaunchPlan:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         raise LaunchFileError(f"{source}: not valid TOML: {exc}") from None
-    return _validate(data, source, _Report(source, _raw_names(data), override=False))
+    return validate(data, source, Report(source, _raw_names(data), override=False))
 
 
 def load_launch(path: Path) -> LaunchPlan:
@@ -311,7 +307,7 @@ def default_launch_file() -> Path:
     return local if local.is_file() else PACKAGED_LAUNCH
 
 
-def _no_node(name: str, names: list[str], where: str) -> LaunchFileError:
+def no_node(name: str, names: list[str], where: str) -> LaunchFileError:
     return LaunchFileError(f"{where}: no node named {name!r}{suggestion(name, names)} (nodes: {', '.join(names)})")
 
 
@@ -321,171 +317,9 @@ def select_nodes(plan: LaunchPlan, only: list[str], exclude: list[str]) -> Launc
     for option, asked in (("--only", only), ("--exclude", exclude)):
         for name in asked:
             if name not in names:
-                raise _no_node(name, names, f"{option} {name}")
+                raise no_node(name, names, f"{option} {name}")
     kept = [e for e in plan.launch.node if (not only or e.name in only) and e.name not in exclude]
     if not kept:
         raise LaunchFileError("--only/--exclude leave no node to run")
     launch = msgspec.structs.replace(plan.launch, node=kept)
     return LaunchPlan(source=plan.source, launch=launch, params={e.name: plan.params[e.name] for e in kept})
-
-
-# -- overrides -----------------------------------------------------------------
-class Assignment(msgspec.Struct, frozen=True):
-    """``a.b.c = value`` as typed: the dotted key's parts and the value (a TOML value, or
-    else the text itself)."""
-
-    text: str
-    keys: tuple[str, ...]
-    value: Any
-
-
-def parse_assignment(text: str, option: str, form: str) -> Assignment:
-    """``KEY=VALUE``, spaces allowed around both, dots in KEY reaching into tables; VALUE is a
-    TOML value (2.5, true, "text", [1, 2]) or else taken as text.  ``form`` is how to write it."""
-    key, sep, raw = text.partition("=")
-    keys = tuple(part.strip() for part in key.split("."))
-    if not sep or not all(keys):
-        raise LaunchFileError(f"{option} {text!r}: write it as {form}")
-    raw = raw.strip()
-    try:
-        document = tomllib.loads(f"v = {raw}")
-        value = document["v"] if len(document) == 1 else raw
-    except tomllib.TOMLDecodeError:
-        value = raw
-    return Assignment(text=text, keys=keys, value=value)
-
-
-def _plan_data(plan: LaunchPlan) -> dict[str, Any]:
-    """The plan as launch-file data again (every default filled in), to validate anew."""
-    data: dict[str, Any] = msgspec.to_builtins(plan.launch)
-    for entry in data["node"]:
-        entry["params"] = copy.deepcopy(plan.params[entry["name"]])
-    return data
-
-
-def with_overrides(plan: LaunchPlan, assignments: list[Assignment], option: str) -> LaunchPlan:
-    """The plan with each assignment applied and everything validated again, as a file is.
-
-    An assignment's first key names a node (then the rest is a key of its params) or one of
-    the tables world, limits, supervisor.  Errors name ``option`` and the node, e.g.
-    ``--set navigator.goal_timeot: unknown key; did you mean goal_timeout?``.
-    """
-    if not assignments:
-        return plan
-    data = _plan_data(plan)
-    names = [e["name"] for e in data["node"]]
-    for item in assignments:
-        target, *keys = item.keys
-        if target in TABLES:
-            table = data[target]
-        elif target in names:
-            table = data["node"][names.index(target)]["params"]
-        else:
-            tables = ", ".join(TABLES)
-            raise LaunchFileError(
-                f"{option} {item.text!r}: no node or table named {target!r}{suggestion(target, names + list(TABLES))} "
-                f"(nodes: {', '.join(names)}; tables: {tables})"
-            )
-        if not keys:
-            raise LaunchFileError(f"{option} {item.text!r}: name a key of {target}, as {target}.KEY=VALUE")
-        _put(table, target, keys, item.value, option)
-    return _validate(data, plan.source, _Report(option, list(names), override=True))
-
-
-def _put(table: dict[str, Any], target: str, keys: list[str], value: Any, option: str) -> None:
-    """Set ``keys`` (dotted into tables, made where missing) of ``target``'s ``table`` to ``value``."""
-    for depth, key in enumerate(keys[:-1]):
-        table = table.setdefault(key, {})
-        if not isinstance(table, dict):
-            raise LaunchFileError(f"{option} {'.'.join([target, *keys[: depth + 1]])}: is not a table")
-    table[keys[-1]] = value
-
-
-def launches(kind: str) -> bool:
-    """Whether a launch file runs nodes of ``kind`` (its rules then apply to ``param set``; a
-    user's own kind is checked by the node alone)."""
-    return kind in KINDS
-
-
-def running_change(
-    nodes: dict[str, tuple[str, dict[str, Any]]], world: World, node: str, name: str, text: str, label: str
-) -> Any:
-    """The value to give ``node``'s parameter ``name`` for ``text`` (a TOML value, else the
-    text), validated as ``launch --set`` validates a file, against what runs now: ``nodes``
-    (each node's kind and parameters; those of kinds a launch file does not run are left
-    out) in ``world``; ``node`` is of a kind it runs.  A rule of the whole system that already
-    fails now (a node respawned with its launch file's value may break one) refuses only
-    changes that break it differently, so that the change that repairs it, and unrelated
-    ones, go through.  LaunchFileError (exit 2) names ``label`` and, when the rule broken is
-    about another parameter, that one."""
-    nodes = {n: (kind, p) for n, (kind, p) in nodes.items() if launches(kind)}
-    data: dict[str, Any] = {
-        "world": msgspec.to_builtins(world),
-        "node": [{"name": n, "run": kind, "params": copy.deepcopy(p)} for n, (kind, p) in nodes.items()],
-    }
-    names = list(nodes)
-    report = _Report(label, list(names), override=True)
-    assignment = parse_assignment(f"{node}.{name}={text}", label, f"{label} NODE NAME VALUE")
-    before = _problem_text(data, report)
-    changed = copy.deepcopy(data)
-    _put(changed["node"][names.index(node)]["params"], node, list(assignment.keys[1:]), assignment.value, label)
-    after = _problem_text(changed, report)
-    if after is not None and after != before:
-        where = f"{label} {node}.{name}"
-        if after.startswith(where) and after[len(where) : len(where) + 1] in (":", "[", "."):
-            raise LaunchFileError(after)  # about the value itself (or an item or entry of it)
-        rule = after.removeprefix(label + " ")
-        raise LaunchFileError(f"{where} = {text}: it would break a rule of the running system: {rule}")
-    kind = KINDS[nodes[node][0]]
-    typed = msgspec.convert(changed["node"][names.index(node)]["params"], kind.params, strict=True)
-    return lookup(msgspec.to_builtins(typed), name)
-
-
-def _problem_text(data: dict[str, Any], report: _Report) -> str | None:
-    """The first thing wrong with launch-file ``data`` (as its error reads), or None."""
-    try:
-        _validate(data, report.label, report)
-    except LaunchFileError as exc:
-        return str(exc)
-    return None
-
-
-#: how to write a ``launch --set`` override
-SET_FORM = "NODE.PARAM=VALUE or TABLE.KEY=VALUE (world, limits, supervisor)"
-
-
-def launch_plan(path: Path, only: list[str], exclude: list[str], settings: list[str]) -> LaunchPlan:
-    """What ``turtlectl launch`` runs: the file at ``path``, its ``--only``/``--exclude``
-    selection, then its ``--set`` overrides (``settings``), all validated as the file is."""
-    plan = select_nodes(load_launch(path), only, exclude)
-    return with_overrides(plan, [parse_assignment(item, "--set", SET_FORM) for item in settings], "--set")
-
-
-def node_config(
-    plan: LaunchPlan,
-    name: str,
-    connect: str,
-    overrides: list[str] | None = None,
-    domain: str = "",
-    log_level: str = "INFO",
-) -> NodeConfig:
-    """What node ``name`` of ``plan`` is started with; ``overrides`` (``KEY=VALUE`` for its
-    params) are validated as the file is (LaunchFileError naming ``--param``)."""
-    names = [e.name for e in plan.launch.node]
-    if name not in names:
-        raise _no_node(name, names, plan.source)
-    if overrides:
-        assignments = [parse_assignment(text, "--param", "KEY=VALUE") for text in overrides]
-        plan = with_overrides(plan, [msgspec.structs.replace(a, keys=(name, *a.keys)) for a in assignments], "--param")
-    entry = plan.launch.node[names.index(name)]
-    return NodeConfig(
-        name=name,
-        kind=entry.run,
-        connect=connect,
-        domain=domain,
-        params=plan.params[name],
-        claims=list(KINDS[entry.run].claims),
-        world=plan.launch.world,
-        limits=plan.launch.limits,
-        log_level=log_level,
-    )

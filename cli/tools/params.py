@@ -196,7 +196,7 @@ def _check_value(node: str, kind: str, now: dict[str, Any], name: str, text: str
     """The value itself (its type and range), checked here as the node would check it
     (runtime.params), so that a built-in node's refusal reads as a user node's does:
     ``navigator: goal_timeout must be >= 0.1 (got -1)``."""
-    from cli.system.launchfile import parse_assignment
+    from cli.system.overrides import parse_assignment
     from nodes.kinds import KINDS
     from runtime.params import ParamRefused, with_value
 
@@ -220,7 +220,8 @@ def set_value(connect: str, node: str, name: str, text: str, timeout: float = TI
     first as the node checks it.  The node validates the value itself (its type and range;
     exit 2): its refusal is its one line (``mine: rate must be <= 50 (got 60)``), the same
     wording as a built-in kind's.  Returns the node's answer."""
-    from cli.system.launchfile import launches, parse_assignment, running_change, suggestion
+    from cli.system.launchfile import suggestion
+    from cli.system.overrides import launches, parse_assignment, running_change
 
     described = description(connect, node)
     infos = {p.name: p for p in described.parameters}

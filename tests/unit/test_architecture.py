@@ -37,6 +37,7 @@ PURE = [
     "nodes.params",
     "nodes.kinds",
     "cli.system.launchfile",
+    "cli.system.overrides",
     "cli.args",
     "cli.tools.format",
     "cli.tools.graph",

@@ -26,7 +26,8 @@ import zenoh
 import cli
 from cli.errors import CannotStart, ExitCode, TurtlectlError
 from cli.system import access, credentials
-from cli.system.launchfile import LaunchPlan, node_config
+from cli.system.launchfile import LaunchPlan
+from cli.system.overrides import node_config
 from cli.system.supervisor import logs, zygote
 from cli.system.supervisor.printer import Printer
 from cli.system.supervisor.process import Child, ZygoteChild, node_command

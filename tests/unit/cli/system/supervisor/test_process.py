@@ -9,7 +9,8 @@ import signal
 import sys
 import time
 
-from cli.system.launchfile import node_config, parse_launch
+from cli.system.launchfile import parse_launch
+from cli.system.overrides import node_config
 from cli.system.supervisor.printer import Printer
 from cli.system.supervisor.process import Child, node_command
 from nodes.kinds import KINDS

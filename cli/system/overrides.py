@@ -1,0 +1,191 @@
+"""Overrides of a launch plan (pure: no zenoh): ``launch --set NODE.PARAM=VALUE`` or ``--set
+world.size=20``, ``run NODE -p PARAM=VALUE``, and ``param set`` against what runs now, each
+applied to the plan's data and validated again as a launch file is (cli.system.launchfile);
+what ``launch`` runs (``launch_plan``) and what a node is started with (``node_config``).
+"""
+
+from __future__ import annotations
+
+import copy
+import tomllib
+from pathlib import Path
+from typing import Any
+
+import msgspec
+
+from cli.system.launchfile import (
+    TABLES,
+    LaunchFileError,
+    LaunchPlan,
+    Report,
+    load_launch,
+    no_node,
+    select_nodes,
+    suggestion,
+    validate,
+)
+from messages.world import World
+from nodes.kinds import KINDS
+from runtime.config import NodeConfig
+from runtime.params import lookup
+
+
+class Assignment(msgspec.Struct, frozen=True):
+    """``a.b.c = value`` as typed: the dotted key's parts and the value (a TOML value, or
+    else the text itself)."""
+
+    text: str
+    keys: tuple[str, ...]
+    value: Any
+
+
+def parse_assignment(text: str, option: str, form: str) -> Assignment:
+    """``KEY=VALUE``, spaces allowed around both, dots in KEY reaching into tables; VALUE is a
+    TOML value (2.5, true, "text", [1, 2]) or else taken as text.  ``form`` is how to write it."""
+    key, sep, raw = text.partition("=")
+    keys = tuple(part.strip() for part in key.split("."))
+    if not sep or not all(keys):
+        raise LaunchFileError(f"{option} {text!r}: write it as {form}")
+    raw = raw.strip()
+    try:
+        document = tomllib.loads(f"v = {raw}")
+        value = document["v"] if len(document) == 1 else raw
+    except tomllib.TOMLDecodeError:
+        value = raw
+    return Assignment(text=text, keys=keys, value=value)
+
+
+def _plan_data(plan: LaunchPlan) -> dict[str, Any]:
+    """The plan as launch-file data again (every default filled in), to validate anew."""
+    data: dict[str, Any] = msgspec.to_builtins(plan.launch)
+    for entry in data["node"]:
+        entry["params"] = copy.deepcopy(plan.params[entry["name"]])
+    return data
+
+
+def with_overrides(plan: LaunchPlan, assignments: list[Assignment], option: str) -> LaunchPlan:
+    """The plan with each assignment applied and everything validated again, as a file is.
+
+    An assignment's first key names a node (then the rest is a key of its params) or one of
+    the tables world, limits, supervisor.  Errors name ``option`` and the node, e.g.
+    ``--set navigator.goal_timeot: unknown key; did you mean goal_timeout?``.
+    """
+    if not assignments:
+        return plan
+    data = _plan_data(plan)
+    names = [e["name"] for e in data["node"]]
+    for item in assignments:
+        target, *keys = item.keys
+        if target in TABLES:
+            table = data[target]
+        elif target in names:
+            table = data["node"][names.index(target)]["params"]
+        else:
+            tables = ", ".join(TABLES)
+            raise LaunchFileError(
+                f"{option} {item.text!r}: no node or table named {target!r}{suggestion(target, names + list(TABLES))} "
+                f"(nodes: {', '.join(names)}; tables: {tables})"
+            )
+        if not keys:
+            raise LaunchFileError(f"{option} {item.text!r}: name a key of {target}, as {target}.KEY=VALUE")
+        _put(table, target, keys, item.value, option)
+    return validate(data, plan.source, Report(option, list(names), override=True))
+
+
+def _put(table: dict[str, Any], target: str, keys: list[str], value: Any, option: str) -> None:
+    """Set ``keys`` (dotted into tables, made where missing) of ``target``'s ``table`` to ``value``."""
+    for depth, key in enumerate(keys[:-1]):
+        table = table.setdefault(key, {})
+        if not isinstance(table, dict):
+            raise LaunchFileError(f"{option} {'.'.join([target, *keys[: depth + 1]])}: is not a table")
+    table[keys[-1]] = value
+
+
+def launches(kind: str) -> bool:
+    """Whether a launch file runs nodes of ``kind`` (its rules then apply to ``param set``; a
+    user's own kind is checked by the node alone)."""
+    return kind in KINDS
+
+
+def running_change(
+    nodes: dict[str, tuple[str, dict[str, Any]]], world: World, node: str, name: str, text: str, label: str
+) -> Any:
+    """The value to give ``node``'s parameter ``name`` for ``text`` (a TOML value, else the
+    text), validated as ``launch --set`` validates a file, against what runs now: ``nodes``
+    (each node's kind and parameters; those of kinds a launch file does not run are left
+    out) in ``world``; ``node`` is of a kind it runs.  A rule of the whole system that already
+    fails now (a node respawned with its launch file's value may break one) refuses only
+    changes that break it differently, so that the change that repairs it, and unrelated
+    ones, go through.  LaunchFileError (exit 2) names ``label`` and, when the rule broken is
+    about another parameter, that one."""
+    nodes = {n: (kind, p) for n, (kind, p) in nodes.items() if launches(kind)}
+    data: dict[str, Any] = {
+        "world": msgspec.to_builtins(world),
+        "node": [{"name": n, "run": kind, "params": copy.deepcopy(p)} for n, (kind, p) in nodes.items()],
+    }
+    names = list(nodes)
+    report = Report(label, list(names), override=True)
+    assignment = parse_assignment(f"{node}.{name}={text}", label, f"{label} NODE NAME VALUE")
+    before = _problem_text(data, report)
+    changed = copy.deepcopy(data)
+    _put(changed["node"][names.index(node)]["params"], node, list(assignment.keys[1:]), assignment.value, label)
+    after = _problem_text(changed, report)
+    if after is not None and after != before:
+        where = f"{label} {node}.{name}"
+        if after.startswith(where) and after[len(where) : len(where) + 1] in (":", "[", "."):
+            raise LaunchFileError(after)  # about the value itself (or an item or entry of it)
+        rule = after.removeprefix(label + " ")
+        raise LaunchFileError(f"{where} = {text}: it would break a rule of the running system: {rule}")
+    kind = KINDS[nodes[node][0]]
+    typed = msgspec.convert(changed["node"][names.index(node)]["params"], kind.params, strict=True)
+    return lookup(msgspec.to_builtins(typed), name)
+
+
+def _problem_text(data: dict[str, Any], report: Report) -> str | None:
+    """The first thing wrong with launch-file ``data`` (as its error reads), or None."""
+    try:
+        validate(data, report.label, report)
+    except LaunchFileError as exc:
+        return str(exc)
+    return None
+
+
+#: how to write a ``launch --set`` override
+SET_FORM = "NODE.PARAM=VALUE or TABLE.KEY=VALUE (world, limits, supervisor)"
+
+
+def launch_plan(path: Path, only: list[str], exclude: list[str], settings: list[str]) -> LaunchPlan:
+    """What ``turtlectl launch`` runs: the file at ``path``, its ``--only``/``--exclude``
+    selection, then its ``--set`` overrides (``settings``), all validated as the file is."""
+    plan = select_nodes(load_launch(path), only, exclude)
+    return with_overrides(plan, [parse_assignment(item, "--set", SET_FORM) for item in settings], "--set")
+
+
+def node_config(
+    plan: LaunchPlan,
+    name: str,
+    connect: str,
+    overrides: list[str] | None = None,
+    domain: str = "",
+    log_level: str = "INFO",
+) -> NodeConfig:
+    """What node ``name`` of ``plan`` is started with; ``overrides`` (``KEY=VALUE`` for its
+    params) are validated as the file is (LaunchFileError naming ``--param``)."""
+    names = [e.name for e in plan.launch.node]
+    if name not in names:
+        raise no_node(name, names, plan.source)
+    if overrides:
+        assignments = [parse_assignment(text, "--param", "KEY=VALUE") for text in overrides]
+        plan = with_overrides(plan, [msgspec.structs.replace(a, keys=(name, *a.keys)) for a in assignments], "--param")
+    entry = plan.launch.node[names.index(name)]
+    return NodeConfig(
+        name=name,
+        kind=entry.run,
+        connect=connect,
+        domain=domain,
+        params=plan.params[name],
+        claims=list(KINDS[entry.run].claims),
+        world=plan.launch.world,
+        limits=plan.launch.limits,
+        log_level=log_level,
+    )
