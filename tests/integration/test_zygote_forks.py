@@ -26,8 +26,10 @@ from cli.system.supervisor.zygote import Zygote, ZygoteUnavailable, start
 from runtime.config import SUPERVISOR_PID_VAR
 from tests.integration.harness import session_members
 
-MODULE = "tests.unit.cli.system.supervisor.zygote_node"
-ROOT = Path(__file__).resolve().parents[5]
+pytestmark = pytest.mark.integration
+
+MODULE = "tests.integration.zygote_node"
+ROOT = Path(__file__).resolve().parents[2]
 
 
 def pid_alive(pid: int) -> bool:
@@ -162,11 +164,11 @@ def test_nodes_outlive_the_zygote_and_later_ones_start_as_new_processes_said_onc
 
 def test_a_module_the_zygote_could_not_import_is_said_once_and_the_others_are_still_forked():
     printer = Printer(["node"], stream=io.StringIO())
-    lacking = start(["tests.unit.cli.system.supervisor.no_such_module", MODULE])
+    lacking = start(["tests.integration.no_such_module", MODULE])
     assert lacking is not None
     broken = ZygoteChild(
         "node",
-        [sys.executable, "-u", "-m", "tests.unit.cli.system.supervisor.no_such_module"],
+        [sys.executable, "-u", "-m", "tests.integration.no_such_module"],
         dict(os.environ),
         printer,
         lacking,
@@ -183,8 +185,8 @@ def test_a_module_the_zygote_could_not_import_is_said_once_and_the_others_are_st
         lacking.close()
     out = printer.stream.getvalue()
     said = [line for line in out.splitlines() if "the zygote" in line]
-    assert len(said) == 1 and "cannot import tests.unit.cli.system.supervisor.no_such_module" in said[0], out
-    assert "starting nodes running tests.unit.cli.system.supervisor.no_such_module as new processes" in said[0]
+    assert len(said) == 1 and "cannot import tests.integration.no_such_module" in said[0], out
+    assert "starting nodes running tests.integration.no_such_module as new processes" in said[0]
 
 
 SUPERVISOR = textwrap.dedent(
@@ -222,26 +224,26 @@ def test_a_killed_supervisor_leaves_neither_zygote_nor_node():
 
 
 def test_a_zygote_that_does_not_answer_is_ended_and_one_without_the_module_says_why():
-    slow = start(["tests.unit.cli.system.supervisor.zygote_slow"])
+    slow = start(["tests.integration.zygote_slow"])
     assert slow is not None
     read, write = os.pipe()
     try:
         with pytest.raises(ZygoteUnavailable, match="did not answer within 0.3 s"):
-            slow.spawn("tests.unit.cli.system.supervisor.zygote_slow", dict(os.environ), write, timeout=0.3)
+            slow.spawn("tests.integration.zygote_slow", dict(os.environ), write, timeout=0.3)
         _wait(lambda: not slow.alive, "the hung zygote's end")
         with pytest.raises(ZygoteUnavailable, match=r"the zygote \(pid \d+\) was killed by SIGKILL"):
-            slow.spawn("tests.unit.cli.system.supervisor.zygote_slow", dict(os.environ), write)
+            slow.spawn("tests.integration.zygote_slow", dict(os.environ), write)
     finally:
         os.close(read)
         os.close(write)
         slow.close()
 
-    lacking = start(["tests.unit.cli.system.supervisor.no_such_module", MODULE])
+    lacking = start(["tests.integration.no_such_module", MODULE])
     assert lacking is not None
     read, write = os.pipe()
     try:
-        with pytest.raises(ZygoteUnavailable, match="cannot import tests.unit.cli.system.supervisor.no_such_module"):
-            lacking.spawn("tests.unit.cli.system.supervisor.no_such_module", dict(os.environ), write)
+        with pytest.raises(ZygoteUnavailable, match="cannot import tests.integration.no_such_module"):
+            lacking.spawn("tests.integration.no_such_module", dict(os.environ), write)
         assert lacking.alive  # the other modules still start by fork
     finally:
         os.close(read)

@@ -105,7 +105,9 @@ KILLED_WRITER = textwrap.dedent(
 
 def test_a_killed_recorder_leaves_every_message_but_the_last_second(tmp_path):
     path = tmp_path / "killed.mcap"
-    root = os.path.dirname(os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)))))
+    root = os.path.dirname(
+        os.path.dirname(os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)))))
+    )
     done = subprocess.run([sys.executable, "-c", KILLED_WRITER, str(path)], cwd=root, capture_output=True, text=True)
     assert done.returncode == -9, done.stderr
     written = int(done.stdout)

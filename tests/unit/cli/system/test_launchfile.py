@@ -14,7 +14,7 @@ from cli.system.launchfile import (
 )
 from cli.system.overrides import node_config, parse_assignment, with_overrides
 
-ROOT = Path(__file__).resolve().parents[3]
+ROOT = Path(__file__).resolve().parents[4]
 
 MINIMAL = '[[node]]\nname = "sim"\nrun = "sim"\n'
 
