@@ -39,6 +39,8 @@ TABLES = ("world", "limits", "supervisor")
 
 Delay = Annotated[float, msgspec.Meta(ge=0.0, le=3600.0)]
 StopWait = Annotated[float, msgspec.Meta(gt=0.0, le=60.0)]
+Respawns = Annotated[int, msgspec.Meta(ge=0, le=1_000_000)]
+Kept = Annotated[int, msgspec.Meta(ge=0, le=10_000)]
 
 
 class LaunchFileError(BadInput, ValueError):
@@ -47,37 +49,28 @@ class LaunchFileError(BadInput, ValueError):
 
 
 class NodeEntry(msgspec.Struct, forbid_unknown_fields=True, kw_only=True):
-    """One process to run.
+    """One process to run.  A node that exits for good (no respawn, or its respawns used up)
+    stops the system if it is required (exit code 1).  An exit with code 2 (its configuration
+    cannot be used) or 4 (another process holds what it claims) is never respawned:
+    respawning cannot help (see the exit codes)."""
 
-    name: unique, letters/digits/_/-.  run: the node kind (see nodes.kinds).
-    params: the kind's parameters.
-    required: when it exits for good (no respawn, or respawns used up) the system stops, exit code 1.
-    respawn: restart it when it exits, first after respawn_delay s, then twice as long each
-    time up to respawn_delay_max s (both 0 to 3600); at most respawn_max times in a row (0: no
-    limit).  A run longer than STABLE_RUN s counts as healthy and starts the count again.
-    An exit with code 2 (its configuration cannot be used) or 4 (another process holds what
-    it claims) is never respawned: respawning cannot help (runtime.exitcodes).
-    """
-
-    name: str
-    run: str
-    params: dict[str, Any] = msgspec.field(default_factory=dict)
-    required: bool = False
-    respawn: bool = False
-    respawn_delay: Delay = 1.0
-    respawn_delay_max: Delay = 30.0
-    respawn_max: Annotated[int, msgspec.Meta(ge=0, le=1_000_000)] = 5
+    name: str  # -: unique in the file: letters, digits, _ and -
+    run: str  # -: the node kind (sim, navigator, status_monitor, obstacle_detector)
+    params: dict[str, Any] = msgspec.field(default_factory=dict)  # -: the kind's parameters (below)
+    required: bool = False  # -: when it exits for good the whole system stops, exit code 1
+    respawn: bool = False  # -: start it again when it exits
+    respawn_delay: Delay = 1.0  # s: before the first respawn; twice as long after each crash in a row
+    respawn_delay_max: Delay = 30.0  # s: the longest wait between respawns
+    respawn_max: Respawns = 5  # -: respawns in a row at most (0: no limit); a run of 10 s restarts the count
 
 
 class SupervisorSettings(msgspec.Struct, forbid_unknown_fields=True, kw_only=True):
-    """How the supervisor stops the system: SIGINT, wait sigint_timeout s, SIGTERM,
-    wait sigterm_timeout s, SIGKILL (both waits above 0, at most 60 s).
-    keep_logs: run folders kept in the log folder, this run's included; older ones are
-    removed at launch (0: keep them all)."""
+    """How the supervisor stops the system: SIGINT to every node, then SIGTERM to those left,
+    then SIGKILL; and how many run folders of logs it keeps."""
 
-    sigint_timeout: StopWait = 2.0
-    sigterm_timeout: StopWait = 1.0
-    keep_logs: Annotated[int, msgspec.Meta(ge=0, le=10_000)] = 20
+    sigint_timeout: StopWait = 2.0  # s: wait after SIGINT before SIGTERM
+    sigterm_timeout: StopWait = 1.0  # s: wait after SIGTERM before SIGKILL
+    keep_logs: Kept = 20  # -: run folders of logs kept, this run's included; older ones go at launch (0: all)
 
 
 class LaunchFile(msgspec.Struct, forbid_unknown_fields=True, kw_only=True):
