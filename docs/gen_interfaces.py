@@ -19,8 +19,11 @@ import sys
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
-if str(ROOT) not in sys.path:
-    sys.path.insert(0, str(ROOT))
+for folder in (ROOT, ROOT / "docs"):
+    if str(folder) not in sys.path:
+        sys.path.insert(0, str(folder))
+
+import generated  # noqa: E402
 
 from messages import ALL_TYPES, keys  # noqa: E402
 from messages.codec import MEDIA_TYPE  # noqa: E402
@@ -278,15 +281,7 @@ def render() -> str:
 
 
 def main(argv: list[str]) -> int:
-    text = render()
-    if "--check" in argv:
-        if OUTPUT.read_text() != text:
-            print(f"{OUTPUT} is out of date: run python docs/gen_interfaces.py", file=sys.stderr)
-            return 1
-        return 0
-    OUTPUT.write_text(text)
-    print(f"wrote {OUTPUT}")
-    return 0
+    return generated.main(OUTPUT, render, argv, "gen_interfaces.py")
 
 
 if __name__ == "__main__":

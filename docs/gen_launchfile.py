@@ -20,6 +20,7 @@ for folder in (ROOT, ROOT / "docs"):
     if str(folder) not in sys.path:
         sys.path.insert(0, str(folder))
 
+import generated  # noqa: E402
 from gen_interfaces import doc, param_table  # noqa: E402
 
 from cli.system.launchfile import NodeEntry, SupervisorSettings  # noqa: E402
@@ -68,15 +69,7 @@ def render() -> str:
 
 
 def main(argv: list[str]) -> int:
-    text = render()
-    if "--check" in argv:
-        if OUTPUT.read_text() != text:
-            print(f"{OUTPUT} is out of date: run python docs/gen_launchfile.py", file=sys.stderr)
-            return 1
-        return 0
-    OUTPUT.write_text(text)
-    print(f"wrote {OUTPUT}")
-    return 0
+    return generated.main(OUTPUT, render, argv, "gen_launchfile.py")
 
 
 if __name__ == "__main__":
