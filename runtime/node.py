@@ -22,6 +22,10 @@ thread is not woken for it.
 
 Timers run on an absolute-deadline schedule (tick k is due at start + k*period),
 so the period does not drift with the time the callbacks take.
+
+Every declaration returns a handle with ``undeclare()`` (``runtime.handles``): the
+entity and its graph token go, and its callbacks are silenced at once, even one
+already queued.
 """
 
 from __future__ import annotations
@@ -66,6 +70,7 @@ from messages.keys import (
 from messages.params import ParamInfo
 from messages.world import Limits, World
 from runtime.config import LOG_LEVELS, Claim, NodeConfig
+from runtime.handles import Declaration
 from runtime.params import ParamRefused, describe, lookup, param_infos, with_value
 from runtime.session import client_config, close_session
 
@@ -95,6 +100,7 @@ class Publisher(Generic[M]):
         self.key = key
         self._pub = session.declare_publisher(key, encoding=_encoding(msg_type))
         self._seq = 0
+        self._declaration: Declaration | None = None  # set by Node.publisher: the token with it
 
     def publish(self, msg: M) -> M:
         """Stamp ``msg`` (wall clock, ns) and the next sequence number, then send it."""
@@ -102,6 +108,13 @@ class Publisher(Generic[M]):
         self._seq += 1
         self._pub.put(encode(stamped))
         return stamped
+
+    def undeclare(self) -> None:
+        """Stop publishing on the key (and leave the graph).  Idempotent."""
+        if self._declaration is not None:
+            self._declaration.undeclare()
+        else:
+            self._pub.undeclare()
 
 
 class Latest(Generic[M]):
@@ -122,6 +135,7 @@ class Latest(Generic[M]):
         self._callback: Callable[[M], None] | None = None
         self._generation = 0  # which callback a queued message was received for
         self._sub = node.session.declare_subscriber(key, self._on_sample)
+        self._declaration: Declaration | None = None  # set by Node.latest: the token with it
 
     def _on_sample(self, sample: zenoh.Sample) -> None:  # Zenoh thread: decode and keep, or queue the garbage
         try:
@@ -151,7 +165,13 @@ class Latest(Generic[M]):
             self._callback(msg)
 
     def undeclare(self) -> None:
-        self._sub.undeclare()
+        """Stop receiving (and leave the graph); ``get()`` keeps the last message.  Idempotent."""
+        self._callback = None
+        self._generation += 1  # what is queued reaches no callback
+        if self._declaration is not None:
+            self._declaration.undeclare()
+        else:
+            self._sub.undeclare()
 
 
 class Request(Generic[M]):
@@ -193,6 +213,8 @@ class Timer:
         self.ticks = 1
         self.deadline = start + period
         self.active = True
+        self.undeclared = False
+        self._owner: list[Timer] | None = None  # the node's timers, set by Node.timer
 
     def retime(self, period: float, now: float | None = None) -> None:
         """Tick every ``period`` s from now on (a grid starting ``now``; the next tick is one
@@ -210,10 +232,17 @@ class Timer:
         """No more ticks until ``resume``."""
         self.active = False
 
+    def undeclare(self) -> None:
+        """No more ticks, ever (``resume`` does nothing after this).  Idempotent."""
+        self.active = False
+        self.undeclared = True
+        if self._owner is not None and self in self._owner:
+            self._owner.remove(self)
+
     def resume(self, now: float | None = None) -> None:
         """Tick again, on the same grid: the next tick is the one due after ``now`` (the
         ticks missed while paused are skipped, as a stalled timer's are)."""
-        if self.active:
+        if self.active or self.undeclared:
             return
         self.active = True
         now = time.monotonic() if now is None else now
@@ -237,7 +266,7 @@ class Node(Generic[P]):
         self.log = logging.getLogger(config.name)
         self._queue: queue.SimpleQueue[tuple[Callable[..., None], tuple[Any, ...]]] = queue.SimpleQueue()
         self._timers: list[Timer] = []
-        self._entities: list[Any] = []
+        self._entities: list[Declaration] = []  # what it declared, still declared
         self._bad_payloads: dict[str, int] = {}
         self._running = True
         self._on_shutdown: list[Callable[[], None]] = []
@@ -252,31 +281,36 @@ class Node(Generic[P]):
         self.serve(log_level_key(self.name), SetLogLevel, Ack, self._set_log_level)
 
     # -- declarations -------------------------------------------------------
-    def _announce(self, role: str, msg_type: type[Message] | str, key: str) -> None:
+    def _announce(self, role: str, msg_type: type[Message] | str, key: str) -> zenoh.LivelinessToken:
         """A liveliness token for the graph (``turtlectl list``): this node's role on ``key``
         with a message type (or a type's name, such as "JSON")."""
         name = msg_type if isinstance(msg_type, str) else type_name(msg_type)
         entity = EntityInfo(node=self.name, pid=os.getpid(), role=role, type_name=name, key=key)
-        self._entities.append(self.session.liveliness().declare_token(entity_token(entity)))
+        return self.session.liveliness().declare_token(entity_token(entity))
 
     def publisher(self, key: str, msg_type: type[M]) -> Publisher[M]:
+        """A publisher of ``msg_type`` on ``key`` (``publish``; ``undeclare`` withdraws it)."""
         pub = Publisher(self.session, key, msg_type)
-        self._entities.append(pub)
-        self._announce("pub", msg_type, key)
+        pub._declaration = declared = Declaration(self._entities, "publisher", key)
+        declared.add(pub._pub)
+        declared.add(self._announce("pub", msg_type, key))
         return pub
 
-    def subscribe(self, key: str, msg_type: type[M], callback: Callable[[M], None]) -> None:
-        """Call ``callback(msg)`` on the node thread for each valid ``msg_type`` on ``key``."""
-
-        self._entities.append(self.session.declare_subscriber(key, self._queuing(key, msg_type, callback)))
-        self._announce("sub", msg_type, key)
+    def subscribe(self, key: str, msg_type: type[M], callback: Callable[[M], None]) -> Declaration:
+        """Call ``callback(msg)`` on the node thread for each valid ``msg_type`` on ``key``,
+        until the returned declaration is undeclared."""
+        declared = Declaration(self._entities, "subscription", key)
+        declared.add(self.session.declare_subscriber(key, self._queuing(key, msg_type, callback, declared)))
+        declared.add(self._announce("sub", msg_type, key))
+        return declared
 
     def latest(self, key: str, msg_type: type[M]) -> Latest[M]:
         """Keep the newest ``msg_type`` on ``key`` for the node to read at its own pace
         (``.get()``), without waking the node for each message (see ``Latest``)."""
         latest = Latest(self, key, msg_type)
-        self._entities.append(latest)
-        self._announce("sub", msg_type, key)
+        latest._declaration = declared = Declaration(self._entities, "subscription", key)
+        declared.add(latest._sub)
+        declared.add(self._announce("sub", msg_type, key))
         return latest
 
     def serve(
@@ -285,14 +319,17 @@ class Node(Generic[P]):
         request_type: type[M],
         response_type: type[Message],
         handler: Callable[[Request[M]], None],
-    ) -> None:
-        """Serve a queryable; ``handler(request)`` runs on the node thread and responds when it likes."""
+    ) -> Declaration:
+        """Serve a queryable; ``handler(request)`` runs on the node thread and responds when it
+        likes, until the returned declaration is undeclared."""
+        declared = Declaration(self._entities, "service", key)
 
         def on_query(query: zenoh.Query) -> None:  # Zenoh thread: queue only
-            self._queue.put((self._handle_query, (key, request_type, response_type, query, handler)))
+            self._queue.put((self._handle_query, (key, request_type, response_type, query, handler, declared)))
 
-        self._entities.append(self.session.declare_queryable(key, on_query))
-        self._announce("srv", request_type, key)
+        declared.add(self.session.declare_queryable(key, on_query))
+        declared.add(self._announce("srv", request_type, key))
+        return declared
 
     def claim(self, claim: Claim) -> None:
         """Make sure no other running node is the ``claim.role`` ("pub", "srv") of ``claim.key``:
@@ -348,7 +385,7 @@ class Node(Generic[P]):
             timeout=timeout,
         )
 
-    def answer_json(self, key: str, document: bytes | Callable[[], bytes]) -> None:
+    def answer_json(self, key: str, document: bytes | Callable[[], bytes]) -> Declaration:
         """Answer every query on ``key`` with a JSON ``document``, or what ``document()``
         returns then (read-only: answered right on the Zenoh thread; a callable must only
         read attributes the node thread swaps whole)."""
@@ -357,20 +394,30 @@ class Node(Generic[P]):
             body = document() if callable(document) else document
             query.reply(key, body, encoding=zenoh.Encoding.APPLICATION_JSON)
 
-        self._entities.append(self.session.declare_queryable(key, on_query))
-        self._announce("srv", "JSON", key)
+        declared = Declaration(self._entities, "JSON answer", key)
+        declared.add(self.session.declare_queryable(key, on_query))
+        declared.add(self._announce("srv", "JSON", key))
+        return declared
 
-    def watch_liveliness(self, key_expr: str, callback: Callable[[str, bool], None]) -> None:
-        """Call ``callback(key, alive)`` on the node thread when a matching token appears or vanishes."""
+    def watch_liveliness(self, key_expr: str, callback: Callable[[str, bool], None]) -> Declaration:
+        """Call ``callback(key, alive)`` on the node thread when a matching token appears or
+        vanishes, until the returned declaration is undeclared."""
+        declared = Declaration(self._entities, "liveliness watch", key_expr)
+
+        def live(key: str, alive: bool) -> None:
+            if declared.active:
+                callback(key, alive)
 
         def on_sample(sample: zenoh.Sample) -> None:  # Zenoh thread: queue only
-            self._queue.put((callback, (str(sample.key_expr), sample.kind == zenoh.SampleKind.PUT)))
+            self._queue.put((live, (str(sample.key_expr), sample.kind == zenoh.SampleKind.PUT)))
 
-        self._entities.append(self.session.liveliness().declare_subscriber(key_expr, on_sample))
+        declared.add(self.session.liveliness().declare_subscriber(key_expr, on_sample))
+        return declared
 
     def timer(self, period: float, callback: Callable[[], None]) -> Timer:
         """Call ``callback()`` every ``period`` s on an absolute schedule (until paused)."""
         timer = Timer(period, callback, time.monotonic())
+        timer._owner = self._timers
         self._timers.append(timer)
         return timer
 
@@ -433,11 +480,13 @@ class Node(Generic[P]):
         root.setLevel(level)
         request.respond(Ack(detail=f"{self.name} logs {level} and above (was {was})"))
 
-    def _queuing(self, key: str, msg_type: type[M], callback: Callable[[M], None]) -> Callable[[zenoh.Sample], None]:
+    def _queuing(
+        self, key: str, msg_type: type[M], callback: Callable[[M], None], declared: Declaration
+    ) -> Callable[[zenoh.Sample], None]:
         """A Zenoh sample callback that only queues ``callback``'s delivery for the node thread."""
 
         def on_sample(sample: zenoh.Sample) -> None:  # Zenoh thread: queue only
-            self._queue.put((self._deliver, (key, msg_type, sample.payload.to_bytes(), callback)))
+            self._queue.put((self._deliver, (key, msg_type, sample.payload.to_bytes(), callback, declared)))
 
         return on_sample
 
@@ -448,7 +497,11 @@ class Node(Generic[P]):
         if count == 1 or count % 100 == 0:
             self.log.warning("dropped malformed payload #%d on %s: %s", count, key, reason)
 
-    def _deliver(self, key: str, msg_type: type[M], payload: bytes, callback: Callable[[M], None]) -> None:
+    def _deliver(
+        self, key: str, msg_type: type[M], payload: bytes, callback: Callable[[M], None], declared: Declaration
+    ) -> None:
+        if not declared.active:  # queued before it was undeclared
+            return
         try:
             msg = decode(payload, msg_type)
         except ValueError as exc:
@@ -463,7 +516,11 @@ class Node(Generic[P]):
         response_type: type[Message],
         query: zenoh.Query,
         handler: Callable[[Request[M]], None],
+        declared: Declaration,
     ) -> None:
+        if not declared.active:  # queued before the service was undeclared
+            Request(key, query, None).fail(f"{key} is no longer served by {self.name}")
+            return
         # no payload at all is an empty map: `reset` and `navigate_to/cancel` need no fields
         payload = query.payload.to_bytes() if query.payload is not None else b"\x80"
         try:

@@ -24,6 +24,7 @@ PURE = [
     "runtime.endpoint",
     "runtime.params",
     "runtime.exitcodes",
+    "runtime.handles",
     "sim.kinematics",
     "sim.lidar",
     "sim.params",
