@@ -1,9 +1,20 @@
-"""The kinds of node a launch file can run: the module to start, its parameters, what only
-one node of a system may do (checked by the runtime before the node starts, and by the
-launch file's validation), and what it publishes, subscribes to, serves and calls (what a
-``launch --secure`` router lets each node do, and nothing else)."""
+"""The node kinds a launch file can run, in one registry that built-in kinds and a user's node
+classes both go through (``kind_of``): the class to run and how to start it, its parameters,
+what only one node of a system may do (checked by the runtime before the node starts, and by
+the launch file's validation), and what it publishes, subscribes to, serves and calls (what a
+``launch --secure`` router lets each node do, and nothing else).
+
+A ``run`` is a built-in kind's name (``KINDS``) or a user's node class, ``module:Class`` or
+``./file.py:Class`` (runtime.loader: the class's ``Params`` is its parameter Struct; it may
+also declare ``Claims``, a tuple of runtime.config.Claim, and ``Interface``, an Interface).
+A built-in kind is forked by the zygote from its module's ``main``; a user's class is started
+by exec, ``python -m runtime TARGET`` (why: runtime/__main__.py).
+"""
 
 from __future__ import annotations
+
+import difflib
+from pathlib import Path
 
 import msgspec
 
@@ -22,6 +33,7 @@ from messages.keys import (
 )
 from nodes.params import NavigatorParams, ObstacleDetectorParams, StatusMonitorParams
 from runtime.config import Claim
+from runtime.loader import LoadError, absolute, is_target, load
 from sim.params import SimParams
 
 
@@ -37,27 +49,68 @@ class Interface(msgspec.Struct, frozen=True):
 
 
 class NodeKind(msgspec.Struct, frozen=True):
-    module: str  # run as ``python -m <module>``
+    target: str  # the class: ``module:Class``, or ``/absolute/file.py:Class`` for a user's file
     params: type[msgspec.Struct]
-    claims: tuple[Claim, ...] = ()  # so two nodes of this kind in one system clash
-    interface: Interface = Interface()
+    claims: tuple[Claim, ...] = ()  # so two nodes claiming the same in one system clash
+    interface: Interface | None = None  # None: not declared (a user's kind; see cli.system.access)
+    builtin: bool = False  # forked by the zygote from its module's main(), else exec'd by runtime.__main__
+
+    @property
+    def module(self) -> str:
+        """The module that defines the class (a built-in's runs as ``python -m <module>``)."""
+        return self.target.rpartition(":")[0]
 
     def owns(self) -> str:
         """What two nodes of this kind would both do, e.g. 'publish turtle1/pose'."""
         return " and ".join(claim.phrase() for claim in self.claims)
 
 
+def _builtin(target: str, params: type[msgspec.Struct], claim: Claim, interface: Interface) -> NodeKind:
+    return NodeKind(target, params, (claim,), interface, builtin=True)
+
+
+class KindError(ValueError):
+    """A ``run`` that names no kind: str() is the one line saying why."""
+
+
+def kind_of(run: str, base: Path) -> NodeKind:
+    """The kind a launch file's ``run`` names: a built-in kind, or a user's node class (imported
+    now, here: ``module:Class`` from sys.path, ``file.py:Class`` relative to ``base``).  Raises
+    KindError naming what is wrong (unknown, does not import and why, not a node class)."""
+    if not is_target(run):
+        kind = KINDS.get(run)
+        if kind is None:
+            known = ", ".join(sorted(KINDS))
+            close = difflib.get_close_matches(run, list(KINDS), n=1, cutoff=0.6)
+            hint = f"; did you mean {close[0]}?" if close else ""
+            raise KindError(
+                f"unknown node kind {run!r}{hint} (known: {known}; or a node class: module:Class, ./file.py:Class)"
+            )
+        return kind
+    try:
+        cls, params = load(run, base)
+    except LoadError as exc:
+        raise KindError(str(exc)) from None
+    claims = getattr(cls, "Claims", ())
+    if not (isinstance(claims, tuple) and all(isinstance(c, Claim) for c in claims)):
+        raise KindError(f"{run}: Claims must be a tuple of runtime.config.Claim")
+    interface = getattr(cls, "Interface", None)
+    if interface is not None and not isinstance(interface, Interface):
+        raise KindError(f"{run}: Interface must be a nodes.kinds.Interface")
+    return NodeKind(absolute(run, base), params, claims, interface)
+
+
 KINDS: dict[str, NodeKind] = {
-    "sim": NodeKind(
-        "sim.node",
+    "sim": _builtin(
+        "sim.node:Simulator",
         SimParams,
-        (Claim("pub", POSE),),
+        Claim("pub", POSE),
         Interface(publishes=(POSE,), subscribes=(CMD_VEL,), serves=(TELEPORT, RESET, WORLD_KEY), calls=(CANCEL,)),
     ),
-    "navigator": NodeKind(
-        "nodes.navigator",
+    "navigator": _builtin(
+        "nodes.navigator:Navigator",
         NavigatorParams,
-        (Claim("srv", NAVIGATE_TO),),
+        Claim("srv", NAVIGATE_TO),
         Interface(
             publishes=(CMD_VEL, FEEDBACK),
             subscribes=(POSE, STATUS, OBSTACLES),
@@ -65,16 +118,16 @@ KINDS: dict[str, NodeKind] = {
             watches=(f"{CLIENT_TOKEN_PREFIX}/**",),
         ),
     ),
-    "status_monitor": NodeKind(
-        "nodes.status_monitor",
+    "status_monitor": _builtin(
+        "nodes.status_monitor:StatusMonitor",
         StatusMonitorParams,
-        (Claim("pub", STATUS),),
+        Claim("pub", STATUS),
         Interface(publishes=(STATUS,), subscribes=(POSE,), serves=(RESET,)),
     ),
-    "obstacle_detector": NodeKind(
-        "nodes.obstacle_detector",
+    "obstacle_detector": _builtin(
+        "nodes.obstacle_detector:ObstacleDetector",
         ObstacleDetectorParams,
-        (Claim("pub", OBSTACLES),),
+        Claim("pub", OBSTACLES),
         Interface(publishes=(OBSTACLES,), subscribes=(POSE,)),
     ),
 }

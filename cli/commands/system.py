@@ -134,7 +134,9 @@ def router(
 
 
 def run(
-    node: str = typer.Argument(..., metavar="NODE", help="Name of a node in the launch file."),
+    node: str = typer.Argument(
+        ..., metavar="NODE", help="A node of the launch file, or a node class: module:Class, ./file.py:Class."
+    ),
     param: list[str] = typer.Option([], "--param", "-p", help="KEY=VALUE override (repeatable; a.b=1 for tables)."),
     file: Path | None = typer.Option(None, "--file", help="Launch file (default as for launch)."),
     log_level: str = LogLevelOption,
@@ -142,17 +144,24 @@ def run(
     domain: str = DomainOption,
 ) -> None:
     """Run one node in the foreground with the parameters the launch file gives it (and
-    overrides), joining the system at --connect: for debugging, or on another machine.
+    overrides), joining the system at --connect: for debugging, or on another machine.  A
+    node class (module:Class, or ./file.py:Class from here) runs with its parameters' defaults
+    and overrides, named after its class (Patrol: patrol), as `ros2 run` does.
 
     Example: turtlectl run navigator -p goal_timeout=60 --log-level DEBUG
     """
     from cli.system.launchfile import default_launch_file, load_launch
-    from cli.system.overrides import node_config
+    from cli.system.overrides import class_plan, node_config
     from cli.system.supervisor.process import exec_node
+    from runtime.loader import is_target
 
     level = args.log_level(log_level)
-    path = file or default_launch_file()
-    exec_node(node_config(load_launch(path), node, args.endpoint(connect), param, default_domain(), level))
+    endpoint = args.endpoint(connect)
+    if is_target(node):  # a node's name has no ':'
+        plan, name = class_plan(node, param, Path.cwd())
+        exec_node(node_config(plan, name, endpoint, None, default_domain(), level), plan.kinds[name])
+    plan = load_launch(file or default_launch_file())
+    exec_node(node_config(plan, node, endpoint, param, default_domain(), level), plan.kinds[node])
 
 
 def log_level_command(

@@ -3,7 +3,9 @@
 
 Each node logs in as ``node-<name>`` and may do what its kind declares (nodes.kinds.Interface)
 and what the runtime does for every node (its parameters, node info, log level, parameter
-events, liveliness tokens).  Clients log in with a role:
+events, liveliness tokens).  A user's node class that declares no ``Interface`` may do what
+the ``teleop`` role may (a local client of the system may do as much) and publish and serve
+under its own name (``<name>/**``); nothing else (``UNDECLARED``).  Clients log in with a role:
 
 * ``viewer``: echo, hz, list, view, record, node/topic info, param get (subscribe to
   everything, read the JSON answers, follow the graph);
@@ -16,7 +18,7 @@ Zenoh drops a denied message silently, so the command line checks its role first
 
 from __future__ import annotations
 
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import zenoh
 
@@ -37,6 +39,9 @@ from messages.keys import (
     param_set_key,
     params_key,
 )
+
+if TYPE_CHECKING:  # the clients' check (``permitted``) needs no node kind
+    from nodes.kinds import Interface, NodeKind
 
 #: a verb -> the Zenoh messages it takes, each with its direction at the router
 #: (ingress: from the session; egress: to it)
@@ -75,11 +80,27 @@ ROLES: dict[str, dict[str, tuple[str, ...]]] = {
 }
 
 
-def node_rights(name: str, kind: str) -> dict[str, tuple[str, ...]]:
-    """What node ``name`` of ``kind`` may do: its kind's interface and every node's share."""
-    from nodes.kinds import KINDS
+def _undeclared(name: str) -> Interface:
+    """What a user's node class that declares no Interface may do: what a ``teleop`` client
+    may (subscribe to everything, the operator's calls, cmd_vel, a caller's token), and
+    publish and serve under its own name."""
+    from nodes.kinds import Interface
 
-    i = KINDS[kind].interface
+    teleop = ROLES["teleop"]
+    return Interface(
+        publishes=(*teleop["publish"], f"{name}/**"),
+        subscribes=teleop["subscribe"],
+        serves=(f"{name}/**",),
+        calls=teleop["call"],
+        watches=teleop["watch"],
+    )
+
+
+def node_rights(name: str, kind: NodeKind) -> dict[str, tuple[str, ...]]:
+    """What node ``name`` of ``kind`` may do: its kind's interface (``_undeclared``'s when it
+    declares none) and every node's share."""
+    i = kind.interface if kind.interface is not None else _undeclared(name)
+    tokens = ROLES["teleop"]["token"] if kind.interface is None else ()
     return {
         "publish": (*i.publishes, PARAMETER_EVENTS),
         "subscribe": i.subscribes,
@@ -93,7 +114,7 @@ def node_rights(name: str, kind: str) -> dict[str, tuple[str, ...]]:
         ),
         "asked": (params_key("*"), node_key("*")),  # `param list`, `param set` ask every node at once
         "call": i.calls,
-        "token": (f"{NODE_TOKEN_PREFIX}/{name}/**", f"{ENTITY_TOKEN_PREFIX}/{name}/**"),
+        "token": (f"{NODE_TOKEN_PREFIX}/{name}/**", f"{ENTITY_TOKEN_PREFIX}/{name}/**", *tokens),
         # the claim check asks which entities exist; the navigator follows its callers' tokens
         "watch": (f"{ENTITY_TOKEN_PREFIX}/**", *i.watches),
     }

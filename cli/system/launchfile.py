@@ -9,8 +9,12 @@ and the exact key path, with the node's name when there is one, e.g.
 Besides each value's own type and range (the Structs in nodes/params.py,
 sim/params.py and messages/world.py), the file is checked as a whole: the spawn lies
 in the world and outside every obstacle, no obstacle covers the world or lies
-outside it, at most one node of each kind (they use fixed keys), and the
-navigator's scan_timeout outlasts the scan period.
+outside it, no two nodes claim the same (one node of each built-in kind: they use fixed
+keys; a user's kind claims only what its class declares), and the navigator's scan_timeout
+outlasts the scan period.
+
+A ``run`` is a built-in kind or a user's node class (``module:Class``, ``./file.py:Class``
+relative to the launch file), imported here to validate its parameters (nodes.kinds.kind_of).
 
 Overrides (``launch --set``, ``run -p``, ``param set``) are in cli.system.overrides.
 """
@@ -29,7 +33,7 @@ import msgspec.inspect as mi
 
 from cli.errors import BadInput
 from messages.world import Limits, World
-from nodes.kinds import KINDS
+from nodes.kinds import KindError, NodeKind, kind_of
 
 #: the launch file that comes with turtlectl: the whole system on one machine
 PACKAGED_LAUNCH = Path(__file__).resolve().parent / "launch.toml"
@@ -55,8 +59,8 @@ class NodeEntry(msgspec.Struct, forbid_unknown_fields=True, kw_only=True):
     respawning cannot help (see the exit codes)."""
 
     name: str  # -: unique in the file: letters, digits, _ and -
-    run: str  # -: the node kind (sim, navigator, status_monitor, obstacle_detector)
-    params: dict[str, Any] = msgspec.field(default_factory=dict)  # -: the kind's parameters (below)
+    run: str  # -: a built-in kind (sim, navigator, status_monitor, obstacle_detector) or a node class (pkg.mod:Class, ./file.py:Class)
+    params: dict[str, Any] = msgspec.field(default_factory=dict)  # -: the kind's parameters (below), a class's Params
     required: bool = False  # -: when it exits for good the whole system stops, exit code 1
     respawn: bool = False  # -: start it again when it exits
     respawn_delay: Delay = 1.0  # s: before the first respawn; twice as long after each crash in a row
@@ -86,6 +90,7 @@ class LaunchPlan(msgspec.Struct, kw_only=True):
     source: str
     launch: LaunchFile
     params: dict[str, dict[str, Any]]  # node name -> full parameters (defaults filled in)
+    kinds: dict[str, NodeKind] = msgspec.field(default_factory=dict)  # node name -> what its run names
 
 
 # -- messages ----------------------------------------------------------------
@@ -178,8 +183,10 @@ def _raw_names(data: Any) -> list[str | None]:
     return [n["name"] if isinstance(n, dict) and isinstance(n.get("name"), str) else None for n in nodes]
 
 
-def validate(data: Any, source: str, report: Report) -> LaunchPlan:
-    """The whole launch file, each value and then the file as a whole."""
+def validate(data: Any, source: str, report: Report, base: Path | None = None) -> LaunchPlan:
+    """The whole launch file, each value and then the file as a whole; a ``./file.py:Class``
+    run is relative to ``base`` (default: the folder of ``source``)."""
+    base = base if base is not None else Path(source).resolve().parent
     try:
         launch = msgspec.convert(data, LaunchFile, strict=True)
     except msgspec.ValidationError as exc:
@@ -188,8 +195,10 @@ def validate(data: Any, source: str, report: Report) -> LaunchPlan:
     if not launch.node:
         raise report.error(["node"], "the launch file lists no node")
     seen: dict[str, int] = {}
-    kinds: dict[str, int] = {}
+    kinds: dict[str, int] = {}  # built-in kind -> its node's index
+    claimed: dict[Any, int] = {}  # claim -> the index of the node that claims it
     params: dict[str, dict[str, Any]] = {}
+    resolved: dict[str, NodeKind] = {}
     for i, entry in enumerate(launch.node):
         if not NAME_RE.match(entry.name):
             raise report.error(["node", i, "name"], f"{entry.name!r} is not a valid name (letters, digits, _ and -)")
@@ -201,21 +210,25 @@ def validate(data: Any, source: str, report: Report) -> LaunchPlan:
         if entry.name in seen:
             raise report.error(["node", i, "name"], f"duplicate node name {entry.name!r}")
         seen[entry.name] = i
-        kind = KINDS.get(entry.run)
-        if kind is None:
-            known = ", ".join(sorted(KINDS))
-            raise report.error(
-                ["node", i, "run"],
-                f"unknown node kind {entry.run!r}{suggestion(entry.run, tuple(KINDS))} (known: {known})",
-            )
-        if entry.run in kinds:
-            j = kinds[entry.run]
-            raise report.error(
-                ["node", i, "run"],
-                f"a second {entry.run!r} node (node[{j}] ({launch.node[j].name}) is one): both would {kind.owns()}; "
-                "a system runs one of each kind",
-            )
-        kinds[entry.run] = i
+        try:
+            kind = kind_of(entry.run, base)
+        except KindError as exc:
+            raise report.error(["node", i, "run"], str(exc)) from None
+        for claim in kind.claims:  # "one of each kind" for the kinds that claim something
+            if claim in claimed:
+                j = claimed[claim]
+                other = launch.node[j]
+                if other.run == entry.run:
+                    why = f"a second {entry.run!r} node (node[{j}] ({other.name}) is one): both would {kind.owns()}; "
+                    raise report.error(["node", i, "run"], why + "a system runs one of each kind")
+                raise report.error(
+                    ["node", i, "run"],
+                    f"node[{j}] ({other.name}) already claims what it claims: both would {claim.phrase()}",
+                )
+            claimed[claim] = i
+        if kind.builtin:
+            kinds[entry.run] = i
+        resolved[entry.name] = kind
         try:
             typed = msgspec.convert(entry.params, kind.params, strict=True)
         except msgspec.ValidationError as exc:
@@ -236,7 +249,7 @@ def validate(data: Any, source: str, report: Report) -> LaunchPlan:
                 f"{navigator['scan_timeout']:g} s is not longer than the scan period of {detector.name} "
                 f"({1.0 / rate:g} s at {rate:g} Hz): obstacles would be forgotten between scans",
             )
-    return LaunchPlan(source=source, launch=launch, params=params)
+    return LaunchPlan(source=source, launch=launch, params=params, kinds=resolved)
 
 
 def _check_world(world: World, report: Report) -> None:
@@ -315,4 +328,9 @@ def select_nodes(plan: LaunchPlan, only: list[str], exclude: list[str]) -> Launc
     if not kept:
         raise LaunchFileError("--only/--exclude leave no node to run")
     launch = msgspec.structs.replace(plan.launch, node=kept)
-    return LaunchPlan(source=plan.source, launch=launch, params={e.name: plan.params[e.name] for e in kept})
+    return LaunchPlan(
+        source=plan.source,
+        launch=launch,
+        params={e.name: plan.params[e.name] for e in kept},
+        kinds={e.name: plan.kinds[e.name] for e in kept},
+    )

@@ -25,7 +25,7 @@ from cli.system.launchfile import (
     validate,
 )
 from messages.world import World
-from nodes.kinds import KINDS
+from nodes.kinds import KINDS, KindError, kind_of
 from runtime.config import NodeConfig
 from runtime.params import lookup
 
@@ -102,8 +102,8 @@ def _put(table: dict[str, Any], target: str, keys: list[str], value: Any, option
 
 
 def launches(kind: str) -> bool:
-    """Whether a launch file runs nodes of ``kind`` (its rules then apply to ``param set``; a
-    user's own kind is checked by the node alone)."""
+    """Whether ``kind`` is a built-in kind (the launch file's rules of the whole system then
+    apply to ``param set``; a user's own kind is checked by the node alone)."""
     return kind in KINDS
 
 
@@ -161,6 +161,28 @@ def launch_plan(path: Path, only: list[str], exclude: list[str], settings: list[
     return with_overrides(plan, [parse_assignment(item, "--set", SET_FORM) for item in settings], "--set")
 
 
+def class_plan(target: str, overrides: list[str], base: Path) -> tuple[LaunchPlan, str]:
+    """``turtlectl run module:Class`` (or ``./file.py:Class``, relative to ``base``): a plan of
+    that one node, named after its class (``Patrol`` -> ``patrol``), with its parameters'
+    defaults and ``overrides`` (``KEY=VALUE``), validated as a launch file is (LaunchFileError
+    naming ``--param``, or the target when it names no node class); and the node's name."""
+    try:
+        kind = kind_of(target, base)
+    except KindError as exc:
+        raise LaunchFileError(f"{target}: {exc}") from None
+    name = _snake(kind.target.rpartition(":")[2])
+    data: dict[str, Any] = {"node": [{"name": name, "run": target, "params": {}}]}
+    for text in overrides:
+        item = parse_assignment(text, "--param", "KEY=VALUE")
+        _put(data["node"][0]["params"], name, list(item.keys), item.value, "--param")
+    return validate(data, target, Report("--param", [name], override=True), base), name
+
+
+def _snake(name: str) -> str:
+    """``WallFollower`` -> ``wall_follower``: a class's name as a node's."""
+    return "".join(f"_{c.lower()}" if c.isupper() and i else c.lower() for i, c in enumerate(name))
+
+
 def node_config(
     plan: LaunchPlan,
     name: str,
@@ -184,7 +206,7 @@ def node_config(
         connect=connect,
         domain=domain,
         params=plan.params[name],
-        claims=list(KINDS[entry.run].claims),
+        claims=list(plan.kinds[name].claims),
         world=plan.launch.world,
         limits=plan.launch.limits,
         log_level=log_level,

@@ -25,6 +25,7 @@ PURE = [
     "runtime.params",
     "runtime.exitcodes",
     "runtime.handles",
+    "runtime.loader",
     "sim.kinematics",
     "sim.lidar",
     "sim.params",

@@ -87,7 +87,7 @@ class Supervisor:
             return open_router(self.port, self.host, "launch")
         self.private = Path(tempfile.mkdtemp(prefix="turtlectl-secure-"))  # 0700
         users = credentials.write_users(self.private, [*self.logins.values(), *self.client_logins.values()])
-        kinds = {e.name: e.run for e in self.plan.launch.node}
+        kinds = self.plan.kinds
         rights = {login.user: access.node_rights(name, kinds[name]) for name, login in self.logins.items()}
         rights |= {login.user: access.ROLES[role] for role, login in self.client_logins.items()}
         tls = None
@@ -230,8 +230,11 @@ class Supervisor:
 
     def _child(self, name: str) -> Child:
         """The Child for node ``name``: its command and environment, made once (its config
-        changed by ``--persist``)."""
-        argv, env = node_command(self._config(name), supervisor_pid=os.getpid())
-        if self.zygote is not None:
+        changed by ``--persist``).  A built-in kind is forked by the zygote; a user's node class
+        is always exec'd (``python -m runtime TARGET``): the zygote never imports a user's module
+        (runtime/__main__.py says why)."""
+        kind = self.plan.kinds[name]
+        argv, env = node_command(self._config(name), supervisor_pid=os.getpid(), kind=kind)
+        if self.zygote is not None and kind.builtin:
             return ZygoteChild(name, argv, env, self.printer, self.zygote)
         return Child(name, argv, env, self.printer)

@@ -16,7 +16,7 @@ from typing import BinaryIO, NoReturn
 
 from cli.system.supervisor.printer import Printer
 from cli.system.supervisor.zygote import Zygote, ZygoteUnavailable
-from nodes.kinds import KINDS
+from nodes.kinds import KINDS, NodeKind
 from runtime.config import ENV_VAR, SUPERVISOR_PID_VAR, NodeConfig, encode_config
 
 
@@ -148,12 +148,18 @@ class ZygoteChild(Child):
         return self._reaped(self._pid, self._code)
 
 
-def node_command(config: NodeConfig, supervisor_pid: int | None = None) -> tuple[list[str], dict[str, str]]:
+def node_command(
+    config: NodeConfig, supervisor_pid: int | None = None, kind: NodeKind | None = None
+) -> tuple[list[str], dict[str, str]]:
     """The argv and environment that start node ``config``, the one way both ``launch`` and
-    ``run`` do it: this interpreter, unbuffered, running the kind's module with the config in
-    its environment.  ``supervisor_pid``: the supervisor the node watches (it stops when that
-    process dies); None for a node run on its own (``turtlectl run``), which watches nobody."""
-    argv = [sys.executable, "-u", "-m", KINDS[config.kind].module]
+    ``run`` do it: this interpreter, unbuffered, running a built-in kind's module, or a user's
+    node class (``kind``, as the launch file's run resolved: a built-in's by default) through
+    ``python -m runtime TARGET`` (runtime/__main__.py says why such a node is never forked by
+    the zygote), with the config in its environment.  ``supervisor_pid``: the supervisor the
+    node watches (it stops when that process dies); None for a node run on its own (``turtlectl
+    run``), which watches nobody."""
+    kind = kind or KINDS[config.kind]
+    argv = [sys.executable, "-u", "-m", *((kind.module,) if kind.builtin else ("runtime", kind.target))]
     env = dict(os.environ)
     env[ENV_VAR] = encode_config(config)
     env["PYTHONUNBUFFERED"] = "1"
@@ -164,7 +170,7 @@ def node_command(config: NodeConfig, supervisor_pid: int | None = None) -> tuple
     return argv, env
 
 
-def exec_node(config: NodeConfig) -> NoReturn:
-    """Become node ``config`` (``turtlectl run``): exec its module in this process, in the foreground."""
-    argv, env = node_command(config)
+def exec_node(config: NodeConfig, kind: NodeKind) -> NoReturn:
+    """Become node ``config`` of ``kind`` (``turtlectl run``): exec it in this process, in the foreground."""
+    argv, env = node_command(config, kind=kind)
     os.execve(argv[0], argv, env)

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from cli.system.access import ROLES, access_control, node_rights, permitted, who_may
+from nodes.kinds import KINDS
 
 
 def test_roles_grow_viewer_operator_teleop():
@@ -13,16 +14,16 @@ def test_roles_grow_viewer_operator_teleop():
 
 
 def test_each_node_may_do_what_its_kind_declares_and_no_more():
-    sim = node_rights("sim", "sim")
+    sim = node_rights("sim", KINDS["sim"])
     assert "turtle1/cmd_vel" in sim["subscribe"] and "turtle1/pose" in sim["publish"]
     assert "turtle1/cmd_vel" not in sim["publish"] and "navigate_to" not in sim["serve"]
-    nav = node_rights("navigator", "navigator")
+    nav = node_rights("navigator", KINDS["navigator"])
     assert "navigate_to" in nav["serve"] and "turtle1/cmd_vel" in nav["publish"]
     assert "turtlectl/params/navigator/set" in nav["serve"] and "turtlectl/params/sim/set" not in nav["serve"]
 
 
 def test_the_router_section_denies_by_default_and_allows_per_user_in_the_domain():
-    section = access_control({"node-sim": node_rights("sim", "sim"), "viewer": ROLES["viewer"]}, domain="lab1")
+    section = access_control({"node-sim": node_rights("sim", KINDS["sim"]), "viewer": ROLES["viewer"]}, domain="lab1")
     assert section["enabled"] is True and section["default_permission"] == "deny"
     assert {s["id"]: s["usernames"] for s in section["subjects"]} == {"node-sim": ["node-sim"], "viewer": ["viewer"]}
     rules = {r["id"]: r for r in section["rules"]}
@@ -62,5 +63,5 @@ def test_the_role_check_reads_a_domain_s_key_from_outside_it_and_roles_are_named
 
 def test_every_node_serves_the_description_of_its_parameters_and_a_viewer_may_read_it():
     """Issue 22 (5): `param describe` and `param set` ask turtlectl/params/<node>/describe."""
-    assert "turtlectl/params/navigator/describe" in node_rights("navigator", "navigator")["serve"]
+    assert "turtlectl/params/navigator/describe" in node_rights("navigator", KINDS["navigator"])["serve"]
     assert permitted("viewer", "call", "turtlectl/params/navigator/describe")

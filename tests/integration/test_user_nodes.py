@@ -1,0 +1,166 @@
+"""Issue 24 (2): a launch file runs a user's own node class beside the built-ins, from a
+project in its own folder: ready, its parameters served, respawned after a kill -9, run in
+the foreground by ``turtlectl run ./patrol.py:Patrol``; a ``run`` that names no node class
+is one line and exit 2 with nothing started."""
+
+from __future__ import annotations
+
+import json
+import os
+import signal
+import subprocess
+import textwrap
+from pathlib import Path
+
+import pytest
+
+from cli.errors import ExitCode
+from tests.integration.harness import running_system, turtlectl
+
+pytestmark = pytest.mark.integration
+
+PATROL = textwrap.dedent(
+    '''
+    """A user's node, in a project folder of its own."""
+
+    from typing import Annotated
+
+    import msgspec
+
+    from runtime import Node, run_main
+
+
+    class PatrolParams(msgspec.Struct, forbid_unknown_fields=True, kw_only=True):
+        side: Annotated[float, msgspec.Meta(gt=0.0, le=10.0)] = 2.0  # m: the square's side
+        laps: int = 3  # -: laps before it rests
+
+
+    class Patrol:
+        Params = PatrolParams
+
+        def __init__(self, node: Node[PatrolParams]):
+            node.log.info("patrolling a %g m square", node.params.side)
+
+
+    class Broken:
+        Params = PatrolParams
+
+        def __init__(self, node):
+            raise RuntimeError("the patrol cannot start")
+
+
+    if __name__ == "__main__":
+        run_main(Patrol, PatrolParams)
+    '''
+)
+
+LAUNCH = textwrap.dedent(
+    """
+    [[node]]
+    name = "sim"
+    run = "sim"
+
+    [[node]]
+    name = "guard"
+    run = "./patrol.py:Patrol"
+    params = { side = 3.5 }
+    respawn = true
+    respawn_delay = 0.2
+
+    [[node]]
+    name = "broken"
+    run = "./patrol.py:Broken"
+    """
+)
+
+
+@pytest.fixture
+def project(tmp_path: Path) -> Path:
+    (tmp_path / "patrol.py").write_text(PATROL)
+    (tmp_path / "launch.toml").write_text(LAUNCH)
+    return tmp_path
+
+
+def test_a_user_node_class_runs_beside_the_builtins_supervised_as_they_are(project):
+    with running_system(project / "launch.toml", ready=("sim", "guard")) as system:
+        got = system.run_cli("param", "get", "guard", "side")
+        assert got.returncode == 0 and json.loads(got.stdout) == 3.5, got.stderr
+        described = json.loads(system.run_cli("param", "describe", "guard", "side", "--json").stdout)
+        assert (described["unit"], described["meaning"]) == ("m", "the square's side")
+
+        # a node that raises while starting: one traceback, its exit reported, not respawned (respawn = false)
+        system.wait_line(r"broken exited with code 1", 30.0)
+        assert system.output().count("Traceback") == 1 and "RuntimeError: the patrol cannot start" in system.output()
+
+        old = system.alive["guard"]
+        os.kill(old, signal.SIGKILL)
+        system.wait_until(lambda: system.alive.get("guard", old) != old, 30.0, "guard respawned")
+        assert "guard was killed by SIGKILL; respawning in 0.2 s (respawn 1)" in system.output()
+
+        # `turtlectl run ./patrol.py:Patrol` in the foreground, named after its class, joining the system
+        run = subprocess.Popen(
+            [*turtlectl(), "run", "./patrol.py:Patrol", "-p", "side=1.5", "--connect", system.endpoint],
+            cwd=project,
+            stdout=subprocess.PIPE,
+            stderr=subprocess.STDOUT,
+            stdin=subprocess.DEVNULL,
+            text=True,
+        )
+        try:
+            system.wait_until(lambda: "patrol" in system.alive or run.poll() is not None, 30.0, "turtlectl run")
+            assert run.poll() is None, run.communicate()[0]
+            assert json.loads(system.run_cli("param", "get", "patrol", "side").stdout) == 1.5
+            run.send_signal(signal.SIGINT)
+            out, _ = run.communicate(timeout=10)
+            assert run.returncode == 0, out
+            assert "patrolling a 1.5 m square" in out
+        finally:
+            if run.poll() is None:
+                run.kill()
+                run.wait()
+        assert system.stop() == 0
+
+
+BAD = [
+    ("./nowhere.py:Patrol", "node[0] (guard).run: no file ./nowhere.py (looked for "),
+    ("./patrol.py:Patrl", "node[0] (guard).run: patrol.py has no Patrl; did you mean Patrol?"),
+    ("./patrol.py:PatrolParams", "node[0] (guard).run: patrol.py:PatrolParams is not a node class: it has no Params"),
+    ("./syntax.py:Patrol", "node[0] (guard).run: cannot import ./syntax.py: SyntaxError: "),
+    ("./importing.py:Patrol", "node[0] (guard).run: cannot import ./importing.py: ModuleNotFoundError: "),
+]
+
+
+@pytest.mark.parametrize(("run", "error"), BAD)
+def test_a_run_that_names_no_node_class_is_one_line_and_exit_2(tmp_path, run, error):
+    (tmp_path / "patrol.py").write_text(PATROL)
+    (tmp_path / "syntax.py").write_text("class Patrol(:\n    pass\n")
+    (tmp_path / "importing.py").write_text("import os\nimport no_such_package_of_yours\n")
+    (tmp_path / "launch.toml").write_text(f'[[node]]\nname = "guard"\nrun = "{run}"\n')
+    done = subprocess.run(
+        [*turtlectl(), "launch", "launch.toml", "--check"], cwd=tmp_path, capture_output=True, text=True, timeout=60
+    )
+    assert done.returncode == ExitCode.BAD_INPUT and done.stdout == "", done.stdout
+    assert done.stderr.splitlines() == [done.stderr.strip()] and error in done.stderr, done.stderr
+    if run.startswith("./syntax"):
+        assert "(syntax.py, line 1)" in done.stderr
+    if run.startswith("./importing"):
+        assert "no_such_package_of_yours' (importing.py, line 2)" in done.stderr
+
+
+def test_params_of_a_user_node_that_do_not_validate_start_nothing(project):
+    done = subprocess.run(
+        [*turtlectl(), "launch", "launch.toml", "--set", "guard.sidee=1"],
+        cwd=project,
+        capture_output=True,
+        text=True,
+        timeout=60,
+    )
+    assert done.returncode == ExitCode.BAD_INPUT, done.stdout + done.stderr
+    assert done.stderr.strip() == "turtlectl: error: --set guard.sidee: unknown key; did you mean side?"
+    assert "starting" not in done.stdout
+    run = subprocess.run(
+        [*turtlectl(), "run", "./patrol.py:Patrol", "-p", "side=-1"], cwd=project, capture_output=True, text=True
+    )
+    assert run.returncode == ExitCode.BAD_INPUT and run.stderr.splitlines() == [
+        "turtlectl: error: --param patrol.side: Expected `float` > 0.0"
+    ], run.stderr
