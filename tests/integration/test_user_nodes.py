@@ -42,6 +42,18 @@ PATROL = textwrap.dedent(
             node.log.info("patrolling a %g m square", node.params.side)
 
 
+    class Mover:
+        """Drives the turtle forward: what an undeclared user kind may do under --secure."""
+
+        Params = PatrolParams
+
+        def __init__(self, node: Node[PatrolParams]):
+            from messages import Twist
+
+            pub = node.publisher("turtle1/cmd_vel", Twist)
+            node.timer(0.1, lambda: pub.publish(Twist(linear=0.5, angular=0.0)))
+
+
     class Broken:
         Params = PatrolParams
 
@@ -119,6 +131,18 @@ def test_a_user_node_class_runs_beside_the_builtins_supervised_as_they_are(proje
                 run.kill()
                 run.wait()
         assert system.stop() == 0
+
+
+def test_under_secure_an_undeclared_user_kind_joins_and_drives_as_a_teleop_client_may(tmp_path, monkeypatch):
+    (tmp_path / "patrol.py").write_text(PATROL)
+    (tmp_path / "launch.toml").write_text(
+        '[[node]]\nname = "sim"\nrun = "sim"\n\n[[node]]\nname = "mover"\nrun = "./patrol.py:Mover"\n'
+    )
+    monkeypatch.setenv("TURTLECTL_CREDENTIALS", str(tmp_path / "credentials.json"))  # never the user's own
+    with running_system(tmp_path / "launch.toml", ready=("sim", "mover"), extra_args=("--secure",)) as system:
+        system.wait_moving(0.4, timeout=20.0)  # its cmd_vel got through the router's rules
+        got = system.run_cli("param", "get", "mover", "side")
+        assert got.returncode == 0 and json.loads(got.stdout) == 2.0, got.stderr
 
 
 BAD = [

@@ -65,3 +65,15 @@ def test_every_node_serves_the_description_of_its_parameters_and_a_viewer_may_re
     """Issue 22 (5): `param describe` and `param set` ask turtlectl/params/<node>/describe."""
     assert "turtlectl/params/navigator/describe" in node_rights("navigator", KINDS["navigator"])["serve"]
     assert permitted("viewer", "call", "turtlectl/params/navigator/describe")
+
+
+def test_a_user_kind_without_an_interface_may_do_what_teleop_may_and_use_its_own_name():
+    from nodes.kinds import Interface, NodeKind
+    from sim.params import SimParams
+
+    mine = node_rights("guard", NodeKind("/p/patrol.py:Patrol", SimParams))
+    assert "turtle1/cmd_vel" in mine["publish"] and "guard/**" in mine["publish"] and mine["serve"][0] == "guard/**"
+    assert mine["subscribe"] == ("**",) and "navigate_to" in mine["call"]
+    declared = node_rights("guard", NodeKind("/p/patrol.py:Patrol", SimParams, interface=Interface(publishes=("a",))))
+    assert declared["publish"][0] == "a"
+    assert declared["subscribe"] == () and "turtle1/cmd_vel" not in declared["publish"]
