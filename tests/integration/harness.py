@@ -29,6 +29,7 @@ from contextlib import contextmanager
 from pathlib import Path
 from typing import Any, TypeVar
 
+import msgspec
 import numpy as np
 import psutil
 import zenoh
@@ -48,7 +49,9 @@ from messages import (
     encoding_for,
 )
 from messages.keys import NAVIGATE_TO, NODE_TOKEN_PREFIX, POSE, STATUS, TELEPORT, parse_node_token
-from runtime.session import client_config, close_session
+from runtime.config import NodeConfig
+from runtime.node import Node
+from runtime.session import client_config, close_session, peer_config, router_config
 
 ROOT = Path(__file__).resolve().parents[2]
 DEFAULT_LAUNCH = ROOT / "launch.toml"
@@ -465,3 +468,23 @@ def obstacles_in_view(ranges: np.ndarray, angles: np.ndarray) -> int:
     # count rising edges, treating the scan as circular only if it is a full circle
     edges = np.count_nonzero(finite & ~np.roll(finite, 1))
     return int(edges) if edges else 1
+
+
+class NoParams(msgspec.Struct):
+    """The parameters of a node made in a test's own process: none."""
+
+
+@contextmanager
+def node_in_process(name: str) -> Iterator[tuple[Node[NoParams], zenoh.Session]]:
+    """A Node (a peer session) and a client session, both on a router opened here, in the
+    test's own process: the test drains ``node._queue`` itself, as the node thread would."""
+    port = free_port()
+    endpoint = f"tcp/127.0.0.1:{port}"
+    router = zenoh.open(router_config(port))
+    peer = zenoh.open(peer_config(endpoint))
+    client = zenoh.open(client_config(endpoint, 5.0))
+    try:
+        yield Node(NodeConfig(name=name, kind="test", connect=endpoint), NoParams(), peer), client
+    finally:
+        for session in (client, peer, router):
+            close_session(session)

@@ -4,38 +4,22 @@ at once, its graph token goes, and what was queued before is not delivered."""
 
 from __future__ import annotations
 
-import msgspec
 import pytest
 import zenoh
 
 from messages import Ack, ErrorReply, Pose, Reset, decode, encode
 from messages.keys import ENTITY_TOKEN_PREFIX, parse_entity_token
-from runtime.config import NodeConfig
 from runtime.node import Node
-from runtime.session import client_config, close_session, peer_config, router_config
-from tests.integration.harness import free_port
+from tests.integration.harness import node_in_process
 from tests.integration.test_runtime import _until
 
 pytestmark = pytest.mark.integration
 
 
-class Params(msgspec.Struct):
-    pass
-
-
 @pytest.fixture
 def node_and_client():
-    port = free_port()
-    endpoint = f"tcp/127.0.0.1:{port}"
-    router = zenoh.open(router_config(port))
-    peer = zenoh.open(peer_config(endpoint))
-    client = zenoh.open(client_config(endpoint, 5.0))
-    node = Node(NodeConfig(name="handles", kind="test", connect=endpoint), Params(), peer)
-    try:
-        yield node, client
-    finally:
-        for session in (client, peer, router):
-            close_session(session)
+    with node_in_process("handles") as pair:
+        yield pair
 
 
 def run_queued(node: Node) -> None:

@@ -13,16 +13,14 @@ import sys
 import textwrap
 import time
 
-import msgspec
 import pytest
 import zenoh
 
 from messages import Pose, Twist, decode, encode
 from messages.keys import ENTITY_TOKEN_PREFIX, parse_entity_token
 from runtime.config import ENV_VAR, NodeConfig, encode_config
-from runtime.node import Node
-from runtime.session import client_config, close_session, peer_config, router_config
-from tests.integration.harness import ROOT, free_port
+from runtime.session import client_config, close_session, router_config
+from tests.integration.harness import ROOT, free_port, node_in_process
 
 pytestmark = pytest.mark.integration
 
@@ -93,21 +91,8 @@ def test_an_exception_in_node_code_runs_the_shutdown_hooks_and_exits_1(where):
 @pytest.fixture
 def node_and_client():
     """A node (peer) and a client, both on a router opened here."""
-    port = free_port()
-    endpoint = f"tcp/127.0.0.1:{port}"
-    router = zenoh.open(router_config(port))
-    peer = zenoh.open(peer_config(endpoint))
-    client = zenoh.open(client_config(endpoint, 5.0))
-    node = Node(NodeConfig(name="reader", kind="test", connect=endpoint), Params(), peer)
-    try:
-        yield node, client
-    finally:
-        for session in (client, peer, router):
-            close_session(session)
-
-
-class Params(msgspec.Struct):
-    pass
+    with node_in_process("reader") as pair:
+        yield pair
 
 
 def _pose(x: float) -> bytes:
