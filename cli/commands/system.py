@@ -153,8 +153,10 @@ def run(
     from cli.system.launchfile import default_launch_file, load_launch
     from cli.system.overrides import class_plan, node_config
     from cli.system.supervisor.process import exec_node
-    from runtime.loader import is_target
+    from runtime.loader import is_file, is_target
 
+    if not is_target(node) and is_file(node):
+        raise BadInput(f"{node} names a file: add its node class, as {node}:ClassName")
     level = args.log_level(log_level)
     endpoint = args.endpoint(connect)
     if is_target(node):  # a node's name has no ':'

@@ -278,6 +278,9 @@ def test_a_malformed_launch_file_names_the_key_path(tmp_path):
         (("navigator", "-p", "goal_timeout=0"), "--param navigator.goal_timeout: Expected `float` >= 0.1"),
         (("navigator", "-p", "goal_timeout"), "--param 'goal_timeout': write it as KEY=VALUE"),
         (("navigator", "--file", "none.toml"), "none.toml: cannot read: "),
+        # a file without its class (a new user's first try): not taken for a launch-file name
+        (("./patrol.py",), "./patrol.py names a file: add its node class, as ./patrol.py:ClassName"),
+        (("myrobot/patrol.py",), "myrobot/patrol.py names a file: add its node class"),
     ],
 )
 def test_run_checks_the_node_and_its_overrides_before_it_starts(argv, message):
