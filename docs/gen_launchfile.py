@@ -30,7 +30,11 @@ from nodes.kinds import KINDS  # noqa: E402
 OUTPUT = ROOT / "docs" / "reference" / "launch-file.md"
 
 TABLES = (
-    ("[[node]]", NodeEntry, "One per process; `run` names its kind, `params` its parameters (below, by kind)."),
+    (
+        "[[node]]",
+        NodeEntry,
+        "One per process; `run` names its kind, `params` its parameters (below, by kind); or `cmd` runs any program.",
+    ),
     ("[world]", World, "The world every node shares; `obstacles` is a list of `{ x, y, radius }` tables."),
     ("[[world.obstacles]]", Obstacle, "One circular obstacle."),
     ("[limits]", Limits, "The robot's limits: the simulator enforces them, the navigator plans within them."),

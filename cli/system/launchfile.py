@@ -23,7 +23,9 @@ from __future__ import annotations
 
 import difflib
 import math
+import os
 import re
+import shutil
 import tomllib
 from pathlib import Path
 from typing import Annotated, Any
@@ -59,7 +61,10 @@ class NodeEntry(msgspec.Struct, forbid_unknown_fields=True, kw_only=True):
     respawning cannot help (see the exit codes)."""
 
     name: str  # -: unique in the file: letters, digits, _ and -
-    run: str  # -: a built-in kind (sim, navigator, status_monitor, obstacle_detector) or a node class (pkg.mod:Class, ./file.py:Class)
+    run: str = ""  # -: a built-in kind (sim, navigator, status_monitor, obstacle_detector) or a node class (pkg.mod:Class, ./file.py:Class); or cmd
+    cmd: list[str] = msgspec.field(
+        default_factory=list
+    )  # -: instead of run, any program and its arguments, e.g. ["./driver", "--port", "/dev/ttyUSB0"] (./ relative to the launch file; a bare name from PATH); ready once started; no params
     params: dict[str, Any] = msgspec.field(default_factory=dict)  # -: the kind's parameters (below), a class's Params
     required: bool = False  # -: when it exits for good the whole system stops, exit code 1
     respawn: bool = False  # -: start it again when it exits
@@ -91,6 +96,7 @@ class LaunchPlan(msgspec.Struct, kw_only=True):
     launch: LaunchFile
     params: dict[str, dict[str, Any]]  # node name -> full parameters (defaults filled in)
     kinds: dict[str, NodeKind] = msgspec.field(default_factory=dict)  # node name -> what its run names
+    commands: dict[str, list[str]] = msgspec.field(default_factory=dict)  # cmd node -> its argv, program resolved
 
 
 # -- messages ----------------------------------------------------------------
@@ -199,6 +205,7 @@ def validate(data: Any, source: str, report: Report, base: Path | None = None) -
     claimed: dict[Any, int] = {}  # claim -> the index of the node that claims it
     params: dict[str, dict[str, Any]] = {}
     resolved: dict[str, NodeKind] = {}
+    commands: dict[str, list[str]] = {}
     for i, entry in enumerate(launch.node):
         if not NAME_RE.match(entry.name):
             raise report.error(["node", i, "name"], f"{entry.name!r} is not a valid name (letters, digits, _ and -)")
@@ -210,6 +217,15 @@ def validate(data: Any, source: str, report: Report, base: Path | None = None) -
         if entry.name in seen:
             raise report.error(["node", i, "name"], f"duplicate node name {entry.name!r}")
         seen[entry.name] = i
+        if bool(entry.run) == bool(entry.cmd):
+            which = "both run and cmd" if entry.run else "neither run nor cmd"
+            raise report.error(["node", i], f"{which}: give run (a node kind or class) or cmd (a program)")
+        if entry.cmd:
+            if entry.params:
+                raise report.error(["node", i, "params"], "a cmd node has no parameters (pass them in its cmd)")
+            commands[entry.name] = [_program(entry.cmd, base, report.error, i), *entry.cmd[1:]]
+            params[entry.name] = {}
+            continue
         try:
             kind = kind_of(entry.run, base)
         except KindError as exc:
@@ -249,7 +265,27 @@ def validate(data: Any, source: str, report: Report, base: Path | None = None) -
                 f"{navigator['scan_timeout']:g} s is not longer than the scan period of {detector.name} "
                 f"({1.0 / rate:g} s at {rate:g} Hz): obstacles would be forgotten between scans",
             )
-    return LaunchPlan(source=source, launch=launch, params=params, kinds=resolved)
+    return LaunchPlan(source=source, launch=launch, params=params, kinds=resolved, commands=commands)
+
+
+def _program(cmd: list[str], base: Path, error: Any, i: int) -> str:
+    """The absolute path of ``cmd``'s program: with a / it is a file (relative to ``base``), a
+    bare name is looked up on PATH; it must exist and be executable (``error`` says why not)."""
+    if not cmd[0]:
+        raise error(["node", i, "cmd"], "name a program: cmd is a list, the program then its arguments")
+    program = cmd[0]
+    if "/" not in program:
+        found = shutil.which(program)
+        if found is None:
+            raise error(["node", i, "cmd"], f"{program}: no such program on PATH")
+        return found
+    path = Path(program).expanduser()
+    path = path if path.is_absolute() else base / path
+    if not path.exists():
+        raise error(["node", i, "cmd"], f"{program} does not exist ({path})")
+    if path.is_dir() or not os.access(path, os.X_OK):
+        raise error(["node", i, "cmd"], f"{program} is not executable")
+    return str(path)
 
 
 def _check_world(world: World, report: Report) -> None:
@@ -332,5 +368,6 @@ def select_nodes(plan: LaunchPlan, only: list[str], exclude: list[str]) -> Launc
         source=plan.source,
         launch=launch,
         params={e.name: plan.params[e.name] for e in kept},
-        kinds={e.name: plan.kinds[e.name] for e in kept},
+        kinds={e.name: plan.kinds[e.name] for e in kept if e.name in plan.kinds},
+        commands={e.name: plan.commands[e.name] for e in kept if e.name in plan.commands},
     )

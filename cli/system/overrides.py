@@ -196,6 +196,8 @@ def node_config(
     names = [e.name for e in plan.launch.node]
     if name not in names:
         raise no_node(name, names, plan.source)
+    if name in plan.commands:
+        raise LaunchFileError(f"{plan.source}: {name} runs a program (cmd), not a turtlectl node: start it yourself")
     if overrides:
         assignments = [parse_assignment(text, "--param", "KEY=VALUE") for text in overrides]
         plan = with_overrides(plan, [msgspec.structs.replace(a, keys=(name, *a.keys)) for a in assignments], "--param")

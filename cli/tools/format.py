@@ -5,6 +5,7 @@ from __future__ import annotations
 import csv
 import io
 import math
+import shlex
 from typing import TYPE_CHECKING, Any
 
 import msgspec
@@ -187,7 +188,10 @@ def plan_text(plan: LaunchPlan) -> str:
         if e.respawn:
             limit = "no limit" if e.respawn_max == 0 else f"at most {e.respawn_max} in a row"
             how.append(f"respawn after {e.respawn_delay:g} s doubling to {e.respawn_delay_max:g} s, {limit}")
-        lines.append(f"  {e.name} (run {e.run}; {'; '.join(how)}): {json_value(plan.params[e.name])}")
+        if e.cmd:
+            lines.append(f"  {e.name} (cmd {shlex.join(e.cmd)}; {'; '.join(how)})")
+        else:
+            lines.append(f"  {e.name} (run {e.run}; {'; '.join(how)}): {json_value(plan.params[e.name])}")
     return "\n".join(lines)
 
 

@@ -24,13 +24,13 @@ import msgspec
 import zenoh
 
 import cli
-from cli.errors import CannotStart, ExitCode, TurtlectlError
+from cli.errors import BadInput, CannotStart, ExitCode, TurtlectlError
 from cli.system import access, credentials
 from cli.system.launchfile import LaunchPlan
 from cli.system.overrides import node_config
 from cli.system.supervisor import logs, zygote
 from cli.system.supervisor.printer import Printer
-from cli.system.supervisor.process import Child, ZygoteChild, node_command
+from cli.system.supervisor.process import Child, ZygoteChild, node_command, program_command
 from cli.system.supervisor.router import join_router, open_router
 from cli.system.supervisor.supervision import Supervision
 from messages import DecodeError, ParameterEvent, decode
@@ -64,6 +64,9 @@ class Supervisor:
         # --secure: a login for each node, one for local clients, the router's list of users
         self.logins: dict[str, Credentials] = {}  # node -> its login
         self.client_logins: dict[str, Credentials] = {}  # role -> its login
+        if secure and plan.commands:
+            name = next(iter(plan.commands))
+            raise BadInput(f"{name} runs a program (cmd), which has no login: a --secure system runs only nodes")
         if secure:
             self.logins = {e.name: credentials.new_credentials(credentials.node_user(e.name)) for e in plan.launch.node}
             self.client_logins = {role: credentials.new_credentials(role) for role in access.ROLES}
@@ -232,7 +235,10 @@ class Supervisor:
         """The Child for node ``name``: its command and environment, made once (its config
         changed by ``--persist``).  A built-in kind is forked by the zygote; a user's node class
         is always exec'd (``python -m runtime TARGET``): the zygote never imports a user's module
-        (runtime/__main__.py says why)."""
+        (runtime/__main__.py says why); so is a ``cmd`` node's program."""
+        if name in self.plan.commands:
+            argv, env = program_command(name, self.plan.commands[name], self.endpoint, self.domain)
+            return Child(name, argv, env, self.printer)
         kind = self.plan.kinds[name]
         argv, env = node_command(self._config(name), supervisor_pid=os.getpid(), kind=kind)
         if self.zygote is not None and kind.builtin:

@@ -12,7 +12,8 @@ every rule is tested with fake children and a fake clock (tests/unit/cli/system/
 * A child that exits for good (no respawn, or respawns used up) is given up on; if it is
   required the system stops, exit code FAILED.  So does a system whose every node has exited.
 * Readiness comes from outside (``announce``, from any thread): a child is ready once this
-  very process (its pid) has announced itself.  An announcement under a node's name from
+  very process (its pid) has announced itself; a ``cmd`` node (any program: it announces
+  nothing) is ready once started.  An announcement under a node's name from
   any other pid (another system's node joined through --connect, an earlier start) counts
   for nothing: not towards "ready", nor against it when it goes away.
 * Shutdown escalates SIGINT -> SIGTERM -> SIGKILL with the launch file's waits, each child
@@ -79,6 +80,7 @@ class Supervision:
     ):
         """``since``: when the launch began, on ``clock`` (default: now), the start of "ready in"."""
         self.entries = {e.name: e for e in plan.launch.node}
+        self.programs = set(plan.commands)  # cmd nodes: ready once started
         self.settings = plan.launch.supervisor
         self.printer = printer
         self.spawn = spawn
@@ -156,6 +158,8 @@ class Supervision:
         child.start()
         self._started_at[name] = self.clock()
         self.printer.system(f"started {name} (pid {child.pid})")
+        if name in self.programs:
+            self._check_ready()
 
     def _exited(self, name: str, child: ChildProcess, code: int, now: float) -> None:
         """Decide what a child's exit means: respawn it (with backoff), or give up on it."""
@@ -202,18 +206,24 @@ class Supervision:
                 self._alive[name] = pid
             else:
                 self._alive.pop(name, None)
-            if not self._ready_reported and all(self.ready(n) for n in self.entries):
-                self._ready_reported = True
-                elapsed = self.clock() - self._t0
-                count = len(self.entries)
-                self.printer.system(
-                    f"{'all ' * (count > 1)}{count} node{'s' * (count != 1)} ready in {elapsed:.2f} s"
-                    " (since turtlectl started)"
-                )
+            self._check_ready()
+
+    def _check_ready(self) -> None:
+        """Say once when every node is ready."""
+        if not self._ready_reported and all(self.ready(n) for n in self.entries):
+            self._ready_reported = True
+            elapsed = self.clock() - self._t0
+            count = len(self.entries)
+            self.printer.system(
+                f"{'all ' * (count > 1)}{count} node{'s' * (count != 1)} ready in {elapsed:.2f} s"
+                " (since turtlectl started)"
+            )
 
     def ready(self, name: str) -> bool:
-        """True once this very process of node ``name`` has announced itself."""
+        """True once this very process of node ``name`` has announced itself (a cmd node: once started)."""
         child = self.children.get(name)
+        if name in self.programs:
+            return child is not None and child.pid is not None
         return child is not None and child.pid is not None and self._alive.get(name) == child.pid
 
     # -- stopping ---------------------------------------------------------------

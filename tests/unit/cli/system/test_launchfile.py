@@ -49,7 +49,7 @@ def test_defaults_are_filled_in():
             "f.toml: world.obstacles[0].radius: missing required key",
         ),
         ("[limits]\nmax_linear_speed = 'fast'\n" + MINIMAL, "f.toml: limits.max_linear_speed: Expected `float`"),
-        ('[[node]]\nname = "a"\n', "f.toml: node[0] (a).run: missing required key"),
+        ('[[node]]\nname = "a"\n', "f.toml: node[0] (a): neither run nor cmd: give run (a node kind or class)"),
         ('[[node]]\nname = "a"\nrun = "turtle"\n', "f.toml: node[0] (a).run: unknown node kind 'turtle'"),
         (MINIMAL + MINIMAL, "f.toml: node[1] (sim).name: duplicate node name 'sim'"),
         ('[[node]]\nname = "a/b"\nrun = "sim"\n', "f.toml: node[0] (a/b).name: 'a/b' is not a valid name"),

@@ -444,3 +444,25 @@ def test_another_process_going_away_does_not_unready_this_supervisor_s_node():
     system.stop_at(1.5)
     system.run()
     assert seen == [True] and sim.signals() == [INT]  # still ready: SIGINT, not SIGTERM
+
+
+def test_a_cmd_node_is_ready_once_started_and_stopped_with_sigint_as_a_ready_node():
+    """Issue 24, 2: a program (cmd) announces nothing: it counts as ready once started."""
+    system = System(node("sim") + '[[node]]\nname = "driver"\ncmd = ["sleep", "1000"]\n')
+    system.process("sim", ready_after=0.4)
+    driver = system.process("driver", ready_after=None, stops_on={INT: 0.1})
+    system.stop_at(2.0)
+    system.run()
+    ready = [line for line in system.lines() if "ready in" in line]
+    assert len(ready) == 1 and ready[0].startswith("all 2 nodes ready in 0.4")
+    assert driver.signals() == [INT]
+
+
+def test_a_system_of_cmd_nodes_only_is_ready_once_they_are_started():
+    system = System('[[node]]\nname = "driver"\ncmd = ["sleep", "1000"]\n')
+    system.process("driver", ready_after=None)
+    system.stop_at(1.0)
+    system.run()
+    assert [line for line in system.lines() if "ready in" in line] == [
+        "1 node ready in 0.00 s (since turtlectl started)"
+    ]
