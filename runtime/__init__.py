@@ -12,18 +12,19 @@ import importlib
 from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:
+    from runtime.entities import Latest, Publisher, Request, Timer
     from runtime.lifecycle import run, run_main
-    from runtime.node import Latest, Node, NodeConflict, Publisher, Request, Timer
+    from runtime.node import Node, NodeConflict
 
 __all__ = ["Latest", "Node", "NodeConflict", "Publisher", "Request", "Timer", "run", "run_main"]
 
 _HOME = {
-    "Latest": "runtime.node",
+    "Latest": "runtime.entities",
     "Node": "runtime.node",
     "NodeConflict": "runtime.node",
-    "Publisher": "runtime.node",
-    "Request": "runtime.node",
-    "Timer": "runtime.node",
+    "Publisher": "runtime.entities",
+    "Request": "runtime.entities",
+    "Timer": "runtime.entities",
     "run": "runtime.lifecycle",
     "run_main": "runtime.lifecycle",
 }

@@ -43,7 +43,6 @@ import zenoh
 
 from messages import (
     Ack,
-    ErrorReply,
     Message,
     ParameterEvent,
     SetLogLevel,
@@ -51,7 +50,6 @@ from messages import (
     decode,
     decode_any,
     encode,
-    encoding_for,
 )
 from messages.codec import type_name
 from messages.keys import (
@@ -70,6 +68,7 @@ from messages.keys import (
 from messages.params import ParamInfo
 from messages.world import Limits, World
 from runtime.config import LOG_LEVELS, Claim, NodeConfig
+from runtime.entities import Latest, Publisher, Request, Timer, sample_encoding
 from runtime.handles import Declaration
 from runtime.params import ParamRefused, describe, lookup, param_infos, with_value
 from runtime.session import client_config, close_session
@@ -77,178 +76,13 @@ from runtime.session import client_config, close_session
 P = TypeVar("P", bound=msgspec.Struct)
 M = TypeVar("M", bound=Message)
 
-_ENCODINGS: dict[type[Message], zenoh.Encoding] = {}
+__all__ = ["Latest", "Node", "NodeConflict", "Publisher", "Request", "Timer"]  # the entities are runtime.entities'
+
 _CLAIM_TIMEOUT = 1.0  # s to hear from the router which tokens it knows
-
-
-def _encoding(msg_type: type[Message]) -> zenoh.Encoding:
-    """The sample encoding naming ``msg_type`` (made once per type)."""
-    encoding = _ENCODINGS.get(msg_type)
-    if encoding is None:
-        encoding = _ENCODINGS[msg_type] = zenoh.Encoding(encoding_for(msg_type))
-    return encoding
 
 
 class NodeConflict(Exception):
     """Another running node already does what this one claims to do alone."""
-
-
-class Publisher(Generic[M]):
-    """Publishes messages of one type on one key, filling in ``stamp`` and ``seq``."""
-
-    def __init__(self, session: zenoh.Session, key: str, msg_type: type[M]):
-        self.key = key
-        self._pub = session.declare_publisher(key, encoding=_encoding(msg_type))
-        self._seq = 0
-        self._declaration: Declaration | None = None  # set by Node.publisher: the token with it
-
-    def publish(self, msg: M) -> M:
-        """Stamp ``msg`` (wall clock, ns) and the next sequence number, then send it."""
-        stamped = msgspec.structs.replace(msg, stamp=time.time_ns(), seq=self._seq)
-        self._seq += 1
-        self._pub.put(encode(stamped))
-        return stamped
-
-    def undeclare(self) -> None:
-        """Stop publishing on the key (and leave the graph).  Idempotent."""
-        if self._declaration is not None:
-            self._declaration.undeclare()
-        else:
-            self._pub.undeclare()
-
-
-class Latest(Generic[M]):
-    """The newest valid message of one type on one key, read when the node wants it.
-
-    Each sample is decoded where Zenoh delivers it and only kept (no queue, no wake-up of
-    the node thread), so a node that needs a 62.5 Hz pose only at its own 10 Hz tick is not
-    woken 62.5 times a second.  Every malformed payload still reaches the node thread, to be
-    counted and logged as ``Node.subscribe`` does: a newer valid sample never hides one (a
-    ring channel of one in Zenoh would have dropped it unseen), and the previous valid
-    message is kept.  ``get()`` returns the newest valid message, or None before the first."""
-
-    def __init__(self, node: Node[Any], key: str, msg_type: type[M]):
-        self.key = key
-        self._node = node
-        self._type = msg_type
-        self._value: M | None = None
-        self._callback: Callable[[M], None] | None = None
-        self._generation = 0  # which callback a queued message was received for
-        self._sub = node.session.declare_subscriber(key, self._on_sample)
-        self._declaration: Declaration | None = None  # set by Node.latest: the token with it
-
-    def _on_sample(self, sample: zenoh.Sample) -> None:  # Zenoh thread: decode and keep, or queue the garbage
-        try:
-            msg = decode(sample.payload.to_bytes(), self._type)
-        except ValueError as exc:
-            self._node._queue.put((self._node._rejected, (self.key, str(exc))))
-            return
-        self._value = msg  # one reference swapped: the node thread reads whole messages only
-        generation = self._generation  # read before the callback: a change in between drops msg
-        if self._callback is not None:
-            self._node._queue.put((self._dispatch, (msg, generation)))
-
-    def get(self) -> M | None:
-        """The newest valid message received so far (None: none yet)."""
-        return self._value
-
-    def each(self, callback: Callable[[M], None] | None) -> None:
-        """While ``callback`` is set, also call it on the node thread for every valid message,
-        as ``Node.subscribe`` does (the navigator needs every pose only while a goal runs);
-        None stops it; messages received before a call (still queued) reach no callback set by
-        it.  ``get()`` works either way."""
-        self._generation += 1
-        self._callback = callback
-
-    def _dispatch(self, msg: M, generation: int) -> None:
-        if self._callback is not None and generation == self._generation:
-            self._callback(msg)
-
-    def undeclare(self) -> None:
-        """Stop receiving (and leave the graph); ``get()`` keeps the last message.  Idempotent."""
-        self._callback = None
-        self._generation += 1  # what is queued reaches no callback
-        if self._declaration is not None:
-            self._declaration.undeclare()
-        else:
-            self._sub.undeclare()
-
-
-class Request(Generic[M]):
-    """A service request being handled; reply once, now or later, with ``respond``."""
-
-    def __init__(self, key: str, query: zenoh.Query, body: M):
-        self.body = body
-        self._key = key
-        self._query = query
-        self.done = False
-
-    def respond(self, response: Message, final: bool = True) -> None:
-        """Send ``response`` to the caller (its encoding names its own type, feedback
-        included); with final=True the call ends."""
-        if self.done:
-            return
-        self._query.reply(self._key, encode(response), encoding=_encoding(type(response)))
-        if final:
-            self.done = True
-            self._query.drop()
-
-    def fail(self, error: str) -> None:
-        """End the call with an error reply (the client reports it as bad input)."""
-        if self.done:
-            return
-        self.done = True
-        self._query.reply_err(encode(ErrorReply(error=error)), encoding=_encoding(ErrorReply))
-        self._query.drop()
-
-
-class Timer:
-    """A periodic callback on an absolute grid (tick k due at ``start + k * period``); a
-    paused timer is not due at all, so it does not wake the node."""
-
-    def __init__(self, period: float, callback: Callable[[], None], start: float):
-        self.period = period
-        self.callback = callback
-        self.start = start
-        self.ticks = 1
-        self.deadline = start + period
-        self.active = True
-        self.undeclared = False
-        self._owner: list[Timer] | None = None  # the node's timers, set by Node.timer
-
-    def retime(self, period: float, now: float | None = None) -> None:
-        """Tick every ``period`` s from now on (a grid starting ``now``; the next tick is one
-        new period away)."""
-        now = time.monotonic() if now is None else now
-        self.period, self.start, self.ticks = period, now, 1
-        self.deadline = now + period
-
-    def advance(self, now: float) -> None:
-        """Next deadline on the absolute grid; missed ticks are skipped, not bunched."""
-        self.ticks = max(self.ticks + 1, int((now - self.start) / self.period) + 1)
-        self.deadline = self.start + self.ticks * self.period
-
-    def pause(self) -> None:
-        """No more ticks until ``resume``."""
-        self.active = False
-
-    def undeclare(self) -> None:
-        """No more ticks, ever (``resume`` does nothing after this).  Idempotent."""
-        self.active = False
-        self.undeclared = True
-        if self._owner is not None and self in self._owner:
-            self._owner.remove(self)
-
-    def resume(self, now: float | None = None) -> None:
-        """Tick again, on the same grid: the next tick is the one due after ``now`` (the
-        ticks missed while paused are skipped, as a stalled timer's are)."""
-        if self.active or self.undeclared:
-            return
-        self.active = True
-        now = time.monotonic() if now is None else now
-        if self.deadline <= now:
-            self.ticks = int((now - self.start) / self.period) + 1
-            self.deadline = self.start + self.ticks * self.period
 
 
 class Node(Generic[P]):
@@ -290,9 +124,8 @@ class Node(Generic[P]):
 
     def publisher(self, key: str, msg_type: type[M]) -> Publisher[M]:
         """A publisher of ``msg_type`` on ``key`` (``publish``; ``undeclare`` withdraws it)."""
-        pub = Publisher(self.session, key, msg_type)
-        pub._declaration = declared = Declaration(self._entities, "publisher", key)
-        declared.add(pub._pub)
+        declared = Declaration(self._entities, "publisher", key)
+        pub = Publisher(self.session, key, msg_type, declared)
         declared.add(self._announce("pub", msg_type, key))
         return pub
 
@@ -307,9 +140,8 @@ class Node(Generic[P]):
     def latest(self, key: str, msg_type: type[M]) -> Latest[M]:
         """Keep the newest ``msg_type`` on ``key`` for the node to read at its own pace
         (``.get()``), without waking the node for each message (see ``Latest``)."""
-        latest = Latest(self, key, msg_type)
-        latest._declaration = declared = Declaration(self._entities, "subscription", key)
-        declared.add(latest._sub)
+        declared = Declaration(self._entities, "subscription", key)
+        latest = Latest(self, key, msg_type, declared)
         declared.add(self._announce("sub", msg_type, key))
         return latest
 
@@ -379,7 +211,7 @@ class Node(Generic[P]):
             key,
             zenoh.handlers.Callback(on_reply, lambda: self._queue.put((on_done, (replies,)))),
             payload=encode(request),
-            encoding=_encoding(type(request)),
+            encoding=sample_encoding(type(request)),
             target=zenoh.QueryTarget.ALL,
             consolidation=zenoh.ConsolidationMode.NONE,
             timeout=timeout,

@@ -1,0 +1,184 @@
+"""What a node's declarations give it: a ``Publisher``, a ``Latest`` value, a ``Request``
+being served, a ``Timer`` (``runtime.node.Node`` makes them; their threading is that module's
+docstring).  Each can be undeclared (``runtime.handles``)."""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable
+from typing import TYPE_CHECKING, Any, Generic, TypeVar
+
+import msgspec
+import zenoh
+
+from messages import ErrorReply, Message, decode, encode, encoding_for
+from runtime.handles import Declaration
+
+if TYPE_CHECKING:
+    from runtime.node import Node
+
+M = TypeVar("M", bound=Message)
+
+_ENCODINGS: dict[type[Message], zenoh.Encoding] = {}
+
+
+def sample_encoding(msg_type: type[Message]) -> zenoh.Encoding:
+    """The sample encoding naming ``msg_type`` (made once per type)."""
+    encoding = _ENCODINGS.get(msg_type)
+    if encoding is None:
+        encoding = _ENCODINGS[msg_type] = zenoh.Encoding(encoding_for(msg_type))
+    return encoding
+
+
+class Publisher(Generic[M]):
+    """Publishes messages of one type on one key, filling in ``stamp`` and ``seq``."""
+
+    def __init__(self, session: zenoh.Session, key: str, msg_type: type[M], declared: Declaration):
+        self.key = key
+        self._pub = session.declare_publisher(key, encoding=sample_encoding(msg_type))
+        self._seq = 0
+        self._declaration = declared  # the publisher and its graph token
+        declared.add(self._pub)
+
+    def publish(self, msg: M) -> M:
+        """Stamp ``msg`` (wall clock, ns) and the next sequence number, then send it."""
+        stamped = msgspec.structs.replace(msg, stamp=time.time_ns(), seq=self._seq)
+        self._seq += 1
+        self._pub.put(encode(stamped))
+        return stamped
+
+    def undeclare(self) -> None:
+        """Stop publishing on the key (and leave the graph).  Idempotent."""
+        self._declaration.undeclare()
+
+
+class Latest(Generic[M]):
+    """The newest valid message of one type on one key, read when the node wants it.
+
+    Each sample is decoded where Zenoh delivers it and only kept (no queue, no wake-up of
+    the node thread), so a node that needs a 62.5 Hz pose only at its own 10 Hz tick is not
+    woken 62.5 times a second.  Every malformed payload still reaches the node thread, to be
+    counted and logged as ``Node.subscribe`` does: a newer valid sample never hides one (a
+    ring channel of one in Zenoh would have dropped it unseen), and the previous valid
+    message is kept.  ``get()`` returns the newest valid message, or None before the first."""
+
+    def __init__(self, node: Node[Any], key: str, msg_type: type[M], declared: Declaration):
+        self.key = key
+        self._node = node
+        self._type = msg_type
+        self._value: M | None = None
+        self._callback: Callable[[M], None] | None = None
+        self._generation = 0  # which callback a queued message was received for
+        self._sub = node.session.declare_subscriber(key, self._on_sample)
+        self._declaration = declared  # the subscriber and its graph token
+        declared.add(self._sub)
+
+    def _on_sample(self, sample: zenoh.Sample) -> None:  # Zenoh thread: decode and keep, or queue the garbage
+        try:
+            msg = decode(sample.payload.to_bytes(), self._type)
+        except ValueError as exc:
+            self._node._queue.put((self._node._rejected, (self.key, str(exc))))
+            return
+        self._value = msg  # one reference swapped: the node thread reads whole messages only
+        generation = self._generation  # read before the callback: a change in between drops msg
+        if self._callback is not None:
+            self._node._queue.put((self._dispatch, (msg, generation)))
+
+    def get(self) -> M | None:
+        """The newest valid message received so far (None: none yet)."""
+        return self._value
+
+    def each(self, callback: Callable[[M], None] | None) -> None:
+        """While ``callback`` is set, also call it on the node thread for every valid message,
+        as ``Node.subscribe`` does (the navigator needs every pose only while a goal runs);
+        None stops it; messages received before a call (still queued) reach no callback set by
+        it.  ``get()`` works either way."""
+        self._generation += 1
+        self._callback = callback
+
+    def _dispatch(self, msg: M, generation: int) -> None:
+        if self._callback is not None and generation == self._generation:
+            self._callback(msg)
+
+    def undeclare(self) -> None:
+        """Stop receiving (and leave the graph); ``get()`` keeps the last message.  Idempotent."""
+        self._callback = None
+        self._generation += 1  # what is queued reaches no callback
+        self._declaration.undeclare()
+
+
+class Request(Generic[M]):
+    """A service request being handled; reply once, now or later, with ``respond``."""
+
+    def __init__(self, key: str, query: zenoh.Query, body: M):
+        self.body = body
+        self._key = key
+        self._query = query
+        self.done = False
+
+    def respond(self, response: Message, final: bool = True) -> None:
+        """Send ``response`` to the caller (its encoding names its own type, feedback
+        included); with final=True the call ends."""
+        if self.done:
+            return
+        self._query.reply(self._key, encode(response), encoding=sample_encoding(type(response)))
+        if final:
+            self.done = True
+            self._query.drop()
+
+    def fail(self, error: str) -> None:
+        """End the call with an error reply (the client reports it as bad input)."""
+        if self.done:
+            return
+        self.done = True
+        self._query.reply_err(encode(ErrorReply(error=error)), encoding=sample_encoding(ErrorReply))
+        self._query.drop()
+
+
+class Timer:
+    """A periodic callback on an absolute grid (tick k due at ``start + k * period``); a
+    paused timer is not due at all, so it does not wake the node."""
+
+    def __init__(self, period: float, callback: Callable[[], None], start: float):
+        self.period = period
+        self.callback = callback
+        self.start = start
+        self.ticks = 1
+        self.deadline = start + period
+        self.active = True
+        self.undeclared = False
+        self._owner: list[Timer] | None = None  # the node's timers, set by Node.timer
+
+    def retime(self, period: float, now: float | None = None) -> None:
+        """Tick every ``period`` s from now on (a grid starting ``now``; the next tick is one
+        new period away)."""
+        now = time.monotonic() if now is None else now
+        self.period, self.start, self.ticks = period, now, 1
+        self.deadline = now + period
+
+    def advance(self, now: float) -> None:
+        """Next deadline on the absolute grid; missed ticks are skipped, not bunched."""
+        self.ticks = max(self.ticks + 1, int((now - self.start) / self.period) + 1)
+        self.deadline = self.start + self.ticks * self.period
+
+    def pause(self) -> None:
+        """No more ticks until ``resume``."""
+        self.active = False
+
+    def undeclare(self) -> None:
+        """No more ticks, ever (``resume`` does nothing after this).  Idempotent."""
+        self.active = False
+        self.undeclared = True
+        if self._owner is not None and self in self._owner:
+            self._owner.remove(self)
+
+    def resume(self, now: float | None = None) -> None:
+        """Tick again, on the same grid: the next tick is the one due after ``now`` (the
+        ticks missed while paused are skipped, as a stalled timer's are)."""
+        if self.active or self.undeclared:
+            return
+        self.active = True
+        now = time.monotonic() if now is None else now
+        if self.deadline <= now:
+            self.ticks = int((now - self.start) / self.period) + 1
+            self.deadline = self.start + self.ticks * self.period
