@@ -148,7 +148,7 @@ class Driver:
         if self.track is None:
             cmd = self._law(pose)
             self.phase = cmd.phase
-            if self.stopping and at_rest(pose) and (cmd.phase is Phase.DONE or self._within_tolerances(pose)):
+            if self.stopping and at_rest(pose) and self._within_tolerances(pose):
                 # at rest, and no command but a stop on its way to the simulator: it stays here
                 return Arrived(self._said())
             if cmd.phase is Phase.DONE or self._stops_inside(pose):
@@ -272,11 +272,11 @@ class Driver:
         return twist
 
     def _within_tolerances(self, pose: Pose) -> bool:
-        """Whether ``pose`` is within the caller's tolerances of the goal (the law aims at half
-        of each: a turtle at rest between the two has arrived all the same)."""
+        """Whether ``pose``, on the final turn, is within the caller's tolerances of the goal
+        (the law aims at half of each, DONE: a turtle at rest between the two has arrived all the same)."""
         target = self.target
         return (
-            self.phase is Phase.HEADING
+            self.phase in (Phase.HEADING, Phase.DONE)
             and math.hypot(target.x - pose.x, target.y - pose.y) <= self.tolerances.position
             and abs(wrap_radians(target.theta - pose.theta)) <= self.tolerances.heading
         )
