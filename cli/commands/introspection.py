@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import typer
 
-from cli.commands.options import ConnectOption, DomainOption, NodeArgument, format, result
+from cli.commands.options import ConnectOption, DomainOption, JsonOption, NodeArgument, format, result
 
 
 def list_graph(
@@ -39,7 +39,7 @@ node_app = typer.Typer(help="Running nodes in detail (as `ros2 node`).\n\nExampl
 @node_app.command("info")
 def node_info(
     node: str = NodeArgument,
-    json: bool = typer.Option(False, "--json", help="One JSON object."),
+    json: bool = JsonOption,
     connect: str = ConnectOption,
     domain: str = DomainOption,
 ) -> None:
@@ -74,7 +74,7 @@ def interface_list(json: bool = typer.Option(False, "--json", help="One JSON arr
 @interface_app.command("show")
 def interface_show(
     type_: str = typer.Argument(..., metavar="TYPE", help="A message type, e.g. Twist (any case)."),
-    json: bool = typer.Option(False, "--json", help="One JSON object."),
+    json: bool = JsonOption,
 ) -> None:
     """A message type's fields: type, default, unit, range and meaning; its wire tag,
     encoding and keys (as `ros2 interface show`).

@@ -37,6 +37,9 @@ DomainOption = typer.Option(
 )
 
 
+JsonOption = typer.Option(False, "--json", help="One JSON object.")
+
+
 LogLevelOption = typer.Option(
     "INFO", "--log-level", help="Least severe log line the nodes write: DEBUG, INFO, WARNING or ERROR (any case)."
 )

@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import typer
 
-from cli.commands.options import ConnectOption, DomainOption, NodeArgument, format, result, use_node
+from cli.commands.options import ConnectOption, DomainOption, JsonOption, NodeArgument, format, result, use_node
 
 param_app = typer.Typer(
     help="A running node's parameters: list, get, set, describe, dump (as `ros2 param`).\n\n"
@@ -69,7 +69,7 @@ def param_set(
 def param_describe(
     node: str = NodeArgument,
     name: str = ParamArgument,
-    json: bool = typer.Option(False, "--json", help="One JSON object."),
+    json: bool = JsonOption,
     connect: str = ConnectOption,
     domain: str = DomainOption,
 ) -> None:

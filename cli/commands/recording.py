@@ -11,7 +11,7 @@ from pathlib import Path
 import typer
 
 from cli import args
-from cli.commands.options import ConnectOption, DomainOption, format, result
+from cli.commands.options import ConnectOption, DomainOption, JsonOption, format, result
 from cli.errors import BadInput
 from cli.sigint import stop_on_signals
 
@@ -68,7 +68,7 @@ def record(
 
 def info(
     file: Path = typer.Argument(..., metavar="FILE", help="A recording (MCAP file)."),
-    json: bool = typer.Option(False, "--json", help="One JSON object."),
+    json: bool = JsonOption,
 ) -> None:
     """What a recording holds, as `ros2 bag info`: size, duration, start and end, messages per
     topic with type, rate and encoding, and whether the recorder closed the file.

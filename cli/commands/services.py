@@ -37,7 +37,6 @@ def call(
     Example: turtlectl call turtle1/teleport_absolute '{"x": 2, "y": 2, "theta": 0}'
     """
     from cli.tools import build, client, services
-    from messages import NavigateToFeedback
 
     key = client.check_key(service)
     body = build.service_request(client.base_key(key), request, type_name)
@@ -51,8 +50,7 @@ def call(
     code = ExitCode.OK
     try:  # a goal's feedback is shown from inside the call: a Ctrl-C there cancels the goal and checks
         for reply in services.call_service(connect, key, body, timeout, on_feedback=show):
-            if not isinstance(reply, NavigateToFeedback):  # an answer: a Ctrl-C from now on changes nothing
-                ignore_sigint()
+            ignore_sigint()  # an answer (feedback never comes here): a Ctrl-C from now on changes nothing
             show(reply)
             if not isinstance(reply, services.Raw):
                 code = max(code, services.reply_code(reply))

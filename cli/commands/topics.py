@@ -9,7 +9,7 @@ import sys
 import typer
 
 from cli import args
-from cli.commands.options import ConnectOption, DomainOption, format, result
+from cli.commands.options import ConnectOption, DomainOption, JsonOption, format, result
 from cli.errors import Interrupted, Unreachable
 
 
@@ -147,7 +147,7 @@ topic_app = typer.Typer(
 def topic_info(
     key: str = typer.Argument(..., metavar="KEY", help="A topic's key, e.g. turtle1/pose."),
     verbose: bool = typer.Option(False, "-v", "--verbose", help="Also measure its rate over a second."),
-    json: bool = typer.Option(False, "--json", help="One JSON object."),
+    json: bool = JsonOption,
     connect: str = ConnectOption,
     domain: str = DomainOption,
 ) -> None:

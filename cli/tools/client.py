@@ -141,6 +141,9 @@ def client_session(connect: str, domain: str | None = None) -> Iterator[zenoh.Se
             close_session(session)
 
 
+ROUTER_CHECK = 0.5  # s between checks that a long-running command's session still has its router
+
+
 def router_lost(session: zenoh.Session) -> bool:
     """True if this client session has no router any more (the router stopped or went away)."""
     return not session.info.routers_zid()

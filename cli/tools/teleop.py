@@ -24,7 +24,7 @@ import zenoh
 
 from cli.errors import BadInput, Unreachable
 from cli.sigint import stop_on_signals
-from cli.tools.client import require, router_lost
+from cli.tools.client import ROUTER_CHECK, require, router_lost
 from cli.tools.keyboard import Driver, Shown, keys, status_line
 from messages import Cancel, Pose, Twist, decode, encode, encoding_for
 from messages.angles import heading_degrees
@@ -32,7 +32,6 @@ from messages.keys import CANCEL, CMD_VEL, FEEDBACK, POSE
 
 POLL = 0.02  # s: the longest a key waits to be read
 LINE_PERIOD = 0.1  # s between redraws of the status line
-ROUTER_CHECK = 0.5  # s between checks that the router is still there
 GOAL_SEEN = 0.5  # s: feedback this recent means a goal is running
 NOT_A_TERMINAL = "teleop reads keys from a terminal, and its input is not one (run it in a terminal)"
 HELP = "arrows or w/a/s/d drive (held: go, released: stop); space stops; q quits"

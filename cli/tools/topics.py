@@ -14,7 +14,7 @@ import msgspec
 import zenoh
 
 from cli.errors import Unreachable
-from cli.tools.client import base_key, check_key, client_session, domain_hint, require, router_lost
+from cli.tools.client import ROUTER_CHECK, base_key, check_key, client_session, domain_hint, require, router_lost
 from cli.tools.graph import Graph, build_graph
 from cli.tools.rates import SILENCE, Quiet, Rates, RateStats
 from cli.tools.services import RouterLost
@@ -57,9 +57,6 @@ def subscription(session: zenoh.Session, key: str) -> Iterator[queue.SimpleQueue
         yield samples
     finally:
         sub.undeclare()
-
-
-ROUTER_CHECK = 0.5  # s between checks that the session still has its router
 
 
 class Silence:

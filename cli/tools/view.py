@@ -18,7 +18,7 @@ import time
 import msgspec
 import zenoh
 
-from cli.tools.client import router_lost
+from cli.tools.client import ROUTER_CHECK, router_lost
 from cli.tools.format import heading_text
 from messages import LaserScan, NavigateToFeedback, Pose, TurtleStatus, decode_any
 from messages.angles import heading_degrees
@@ -26,7 +26,6 @@ from messages.keys import FEEDBACK, OBSTACLES, POSE, STATUS
 from messages.world import World
 
 FRAME = 0.05  # s between frames: 20 frames a second
-ROUTER_CHECK = 0.5  # s between checks that the router is still there
 TRAIL = 400  # poses kept for the trail
 LEGEND = "o obstacle  * scan hit  . trail  + path  X goal  (c clears the trail)"
 ARROWS = "→↗↑↖←↙↓↘"
