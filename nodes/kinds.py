@@ -13,7 +13,6 @@ by exec, ``python -m runtime TARGET`` (why: runtime/__main__.py).
 
 from __future__ import annotations
 
-import difflib
 from pathlib import Path
 
 import msgspec
@@ -33,7 +32,7 @@ from messages.keys import (
 )
 from nodes.params import NavigatorParams, ObstacleDetectorParams, StatusMonitorParams
 from runtime.config import Claim
-from runtime.loader import LoadError, absolute, is_target, load
+from runtime.loader import LoadError, absolute, is_target, load, suggestion
 from sim.params import SimParams
 
 
@@ -81,10 +80,8 @@ def kind_of(run: str, base: Path) -> NodeKind:
         kind = KINDS.get(run)
         if kind is None:
             known = ", ".join(sorted(KINDS))
-            close = difflib.get_close_matches(run, list(KINDS), n=1, cutoff=0.6)
-            hint = f"; did you mean {close[0]}?" if close else ""
             raise KindError(
-                f"unknown node kind {run!r}{hint} (known: {known}; or a node class: module:Class, ./file.py:Class)"
+                f"unknown node kind {run!r}{suggestion(run, tuple(KINDS))} (known: {known}; or a node class: module:Class, ./file.py:Class)"
             )
         return kind
     try:

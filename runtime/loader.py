@@ -39,6 +39,12 @@ class ImportRaised(LoadError):
     """The module's own code raised while it was imported; ``__cause__`` is that exception."""
 
 
+def suggestion(word: str, candidates: list[str] | tuple[str, ...]) -> str:
+    """``; did you mean X?`` for the candidate nearest to ``word``, or nothing."""
+    close = difflib.get_close_matches(word, list(candidates), n=1, cutoff=0.6)
+    return f"; did you mean {close[0]}?" if close else ""
+
+
 def is_target(run: str) -> bool:
     """Whether ``run`` names a class (``module:Class``, ``file.py:Class``) rather than a built-in kind."""
     return ":" in run
@@ -67,8 +73,7 @@ def load(target: str, base: Path | None = None) -> tuple[type, type[msgspec.Stru
     cls = getattr(module, name, None)
     if cls is None:
         classes = [k for k, v in vars(module).items() if isinstance(v, type) and v.__module__ == module.__name__]
-        close = difflib.get_close_matches(name, classes, n=1, cutoff=0.6)
-        hint = f"; did you mean {close[0]}?" if close else ""
+        hint = suggestion(name, classes)
         listed = f" (its classes: {', '.join(classes)})" if classes else " (it defines no class)"
         raise LoadError(f"{shown} has no {name}{hint}{listed}")
     if not isinstance(cls, type):

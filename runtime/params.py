@@ -23,6 +23,8 @@ import msgspec
 from messages.params import ParamDescription, ParamInfo
 from messages.reference import default_text, doc, struct_fields, type_name
 
+BIG = 1e9  # the stand-in for "finite" (messages.units)
+
 
 # -- described -----------------------------------------------------------
 def field_comments(cls: type) -> dict[str, str]:
@@ -51,10 +53,9 @@ def fixed_reason(params_type: type, name: str) -> str | None:
 def range_text(t: msgspec.inspect.Type) -> str:
     """The values a constrained type takes: ``0.1 to 100`` (both ends allowed), ``> 0``,
     ``> 0 and <= 50`` (an end not allowed is written as such), ``at most 100 items``."""
-    big = 1e9  # the stand-in for "finite" (messages.units)
     bounds = [(op, getattr(t, key, None)) for key, op in (("ge", ">="), ("gt", ">"), ("le", "<="), ("lt", "<"))]
-    lo = next((f"{op} {v:g}" for op, v in bounds[:2] if v is not None and v > -big), None)
-    hi = next((f"{op} {v:g}" for op, v in bounds[2:] if v is not None and v < big), None)
+    lo = next((f"{op} {v:g}" for op, v in bounds[:2] if v is not None and v > -BIG), None)
+    hi = next((f"{op} {v:g}" for op, v in bounds[2:] if v is not None and v < BIG), None)
     if lo is not None and hi is not None:
         if lo.startswith(">=") and hi.startswith("<="):
             return f"{lo[3:]} to {hi[3:]}"
@@ -137,13 +138,19 @@ def with_value(params: msgspec.Struct, name: str, value: Any) -> tuple[msgspec.S
     return new, old
 
 
-_AT = re.compile(r"^(?P<what>.*?)(?: - at `\$\.?(?P<path>[^`]*)`)?$", re.S)
+_AT = re.compile(r"^(?P<what>.*?)(?: - at `\$(?P<path>[^`]*)`)?$", re.S)
 _BOUND = re.compile(r"^Expected `\w+` (?P<op>[<>]=?) (?P<bound>\S+)$")
 _TYPE = re.compile(r"^Expected `(?P<type>[^`]+)`, got `[^`]+`$")
 _LENGTH = re.compile(r"^Expected `(?P<type>\w+)` of length (?P<op>[<>]=?) (?P<count>\d+)$")
 _KINDS = {"float": "a number", "int": "a whole number", "str": "text", "bool": "true or false"}
 _KINDS |= {"array": "a list", "object": "a table", "null": "null"}
-BIG = 1e9  # the stand-in for "finite" (messages.units)
+
+
+def validation_parts(error: msgspec.ValidationError | str) -> tuple[str, str]:
+    """msgspec's message split into what is wrong and where (``.a.b[0]``, empty at the top)."""
+    text = str(error)
+    match = _AT.match(text)
+    return (match["what"], match["path"] or "") if match else (text, "")
 
 
 def refusal(name: str, value: Any, error: str) -> str:
@@ -151,8 +158,8 @@ def refusal(name: str, value: Any, error: str) -> str:
     the same for every node kind: ``rate must be <= 50 (got 60)``, ``count must be a whole
     number (got 1.5)``; a problem inside the value (an item of a list) is named by its place,
     ``points[1].x must be a number``; anything else keeps msgspec's own words."""
-    match = _AT.match(error)
-    what, path = (match["what"], match["path"] or "") if match else (error, "")
+    what, path = validation_parts(error)
+    path = path.removeprefix(".")
     where = path if path.startswith(name) else name
     got = f" (got {msgspec.json.encode(value).decode()})" if where == name else ""
     if bound := _BOUND.match(what):

@@ -21,7 +21,6 @@ Overrides (``launch --set``, ``run -p``, ``param set``) are in cli.system.overri
 
 from __future__ import annotations
 
-import difflib
 import math
 import os
 import re
@@ -36,6 +35,8 @@ import msgspec.inspect as mi
 from cli.errors import BadInput
 from messages.world import Limits, World
 from nodes.kinds import KindError, NodeKind, kind_of
+from runtime.loader import suggestion as suggestion  # also for cli.system.overrides, cli.tools
+from runtime.params import validation_parts as validation_parts  # also for cli.tools.build
 
 #: the launch file that comes with turtlectl: the whole system on one machine
 PACKAGED_LAUNCH = Path(__file__).resolve().parent / "launch.toml"
@@ -100,23 +101,10 @@ class LaunchPlan(msgspec.Struct, kw_only=True):
 
 
 # -- messages ----------------------------------------------------------------
-_AT = re.compile(r"^(?P<what>.*?)(?: - at `\$(?P<path>[^`]*)`)?$", re.S)
 _FIELD = re.compile(r"^Object (?P<problem>contains unknown|missing required) field `(?P<key>[^`]*)`$")
 _PART = re.compile(r"\.([^.\[\]]+)|\[(\d+)\]")
 
 Parts = list[str | int]
-
-
-def validation_parts(exc: msgspec.ValidationError) -> tuple[str, str]:
-    """msgspec's message split into what is wrong and where (``.a.b[0]``, empty at the top)."""
-    match = _AT.match(str(exc))
-    return (match["what"], match["path"] or "") if match else (str(exc), "")
-
-
-def suggestion(word: str, candidates: list[str] | tuple[str, ...]) -> str:
-    """``; did you mean X?`` for the candidate nearest to ``word``, or nothing."""
-    close = difflib.get_close_matches(word, list(candidates), n=1, cutoff=0.6)
-    return f"; did you mean {close[0]}?" if close else ""
 
 
 def _keys_at(root: type, parts: Parts) -> list[str]:
