@@ -75,7 +75,7 @@ def info(
 
     Example: turtlectl info run.mcap
     """
-    from cli.recording.bag import Recording
+    from cli.recording.reading import Recording
 
     details = Recording(file).info()
     result(format.info_json(details) if json else format.info_text(details))
@@ -102,7 +102,7 @@ def play(
     Example: turtlectl play run.mcap --rate 2
     """
     from cli.recording import play as player
-    from cli.recording.bag import Recording
+    from cli.recording.reading import Recording
 
     args.finite_option(rate, "--rate")
     args.finite_option(start_offset, "--start-offset")

@@ -21,7 +21,8 @@ import msgspec
 import zenoh
 
 from cli.errors import BadInput
-from cli.recording.bag import Record, Recording
+from cli.recording.bag import Record
+from cli.recording.reading import Recording
 from cli.tools.client import check_key, client_session, require
 from messages import Message, encode, encoding_for
 from messages.keys import WORLD_KEY

@@ -18,7 +18,8 @@ from pathlib import Path
 from typing import Any
 
 from cli.errors import BadInput
-from cli.recording.bag import CHUNK_SIZE, RecordingError, read_errors
+from cli.recording.bag import CHUNK_SIZE, RecordingError
+from cli.recording.reading import read_errors
 
 MAGIC = b"\x89MCAP0\r\n"
 

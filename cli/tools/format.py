@@ -218,7 +218,7 @@ def recording_line(elapsed: float, messages: int, size: int) -> str:
 
 
 def info_text(info: Any) -> str:
-    """`turtlectl info`, as `ros2 bag info` prints a bag (``info``: cli.recording.bag.Info)."""
+    """`turtlectl info`, as `ros2 bag info` prints a bag (``info``: cli.recording.reading.Info)."""
     from cli.recording.recover import hint
 
     lines = [

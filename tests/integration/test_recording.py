@@ -20,7 +20,7 @@ import msgspec
 import pytest
 import zenoh
 
-from cli.recording.bag import Recording
+from cli.recording.reading import Recording
 from cli.system.launchfile import load_launch
 from messages import decode_any, encode
 from messages.keys import WORLD_KEY

@@ -46,6 +46,7 @@ PURE = [
     "cli.tools.rates",
     "cli.tools.keyboard",
     "cli.recording.bag",  # recordings: MCAP files, read and written without a session
+    "cli.recording.reading",
     "cli.system.supervisor.supervision",  # the supervision policy: processes and clock come from outside
 ]
 

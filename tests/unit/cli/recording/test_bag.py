@@ -14,7 +14,8 @@ import textwrap
 import pytest
 
 from cli.errors import ExitCode, exit_code
-from cli.recording.bag import BagWriter, Recording, RecordingError
+from cli.recording.bag import BagWriter, RecordingError
+from cli.recording.reading import Recording
 from messages import LaserScan, Pose, TurtleStatus, decode_any, encode, encoding_for
 from tests.unit.messages.samples import SAMPLES as WRITTEN
 

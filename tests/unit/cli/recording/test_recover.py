@@ -6,7 +6,8 @@ from __future__ import annotations
 import pytest
 
 from cli.errors import BadInput
-from cli.recording.bag import BagWriter, Recording, RecordingError
+from cli.recording.bag import BagWriter, RecordingError
+from cli.recording.reading import Recording
 from cli.recording.recover import default_output, hint, recover, text
 from messages import Pose, TurtleStatus, encode, encoding_for
 

@@ -1,0 +1,214 @@
+"""Reading recordings (``play``, ``info``, ``recover``): a file written by cli.recording.bag,
+in log-time order, with what it holds; one that was never closed is read as far as it is
+whole (what a recording holds, and why it may not be closed: cli.recording.bag).  No Zenoh here."""
+
+from __future__ import annotations
+
+import dataclasses
+import struct
+from collections.abc import Iterator
+from pathlib import Path
+from typing import Any
+
+from cli.recording.bag import JSON, PROTOBUF, WORLD, Record, RecordingError
+from messages.codec import TYPES_BY_NAME
+
+
+@dataclasses.dataclass(frozen=True)
+class TopicInfo:
+    key: str
+    type_name: str  # "" for raw payloads
+    encoding: str  # the MCAP message encoding
+    count: int
+    rate: float  # mean messages per second over the recording (0 if it spans no time)
+
+
+@dataclasses.dataclass(frozen=True)
+class Info:
+    path: str
+    size: int
+    closed: bool  # False: no summary section (the recorder was killed); what is complete was read
+    start: int  # ns since the epoch (0 when empty)
+    end: int
+    count: int
+    topics: list[TopicInfo]
+
+    @property
+    def duration(self) -> float:
+        """Seconds from the first message to the last."""
+        return (self.end - self.start) / 1e9
+
+
+_DAMAGE: tuple[type[BaseException], ...] = (
+    struct.error,
+    ValueError,
+    EOFError,
+    OSError,
+)  # OSError: a seek before the start
+
+
+class Recording:
+    """A recording opened for reading: ``records()`` in log-time order, ``info()``.
+    Raises RecordingError if ``path`` is not an MCAP file or is unreadable."""
+
+    def __init__(self, path: Path):
+        from mcap.reader import make_reader
+
+        self.path = path
+        self._damage = read_errors()
+        try:
+            with open(path, "rb") as f:
+                magic = f.read(8)
+        except FileNotFoundError:
+            raise RecordingError(f"{path}: no such file") from None
+        except OSError as exc:
+            raise RecordingError(f"cannot read {path}: {exc.strerror or exc}") from None
+        if magic != b"\x89MCAP0\r\n":
+            raise RecordingError(f"{path} is not an MCAP file (a recording made by `turtlectl record`)")
+        self.summary: Any = None
+        try:
+            with open(path, "rb") as f:
+                self.summary = make_reader(f).get_summary()
+        except self._damage:
+            self.summary = None
+        self.closed = self.summary is not None
+        if not self.closed:
+            self._check_header()
+        self._check_schemas()
+
+    def _check_header(self) -> None:
+        from mcap.records import Header
+        from mcap.stream_reader import StreamReader
+
+        try:
+            with open(self.path, "rb") as f:
+                first = next(iter(StreamReader(f).records), None)
+        except self._damage:
+            first = None
+        if not isinstance(first, Header):
+            raise RecordingError(f"{self.path} is truncated: not even its header can be read")
+
+    def _check_schemas(self) -> None:
+        for schema, channel in self._channels():
+            if channel.message_encoding == PROTOBUF and schema is not None and schema.name.startswith("foxglove."):
+                continue  # the scene of record --scene
+            unknown = schema is None or schema.name not in TYPES_BY_NAME
+            if channel.message_encoding == PROTOBUF or (channel.message_encoding == JSON and unknown):
+                name = schema.name if schema is not None else "no schema"
+                known = ", ".join(sorted(TYPES_BY_NAME))
+                raise RecordingError(
+                    f"{self.path}: channel {channel.topic} has an unknown type ({name}); turtlectl knows {known}"
+                )
+
+    def _channels(self) -> Iterator[tuple[Any, Any]]:
+        """(schema or None, channel) of every channel: from the summary, or from a scan."""
+        if self.summary is not None:
+            for channel in self.summary.channels.values():
+                yield self.summary.schemas.get(channel.schema_id), channel
+            return
+        seen: set[int] = set()
+        for schema, channel, _ in self._scan():
+            if channel.id not in seen:
+                seen.add(channel.id)
+                yield schema, channel
+
+    def _scan(self) -> Iterator[tuple[Any, Any, Any]]:
+        """Every complete message of a file that was not closed, in file order; stops at the damage."""
+        from mcap.reader import NonSeekingReader
+
+        with open(self.path, "rb") as f:
+            try:
+                yield from NonSeekingReader(f, validate_crcs=True).iter_messages(log_time_order=False)
+            except self._damage:
+                return
+
+    def records(self, keys: list[str] | None = None) -> Iterator[Record]:
+        """Every message (of channels ``keys`` only, if given) in log-time order."""
+        if self.summary is not None:
+            from mcap.reader import make_reader
+
+            with open(self.path, "rb") as f:
+                try:
+                    for schema, channel, message in make_reader(f).iter_messages(topics=keys, log_time_order=True):
+                        yield _record(schema, channel, message)
+                except self._damage as exc:
+                    raise RecordingError(f"{self.path} is damaged: {exc}") from None
+            return
+        # no index: the file's order, which is the order received (each log time is its arrival)
+        for schema, channel, message in self._scan():
+            if keys is None or channel.topic in keys:
+                yield _record(schema, channel, message)
+
+    def world(self) -> bytes | None:
+        """The world attached to the recording (JSON), or None."""
+        from mcap.records import Attachment
+        from mcap.stream_reader import StreamReader
+
+        with open(self.path, "rb") as f:
+            try:
+                for record in StreamReader(f, emit_chunks=True).records:  # chunks skipped whole
+                    if isinstance(record, Attachment) and record.name == WORLD:
+                        return bytes(record.data)
+            except self._damage:
+                pass
+        return None
+
+    def info(self) -> Info:
+        counts: dict[int, int] = {}
+        channels: dict[int, tuple[Any, Any]] = {}
+        start = end = 0
+        if self.summary is not None and self.summary.statistics is not None:
+            stats = self.summary.statistics
+            counts = dict(stats.channel_message_counts)
+            channels = {c.id: (self.summary.schemas.get(c.schema_id), c) for c in self.summary.channels.values()}
+            start, end = (stats.message_start_time, stats.message_end_time) if stats.message_count else (0, 0)
+        else:
+            for schema, channel, message in self._scan():
+                channels.setdefault(channel.id, (schema, channel))
+                counts[channel.id] = counts.get(channel.id, 0) + 1
+                start = message.log_time if not start else min(start, message.log_time)
+                end = max(end, message.log_time)
+        span = (end - start) / 1e9
+        topics = [
+            TopicInfo(
+                key=channel.topic,
+                type_name=schema.name if schema is not None else "",
+                encoding=channel.message_encoding,
+                count=counts.get(cid, 0),
+                rate=counts.get(cid, 0) / span if span > 0 else 0.0,
+            )
+            for cid, (schema, channel) in sorted(channels.items(), key=lambda item: item[1][1].topic)
+        ]
+        return Info(
+            path=str(self.path),
+            size=self.path.stat().st_size,
+            closed=self.closed,
+            start=start,
+            end=end,
+            count=sum(counts.values()),
+            topics=topics,
+        )
+
+
+def _record(schema: Any, channel: Any, message: Any) -> Record:
+    return Record(
+        key=channel.topic,
+        type_name=schema.name if schema is not None and channel.message_encoding == JSON else "",
+        encoding=channel.metadata.get("zenoh_encoding", channel.message_encoding),
+        log_time=message.log_time,
+        publish_time=message.publish_time,
+        sequence=message.sequence,
+        data=message.data,
+        scene=channel.message_encoding == PROTOBUF,
+    )
+
+
+def read_errors() -> tuple[type[BaseException], ...]:
+    """What reading a damaged or cut MCAP file raises (mcap's own errors, zstd's, a short read)."""
+    from mcap.exceptions import McapError
+
+    try:
+        from zstandard import ZstdError
+    except ImportError:
+        return (*_DAMAGE, McapError)
+    return (*_DAMAGE, McapError, ZstdError)
