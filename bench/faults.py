@@ -65,7 +65,7 @@ def main() -> None:
         for _ in range(args.rounds):
             system.teleport(1.0, 5.5, 0.0)
             goal = subprocess.Popen(
-                [sys.executable, "-m", "cli", "goto", "10", "5.5", "0", "--connect", system.endpoint],
+                [sys.executable, "-m", "turtlectl.cli", "goto", "10", "5.5", "0", "--connect", system.endpoint],
                 stdout=subprocess.DEVNULL,
                 stderr=subprocess.DEVNULL,
             )

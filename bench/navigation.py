@@ -42,13 +42,13 @@ sys.path.insert(0, str(ROOT))
 
 import msgspec  # noqa: E402
 
-from cli.system.launchfile import load_launch  # noqa: E402
-from messages import Pose, decode  # noqa: E402
-from messages.keys import POSE  # noqa: E402
-from nodes.control import Pose2D, path_time, rotate_drive_rotate_time  # noqa: E402
-from nodes.params import NavigatorParams  # noqa: E402
-from nodes.planner import containing, inflate, shortest_path  # noqa: E402
 from tests.integration.harness import NODES, running_system  # noqa: E402  (the tests' launcher)
+from turtlectl.cli.system.launchfile import load_launch  # noqa: E402
+from turtlectl.messages import Pose, decode  # noqa: E402
+from turtlectl.messages.keys import POSE  # noqa: E402
+from turtlectl.nodes.control import Pose2D, path_time, rotate_drive_rotate_time  # noqa: E402
+from turtlectl.nodes.params import NavigatorParams  # noqa: E402
+from turtlectl.nodes.planner import containing, inflate, shortest_path  # noqa: E402
 
 FREE = ROOT / "bench" / "navigation.toml"
 WORLD = ROOT / "launch.toml"

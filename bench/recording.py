@@ -34,12 +34,12 @@ ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
 from bench.system import goal, machine, random_goal, summary  # noqa: E402
-from cli.recording.bag import Record  # noqa: E402
-from cli.recording.play import play  # noqa: E402
-from cli.recording.reading import Recording  # noqa: E402
-from messages import Reset, decode_any  # noqa: E402
-from messages.keys import RESET  # noqa: E402
 from tests.integration.harness import Router, System, turtlectl  # noqa: E402
+from turtlectl.cli.recording.bag import Record  # noqa: E402
+from turtlectl.cli.recording.play import play  # noqa: E402
+from turtlectl.cli.recording.reading import Recording  # noqa: E402
+from turtlectl.messages import Reset, decode_any  # noqa: E402
+from turtlectl.messages.keys import RESET  # noqa: E402
 
 
 class FirstMinutes:

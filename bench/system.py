@@ -33,11 +33,11 @@ import zenoh
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
-from cli.system.launchfile import load_launch  # noqa: E402
-from messages import NavigateToResponse, Reset, TurtleStatus, decode  # noqa: E402
-from messages.keys import POSE, RESET, STATUS  # noqa: E402
-from runtime.session import close_session, peer_config  # noqa: E402
 from tests.integration.harness import NODES, System  # noqa: E402  (the same launcher as the tests)
+from turtlectl.cli.system.launchfile import load_launch  # noqa: E402
+from turtlectl.messages import NavigateToResponse, Reset, TurtleStatus, decode  # noqa: E402
+from turtlectl.messages.keys import POSE, RESET, STATUS  # noqa: E402
+from turtlectl.runtime.session import close_session, peer_config  # noqa: E402
 
 
 def pct(values: list[float], q: float) -> float:

@@ -14,7 +14,7 @@ import sys
 import time
 from types import FrameType, ModuleType
 
-from cli.errors import ExitCode
+from turtlectl.cli.errors import ExitCode
 
 #: when this command began (time.monotonic, s): the first thing the console script runs, so that
 #: `launch` can say how long its nodes took to be ready from the user's point of view
@@ -68,9 +68,9 @@ def entry() -> None:
     signal.signal(signal.SIGINT, _interrupted_while_starting)
     if command_of(sys.argv[1:]) == "launch" and not {"--help", "-h", "--check"} & set(sys.argv):
         # the zygote imports the nodes' modules while this process imports typer (2 cores)
-        from cli.system.supervisor import zygote
+        from turtlectl.cli.system.supervisor import zygote
 
         zygote.start_early()
-    from cli.main import main
+    from turtlectl.cli.main import main
 
     main()

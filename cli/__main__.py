@@ -1,5 +1,5 @@
-"""``python -m cli``: the same as the ``turtlectl`` console script."""
+"""``python -m turtlectl.cli``: the same as the ``turtlectl`` console script."""
 
-from cli import entry
+from turtlectl.cli import entry
 
 entry()

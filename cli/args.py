@@ -11,7 +11,7 @@ import math
 import re
 from pathlib import Path
 
-from cli.errors import BadInput
+from turtlectl.cli.errors import BadInput
 
 #: ``--domain``: one key chunk; a number like ROS_DOMAIN_ID is fine
 DOMAIN_RE = re.compile(r"^[A-Za-z0-9_\-]+$")
@@ -49,7 +49,7 @@ def node_name(text: str) -> tuple[str, str]:
     """A node's name as ``turtlectl list`` shows it: (its domain, or "", the name).  A ROS-style
     leading ``/`` is accepted (``/navigator``); ``lab1/navigator`` names navigator in domain
     lab1.  Names are letters, digits, _ and - (as the launch file's): no wildcards."""
-    from cli.system.launchfile import NAME_RE
+    from turtlectl.cli.system.launchfile import NAME_RE
 
     domain_part, _, name = text.strip().lstrip("/").rpartition("/")
     if (domain_part and not DOMAIN_RE.match(domain_part)) or not NAME_RE.match(name):
@@ -101,7 +101,7 @@ def publish_count(once: bool, rate: float | None, times: int | None) -> int | No
 
 def log_level(text: str) -> str:
     """A log level (any case) as the nodes take it: DEBUG, INFO, WARNING (or WARN) or ERROR."""
-    from runtime.config import LOG_LEVELS
+    from turtlectl.runtime.config import LOG_LEVELS
 
     level = text.strip().upper()
     level = {"WARN": "WARNING"}.get(level, level)  # as ROS 2 spells it

@@ -8,7 +8,7 @@ on stderr and exits with ``exit_code(error)``.
 
 from __future__ import annotations
 
-from runtime.exitcodes import ExitCode
+from turtlectl.runtime.exitcodes import ExitCode
 
 __all__ = [
     "BadInput",

@@ -23,12 +23,12 @@ from typing import Any
 import typer
 import typer.core
 
-from cli import STOPPED_BY_CTRL_C
-from cli.commands import driving, introspection, parameters, recording, services, system, topics
-from cli.commands.options import DomainOption
-from cli.errors import ExitCode, Interrupted, TurtlectlError, exit_code
-from cli.sigint import ignore_sigint, quiet_unraisable
-from runtime.endpoint import CONNECT_ENV, DEFAULT_ENDPOINT
+from turtlectl.cli import STOPPED_BY_CTRL_C
+from turtlectl.cli.commands import driving, introspection, parameters, recording, services, system, topics
+from turtlectl.cli.commands.options import DomainOption
+from turtlectl.cli.errors import ExitCode, Interrupted, TurtlectlError, exit_code
+from turtlectl.cli.sigint import ignore_sigint, quiet_unraisable
+from turtlectl.runtime.endpoint import CONNECT_ENV, DEFAULT_ENDPOINT
 
 EXIT_CODES_HELP = """
 Exit codes: 0 success, or Ctrl-C on a command that runs until stopped (echo, hz,
@@ -92,7 +92,7 @@ app = typer.Typer(
 
 def _print_version(value: bool) -> None:
     if value:
-        from cli.version import version
+        from turtlectl.cli.version import version
 
         typer.echo(f"turtlectl {version()}")
         raise typer.Exit(0)

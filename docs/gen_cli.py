@@ -24,7 +24,7 @@ for folder in (ROOT, ROOT / "docs"):
 import generated  # noqa: E402
 import typer  # noqa: E402
 
-import cli.main  # noqa: E402
+from turtlectl.cli import main as cli_main  # noqa: E402
 
 OUTPUT = ROOT / "docs" / "reference" / "cli.md"
 
@@ -92,10 +92,10 @@ def _command(path: str, command: Any, level: int) -> list[str]:
 
 
 def render() -> str:
-    root = typer.main.get_command(cli.main.app)
+    root = typer.main.get_command(cli_main.app)
     ctx = root.context_class(root, info_name="turtlectl")
     names = [n for n in root.list_commands(ctx) if not root.commands[n].hidden]
-    groups: dict[str, tuple[str, ...]] = dict(getattr(cli.main, "COMMAND_GROUPS", {}))
+    groups: dict[str, tuple[str, ...]] = dict(getattr(cli_main, "COMMAND_GROUPS", {}))
     grouped = {n for ns in groups.values() for n in ns}
     groups["Other"] = tuple(n for n in names if n not in grouped)
     lines = [

@@ -21,7 +21,7 @@ for folder in (ROOT, ROOT / "docs"):
 
 import generated  # noqa: E402
 
-from runtime.exitcodes import ExitCode, node_exit, respawn_can_help  # noqa: E402
+from turtlectl.runtime.exitcodes import ExitCode, node_exit, respawn_can_help  # noqa: E402
 
 OUTPUT = ROOT / "docs" / "reference" / "exit-codes.md"
 

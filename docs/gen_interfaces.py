@@ -25,14 +25,14 @@ for folder in (ROOT, ROOT / "docs"):
 
 import generated  # noqa: E402
 
-from messages import ALL_TYPES, keys  # noqa: E402
-from messages.codec import MEDIA_TYPE  # noqa: E402
-from messages.params import ParamDescription, ParamInfo  # noqa: E402
-from messages.reference import FIELDS, KEYS, default_text, doc, struct_fields, type_name  # noqa: E402
-from messages.world import Limits, Obstacle, World  # noqa: E402
-from nodes.kinds import KINDS  # noqa: E402
-from runtime.params import field_comments, param_infos  # noqa: E402
-from sim.params import SimParams  # noqa: E402
+from turtlectl.messages import ALL_TYPES, keys  # noqa: E402
+from turtlectl.messages.codec import MEDIA_TYPE  # noqa: E402
+from turtlectl.messages.params import ParamDescription, ParamInfo  # noqa: E402
+from turtlectl.messages.reference import FIELDS, KEYS, default_text, doc, struct_fields, type_name  # noqa: E402
+from turtlectl.messages.world import Limits, Obstacle, World  # noqa: E402
+from turtlectl.nodes.kinds import KINDS  # noqa: E402
+from turtlectl.runtime.params import field_comments, param_infos  # noqa: E402
+from turtlectl.sim.params import SimParams  # noqa: E402
 
 OUTPUT = ROOT / "docs" / "interfaces.md"
 EXAMPLE = ROOT / "docs" / "examples" / "raw_client.py"

@@ -23,9 +23,9 @@ for folder in (ROOT, ROOT / "docs"):
 import generated  # noqa: E402
 from gen_interfaces import doc, param_table  # noqa: E402
 
-from cli.system.launchfile import NodeEntry, SupervisorSettings  # noqa: E402
-from messages.world import Limits, Obstacle, World  # noqa: E402
-from nodes.kinds import KINDS  # noqa: E402
+from turtlectl.cli.system.launchfile import NodeEntry, SupervisorSettings  # noqa: E402
+from turtlectl.messages.world import Limits, Obstacle, World  # noqa: E402
+from turtlectl.nodes.kinds import KINDS  # noqa: E402
 
 OUTPUT = ROOT / "docs" / "reference" / "launch-file.md"
 

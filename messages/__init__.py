@@ -1,6 +1,6 @@
 """The turtlectl wire contract: message types, codec and key expressions."""
 
-from messages.codec import (
+from turtlectl.messages.codec import (
     DecodeError,
     decode,
     decode_any,
@@ -10,7 +10,7 @@ from messages.codec import (
     to_json,
     type_from_encoding,
 )
-from messages.types import (
+from turtlectl.messages.types import (
     ALL_TYPES,
     Ack,
     Cancel,

@@ -11,7 +11,7 @@ from typing import TypeVar, Union
 
 import msgspec
 
-from messages.types import ALL_TYPES, Message
+from turtlectl.messages.types import ALL_TYPES, Message
 
 MEDIA_TYPE = "application/msgpack"
 
@@ -76,6 +76,6 @@ def to_builtins(msg: Message) -> dict:
 def to_json(msg: Message) -> bytes:
     """One-line JSON of a message, ``inf``/``NaN`` spelled ``"Infinity"``, ``"-Infinity"``,
     ``"NaN"`` (JSON has none): the one rule of every JSON turtlectl writes (messages.jsonform)."""
-    from messages.jsonform import to_json as spelled_json  # jsonform builds on this module
+    from turtlectl.messages.jsonform import to_json as spelled_json  # jsonform builds on this module
 
     return spelled_json(msg)

@@ -17,8 +17,8 @@ from typing import Any, Union
 
 import msgspec
 
-from messages.codec import type_name
-from messages.types import ALL_TYPES, Message
+from turtlectl.messages.codec import type_name
+from turtlectl.messages.types import ALL_TYPES, Message
 
 #: how each non-finite float is spelled in JSON here
 NON_FINITE = ("Infinity", "-Infinity", "NaN")

@@ -15,7 +15,7 @@ import re
 
 import msgspec
 
-from messages.types import (
+from turtlectl.messages.types import (
     Ack,
     Cancel,
     LaserScan,

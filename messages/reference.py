@@ -12,7 +12,7 @@ import math
 
 import msgspec
 
-from messages import GoalState, keys
+from turtlectl.messages import GoalState, keys
 
 STAMP = ("ns", ">= 0", "wall-clock time at publishing, ns since the Unix epoch (0 if the sender did not stamp it)")
 SEQ = ("count", ">= 0", "per-publisher counter from 0; starts again at 0 when the publisher restarts")

@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import msgspec
 
-from messages.units import Finite, Positive
+from turtlectl.messages.units import Finite, Positive
 
 #: turtlesim's world: its 500 px canvas is (500 - 1) / 45 m wide; the turtle spawns at the centre.
 TURTLESIM_SIZE = (500.0 - 1.0) / 45.0

@@ -7,8 +7,8 @@ from __future__ import annotations
 
 import math
 
-from messages import Pose, TurtleStatus
-from messages.angles import heading_degrees
+from turtlectl.messages import Pose, TurtleStatus
+from turtlectl.messages.angles import heading_degrees
 
 
 def drain(battery: float, dt: float, distance: float, per_second: float, per_metre: float) -> float:

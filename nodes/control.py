@@ -20,10 +20,10 @@ from typing import Protocol
 
 import msgspec
 
-from messages.units import Positive
-from messages.world import Limits
-from nodes.planner import Path, Track
-from sim.kinematics import STEP, wrap_angle
+from turtlectl.messages.units import Positive
+from turtlectl.messages.world import Limits
+from turtlectl.nodes.planner import Path, Track
+from turtlectl.sim.kinematics import STEP, wrap_angle
 
 #: m: how far inside an arc of the path the follower may cut
 SAG = 0.02

@@ -17,7 +17,7 @@ import math
 
 import numpy as np
 
-from nodes.planner import Circle
+from turtlectl.nodes.planner import Circle
 
 #: m a circle reaches beyond the hits it covers: room for the surface between hits, and for
 #: what a sparse or late scan shows of it (0.02 let a turtle circling a ring of such things

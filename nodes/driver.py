@@ -28,10 +28,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from messages import GoalState, Pose, Twist
-from messages.angles import wrap_radians
-from messages.world import Limits
-from nodes.control import (
+from turtlectl.messages import GoalState, Pose, Twist
+from turtlectl.messages.angles import wrap_radians
+from turtlectl.messages.world import Limits
+from turtlectl.nodes.control import (
     Command,
     Phase,
     Pose2D,
@@ -43,11 +43,11 @@ from nodes.control import (
     remaining_time,
     resting_pose,
 )
-from nodes.goal import allowed_speed
-from nodes.params import NavigatorParams
-from nodes.planner import Path, Segment, Track
-from nodes.scan import path_clearance
-from nodes.surroundings import Surroundings
+from turtlectl.nodes.goal import allowed_speed
+from turtlectl.nodes.params import NavigatorParams
+from turtlectl.nodes.planner import Path, Segment, Track
+from turtlectl.nodes.scan import path_clearance
+from turtlectl.nodes.surroundings import Surroundings
 
 #: m: a turtle this far from its path has its path planned again from where it is
 OFF_PATH = 0.3

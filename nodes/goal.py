@@ -7,8 +7,8 @@ from __future__ import annotations
 
 import math
 
-from messages import NavigateToRequest
-from messages.world import World
+from turtlectl.messages import NavigateToRequest
+from turtlectl.messages.world import World
 
 
 def goal_problem(request: NavigateToRequest, world: World, keep: float = 0.0) -> str | None:

@@ -41,7 +41,7 @@ from typing import Generic, TypeVar
 
 import numpy as np
 
-from messages import (
+from turtlectl.messages import (
     Ack,
     GoalState,
     LaserScan,
@@ -52,14 +52,14 @@ from messages import (
     TurtleStatus,
     Twist,
 )
-from messages.angles import degrees_0_360, heading_degrees, heading_difference_degrees, heading_radians
-from messages.keys import CLIENT_TOKEN_PREFIX, POSE
-from messages.world import Limits, World
-from nodes.control import Pose2D
-from nodes.driver import Arrived, Blocked, Driver, Note
-from nodes.goal import goal_problem, no_way
-from nodes.params import NavigatorParams
-from nodes.surroundings import Surroundings
+from turtlectl.messages.angles import degrees_0_360, heading_degrees, heading_difference_degrees, heading_radians
+from turtlectl.messages.keys import CLIENT_TOKEN_PREFIX, POSE
+from turtlectl.messages.world import Limits, World
+from turtlectl.nodes.control import Pose2D
+from turtlectl.nodes.driver import Arrived, Blocked, Driver, Note
+from turtlectl.nodes.goal import goal_problem, no_way
+from turtlectl.nodes.params import NavigatorParams
+from turtlectl.nodes.surroundings import Surroundings
 
 __all__ = ["Action", "Goal", "GoalMachine", "Note", "Reply"]
 

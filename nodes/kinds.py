@@ -8,7 +8,7 @@ A ``run`` is a built-in kind's name (``KINDS``) or a user's node class, ``module
 ``./file.py:Class`` (runtime.loader: the class's ``Params`` is its parameter Struct; it may
 also declare ``Claims``, a tuple of runtime.config.Claim, and ``Interface``, an Interface).
 A built-in kind is forked by the zygote from its module's ``main``; a user's class is started
-by exec, ``python -m runtime TARGET`` (why: runtime/__main__.py).
+by exec, ``python -m turtlectl.runtime TARGET`` (why: runtime/__main__.py).
 """
 
 from __future__ import annotations
@@ -17,7 +17,7 @@ from pathlib import Path
 
 import msgspec
 
-from messages.keys import (
+from turtlectl.messages.keys import (
     CANCEL,
     CLIENT_TOKEN_PREFIX,
     CMD_VEL,
@@ -30,21 +30,10 @@ from messages.keys import (
     TELEPORT,
     WORLD_KEY,
 )
-from nodes.params import NavigatorParams, ObstacleDetectorParams, StatusMonitorParams
-from runtime.config import Claim
-from runtime.loader import LoadError, absolute, is_target, load, suggestion
-from sim.params import SimParams
-
-
-class Interface(msgspec.Struct, frozen=True):
-    """The keys a node kind uses, beyond what every node does (its parameters, node info, log
-    level, parameter events and liveliness tokens: the runtime's)."""
-
-    publishes: tuple[str, ...] = ()
-    subscribes: tuple[str, ...] = ()
-    serves: tuple[str, ...] = ()
-    calls: tuple[str, ...] = ()
-    watches: tuple[str, ...] = ()  # liveliness tokens it follows
+from turtlectl.nodes.params import NavigatorParams, ObstacleDetectorParams, StatusMonitorParams
+from turtlectl.runtime.config import Claim, Interface
+from turtlectl.runtime.loader import LoadError, absolute, is_target, load, suggestion
+from turtlectl.sim.params import SimParams
 
 
 class NodeKind(msgspec.Struct, frozen=True):
@@ -90,22 +79,22 @@ def kind_of(run: str, base: Path) -> NodeKind:
         raise KindError(str(exc)) from None
     claims = getattr(cls, "Claims", ())
     if not (isinstance(claims, tuple) and all(isinstance(c, Claim) for c in claims)):
-        raise KindError(f"{run}: Claims must be a tuple of runtime.config.Claim")
+        raise KindError(f"{run}: Claims must be a tuple of turtlectl.Claim")
     interface = getattr(cls, "Interface", None)
     if interface is not None and not isinstance(interface, Interface):
-        raise KindError(f"{run}: Interface must be a nodes.kinds.Interface")
+        raise KindError(f"{run}: Interface must be a turtlectl.Interface")
     return NodeKind(absolute(run, base), params, claims, interface)
 
 
 KINDS: dict[str, NodeKind] = {
     "sim": _builtin(
-        "sim.node:Simulator",
+        "turtlectl.sim.node:Simulator",
         SimParams,
         Claim("pub", POSE),
         Interface(publishes=(POSE,), subscribes=(CMD_VEL,), serves=(TELEPORT, RESET, WORLD_KEY), calls=(CANCEL,)),
     ),
     "navigator": _builtin(
-        "nodes.navigator:Navigator",
+        "turtlectl.nodes.navigator:Navigator",
         NavigatorParams,
         Claim("srv", NAVIGATE_TO),
         Interface(
@@ -116,13 +105,13 @@ KINDS: dict[str, NodeKind] = {
         ),
     ),
     "status_monitor": _builtin(
-        "nodes.status_monitor:StatusMonitor",
+        "turtlectl.nodes.status_monitor:StatusMonitor",
         StatusMonitorParams,
         Claim("pub", STATUS),
         Interface(publishes=(STATUS,), subscribes=(POSE,), serves=(RESET,)),
     ),
     "obstacle_detector": _builtin(
-        "nodes.obstacle_detector:ObstacleDetector",
+        "turtlectl.nodes.obstacle_detector:ObstacleDetector",
         ObstacleDetectorParams,
         Claim("pub", OBSTACLES),
         Interface(publishes=(OBSTACLES,), subscribes=(POSE,)),

@@ -21,7 +21,7 @@ from __future__ import annotations
 
 import time
 
-from messages import (
+from turtlectl.messages import (
     Ack,
     Cancel,
     LaserScan,
@@ -32,10 +32,10 @@ from messages import (
     TurtleStatus,
     Twist,
 )
-from messages.keys import CANCEL, CLIENT_TOKEN_PREFIX, CMD_VEL, FEEDBACK, NAVIGATE_TO, OBSTACLES, POSE, STATUS
-from nodes.goal_machine import Action, GoalMachine, Reply
-from nodes.params import NavigatorParams
-from runtime import Node, Request, run_main
+from turtlectl.messages.keys import CANCEL, CLIENT_TOKEN_PREFIX, CMD_VEL, FEEDBACK, NAVIGATE_TO, OBSTACLES, POSE, STATUS
+from turtlectl.nodes.goal_machine import Action, GoalMachine, Reply
+from turtlectl.nodes.params import NavigatorParams
+from turtlectl.runtime import Node, Request, run_main
 
 WATCHDOG_PERIOD = 0.05  # s
 

@@ -14,12 +14,12 @@ import time
 
 import numpy as np
 
-from messages import LaserScan, Pose
-from messages.keys import OBSTACLES, POSE
-from messages.world import Obstacle, World
-from nodes.params import ObstacleDetectorParams
-from runtime import Node, run_main
-from sim.lidar import beam_angles, cast_rays, new_phantoms
+from turtlectl.messages import LaserScan, Pose
+from turtlectl.messages.keys import OBSTACLES, POSE
+from turtlectl.messages.world import Obstacle, World
+from turtlectl.nodes.params import ObstacleDetectorParams
+from turtlectl.runtime import Node, run_main
+from turtlectl.sim.lidar import beam_angles, cast_rays, new_phantoms
 
 
 class ObstacleDetector:

@@ -11,9 +11,9 @@ from typing import Annotated, ClassVar
 
 import msgspec
 
-from messages.units import LongTimeout, NonNegative, Percent, Positive, Rate, ShortTimeout
-from messages.world import Obstacle
-from nodes.control import Gains
+from turtlectl.messages.units import LongTimeout, NonNegative, Percent, Positive, Rate, ShortTimeout
+from turtlectl.messages.world import Obstacle
+from turtlectl.nodes.control import Gains
 
 Degrees = Annotated[float, msgspec.Meta(ge=-360.0, le=360.0)]
 PhantomRate = Annotated[float, msgspec.Meta(ge=0.0, le=100.0)]

@@ -22,7 +22,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from messages.world import Obstacle
+from turtlectl.messages.world import Obstacle
 
 #: m: how far a tangent may dip into a circle (rounding), and how close counts as on a circle
 EPS = 1e-7

@@ -10,7 +10,7 @@ import math
 
 import numpy as np
 
-from messages.world import Obstacle
+from turtlectl.messages.world import Obstacle
 
 
 def hit_points(x: float, y: float, theta: float, ranges: np.ndarray, angles: np.ndarray) -> np.ndarray:

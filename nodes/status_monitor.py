@@ -11,11 +11,11 @@ from __future__ import annotations
 
 import time
 
-from messages import Ack, Pose, Reset, TurtleStatus
-from messages.keys import POSE, RESET, STATUS
-from nodes.battery import drain, make_status, travelled
-from nodes.params import StatusMonitorParams
-from runtime import Node, Request, run_main
+from turtlectl.messages import Ack, Pose, Reset, TurtleStatus
+from turtlectl.messages.keys import POSE, RESET, STATUS
+from turtlectl.nodes.battery import drain, make_status, travelled
+from turtlectl.nodes.params import StatusMonitorParams
+from turtlectl.runtime import Node, Request, run_main
 
 FULL = 100.0  # %
 

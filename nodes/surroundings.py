@@ -20,12 +20,12 @@ import math
 
 import numpy as np
 
-from messages import LaserScan, Pose
-from messages.world import World
-from nodes.costmap import HIT_PAD, Costmap
-from nodes.params import NavigatorParams
-from nodes.planner import Circle, Path, containing, escape, inflate, shortest_path, wall_plugs
-from nodes.scan import hit_points, off_walls, unexplained
+from turtlectl.messages import LaserScan, Pose
+from turtlectl.messages.world import World
+from turtlectl.nodes.costmap import HIT_PAD, Costmap
+from turtlectl.nodes.params import NavigatorParams
+from turtlectl.nodes.planner import Circle, Path, containing, escape, inflate, shortest_path, wall_plugs
+from turtlectl.nodes.scan import hit_points, off_walls, unexplained
 
 
 class Surroundings:

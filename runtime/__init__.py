@@ -12,21 +12,21 @@ import importlib
 from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:
-    from runtime.entities import Latest, Publisher, Request, Timer
-    from runtime.lifecycle import run, run_main
-    from runtime.node import Node, NodeConflict
+    from turtlectl.runtime.entities import Latest, Publisher, Request, Timer
+    from turtlectl.runtime.lifecycle import run, run_main
+    from turtlectl.runtime.node import Node, NodeConflict
 
 __all__ = ["Latest", "Node", "NodeConflict", "Publisher", "Request", "Timer", "run", "run_main"]
 
 _HOME = {
-    "Latest": "runtime.entities",
-    "Node": "runtime.node",
-    "NodeConflict": "runtime.node",
-    "Publisher": "runtime.entities",
-    "Request": "runtime.entities",
-    "Timer": "runtime.entities",
-    "run": "runtime.lifecycle",
-    "run_main": "runtime.lifecycle",
+    "Latest": "turtlectl.runtime.entities",
+    "Node": "turtlectl.runtime.node",
+    "NodeConflict": "turtlectl.runtime.node",
+    "Publisher": "turtlectl.runtime.entities",
+    "Request": "turtlectl.runtime.entities",
+    "Timer": "turtlectl.runtime.entities",
+    "run": "turtlectl.runtime.lifecycle",
+    "run_main": "turtlectl.runtime.lifecycle",
 }
 
 

@@ -19,14 +19,14 @@ import logging
 import sys
 import traceback
 
-from runtime.exitcodes import ExitCode
-from runtime.lifecycle import run_main
-from runtime.loader import ImportRaised, LoadError, load
+from turtlectl.runtime.exitcodes import ExitCode
+from turtlectl.runtime.lifecycle import run_main
+from turtlectl.runtime.loader import ImportRaised, LoadError, load
 
 
 def main(argv: list[str]) -> None:
     if len(argv) != 1:
-        print("usage: python -m runtime module:Class | /path/to/file.py:Class", file=sys.stderr)
+        print("usage: python -m turtlectl.runtime module:Class | /path/to/file.py:Class", file=sys.stderr)
         sys.exit(ExitCode.BAD_INPUT)
     try:
         cls, params = load(argv[0])

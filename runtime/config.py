@@ -11,7 +11,7 @@ from typing import Any, Literal
 
 import msgspec
 
-from messages.world import Limits, World
+from turtlectl.messages.world import Limits, World
 
 ENV_VAR = "TURTLECTL_NODE_CONFIG"
 SUPERVISOR_PID_VAR = "TURTLECTL_SUPERVISOR_PID"
@@ -31,6 +31,17 @@ class Claim(msgspec.Struct, frozen=True, forbid_unknown_fields=True):
         """'publish turtle1/pose', or with ``third_person`` 'publishes turtle1/pose'."""
         verb = {"pub": "publish", "srv": "serve"}[self.role]
         return f"{verb}{'es' if third_person and verb.endswith('sh') else 's' if third_person else ''} {self.key}"
+
+
+class Interface(msgspec.Struct, frozen=True):
+    """The keys a node uses, beyond what every node does (its parameters, node info, log
+    level, parameter events and liveliness tokens: the runtime's), as key expressions."""
+
+    publishes: tuple[str, ...] = ()
+    subscribes: tuple[str, ...] = ()
+    serves: tuple[str, ...] = ()
+    calls: tuple[str, ...] = ()
+    watches: tuple[str, ...] = ()  # liveliness tokens it follows
 
 
 class Credentials(msgspec.Struct, frozen=True, forbid_unknown_fields=True):

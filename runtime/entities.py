@@ -11,11 +11,11 @@ from typing import TYPE_CHECKING, Any, Generic, TypeVar
 import msgspec
 import zenoh
 
-from messages import ErrorReply, Message, decode, encode, encoding_for
-from runtime.handles import Declaration
+from turtlectl.messages import ErrorReply, Message, decode, encode, encoding_for
+from turtlectl.runtime.handles import Declaration
 
 if TYPE_CHECKING:
-    from runtime.node import Node
+    from turtlectl.runtime.node import Node
 
 M = TypeVar("M", bound=Message)
 

@@ -30,11 +30,11 @@ from typing import Any, NoReturn
 import msgspec
 import zenoh
 
-from messages.keys import NodeInfo, node_token
-from runtime.config import ENV_VAR, SUPERVISOR_PID_VAR, decode_config
-from runtime.exitcodes import ExitCode
-from runtime.node import Node, NodeConflict, P
-from runtime.session import close_session, node_session_config
+from turtlectl.messages.keys import NodeInfo, node_token
+from turtlectl.runtime.config import ENV_VAR, SUPERVISOR_PID_VAR, decode_config
+from turtlectl.runtime.exitcodes import ExitCode
+from turtlectl.runtime.node import Node, NodeConflict, P
+from turtlectl.runtime.session import close_session, node_session_config
 
 _PR_SET_PDEATHSIG = 1
 _PARENT_CHECK_PERIOD = 0.5  # s

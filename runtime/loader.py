@@ -121,7 +121,9 @@ def _load_file(where: str, base: Path) -> ModuleType:
     module = importlib.util.module_from_spec(spec)
     folder = str(path.parent)
     if folder not in sys.path:
-        sys.path.append(folder)  # its siblings import, after everything installed (never shadowing it)
+        # its siblings import first, as `python patrol.py` gives them (a user's own messages.py or
+        # nodes/ included: ours are turtlectl.messages and turtlectl.nodes, never in their way)
+        sys.path.insert(0, folder)
     sys.modules[name] = module
     try:
         spec.loader.exec_module(module)

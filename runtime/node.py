@@ -41,7 +41,7 @@ from typing import Any, Generic, TypeVar
 import msgspec
 import zenoh
 
-from messages import (
+from turtlectl.messages import (
     Ack,
     Message,
     ParameterEvent,
@@ -51,8 +51,8 @@ from messages import (
     decode_any,
     encode,
 )
-from messages.codec import type_name
-from messages.keys import (
+from turtlectl.messages.codec import type_name
+from turtlectl.messages.keys import (
     ENTITY_TOKEN_PREFIX,
     PARAMETER_EVENTS,
     EntityInfo,
@@ -65,13 +65,13 @@ from messages.keys import (
     params_key,
     parse_entity_token,
 )
-from messages.params import ParamInfo
-from messages.world import Limits, World
-from runtime.config import LOG_LEVELS, Claim, NodeConfig
-from runtime.entities import Latest, Publisher, Request, Timer, sample_encoding
-from runtime.handles import Declaration
-from runtime.params import ParamRefused, describe, lookup, param_infos, with_value
-from runtime.session import client_config, close_session
+from turtlectl.messages.params import ParamInfo
+from turtlectl.messages.world import Limits, World
+from turtlectl.runtime.config import LOG_LEVELS, Claim, NodeConfig
+from turtlectl.runtime.entities import Latest, Publisher, Request, Timer, sample_encoding
+from turtlectl.runtime.handles import Declaration
+from turtlectl.runtime.params import ParamRefused, describe, lookup, param_infos, with_value
+from turtlectl.runtime.session import client_config, close_session
 
 P = TypeVar("P", bound=msgspec.Struct)
 M = TypeVar("M", bound=Message)

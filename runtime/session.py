@@ -20,8 +20,8 @@ from typing import Any
 
 import zenoh
 
-from runtime.config import Credentials
-from runtime.endpoint import tls_folder
+from turtlectl.runtime.config import Credentials
+from turtlectl.runtime.endpoint import tls_folder
 
 
 def _base(mode: str, domain: str = "") -> zenoh.Config:

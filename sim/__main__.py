@@ -1,3 +1,3 @@
-from sim.node import main
+from turtlectl.sim.node import main
 
 main()

@@ -11,8 +11,8 @@ from collections.abc import Sequence
 
 import msgspec
 
-from messages.angles import wrap_radians
-from messages.world import Limits, Obstacle
+from turtlectl.messages.angles import wrap_radians
+from turtlectl.messages.world import Limits, Obstacle
 
 #: turtlesim updates its turtles every 16 ms (62.5 Hz).
 STEP = 0.016

@@ -12,7 +12,7 @@ import math
 
 import numpy as np
 
-from messages.world import Obstacle, World
+from turtlectl.messages.world import Obstacle, World
 
 
 def beam_angles(angle_min: float, angle_max: float, count: int) -> np.ndarray:

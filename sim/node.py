@@ -19,13 +19,13 @@ from typing import Any
 
 import msgspec
 
-from messages import Ack, Cancel, Message, Pose, Reset, TeleportAbsolute, Twist
-from messages.angles import heading_degrees
-from messages.keys import CANCEL, CMD_VEL, POSE, RESET, TELEPORT, WORLD_KEY
-from messages.world import World
-from runtime import Node, Request, run_main
-from sim.kinematics import STEP, TurtleState, accelerate, collide, effective_command, step, wrap_angle
-from sim.params import SimParams
+from turtlectl.messages import Ack, Cancel, Message, Pose, Reset, TeleportAbsolute, Twist
+from turtlectl.messages.angles import heading_degrees
+from turtlectl.messages.keys import CANCEL, CMD_VEL, POSE, RESET, TELEPORT, WORLD_KEY
+from turtlectl.messages.world import World
+from turtlectl.runtime import Node, Request, run_main
+from turtlectl.sim.kinematics import STEP, TurtleState, accelerate, collide, effective_command, step, wrap_angle
+from turtlectl.sim.params import SimParams
 
 
 def placement_problem(world: World, x: float, y: float, theta: float) -> str | None:

@@ -6,8 +6,8 @@ from typing import ClassVar
 
 import msgspec
 
-from messages.units import Finite, ShortTimeout
-from messages.world import TURTLESIM_SIZE
+from turtlectl.messages.units import Finite, ShortTimeout
+from turtlectl.messages.world import TURTLESIM_SIZE
 
 
 class SimParams(msgspec.Struct, forbid_unknown_fields=True, kw_only=True):

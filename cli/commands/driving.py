@@ -9,9 +9,9 @@ import sys
 
 import typer
 
-from cli import args
-from cli.commands.options import ConnectOption, DomainOption, format, result
-from cli.errors import ExitCode, Failed, Interrupted
+from turtlectl.cli import args
+from turtlectl.cli.commands.options import ConnectOption, DomainOption, format, result
+from turtlectl.cli.errors import ExitCode, Failed, Interrupted
 
 
 def goto(
@@ -36,8 +36,8 @@ def goto(
 
     Example: turtlectl goto 8 5 90
     """
-    from cli.tools import services
-    from messages import NavigateToFeedback, NavigateToRequest
+    from turtlectl.cli.tools import services
+    from turtlectl.messages import NavigateToFeedback, NavigateToRequest
 
     request = NavigateToRequest(
         x=args.finite_number(x, "x"), y=args.finite_number(y, "y"), theta=args.finite_number(theta, "theta")
@@ -67,8 +67,8 @@ def cancel(connect: str = ConnectOption, domain: str = DomainOption) -> None:
 
     Example: turtlectl cancel
     """
-    from cli.tools import services
-    from messages import Cancel, keys
+    from turtlectl.cli.tools import services
+    from turtlectl.messages import Cancel, keys
 
     (ack,) = services.simple_call(connect, keys.CANCEL, Cancel())
     result(ack.detail)
@@ -86,9 +86,9 @@ def teleport(
 
     Example: turtlectl teleport 2 2 45
     """
-    from cli.tools import services
-    from messages import TeleportAbsolute, keys
-    from messages.angles import heading_radians
+    from turtlectl.cli.tools import services
+    from turtlectl.messages import TeleportAbsolute, keys
+    from turtlectl.messages.angles import heading_radians
 
     degrees = args.finite_number(theta, "theta")
     request = TeleportAbsolute(
@@ -105,8 +105,8 @@ def reset(connect: str = ConnectOption, domain: str = DomainOption) -> None:
 
     Example: turtlectl reset
     """
-    from cli.tools import services
-    from messages import Reset, keys
+    from turtlectl.cli.tools import services
+    from turtlectl.messages import Reset, keys
 
     acks = services.simple_call(connect, keys.RESET, Reset(), everyone=True)
     result(format.ack_lines(acks))
@@ -128,8 +128,8 @@ def teleop(
 
     Example: turtlectl teleop --linear 1.0
     """
-    from cli.tools import client
-    from cli.tools.teleop import run_teleop, terminal_fd
+    from turtlectl.cli.tools import client
+    from turtlectl.cli.tools.teleop import run_teleop, terminal_fd
 
     args.finite_option(linear, "--linear")
     args.finite_option(angular, "--angular")

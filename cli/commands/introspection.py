@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import typer
 
-from cli.commands.options import ConnectOption, DomainOption, JsonOption, NodeArgument, format, result
+from turtlectl.cli.commands.options import ConnectOption, DomainOption, JsonOption, NodeArgument, format, result
 
 
 def list_graph(
@@ -24,8 +24,8 @@ def list_graph(
 
     Example: turtlectl list
     """
-    from cli.tools import topics
-    from cli.tools.graph import graph_text, without_node_services
+    from turtlectl.cli.tools import topics
+    from turtlectl.cli.tools.graph import graph_text, without_node_services
 
     current = topics.graph(connect)
     if not all_:
@@ -48,7 +48,7 @@ def node_info(
 
     Example: turtlectl node info navigator
     """
-    from cli.tools import introspect
+    from turtlectl.cli.tools import introspect
 
     report = introspect.node_report(connect, node)
     result(format.json_value(report) if json else introspect.node_text(report))
@@ -65,7 +65,7 @@ def interface_list(json: bool = typer.Option(False, "--json", help="One JSON arr
 
     Example: turtlectl interface list
     """
-    from cli.tools import interface
+    from turtlectl.cli.tools import interface
 
     rows = interface.listing()
     result(format.json_value(rows) if json else interface.listing_text(rows))
@@ -81,7 +81,7 @@ def interface_show(
 
     Example: turtlectl interface show TurtleStatus
     """
-    from cli.tools import interface
+    from turtlectl.cli.tools import interface
 
     described = interface.description(type_)
     result(format.json_value(described) if json else interface.description_text(described))
@@ -94,8 +94,8 @@ def view(connect: str = ConnectOption, domain: str = DomainOption) -> None:
 
     Example: turtlectl view
     """
-    from cli.tools import client, services
-    from cli.tools.view import run_view  # curses: only for this command
+    from turtlectl.cli.tools import client, services
+    from turtlectl.cli.tools.view import run_view  # curses: only for this command
 
     try:
         with client.client_session(connect) as session:

@@ -7,12 +7,12 @@ import os
 
 import typer
 
-from cli import args, lazy_module
-from cli.errors import BadInput
-from cli.sigint import ignore_sigint
-from runtime.endpoint import CONNECT_ENV, DEFAULT_ENDPOINT, DOMAIN_ENV
+from turtlectl.cli import args, lazy_module
+from turtlectl.cli.errors import BadInput
+from turtlectl.cli.sigint import ignore_sigint
+from turtlectl.runtime.endpoint import CONNECT_ENV, DEFAULT_ENDPOINT, DOMAIN_ENV
 
-format = lazy_module("cli.tools.format")  # msgspec and the message types load when a command prints one
+format = lazy_module("turtlectl.cli.tools.format")  # msgspec and the message types load when a command prints one
 
 
 ConnectOption = typer.Option(

@@ -6,7 +6,15 @@ from __future__ import annotations
 
 import typer
 
-from cli.commands.options import ConnectOption, DomainOption, JsonOption, NodeArgument, format, result, use_node
+from turtlectl.cli.commands.options import (
+    ConnectOption,
+    DomainOption,
+    JsonOption,
+    NodeArgument,
+    format,
+    result,
+    use_node,
+)
 
 param_app = typer.Typer(
     help="A running node's parameters: list, get, set, describe, dump (as `ros2 param`).\n\n"
@@ -31,7 +39,7 @@ def param_list(
 
     Example: turtlectl param list navigator
     """
-    from cli.tools import params
+    from turtlectl.cli.tools import params
 
     if node is None:
         by_node = params.listing_all(connect)
@@ -60,7 +68,7 @@ def param_set(
 
     Example: turtlectl param set navigator goal_timeout 60
     """
-    from cli.tools import params
+    from turtlectl.cli.tools import params
 
     result(params.set_value(connect, node, name, value))
 
@@ -78,7 +86,7 @@ def param_describe(
 
     Example: turtlectl param describe navigator goal_timeout
     """
-    from cli.tools import params
+    from turtlectl.cli.tools import params
 
     info, now = params.describe(connect, node, name)
     if json:
@@ -98,7 +106,7 @@ def param_get(
 
     Example: turtlectl param get navigator goal_timeout
     """
-    from cli.tools import params
+    from turtlectl.cli.tools import params
 
     result(format.json_value(params.value(params.fetch(connect, node), node, name)))
 
@@ -114,7 +122,7 @@ def param_dump(
 
     Example: turtlectl param dump navigator > navigator.toml
     """
-    from cli.tools import params
+    from turtlectl.cli.tools import params
 
     values = params.fetch(connect, node)
     result(format.json_value(values) if json else params.dump(node, values))

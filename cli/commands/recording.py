@@ -10,10 +10,10 @@ from pathlib import Path
 
 import typer
 
-from cli import args
-from cli.commands.options import ConnectOption, DomainOption, JsonOption, format, result
-from cli.errors import BadInput
-from cli.sigint import stop_on_signals
+from turtlectl.cli import args
+from turtlectl.cli.commands.options import ConnectOption, DomainOption, JsonOption, format, result
+from turtlectl.cli.errors import BadInput
+from turtlectl.cli.sigint import stop_on_signals
 
 
 def record(
@@ -41,9 +41,9 @@ def record(
 
     Example: turtlectl record -a -o run.mcap
     """
-    from cli.recording import record as recording
-    from cli.recording.bag import refuse_existing
-    from cli.version import version
+    from turtlectl.cli.recording import record as recording
+    from turtlectl.cli.recording.bag import refuse_existing
+    from turtlectl.cli.version import version
 
     args.finite_option(duration, "--duration")
     keys, excluded = recording.keys_to_record(topics or [], all_topics, exclude)
@@ -75,7 +75,7 @@ def info(
 
     Example: turtlectl info run.mcap
     """
-    from cli.recording.reading import Recording
+    from turtlectl.cli.recording.reading import Recording
 
     details = Recording(file).info()
     result(format.info_json(details) if json else format.info_text(details))
@@ -101,8 +101,8 @@ def play(
 
     Example: turtlectl play run.mcap --rate 2
     """
-    from cli.recording import play as player
-    from cli.recording.reading import Recording
+    from turtlectl.cli.recording import play as player
+    from turtlectl.cli.recording.reading import Recording
 
     args.finite_option(rate, "--rate")
     args.finite_option(start_offset, "--start-offset")
@@ -110,7 +110,7 @@ def play(
     keys = [client_key(t) for t in topics] or None
     recording = Recording(file)
     if not recording.closed:
-        from cli.recording.recover import hint
+        from turtlectl.cli.recording.recover import hint
 
         typer.echo(
             f"warning: {file} was not closed (the recorder was killed?): playing what is complete; {hint(file)}",
@@ -152,8 +152,8 @@ def recover(
 
     Example: turtlectl recover run.mcap   (writes run-recovered.mcap)
     """
-    from cli.recording.recover import recover as recover_file
-    from cli.recording.recover import text
+    from turtlectl.cli.recording.recover import recover as recover_file
+    from turtlectl.cli.recording.recover import text
 
     result(text(recover_file(file, output)))
 
@@ -174,7 +174,7 @@ def foxglove(
     from importlib import resources
 
     if layout is not None:
-        text = resources.files("cli.foxglove").joinpath("foxglove_layout.json").read_text()
+        text = resources.files("turtlectl.cli.foxglove").joinpath("foxglove_layout.json").read_text()
         try:
             layout.write_text(text)
         except OSError as exc:
@@ -187,7 +187,7 @@ def foxglove(
         address = str(ipaddress.ip_address(host))
     except ValueError:
         raise BadInput(f"--host {host!r} is not an IP address (e.g. 127.0.0.1)") from None
-    from cli.foxglove import bridge
+    from turtlectl.cli.foxglove import bridge
 
     with stop_on_signals() as stop:
 
@@ -205,7 +205,7 @@ def foxglove(
 
 
 def client_key(text: str) -> str:
-    from cli.tools.client import check_key
+    from turtlectl.cli.tools.client import check_key
 
     return check_key(text, publish=True)
 

@@ -8,9 +8,9 @@ from typing import Any
 
 import typer
 
-from cli.commands.options import ConnectOption, DomainOption, format
-from cli.errors import ExitCode, Interrupted
-from cli.sigint import ignore_sigint
+from turtlectl.cli.commands.options import ConnectOption, DomainOption, format
+from turtlectl.cli.errors import ExitCode, Interrupted
+from turtlectl.cli.sigint import ignore_sigint
 
 
 def call(
@@ -36,7 +36,7 @@ def call(
     it); an Ack with ok false or a response with success false is exit code 1.
     Example: turtlectl call turtle1/teleport_absolute '{"x": 2, "y": 2, "theta": 0}'
     """
-    from cli.tools import build, client, services
+    from turtlectl.cli.tools import build, client, services
 
     key = client.check_key(service)
     body = build.service_request(client.base_key(key), request, type_name)

@@ -9,10 +9,10 @@ from pathlib import Path
 
 import typer
 
-from cli import args
-from cli.commands.options import ConnectOption, DomainOption, LogLevelOption, NodeArgument, format, result
-from cli.errors import BadInput
-from runtime.endpoint import DEFAULT_PORT, default_domain
+from turtlectl.cli import args
+from turtlectl.cli.commands.options import ConnectOption, DomainOption, LogLevelOption, NodeArgument, format, result
+from turtlectl.cli.errors import BadInput
+from turtlectl.runtime.endpoint import DEFAULT_PORT, default_domain
 
 
 def launch(
@@ -55,11 +55,11 @@ def launch(
 
     Example: turtlectl launch --port 7448 --set navigator.goal_timeout=60
     """
-    from cli.system.launchfile import default_launch_file
-    from cli.system.overrides import launch_plan
-    from cli.system.supervisor import logs
-    from cli.system.supervisor.manager import Supervisor
-    from cli.system.supervisor.printer import Printer
+    from turtlectl.cli.system.launchfile import default_launch_file
+    from turtlectl.cli.system.overrides import launch_plan
+    from turtlectl.cli.system.supervisor import logs
+    from turtlectl.cli.system.supervisor.manager import Supervisor
+    from turtlectl.cli.system.supervisor.printer import Printer
 
     if join is None:  # `turtlectl --connect E launch` joins E, as `turtlectl launch --connect E`
         join = (ctx.obj or {}).get("connect")
@@ -106,7 +106,7 @@ def certs(
 
     Example: turtlectl certs ~/.turtlectl/tls --host 192.168.1.20
     """
-    from cli.system.certs import make
+    from turtlectl.cli.system.certs import make
 
     written = make(folder, host)
     result("wrote " + ", ".join(str(p) for p in written))
@@ -124,7 +124,7 @@ def router(
 
     Example: turtlectl router --port 7447
     """
-    from cli.system.supervisor.router import run_router
+    from turtlectl.cli.system.supervisor.router import run_router
 
     if (ctx.obj or {}).get("connect") is not None:
         raise BadInput("router takes no --connect: it is the router the others connect to (see --port, --listen)")
@@ -150,10 +150,10 @@ def run(
 
     Example: turtlectl run navigator -p goal_timeout=60 --log-level DEBUG
     """
-    from cli.system.launchfile import default_launch_file, load_launch
-    from cli.system.overrides import class_plan, node_config
-    from cli.system.supervisor.process import exec_node
-    from runtime.loader import is_file, is_target
+    from turtlectl.cli.system.launchfile import default_launch_file, load_launch
+    from turtlectl.cli.system.overrides import class_plan, node_config
+    from turtlectl.cli.system.supervisor.process import exec_node
+    from turtlectl.runtime.loader import is_file, is_target
 
     if not is_target(node) and is_file(node):
         raise BadInput(f"{node} names a file: add its node class, as {node}:ClassName")
@@ -176,7 +176,7 @@ def log_level_command(
 
     Example: turtlectl log-level navigator DEBUG
     """
-    from cli.tools import introspect
+    from turtlectl.cli.tools import introspect
 
     result(introspect.set_log_level(connect, node, level))
 

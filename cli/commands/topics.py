@@ -8,9 +8,9 @@ import sys
 
 import typer
 
-from cli import args
-from cli.commands.options import ConnectOption, DomainOption, JsonOption, format, result
-from cli.errors import Interrupted, Unreachable
+from turtlectl.cli import args
+from turtlectl.cli.commands.options import ConnectOption, DomainOption, JsonOption, format, result
+from turtlectl.cli.errors import Interrupted, Unreachable
 
 
 def echo(
@@ -36,7 +36,7 @@ def echo(
     why on stderr, once per silence; the router lost is exit code 3.  With a wildcard each
     message names its key.  Example: turtlectl echo robot/status --field battery
     """
-    from cli.tools import topics
+    from turtlectl.cli.tools import topics
 
     args.one_format(json, csv)
     limit = args.echo_limit(once, count)
@@ -88,8 +88,8 @@ def hz(
     the reason, once per silence; the router lost is exit code 3.  Runs until Ctrl-C (exit code
     0) or --duration.  Example: turtlectl hz robot/status obstacles --duration 10
     """
-    from cli.tools import topics
-    from cli.tools.rates import rate_line
+    from turtlectl.cli.tools import topics
+    from turtlectl.cli.tools.rates import rate_line
 
     printed = False
     try:
@@ -123,7 +123,7 @@ def pub(
     the last message is exit code 130.
     Example: turtlectl pub turtle1/cmd_vel '{"linear": 1.0, "angular": 0.5}' --rate 10
     """
-    from cli.tools import build, client, topics
+    from turtlectl.cli.tools import build, client, topics
 
     key = client.check_key(topic, publish=True)
     msg = build.topic_message(client.base_key(key), message, type_name)
@@ -156,7 +156,7 @@ def topic_info(
 
     Example: turtlectl topic info turtle1/pose -v
     """
-    from cli.tools import introspect
+    from turtlectl.cli.tools import introspect
 
     report = introspect.topic_report(connect, key, verbose)
     result(format.json_value(report) if json else introspect.topic_text(report))

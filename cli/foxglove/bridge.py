@@ -27,11 +27,11 @@ from foxglove import Channel, Schema
 from foxglove.channels import LaserScanChannel, SceneUpdateChannel
 from foxglove.websocket import Capability, MessageSchema, ServerListener, Service, ServiceRequest, ServiceSchema
 
-from cli.foxglove.scene import SCAN, SCENE, SceneMaker
-from cli.tools.client import NotPermitted, client_session, logged_in_as
-from cli.tools.services import world as world_of
-from cli.tools.topics import live_graph
-from messages import (
+from turtlectl.cli.foxglove.scene import SCAN, SCENE, SceneMaker
+from turtlectl.cli.tools.client import NotPermitted, client_session, logged_in_as
+from turtlectl.cli.tools.services import world as world_of
+from turtlectl.cli.tools.topics import live_graph
+from turtlectl.messages import (
     Ack,
     Cancel,
     ErrorReply,
@@ -46,9 +46,9 @@ from messages import (
     encoding_for,
     type_from_encoding,
 )
-from messages.codec import TYPES_BY_NAME, DecodeError, type_name
-from messages.jsonform import JsonFormError, from_json, json_schema, to_json
-from messages.keys import CANCEL, NAVIGATE_TO, RESET, TELEPORT
+from turtlectl.messages.codec import TYPES_BY_NAME, DecodeError, type_name
+from turtlectl.messages.jsonform import JsonFormError, from_json, json_schema, to_json
+from turtlectl.messages.keys import CANCEL, NAVIGATE_TO, RESET, TELEPORT
 
 GRAPH_PERIOD = 1.0  # s between two looks at the live graph (channels come and go)
 WORLD_PERIOD = 1.0  # s between two sendings of the world (a viewer may connect at any time)
@@ -213,7 +213,7 @@ def serve(
             )
         except RuntimeError as exc:
             bridge.close()
-            from cli.errors import CannotStart
+            from turtlectl.cli.errors import CannotStart
 
             raise CannotStart(f"cannot serve Foxglove on {host}:{port}: {exc}") from None
         sub = session.declare_subscriber("**", bridge.on_sample)

@@ -35,11 +35,11 @@ from foxglove.messages import (
     Vector3,
 )
 
-from messages import LaserScan as Scan
-from messages import NavigateToFeedback
-from messages import Pose as TurtlePose
-from messages.angles import heading_radians
-from messages.world import World
+from turtlectl.messages import LaserScan as Scan
+from turtlectl.messages import NavigateToFeedback
+from turtlectl.messages import Pose as TurtlePose
+from turtlectl.messages.angles import heading_radians
+from turtlectl.messages.world import World
 
 FRAME = "world"
 SCENE = "scene"  # topic of the SceneUpdate channel

@@ -27,10 +27,10 @@ import time
 from pathlib import Path
 from typing import IO, Any
 
-from cli.errors import BadInput
-from messages import DecodeError, Message, decode, encoding_for, type_from_encoding
-from messages.codec import TYPES_BY_NAME, type_name
-from messages.jsonform import JsonFormError, from_json, json_schema, to_json
+from turtlectl.cli.errors import BadInput
+from turtlectl.messages import DecodeError, Message, decode, encoding_for, type_from_encoding
+from turtlectl.messages.codec import TYPES_BY_NAME, type_name
+from turtlectl.messages.jsonform import JsonFormError, from_json, json_schema, to_json
 
 PROFILE = ""  # no MCAP profile: our own JSON messages (ros1/ros2 profiles mean their encodings)
 JSON = "json"  # MCAP's well-known message encoding

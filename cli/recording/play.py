@@ -20,12 +20,12 @@ from collections.abc import Callable, Iterable, Iterator
 import msgspec
 import zenoh
 
-from cli.errors import BadInput
-from cli.recording.bag import Record
-from cli.recording.reading import Recording
-from cli.tools.client import check_key, client_session, require
-from messages import Message, encode, encoding_for
-from messages.keys import WORLD_KEY
+from turtlectl.cli.errors import BadInput
+from turtlectl.cli.recording.bag import Record
+from turtlectl.cli.recording.reading import Recording
+from turtlectl.cli.tools.client import check_key, client_session, require
+from turtlectl.messages import Message, encode, encoding_for
+from turtlectl.messages.keys import WORLD_KEY
 
 SPIN = 0.0015  # s before a message is due when sleeping stops and the wait spins (timer slack)
 

@@ -10,8 +10,8 @@ from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
-from cli.recording.bag import JSON, PROTOBUF, WORLD, Record, RecordingError
-from messages.codec import TYPES_BY_NAME
+from turtlectl.cli.recording.bag import JSON, PROTOBUF, WORLD, Record, RecordingError
+from turtlectl.messages.codec import TYPES_BY_NAME
 
 
 @dataclasses.dataclass(frozen=True)

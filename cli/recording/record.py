@@ -19,10 +19,10 @@ from pathlib import Path
 import msgspec
 import zenoh
 
-from cli.recording.bag import BagWriter
-from cli.tools.client import check_key, client_session
-from messages.keys import WORLD_KEY
-from messages.world import World
+from turtlectl.cli.recording.bag import BagWriter
+from turtlectl.cli.tools.client import check_key, client_session
+from turtlectl.messages.keys import WORLD_KEY
+from turtlectl.messages.world import World
 
 ALL = "**"  # every key (not turtlectl's liveliness tokens: keys under @ are not matched by **)
 PROGRESS_PERIOD = 0.5  # s between two progress reports
@@ -45,7 +45,7 @@ def default_path(now: datetime.datetime | None = None) -> Path:
 
 def keys_to_record(topics: list[str], everything: bool, exclude: list[str]) -> tuple[list[str], list[str]]:
     """The key expressions to subscribe to and those to leave out, checked (BadInput)."""
-    from cli.errors import BadInput
+    from turtlectl.cli.errors import BadInput
 
     if everything and topics:
         raise BadInput("give topics or -a/--all, not both")
@@ -59,7 +59,7 @@ class _Drawing:
     """The scene for ``record --scene``: drawn from each message, the world once a second."""
 
     def __init__(self, writer: BagWriter, world: World):
-        from cli.foxglove.scene import SceneMaker  # foxglove: only when asked for
+        from turtlectl.cli.foxglove.scene import SceneMaker  # foxglove: only when asked for
 
         self.writer = writer
         self.maker = SceneMaker(world)

@@ -22,7 +22,7 @@ from typing import TYPE_CHECKING, Any
 
 import zenoh
 
-from messages.keys import (
+from turtlectl.messages.keys import (
     CANCEL,
     CLIENT_TOKEN_PREFIX,
     CMD_VEL,
@@ -41,7 +41,7 @@ from messages.keys import (
 )
 
 if TYPE_CHECKING:  # the clients' check (``permitted``) needs no node kind
-    from nodes.kinds import Interface, NodeKind
+    from turtlectl.nodes.kinds import Interface, NodeKind
 
 #: a verb -> the Zenoh messages it takes, each with its direction at the router
 #: (ingress: from the session; egress: to it)
@@ -84,7 +84,7 @@ def _undeclared(name: str) -> Interface:
     """What a user's node class that declares no Interface may do: what a ``teleop`` client
     may (subscribe to everything, the operator's calls, cmd_vel, a caller's token), and
     publish and serve under its own name."""
-    from nodes.kinds import Interface
+    from turtlectl.nodes.kinds import Interface
 
     teleop = ROLES["teleop"]
     return Interface(

@@ -18,8 +18,8 @@ from pathlib import Path
 
 import msgspec
 
-from cli.errors import BadInput
-from runtime.config import Credentials
+from turtlectl.cli.errors import BadInput
+from turtlectl.runtime.config import Credentials
 
 ENV = "TURTLECTL_CREDENTIALS"
 ROLE_ENV = "TURTLECTL_ROLE"  # which of the system's client logins a command uses

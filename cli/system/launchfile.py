@@ -32,11 +32,11 @@ from typing import Annotated, Any
 import msgspec
 import msgspec.inspect as mi
 
-from cli.errors import BadInput
-from messages.world import Limits, World
-from nodes.kinds import KindError, NodeKind, kind_of
-from runtime.loader import suggestion as suggestion  # also for cli.system.overrides, cli.tools
-from runtime.params import validation_parts as validation_parts  # also for cli.tools.build
+from turtlectl.cli.errors import BadInput
+from turtlectl.messages.world import Limits, World
+from turtlectl.nodes.kinds import KindError, NodeKind, kind_of
+from turtlectl.runtime.loader import suggestion as suggestion  # also for cli.system.overrides, cli.tools
+from turtlectl.runtime.params import validation_parts as validation_parts  # also for cli.tools.build
 
 #: the launch file that comes with turtlectl: the whole system on one machine
 PACKAGED_LAUNCH = Path(__file__).resolve().parent / "launch.toml"

@@ -13,7 +13,7 @@ from typing import Any
 
 import msgspec
 
-from cli.system.launchfile import (
+from turtlectl.cli.system.launchfile import (
     TABLES,
     LaunchFileError,
     LaunchPlan,
@@ -24,10 +24,10 @@ from cli.system.launchfile import (
     suggestion,
     validate,
 )
-from messages.world import World
-from nodes.kinds import KINDS, KindError, kind_of
-from runtime.config import NodeConfig
-from runtime.params import lookup
+from turtlectl.messages.world import World
+from turtlectl.nodes.kinds import KINDS, KindError, kind_of
+from turtlectl.runtime.config import NodeConfig
+from turtlectl.runtime.params import lookup
 
 
 class Assignment(msgspec.Struct, frozen=True):

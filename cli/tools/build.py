@@ -10,11 +10,11 @@ from typing import Any
 
 import msgspec
 
-from cli.errors import BadInput
-from cli.system.launchfile import validation_parts
-from messages import Message
-from messages.codec import TYPES_BY_NAME
-from messages.keys import TOPICS, service_types
+from turtlectl.cli.errors import BadInput
+from turtlectl.cli.system.launchfile import validation_parts
+from turtlectl.messages import Message
+from turtlectl.messages.codec import TYPES_BY_NAME
+from turtlectl.messages.keys import TOPICS, service_types
 
 
 def _problem(exc: msgspec.ValidationError) -> str:

@@ -14,10 +14,10 @@ from collections.abc import Iterator
 
 import zenoh
 
-from cli.args import ENDPOINT_RE, endpoint
-from cli.errors import BadInput, Failed, TurtlectlError, Unreachable
-from cli.sigint import sigint_deferred
-from messages.keys import (
+from turtlectl.cli.args import ENDPOINT_RE, endpoint
+from turtlectl.cli.errors import BadInput, Failed, TurtlectlError, Unreachable
+from turtlectl.cli.sigint import sigint_deferred
+from turtlectl.messages.keys import (
     DOMAIN_GRAPHS,
     DOMAIN_TOKEN_PREFIX,
     NAVIGATE_TO,
@@ -27,8 +27,8 @@ from messages.keys import (
     client_token,
     parse_domain_token,
 )
-from runtime.endpoint import default_domain
-from runtime.session import client_config, close_session
+from turtlectl.runtime.endpoint import default_domain
+from turtlectl.runtime.session import client_config, close_session
 
 OPEN_TIMEOUT = 2.5  # s to reach the router before reporting "nothing to talk to"
 
@@ -53,8 +53,8 @@ def _no_system(connect: str) -> Unreachable:
 
 def _not_let_in(connect: str, logged_in: bool) -> str:
     """Why a router that is there may not have let this client in."""
-    from cli.system import credentials
-    from runtime.endpoint import TLS_ENV, tls_folder
+    from turtlectl.cli.system import credentials
+    from turtlectl.runtime.endpoint import TLS_ENV, tls_folder
 
     why = f"the router at {connect} did not let this client in within {OPEN_TIMEOUT:g} s: "
     if connect.startswith("tls/") and not tls_folder():
@@ -88,7 +88,7 @@ def require(verb: str, key: str) -> None:
     (publish, call, token) on ``key``: the router would drop it without a word."""
     if not _ROLE:
         return
-    from cli.system import access
+    from turtlectl.cli.system import access
 
     role = _ROLE[0]
     plain = base_key(key)  # lab1/navigate_to from outside domain lab1: the rules are lab1's own
@@ -121,7 +121,7 @@ def probe(connect: str) -> None:
 def client_session(connect: str, domain: str | None = None) -> Iterator[zenoh.Session]:
     """A Zenoh client session to the router at ``connect``, closed (bounded) on exit; in
     ``domain`` (default: --domain / TURTLECTL_DOMAIN; "" for none)."""
-    from cli.system import credentials
+    from turtlectl.cli.system import credentials
 
     probe(connect)
     login = credentials.for_endpoint(connect)

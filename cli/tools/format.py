@@ -10,13 +10,13 @@ from typing import TYPE_CHECKING, Any
 
 import msgspec
 
-from cli.errors import BadInput
-from messages import Ack, Message, NavigateToFeedback, NavigateToResponse, to_builtins
-from messages.angles import degrees_0_360
-from messages.jsonform import spelled, to_json
+from turtlectl.cli.errors import BadInput
+from turtlectl.messages import Ack, Message, NavigateToFeedback, NavigateToResponse, to_builtins
+from turtlectl.messages.angles import degrees_0_360
+from turtlectl.messages.jsonform import spelled, to_json
 
 if TYPE_CHECKING:  # launch files (nodes' parameters) are loaded by launch and run only
-    from cli.system.launchfile import LaunchPlan
+    from turtlectl.cli.system.launchfile import LaunchPlan
 
 SHORT = 8  # array items shown before "..." unless --full
 
@@ -219,7 +219,7 @@ def recording_line(elapsed: float, messages: int, size: int) -> str:
 
 def info_text(info: Any) -> str:
     """`turtlectl info`, as `ros2 bag info` prints a bag (``info``: cli.recording.reading.Info)."""
-    from cli.recording.recover import hint
+    from turtlectl.cli.recording.recover import hint
 
     lines = [
         f"File:      {info.path}",

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import msgspec
 
-from messages.keys import EntityInfo, NodeInfo, parse_domain_token, parse_entity_token, parse_node_token
+from turtlectl.messages.keys import EntityInfo, NodeInfo, parse_domain_token, parse_entity_token, parse_node_token
 
 
 class NodeRow(msgspec.Struct):

@@ -6,11 +6,11 @@ from __future__ import annotations
 
 from typing import Any
 
-from cli.tools.build import type_named
-from messages import ALL_TYPES
-from messages.codec import encoding_for, type_name
-from messages.reference import FIELDS, KEYS, default_text, doc, struct_fields
-from messages.reference import type_name as field_type
+from turtlectl.cli.tools.build import type_named
+from turtlectl.messages import ALL_TYPES
+from turtlectl.messages.codec import encoding_for, type_name
+from turtlectl.messages.reference import FIELDS, KEYS, default_text, doc, struct_fields
+from turtlectl.messages.reference import type_name as field_type
 
 
 def _keys_of(name: str) -> list[str]:

@@ -9,12 +9,12 @@ from typing import Any
 
 import msgspec
 
-from cli import args
-from cli.errors import BadInput, Failed
-from cli.tools.graph import Graph
-from cli.tools.services import NobodyServes, Raw, call_service
-from messages import Ack, SetLogLevel
-from messages.keys import NodeDetails, log_level_key, node_key
+from turtlectl.cli import args
+from turtlectl.cli.errors import BadInput, Failed
+from turtlectl.cli.tools.graph import Graph
+from turtlectl.cli.tools.services import NobodyServes, Raw, call_service
+from turtlectl.messages import Ack, SetLogLevel
+from turtlectl.messages.keys import NodeDetails, log_level_key, node_key
 
 TIMEOUT = 3.0  # s a node has to answer
 RATE_WINDOW = 1.0  # s over which `topic info -v` measures the rate
@@ -41,7 +41,7 @@ class NodeReport(msgspec.Struct):
 
 
 def _no_node(node: str, graph: Graph) -> NobodyServes:
-    from cli.tools.params import no_node
+    from turtlectl.cli.tools.params import no_node
 
     return no_node(node, [n.name for n in graph.nodes], graph.hint)
 
@@ -58,7 +58,7 @@ def _details(connect: str, node: str) -> NodeDetails:
 
 def node_report(connect: str, node: str) -> NodeReport:
     """Node ``node`` in detail (NobodyServes, exit 3, naming the running nodes if none is called so)."""
-    from cli.tools import params, topics
+    from turtlectl.cli.tools import params, topics
 
     graph = topics.graph(connect)
     if node not in {n.name for n in graph.nodes}:
@@ -84,7 +84,7 @@ def _rows(endpoints: list[Endpoint]) -> list[str]:
 
 
 def node_text(report: NodeReport) -> str:
-    from cli.tools import params
+    from turtlectl.cli.tools import params
 
     lines = [
         f"{report.name}  kind {report.kind}, pid {report.pid}, host {report.host}, "
@@ -122,8 +122,8 @@ class TopicReport(msgspec.Struct):
 def topic_report(connect: str, key: str, verbose: bool) -> TopicReport:
     """Topic ``key`` from the live graph; with ``verbose`` its rate measured over a second.
     A key no node publishes or subscribes to is NobodyServes (exit 3) naming the known topics."""
-    from cli.tools import topics
-    from cli.tools.client import check_key
+    from turtlectl.cli.tools import topics
+    from turtlectl.cli.tools.client import check_key
 
     key = check_key(key)
     graph = topics.graph(connect)
@@ -159,7 +159,7 @@ def _measure(connect: str, key: str) -> tuple[int, float]:
     the last arrival; 0 below two messages)."""
     import queue
 
-    from cli.tools.client import client_session
+    from turtlectl.cli.tools.client import client_session
 
     arrivals: queue.SimpleQueue[float] = queue.SimpleQueue()
     with client_session(connect) as session:
@@ -195,7 +195,7 @@ def set_log_level(connect: str, node: str, level: str) -> str:
     try:
         answers = list(call_service(connect, log_level_key(node), SetLogLevel(level=level), TIMEOUT))
     except NobodyServes:
-        from cli.tools import topics
+        from turtlectl.cli.tools import topics
 
         raise _no_node(node, topics.graph(connect)) from None
     acks = [a for a in answers if isinstance(a, Ack)]

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import msgspec
 
-from messages import Twist
+from turtlectl.messages import Twist
 
 #: escape sequences of the arrow keys (normal and application cursor mode), and the WASD keys
 ARROWS = {

@@ -14,13 +14,13 @@ from typing import Any
 
 import msgspec
 
-from cli.errors import BadInput, Failed
-from cli.tools.services import NobodyServes, Raw, Rejected, call_service, replies, service_session, world
-from messages import Ack, SetParameter
-from messages.keys import NodeDetails, node_key, param_describe_key, param_set_key, params_key
-from messages.params import ParamDescription, ParamInfo
-from messages.world import World
-from runtime.params import lookup
+from turtlectl.cli.errors import BadInput, Failed
+from turtlectl.cli.tools.services import NobodyServes, Raw, Rejected, call_service, replies, service_session, world
+from turtlectl.messages import Ack, SetParameter
+from turtlectl.messages.keys import NodeDetails, node_key, param_describe_key, param_set_key, params_key
+from turtlectl.messages.params import ParamDescription, ParamInfo
+from turtlectl.messages.world import World
+from turtlectl.runtime.params import lookup
 
 #: s a node has to answer
 TIMEOUT = 3.0
@@ -28,7 +28,7 @@ TIMEOUT = 3.0
 
 def _no_param(node: str, name: str, known: list[str]) -> BadInput:
     """An unknown parameter: the nearest one suggested, all of them named."""
-    from cli.system.launchfile import suggestion
+    from turtlectl.cli.system.launchfile import suggestion
 
     return BadInput(f"{node} has no parameter {name!r}{suggestion(name, known)} (it has: {', '.join(known)})")
 
@@ -36,7 +36,7 @@ def _no_param(node: str, name: str, known: list[str]) -> BadInput:
 def no_node(node: str, running: list[str], hint: str = "") -> NobodyServes:
     """No node called ``node`` answers in this command's domain; ``hint``: where systems run
     when none runs here (the live graph's hint)."""
-    from runtime.endpoint import default_domain
+    from turtlectl.runtime.endpoint import default_domain
 
     where = f" in domain {default_domain()}" if default_domain() else ""
     found = f"running: {', '.join(sorted(running))}" if running else f"no node runs{where}"
@@ -49,7 +49,7 @@ def _served(connect: str, key: str, node: str, what: str) -> bytes:
     try:
         answers = list(call_service(connect, key, b"", TIMEOUT))
     except NobodyServes:
-        from cli.tools import topics
+        from turtlectl.cli.tools import topics
 
         graph = topics.graph(connect)
         raise no_node(node, [n.name for n in graph.nodes], graph.hint) from None
@@ -196,9 +196,9 @@ def _check_value(node: str, kind: str, now: dict[str, Any], name: str, text: str
     """The value itself (its type and range), checked here as the node would check it
     (runtime.params), so that a built-in node's refusal reads as a user node's does:
     ``navigator: goal_timeout must be >= 0.1 (got -1)``."""
-    from cli.system.overrides import parse_assignment
-    from nodes.kinds import KINDS
-    from runtime.params import ParamRefused, with_value
+    from turtlectl.cli.system.overrides import parse_assignment
+    from turtlectl.nodes.kinds import KINDS
+    from turtlectl.runtime.params import ParamRefused, with_value
 
     value = parse_assignment(f"{node}.{name}={text}", "param set", "param set NODE NAME VALUE").value
     try:
@@ -220,8 +220,8 @@ def set_value(connect: str, node: str, name: str, text: str, timeout: float = TI
     first as the node checks it.  The node validates the value itself (its type and range;
     exit 2): its refusal is its one line (``mine: rate must be <= 50 (got 60)``), the same
     wording as a built-in kind's.  Returns the node's answer."""
-    from cli.system.launchfile import suggestion
-    from cli.system.overrides import launches, parse_assignment, running_change
+    from turtlectl.cli.system.launchfile import suggestion
+    from turtlectl.cli.system.overrides import launches, parse_assignment, running_change
 
     described = description(connect, node)
     infos = {p.name: p for p in described.parameters}

@@ -21,9 +21,9 @@ from collections.abc import Callable, Iterator
 import msgspec
 import zenoh
 
-from cli.errors import BadInput, CancelUnconfirmed, ExitCode, Failed, Interrupted, TurtlectlError, Unreachable
-from cli.sigint import sigint_deferred
-from cli.tools.client import (
+from turtlectl.cli.errors import BadInput, CancelUnconfirmed, ExitCode, Failed, Interrupted, TurtlectlError, Unreachable
+from turtlectl.cli.sigint import sigint_deferred
+from turtlectl.cli.tools.client import (
     base_key,
     caller_token,
     check_key,
@@ -33,7 +33,7 @@ from cli.tools.client import (
     require,
     router_lost,
 )
-from messages import (
+from turtlectl.messages import (
     Ack,
     Cancel,
     DecodeError,
@@ -48,10 +48,10 @@ from messages import (
     encoding_for,
     type_from_encoding,
 )
-from messages.codec import MEDIA_TYPE
-from messages.keys import CANCEL, NAVIGATE_TO, WORLD_KEY
-from messages.world import World
-from runtime.endpoint import default_domain
+from turtlectl.messages.codec import MEDIA_TYPE
+from turtlectl.messages.keys import CANCEL, NAVIGATE_TO, WORLD_KEY
+from turtlectl.messages.world import World
+from turtlectl.runtime.endpoint import default_domain
 
 ZENOH_GRACE = 1.0  # s: Zenoh's own query timeout is ours plus this; our deadline decides
 

@@ -22,13 +22,13 @@ from typing import TextIO
 
 import zenoh
 
-from cli.errors import BadInput, Unreachable
-from cli.sigint import stop_on_signals
-from cli.tools.client import ROUTER_CHECK, require, router_lost
-from cli.tools.keyboard import Driver, Shown, keys, status_line
-from messages import Cancel, Pose, Twist, decode, encode, encoding_for
-from messages.angles import heading_degrees
-from messages.keys import CANCEL, CMD_VEL, FEEDBACK, POSE
+from turtlectl.cli.errors import BadInput, Unreachable
+from turtlectl.cli.sigint import stop_on_signals
+from turtlectl.cli.tools.client import ROUTER_CHECK, require, router_lost
+from turtlectl.cli.tools.keyboard import Driver, Shown, keys, status_line
+from turtlectl.messages import Cancel, Pose, Twist, decode, encode, encoding_for
+from turtlectl.messages.angles import heading_degrees
+from turtlectl.messages.keys import CANCEL, CMD_VEL, FEEDBACK, POSE
 
 POLL = 0.02  # s: the longest a key waits to be read
 LINE_PERIOD = 0.1  # s between redraws of the status line

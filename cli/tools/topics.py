@@ -13,14 +13,22 @@ from collections.abc import Callable, Iterator
 import msgspec
 import zenoh
 
-from cli.errors import Unreachable
-from cli.tools.client import ROUTER_CHECK, base_key, check_key, client_session, domain_hint, require, router_lost
-from cli.tools.graph import Graph, build_graph
-from cli.tools.rates import SILENCE, Quiet, Rates, RateStats
-from cli.tools.services import RouterLost
-from messages import DecodeError, Message, decode, decode_any, encode, encoding_for, type_from_encoding
-from messages.keys import CMD_VEL, DOMAIN_GRAPHS, FEEDBACK, GRAPH, PARAMETER_EVENTS
-from runtime.endpoint import default_domain
+from turtlectl.cli.errors import Unreachable
+from turtlectl.cli.tools.client import (
+    ROUTER_CHECK,
+    base_key,
+    check_key,
+    client_session,
+    domain_hint,
+    require,
+    router_lost,
+)
+from turtlectl.cli.tools.graph import Graph, build_graph
+from turtlectl.cli.tools.rates import SILENCE, Quiet, Rates, RateStats
+from turtlectl.cli.tools.services import RouterLost
+from turtlectl.messages import DecodeError, Message, decode, decode_any, encode, encoding_for, type_from_encoding
+from turtlectl.messages.keys import CMD_VEL, DOMAIN_GRAPHS, FEEDBACK, GRAPH, PARAMETER_EVENTS
+from turtlectl.runtime.endpoint import default_domain
 
 WHILE_A_GOAL_RUNS = (FEEDBACK, CMD_VEL)  # published by the navigator only while a goal runs
 

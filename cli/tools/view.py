@@ -18,12 +18,12 @@ import time
 import msgspec
 import zenoh
 
-from cli.tools.client import ROUTER_CHECK, router_lost
-from cli.tools.format import heading_text
-from messages import LaserScan, NavigateToFeedback, Pose, TurtleStatus, decode_any
-from messages.angles import heading_degrees
-from messages.keys import FEEDBACK, OBSTACLES, POSE, STATUS
-from messages.world import World
+from turtlectl.cli.tools.client import ROUTER_CHECK, router_lost
+from turtlectl.cli.tools.format import heading_text
+from turtlectl.messages import LaserScan, NavigateToFeedback, Pose, TurtleStatus, decode_any
+from turtlectl.messages.angles import heading_degrees
+from turtlectl.messages.keys import FEEDBACK, OBSTACLES, POSE, STATUS
+from turtlectl.messages.world import World
 
 FRAME = 0.05  # s between frames: 20 frames a second
 TRAIL = 400  # poses kept for the trail

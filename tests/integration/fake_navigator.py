@@ -15,9 +15,9 @@ import time
 
 import zenoh
 
-from messages import NavigateToFeedback, encode, encoding_for
-from messages.keys import CANCEL, NAVIGATE_TO
-from runtime.session import client_config
+from turtlectl.messages import NavigateToFeedback, encode, encoding_for
+from turtlectl.messages.keys import CANCEL, NAVIGATE_TO
+from turtlectl.runtime.session import client_config
 
 HELD: list[zenoh.Query] = []  # cancels never answered (silent-cancel): kept, so never ended
 

@@ -34,8 +34,8 @@ import numpy as np
 import psutil
 import zenoh
 
-from cli.system import credentials
-from messages import (
+from turtlectl.cli.system import credentials
+from turtlectl.messages import (
     Message,
     NavigateToFeedback,
     NavigateToRequest,
@@ -48,10 +48,10 @@ from messages import (
     encode,
     encoding_for,
 )
-from messages.keys import NAVIGATE_TO, NODE_TOKEN_PREFIX, POSE, STATUS, TELEPORT, parse_node_token
-from runtime.config import NodeConfig
-from runtime.node import Node
-from runtime.session import client_config, close_session, peer_config, router_config
+from turtlectl.messages.keys import NAVIGATE_TO, NODE_TOKEN_PREFIX, POSE, STATUS, TELEPORT, parse_node_token
+from turtlectl.runtime.config import NodeConfig
+from turtlectl.runtime.node import Node
+from turtlectl.runtime.session import client_config, close_session, peer_config, router_config
 
 ROOT = Path(__file__).resolve().parents[2]
 DEFAULT_LAUNCH = ROOT / "launch.toml"
@@ -62,7 +62,7 @@ T = TypeVar("T")
 def turtlectl() -> list[str]:
     """The installed console script next to this interpreter."""
     script = Path(sys.executable).parent / "turtlectl"
-    return [str(script)] if script.exists() else [sys.executable, "-m", "cli"]
+    return [str(script)] if script.exists() else [sys.executable, "-m", "turtlectl.cli"]
 
 
 def free_port() -> int:
@@ -186,8 +186,10 @@ class System:
         extra_args: tuple[str, ...] = (),
         join: str | None = None,
         domain: str = "",
+        cwd: Path | None = None,
     ):
-        """``join``: run no router, join the one at that endpoint.  ``domain``: the system's key prefix."""
+        """``join``: run no router, join the one at that endpoint.  ``domain``: the system's key prefix.
+        ``cwd``: the folder it runs in (a user's project)."""
         self.port = free_port()
         scheme = "tls" if "--tls" in extra_args else "tcp"  # a --secure --tls system (TURTLECTL_TLS for us)
         self.endpoint = join or f"{scheme}/127.0.0.1:{self.port}"
@@ -205,6 +207,7 @@ class System:
             start_new_session=True,
             text=True,
             env={**os.environ, "PYTHONUNBUFFERED": "1", "TURTLECTL_LOG_DIR": str(self.log_dir)},
+            cwd=cwd,
         )
         self.child_pids: dict[int, float] = {}  # pid -> its start time, so a reused pid is never killed
         self.session: zenoh.Session | None = None

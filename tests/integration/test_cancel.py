@@ -15,8 +15,8 @@ from collections.abc import Iterator
 import pytest
 import zenoh
 
-from runtime.session import client_config, close_session
 from tests.integration.harness import ROOT, Router, turtlectl
+from turtlectl.runtime.session import client_config, close_session
 
 pytestmark = pytest.mark.integration
 

@@ -7,10 +7,10 @@ import time
 
 import pytest
 
-from cli.errors import ExitCode, TurtlectlError, exit_code
-from cli.tools import client, services, topics
-from messages import NavigateToRequest
 from tests.integration.harness import free_port, running_system, turtlectl
+from turtlectl.cli.errors import ExitCode, TurtlectlError, exit_code
+from turtlectl.cli.tools import client, services, topics
+from turtlectl.messages import NavigateToRequest
 
 pytestmark = pytest.mark.integration
 

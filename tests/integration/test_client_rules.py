@@ -20,7 +20,6 @@ import time
 import pyte
 import pytest
 
-from messages import Twist
 from tests.integration.harness import (
     ROOT,
     Router,
@@ -32,6 +31,7 @@ from tests.integration.harness import (
     turtlectl,
     view_in_pty,
 )
+from turtlectl.messages import Twist
 
 pytestmark = pytest.mark.integration
 

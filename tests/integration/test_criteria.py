@@ -20,11 +20,11 @@ import numpy as np
 import pytest
 import zenoh
 
-from cli.system.launchfile import load_launch, parse_launch
-from messages import ErrorReply, LaserScan, NavigateToResponse, Pose, Reset, TurtleStatus, decode
-from messages.keys import NAVIGATE_TO, OBSTACLES, POSE, RESET, STATUS
 from tests.integration.harness import DEFAULT_LAUNCH, NODES, obstacles_in_view, running_system, turtlectl
 from tests.integration.launches import CUSTOM
+from turtlectl.cli.system.launchfile import load_launch, parse_launch
+from turtlectl.messages import ErrorReply, LaserScan, NavigateToResponse, Pose, Reset, TurtleStatus, decode
+from turtlectl.messages.keys import NAVIGATE_TO, OBSTACLES, POSE, RESET, STATUS
 
 pytestmark = pytest.mark.integration
 

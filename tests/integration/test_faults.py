@@ -15,9 +15,9 @@ from pathlib import Path
 import msgspec
 import pytest
 
-from messages import TurtleStatus
-from messages.keys import STATUS
 from tests.integration.harness import NODES, Router, pid_alive, running_system, turtlectl
+from turtlectl.messages import TurtleStatus
+from turtlectl.messages.keys import STATUS
 
 pytestmark = pytest.mark.integration
 

@@ -18,9 +18,9 @@ import jsonschema
 import pytest
 from websockets.asyncio.client import connect
 
-from cli.system.launchfile import load_launch
 from tests.integration.harness import ROOT, free_port, running_system, turtlectl
 from tests.protobuf_schemas import protobuf_class
+from turtlectl.cli.system.launchfile import load_launch
 
 pytestmark = pytest.mark.integration
 

@@ -18,9 +18,9 @@ import time
 
 import pytest
 
-from messages import Ack, Cancel, LaserScan, Reset, TeleportAbsolute, TurtleStatus, Twist, decode, encode
-from messages.keys import CANCEL, CMD_VEL, OBSTACLES, RESET, STATUS, TELEPORT
 from tests.integration.harness import read_until_closed, running_system, turtlectl
+from turtlectl.messages import Ack, Cancel, LaserScan, Reset, TeleportAbsolute, TurtleStatus, Twist, decode, encode
+from turtlectl.messages.keys import CANCEL, CMD_VEL, OBSTACLES, RESET, STATUS, TELEPORT
 
 pytestmark = pytest.mark.integration
 

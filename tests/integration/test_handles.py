@@ -7,11 +7,11 @@ from __future__ import annotations
 import pytest
 import zenoh
 
-from messages import Ack, ErrorReply, Pose, Reset, decode, encode
-from messages.keys import ENTITY_TOKEN_PREFIX, parse_entity_token
-from runtime.node import Node
 from tests.integration.harness import node_in_process
 from tests.integration.test_runtime import _until
+from turtlectl.messages import Ack, ErrorReply, Pose, Reset, decode, encode
+from turtlectl.messages.keys import ENTITY_TOKEN_PREFIX, parse_entity_token
+from turtlectl.runtime.node import Node
 
 pytestmark = pytest.mark.integration
 

@@ -6,7 +6,7 @@ import json
 
 import pytest
 
-from cli.errors import ExitCode
+from turtlectl.cli.errors import ExitCode
 
 pytestmark = pytest.mark.integration
 

@@ -11,9 +11,9 @@ import time
 
 import pytest
 
-from messages import LaserScan, TurtleStatus
-from messages.keys import OBSTACLES, STATUS
 from tests.integration.harness import ROOT, System, pid_alive, running_system
+from turtlectl.messages import LaserScan, TurtleStatus
+from turtlectl.messages.keys import OBSTACLES, STATUS
 
 pytestmark = pytest.mark.integration
 

@@ -11,10 +11,10 @@ import subprocess
 
 import pytest
 
-from cli.errors import ExitCode
-from messages import ParameterEvent, TurtleStatus, decode
-from messages.keys import PARAMETER_EVENTS, STATUS
 from tests.integration.harness import running_system, turtlectl
+from turtlectl.cli.errors import ExitCode
+from turtlectl.messages import ParameterEvent, TurtleStatus, decode
+from turtlectl.messages.keys import PARAMETER_EVENTS, STATUS
 
 pytestmark = pytest.mark.integration
 

@@ -15,9 +15,9 @@ import queue
 
 import pytest
 
-from messages import GoalState, Pose, decode
-from messages.keys import POSE
 from tests.integration.harness import running_system
+from turtlectl.messages import GoalState, Pose, decode
+from turtlectl.messages.keys import POSE
 
 pytestmark = pytest.mark.integration
 

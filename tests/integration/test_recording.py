@@ -20,12 +20,12 @@ import msgspec
 import pytest
 import zenoh
 
-from cli.recording.reading import Recording
-from cli.system.launchfile import load_launch
-from messages import decode_any, encode
-from messages.keys import WORLD_KEY
-from runtime.session import client_config, close_session
 from tests.integration.harness import ROOT, Router, in_pty, pump, running_system, turtlectl
+from turtlectl.cli.recording.reading import Recording
+from turtlectl.cli.system.launchfile import load_launch
+from turtlectl.messages import decode_any, encode
+from turtlectl.messages.keys import WORLD_KEY
+from turtlectl.runtime.session import client_config, close_session
 
 pytestmark = pytest.mark.integration
 

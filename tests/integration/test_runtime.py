@@ -16,11 +16,11 @@ import time
 import pytest
 import zenoh
 
-from messages import Pose, Twist, decode, encode
-from messages.keys import ENTITY_TOKEN_PREFIX, parse_entity_token
-from runtime.config import ENV_VAR, NodeConfig, encode_config
-from runtime.session import client_config, close_session, router_config
 from tests.integration.harness import ROOT, free_port, node_in_process
+from turtlectl.messages import Pose, Twist, decode, encode
+from turtlectl.messages.keys import ENTITY_TOKEN_PREFIX, parse_entity_token
+from turtlectl.runtime.config import ENV_VAR, NodeConfig, encode_config
+from turtlectl.runtime.session import client_config, close_session, router_config
 
 pytestmark = pytest.mark.integration
 
@@ -32,8 +32,8 @@ RAISING_NODE = textwrap.dedent(
     f"""
     import sys
     import msgspec
-    from messages import Twist
-    from runtime import run_main
+    from turtlectl.messages import Twist
+    from turtlectl.runtime import run_main
 
     class Params(msgspec.Struct, forbid_unknown_fields=True):
         where: str = "timer"

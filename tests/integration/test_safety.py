@@ -17,7 +17,9 @@ import time
 import pytest
 import zenoh
 
-from messages import (
+from tests.integration.harness import running_system, turtlectl
+from tests.integration.test_goals import Background
+from turtlectl.messages import (
     Ack,
     NavigateToRequest,
     Pose,
@@ -30,9 +32,7 @@ from messages import (
     encode,
     encoding_for,
 )
-from messages.keys import CMD_VEL, NAVIGATE_TO, POSE, RESET, STATUS, TELEPORT
-from tests.integration.harness import running_system, turtlectl
-from tests.integration.test_goals import Background
+from turtlectl.messages.keys import CMD_VEL, NAVIGATE_TO, POSE, RESET, STATUS, TELEPORT
 
 pytestmark = pytest.mark.integration
 

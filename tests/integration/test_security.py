@@ -15,13 +15,13 @@ import psutil
 import pytest
 import zenoh
 
-from cli.errors import ExitCode
-from cli.system import credentials
-from messages import Twist, encode, encoding_for
-from messages.keys import CMD_VEL, NAVIGATE_TO
-from runtime.config import Credentials
-from runtime.session import client_config, peer_config
 from tests.integration.harness import running_system, turtlectl
+from turtlectl.cli.errors import ExitCode
+from turtlectl.cli.system import credentials
+from turtlectl.messages import Twist, encode, encoding_for
+from turtlectl.messages.keys import CMD_VEL, NAVIGATE_TO
+from turtlectl.runtime.config import Credentials
+from turtlectl.runtime.session import client_config, peer_config
 
 pytestmark = pytest.mark.integration
 
@@ -183,7 +183,7 @@ def run_as(system, env: dict[str, str], *args: str) -> tuple[subprocess.Complete
 
 def test_secure_over_mutual_tls_takes_only_certificates_its_authority_signed(store, tmp_path, monkeypatch):
     """Issue 14 on loopback (the two-host version runs in test_hosts where namespaces can be made)."""
-    from cli.system.certs import make
+    from turtlectl.cli.system.certs import make
 
     make(tmp_path / "tls", [])
     make(tmp_path / "other", [])

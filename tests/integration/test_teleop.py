@@ -10,10 +10,10 @@ import time
 
 import pytest
 
-from cli.errors import ExitCode
-from messages import Twist, decode
-from messages.keys import CMD_VEL
 from tests.integration.harness import in_pty, pump, set_winsize, turtlectl
+from turtlectl.cli.errors import ExitCode
+from turtlectl.messages import Twist, decode
+from turtlectl.messages.keys import CMD_VEL
 
 pytestmark = pytest.mark.integration
 

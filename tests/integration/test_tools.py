@@ -11,11 +11,11 @@ import time
 import pyte
 import pytest
 
-from cli.errors import ExitCode, TurtlectlError, exit_code
-from cli.tools import services
-from messages import TurtleStatus
-from messages.keys import GRAPH, STATUS
 from tests.integration.harness import NODES, pump, running_system, set_winsize, turtlectl, view_in_pty
+from turtlectl.cli.errors import ExitCode, TurtlectlError, exit_code
+from turtlectl.cli.tools import services
+from turtlectl.messages import TurtleStatus
+from turtlectl.messages.keys import GRAPH, STATUS
 
 pytestmark = pytest.mark.integration
 
@@ -295,8 +295,8 @@ def test_param_list_get_and_dump_read_what_the_node_runs_with(system):
     """Issue 13: `turtlectl param` against the real system; dump reads back as the launch file's table."""
     import tomllib
 
-    from cli.system.launchfile import load_launch
     from tests.integration.harness import DEFAULT_LAUNCH
+    from turtlectl.cli.system.launchfile import load_launch
 
     listed = system.run_cli("param", "list", "navigator", "--json")
     assert listed.returncode == 0, listed.stderr

@@ -12,9 +12,9 @@ import textwrap
 
 import pytest
 
-from cli.errors import ExitCode
-from runtime.config import ENV_VAR, NodeConfig, encode_config
 from tests.integration.harness import ROOT
+from turtlectl.cli.errors import ExitCode
+from turtlectl.runtime.config import ENV_VAR, NodeConfig, encode_config
 
 pytestmark = pytest.mark.integration
 
@@ -25,7 +25,7 @@ PATROL = textwrap.dedent(
 
     import msgspec
 
-    from runtime import run_main
+    from turtlectl.runtime import run_main
 
 
     class Gains(msgspec.Struct, forbid_unknown_fields=True, kw_only=True):

@@ -14,8 +14,8 @@ from pathlib import Path
 
 import pytest
 
-from cli.errors import ExitCode
 from tests.integration.harness import running_system, turtlectl
+from turtlectl.cli.errors import ExitCode
 
 pytestmark = pytest.mark.integration
 
@@ -27,7 +27,9 @@ PATROL = textwrap.dedent(
 
     import msgspec
 
-    from runtime import Node, run_main
+    from messages import Waypoint  # the project's own messages.py: never turtlectl's
+
+    from turtlectl import Node, run_main
 
 
     class PatrolParams(msgspec.Struct, forbid_unknown_fields=True, kw_only=True):
@@ -39,7 +41,8 @@ PATROL = textwrap.dedent(
         Params = PatrolParams
 
         def __init__(self, node: Node[PatrolParams]):
-            node.log.info("patrolling a %g m square", node.params.side)
+            corner = Waypoint(x=node.params.side)
+            node.log.info("patrolling a %g m square", corner.x)
 
 
     class Mover:
@@ -48,7 +51,7 @@ PATROL = textwrap.dedent(
         Params = PatrolParams
 
         def __init__(self, node: Node[PatrolParams]):
-            from messages import Twist
+            from turtlectl.messages import Twist
 
             pub = node.publisher("turtle1/cmd_vel", Twist)
             node.timer(0.1, lambda: pub.publish(Twist(linear=0.5, angular=0.0)))
@@ -86,15 +89,28 @@ LAUNCH = textwrap.dedent(
 )
 
 
+#: a project's own modules named as ours were (issue 24): they shadow nothing of turtlectl's
+SHADOWS = {
+    "messages.py": "import msgspec\n\n\nclass Waypoint(msgspec.Struct):\n    x: float\n",
+    "runtime.py": "raise ImportError('the project runtime.py was imported by turtlectl')\n",
+    "nodes/__init__.py": "raise ImportError('the project nodes/ was imported by turtlectl')\n",
+    "cli.py": "raise ImportError('the project cli.py was imported by turtlectl')\n",
+    "sim.py": "raise ImportError('the project sim.py was imported by turtlectl')\n",
+}
+
+
 @pytest.fixture
 def project(tmp_path: Path) -> Path:
+    for name, text in SHADOWS.items():
+        (tmp_path / name).parent.mkdir(exist_ok=True)
+        (tmp_path / name).write_text(text)
     (tmp_path / "patrol.py").write_text(PATROL)
     (tmp_path / "launch.toml").write_text(LAUNCH)
     return tmp_path
 
 
 def test_a_user_node_class_runs_beside_the_builtins_supervised_as_they_are(project):
-    with running_system(project / "launch.toml", ready=("sim", "guard")) as system:
+    with running_system(project / "launch.toml", ready=("sim", "guard"), cwd=project) as system:
         got = system.run_cli("param", "get", "guard", "side")
         assert got.returncode == 0 and json.loads(got.stdout) == 3.5, got.stderr
         described = json.loads(system.run_cli("param", "describe", "guard", "side", "--json").stdout)
@@ -133,13 +149,15 @@ def test_a_user_node_class_runs_beside_the_builtins_supervised_as_they_are(proje
         assert system.stop() == 0
 
 
-def test_under_secure_an_undeclared_user_kind_joins_and_drives_as_a_teleop_client_may(tmp_path, monkeypatch):
-    (tmp_path / "patrol.py").write_text(PATROL)
+def test_under_secure_an_undeclared_user_kind_joins_and_drives_as_a_teleop_client_may(project, monkeypatch):
+    tmp_path = project
     (tmp_path / "launch.toml").write_text(
         '[[node]]\nname = "sim"\nrun = "sim"\n\n[[node]]\nname = "mover"\nrun = "./patrol.py:Mover"\n'
     )
     monkeypatch.setenv("TURTLECTL_CREDENTIALS", str(tmp_path / "credentials.json"))  # never the user's own
-    with running_system(tmp_path / "launch.toml", ready=("sim", "mover"), extra_args=("--secure",)) as system:
+    with running_system(
+        tmp_path / "launch.toml", ready=("sim", "mover"), extra_args=("--secure",), cwd=project
+    ) as system:
         system.wait_moving(0.4, timeout=20.0)  # its cmd_vel got through the router's rules
         got = system.run_cli("param", "get", "mover", "side")
         assert got.returncode == 0 and json.loads(got.stdout) == 2.0, got.stderr
@@ -155,8 +173,8 @@ BAD = [
 
 
 @pytest.mark.parametrize(("run", "error"), BAD)
-def test_a_run_that_names_no_node_class_is_one_line_and_exit_2(tmp_path, run, error):
-    (tmp_path / "patrol.py").write_text(PATROL)
+def test_a_run_that_names_no_node_class_is_one_line_and_exit_2(project, run, error):
+    tmp_path = project
     (tmp_path / "syntax.py").write_text("class Patrol(:\n    pass\n")
     (tmp_path / "importing.py").write_text("import os\nimport no_such_package_of_yours\n")
     (tmp_path / "launch.toml").write_text(f'[[node]]\nname = "guard"\nrun = "{run}"\n')

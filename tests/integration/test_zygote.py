@@ -11,9 +11,9 @@ from pathlib import Path
 
 import pytest
 
-from messages import TurtleStatus
-from messages.keys import STATUS
 from tests.integration.harness import System, pid_alive, running_system, session_members
+from turtlectl.messages import TurtleStatus
+from turtlectl.messages.keys import STATUS
 
 pytestmark = pytest.mark.integration
 

@@ -20,11 +20,11 @@ from pathlib import Path
 
 import pytest
 
-from cli.system.supervisor.printer import Printer
-from cli.system.supervisor.process import ZygoteChild
-from cli.system.supervisor.zygote import Zygote, ZygoteUnavailable, start
-from runtime.config import SUPERVISOR_PID_VAR
 from tests.integration.harness import session_members
+from turtlectl.cli.system.supervisor.printer import Printer
+from turtlectl.cli.system.supervisor.process import ZygoteChild
+from turtlectl.cli.system.supervisor.zygote import Zygote, ZygoteUnavailable, start
+from turtlectl.runtime.config import SUPERVISOR_PID_VAR
 
 pytestmark = pytest.mark.integration
 
@@ -192,7 +192,7 @@ def test_a_module_the_zygote_could_not_import_is_said_once_and_the_others_are_st
 SUPERVISOR = textwrap.dedent(
     f"""
     import os, sys, time
-    from cli.system.supervisor.zygote import start
+    from turtlectl.cli.system.supervisor.zygote import start
     zygote = start([{MODULE!r}])
     read, write = os.pipe()
     node = zygote.spawn({MODULE!r}, dict(os.environ, ZYGOTE_TEST="sleep", TURTLECTL_SUPERVISOR_PID=str(os.getpid())), write)
@@ -306,7 +306,7 @@ def test_a_node_forked_as_the_zygote_dies_never_runs_untracked():
 SUPERVISOR_MID_FORK = textwrap.dedent(
     f"""
     import os, sys, threading
-    from cli.system.supervisor.zygote import start
+    from turtlectl.cli.system.supervisor.zygote import start
     zygote = start([{MODULE!r}])
     print(zygote.pid, flush=True)
     read, write = os.pipe()

@@ -4,7 +4,11 @@
   imports only packages to its left (and itself);
 * the pure modules (wire contract, world model, kinematics, lidar, control law,
   scan geometry, goal logic, launch-file parsing) never import zenoh, not even
-  through another module of ours.
+  through another module of ours;
+* every import of ours is through ``turtlectl`` (``from turtlectl.messages import Twist``),
+  never a bare ``messages``: a user's own ``messages.py`` would shadow that.
+
+Modules are named here without their ``turtlectl.`` prefix (``runtime.node``).
 """
 
 from __future__ import annotations
@@ -53,7 +57,8 @@ PURE = [
 
 def imports_of(path: Path, name: str) -> set[str]:
     """Every module that ``path`` (module ``name``) imports, at any depth of its code (lazy
-    imports in functions included)."""
+    imports in functions included); ours without their ``turtlectl.`` prefix, and a bare
+    import of one of our packages as ``BARE:name``."""
     tree = ast.parse(path.read_text(), str(path))
     found: set[str] = set()
     package = name if path.name == "__init__.py" else name.rpartition(".")[0]
@@ -68,7 +73,13 @@ def imports_of(path: Path, name: str) -> set[str]:
                 stem = node.module or ""
             found.add(stem)
             found.update(f"{stem}.{alias.name}" for alias in node.names)  # `from pkg import module`
-    return found
+    return {_ours(module) for module in found}
+
+
+def _ours(module: str) -> str:
+    if module.split(".")[0] in LAYERS:
+        return f"BARE:{module}"
+    return module.removeprefix("turtlectl.")
 
 
 def all_modules(root: Path = ROOT) -> dict[str, set[str]]:
@@ -123,6 +134,20 @@ def test_imports_run_one_way():
     assert wrong_way(all_modules()) == []
 
 
+def bare_imports(graph: dict[str, set[str]]) -> list[str]:
+    """Imports of our packages by their bare names (``from messages import Twist``)."""
+    return [
+        f"{m} imports {t.removeprefix('BARE:')}"
+        for m, imported in sorted(graph.items())
+        for t in sorted(imported)
+        if t.startswith("BARE:")
+    ]
+
+
+def test_every_import_of_ours_goes_through_turtlectl():
+    assert bare_imports(all_modules()) == []
+
+
 @pytest.mark.parametrize("module", pure_modules(all_modules()))
 def test_pure_modules_never_reach_zenoh(module):
     assert zenoh_reached(all_modules(), module) is None
@@ -139,8 +164,10 @@ def test_the_checks_catch_what_they_name(tmp_path):
     for layer in LAYERS:
         (tmp_path / layer).mkdir()
         (tmp_path / layer / "__init__.py").write_text("")
-    (tmp_path / "runtime" / "node.py").write_text("import zenoh\nfrom sim.world import World\n")
-    (tmp_path / "sim" / "kinematics.py").write_text("def f():\n    from runtime import node\n")
+    (tmp_path / "runtime" / "node.py").write_text("import zenoh\nfrom turtlectl.sim.world import World\n")
+    (tmp_path / "sim" / "kinematics.py").write_text("def f():\n    from turtlectl.runtime import node\n")
+    (tmp_path / "nodes" / "patrol.py").write_text("from messages import Twist\n")
     graph = all_modules(tmp_path)
     assert wrong_way(graph) == ["runtime.node imports sim.world (sim is right of runtime)"]
+    assert bare_imports(graph) == ["nodes.patrol imports messages", "nodes.patrol imports messages.Twist"]
     assert zenoh_reached(graph, "sim.kinematics") == ["sim.kinematics", "runtime.node", "zenoh"]

@@ -23,21 +23,21 @@ from typing import Any
 import msgspec
 import zenoh
 
-import cli
-from cli.errors import BadInput, CannotStart, ExitCode, TurtlectlError
-from cli.system import access, credentials
-from cli.system.launchfile import LaunchPlan
-from cli.system.overrides import node_config
-from cli.system.supervisor import logs, zygote
-from cli.system.supervisor.printer import Printer
-from cli.system.supervisor.process import Child, ZygoteChild, node_command, program_command
-from cli.system.supervisor.router import join_router, open_router
-from cli.system.supervisor.supervision import Supervision
-from messages import DecodeError, ParameterEvent, decode
-from messages.keys import NODE_TOKEN_PREFIX, PARAMETER_EVENTS, domain_token, parse_node_token
-from runtime.config import ENV_VAR, Credentials, NodeConfig, encode_config
-from runtime.endpoint import TLS_ENV
-from runtime.session import close_session
+from turtlectl import cli
+from turtlectl.cli.errors import BadInput, CannotStart, ExitCode, TurtlectlError
+from turtlectl.cli.system import access, credentials
+from turtlectl.cli.system.launchfile import LaunchPlan
+from turtlectl.cli.system.overrides import node_config
+from turtlectl.cli.system.supervisor import logs, zygote
+from turtlectl.cli.system.supervisor.printer import Printer
+from turtlectl.cli.system.supervisor.process import Child, ZygoteChild, node_command, program_command
+from turtlectl.cli.system.supervisor.router import join_router, open_router
+from turtlectl.cli.system.supervisor.supervision import Supervision
+from turtlectl.messages import DecodeError, ParameterEvent, decode
+from turtlectl.messages.keys import NODE_TOKEN_PREFIX, PARAMETER_EVENTS, domain_token, parse_node_token
+from turtlectl.runtime.config import ENV_VAR, Credentials, NodeConfig, encode_config
+from turtlectl.runtime.endpoint import TLS_ENV
+from turtlectl.runtime.session import close_session
 
 
 class Supervisor:
@@ -234,7 +234,7 @@ class Supervisor:
     def _child(self, name: str) -> Child:
         """The Child for node ``name``: its command and environment, made once (its config
         changed by ``--persist``).  A built-in kind is forked by the zygote; a user's node class
-        is always exec'd (``python -m runtime TARGET``): the zygote never imports a user's module
+        is always exec'd (``python -m turtlectl.runtime TARGET``): the zygote never imports a user's module
         (runtime/__main__.py says why); so is a ``cmd`` node's program."""
         if name in self.plan.commands:
             argv, env = program_command(name, self.plan.commands[name], self.endpoint, self.domain)

@@ -18,10 +18,10 @@ import sys
 import threading
 from typing import BinaryIO, NoReturn
 
-from cli.system.supervisor.printer import Printer
-from cli.system.supervisor.zygote import Zygote, ZygoteUnavailable
-from nodes.kinds import KINDS, NodeKind
-from runtime.config import ENV_VAR, SUPERVISOR_PID_VAR, NodeConfig, encode_config
+from turtlectl.cli.system.supervisor.printer import Printer
+from turtlectl.cli.system.supervisor.zygote import Zygote, ZygoteUnavailable
+from turtlectl.nodes.kinds import KINDS, NodeKind
+from turtlectl.runtime.config import ENV_VAR, SUPERVISOR_PID_VAR, NodeConfig, encode_config
 
 #: what a ``cmd`` node is told: its name in the launch file, the system's domain (key prefix,
 #: empty for none) and the router's endpoint; the last two are what the CLI reads too
@@ -164,12 +164,12 @@ def node_command(
     """The argv and environment that start node ``config``, the one way both ``launch`` and
     ``run`` do it: this interpreter, unbuffered, running a built-in kind's module, or a user's
     node class (``kind``, as the launch file's run resolved: a built-in's by default) through
-    ``python -m runtime TARGET`` (runtime/__main__.py says why such a node is never forked by
+    ``python -m turtlectl.runtime TARGET`` (runtime/__main__.py says why such a node is never forked by
     the zygote), with the config in its environment.  ``supervisor_pid``: the supervisor the
     node watches (it stops when that process dies); None for a node run on its own (``turtlectl
     run``), which watches nobody."""
     kind = kind or KINDS[config.kind]
-    argv = [sys.executable, "-u", "-m", *((kind.module,) if kind.builtin else ("runtime", kind.target))]
+    argv = [sys.executable, "-u", "-m", *((kind.module,) if kind.builtin else ("turtlectl.runtime", kind.target))]
     env = dict(os.environ)
     env[ENV_VAR] = encode_config(config)
     env["PYTHONUNBUFFERED"] = "1"

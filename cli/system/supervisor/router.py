@@ -15,8 +15,8 @@ from typing import Any
 
 import zenoh
 
-from cli.errors import CannotStart, Unreachable
-from runtime.session import client_config, close_session, router_config, zenoh_reason
+from turtlectl.cli.errors import CannotStart, Unreachable
+from turtlectl.runtime.session import client_config, close_session, router_config, zenoh_reason
 
 JOIN_TIMEOUT = 3.0  # s to reach the router that ``launch --connect`` joins
 

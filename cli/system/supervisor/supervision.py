@@ -32,10 +32,10 @@ import time
 from collections.abc import Callable
 from typing import Protocol
 
-from cli.errors import ExitCode
-from cli.system.launchfile import LaunchPlan
-from cli.system.supervisor.printer import Printer
-from runtime.exitcodes import node_exit, respawn_can_help
+from turtlectl.cli.errors import ExitCode
+from turtlectl.cli.system.launchfile import LaunchPlan
+from turtlectl.cli.system.supervisor.printer import Printer
+from turtlectl.runtime.exitcodes import node_exit, respawn_can_help
 
 POLL = 0.05  # s between checks of the children
 STABLE_RUN = 10.0  # s: a child that ran this long has its respawn count reset

@@ -37,7 +37,7 @@ import os
 import signal
 from collections.abc import Callable
 
-from cli.system.supervisor.zygote_server import MAX_MESSAGE, close_inherited, prctl, serve
+from turtlectl.cli.system.supervisor.zygote_server import MAX_MESSAGE, close_inherited, prctl, serve
 
 _PR_SET_CHILD_SUBREAPER = 36  # orphans below this process become its children (Linux 3.4+)
 START_TIMEOUT = 10.0  # s a request may wait for its answer (the zygote may still be importing)

@@ -73,7 +73,7 @@ def serve(fd: int, supervisor: int, names: list[str] | None) -> int:
     prctl(_PR_SET_NAME, b"turtle-zygote")
 
     if names is None:
-        from nodes.kinds import KINDS
+        from turtlectl.nodes.kinds import KINDS
 
         names = [kind.module for kind in KINDS.values()]
     modules: dict[str, ModuleType] = {}

@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import pytest
 
-from cli import args
-from cli.errors import BadInput
+from turtlectl.cli import args
+from turtlectl.cli.errors import BadInput
 
 
 @pytest.mark.parametrize("text, value", [("1", 1.0), ("-2.5", -2.5), ("1e3", 1000.0), (" 7 ", 7.0)])
@@ -86,7 +86,7 @@ def test_certs_make_an_authority_and_certificates_it_signed(tmp_path):
 
     from cryptography import x509
 
-    from cli.system.certs import FILES, make
+    from turtlectl.cli.system.certs import FILES, make
 
     written = make(tmp_path / "tls", ["10.0.0.5", "robot.local"])
     assert [p.name for p in written] == list(FILES)

@@ -4,9 +4,9 @@ from __future__ import annotations
 
 import pytest
 
-from cli.errors import BadInput, CannotStart, ExitCode, Failed, Interrupted, Unreachable, exit_code
-from cli.system.launchfile import LaunchFileError
-from cli.tools.services import NoAnswer, NobodyServes, RouterLost
+from turtlectl.cli.errors import BadInput, CannotStart, ExitCode, Failed, Interrupted, Unreachable, exit_code
+from turtlectl.cli.system.launchfile import LaunchFileError
+from turtlectl.cli.tools.services import NoAnswer, NobodyServes, RouterLost
 
 
 @pytest.mark.parametrize(

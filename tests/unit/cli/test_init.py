@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import pytest
 
-from cli import STOPPED_BY_CTRL_C, command_of
+from turtlectl.cli import STOPPED_BY_CTRL_C, command_of
 
 
 @pytest.mark.parametrize(

@@ -15,24 +15,24 @@ import sys
 import pytest
 from typer.testing import CliRunner
 
-from cli.errors import BadInput, ExitCode, Interrupted, TurtlectlError, exit_code
-from cli.main import app, error_line, main
-from cli.system.launchfile import PACKAGED_LAUNCH
-from runtime.endpoint import CONNECT_ENV, DOMAIN_ENV
+from turtlectl.cli.errors import BadInput, ExitCode, Interrupted, TurtlectlError, exit_code
+from turtlectl.cli.main import app, error_line, main
+from turtlectl.cli.system.launchfile import PACKAGED_LAUNCH
+from turtlectl.runtime.endpoint import CONNECT_ENV, DOMAIN_ENV
 
 HEAVY = [
     "numpy",
     "curses",
-    "cli.tools.view",
-    "cli.tools.client",
-    "cli.tools.services",
-    "cli.tools.topics",
-    "cli.system.launchfile",
-    "cli.system.supervisor.manager",
-    "cli.system.supervisor.router",
-    "runtime.node",
-    "runtime.lifecycle",
-    "nodes.kinds",
+    "turtlectl.cli.tools.view",
+    "turtlectl.cli.tools.client",
+    "turtlectl.cli.tools.services",
+    "turtlectl.cli.tools.topics",
+    "turtlectl.cli.system.launchfile",
+    "turtlectl.cli.system.supervisor.manager",
+    "turtlectl.cli.system.supervisor.router",
+    "turtlectl.runtime.node",
+    "turtlectl.runtime.lifecycle",
+    "turtlectl.nodes.kinds",
     "msgspec",  # issue 10: the message types cost --help 25 ms; the commands that send one import them
 ]
 
@@ -308,13 +308,13 @@ def test_help_lists_the_commands_and_the_exit_codes():
 def test_importing_the_command_line_loads_nothing_heavy():
     """`turtlectl --help` stays quick: numpy, curses, sessions, launch files and the supervisor
     are imported by the commands that use them."""
-    code = f"import cli.main, sys; print([m for m in {HEAVY!r} if m in sys.modules])"
+    code = f"import turtlectl.cli.main, sys; print([m for m in {HEAVY!r} if m in sys.modules])"
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
     assert out.strip() == "[]"
 
 
 def test_importing_the_command_line_does_not_import_numpy():
-    code = "import cli.main, sys; print('numpy' in sys.modules)"
+    code = "import turtlectl.cli.main, sys; print('numpy' in sys.modules)"
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
     assert out.strip() == "False"
 
@@ -381,8 +381,8 @@ def test_record_into_an_existing_file_is_refused_before_it_says_it_records(tmp_p
 
 
 def test_play_from_past_the_end_says_how_long_the_recording_is(tmp_path):
-    from cli.recording.bag import BagWriter
-    from messages import Pose, encode, encoding_for
+    from turtlectl.cli.recording.bag import BagWriter
+    from turtlectl.messages import Pose, encode, encoding_for
 
     writer = BagWriter(tmp_path / "run.mcap")
     for i in range(63):  # 0.992 s
@@ -423,7 +423,7 @@ def test_help_groups_the_commands_and_every_command_has_an_example():
     """Issue 13: `turtlectl --help` stays readable as it grows; each command shows how it is used."""
     import typer.main
 
-    from cli.main import COMMAND_GROUPS
+    from turtlectl.cli.main import COMMAND_GROUPS
 
     code, text = invoke("--help")
     assert code == ExitCode.OK
@@ -460,7 +460,7 @@ def test_a_node_name_is_a_name_not_a_key_expression(argv, name):
 
 def test_a_node_name_may_have_ros_s_slash_or_the_domain_list_shows(monkeypatch):
     """`/navigator` is navigator; `lab1/navigator` is navigator in domain lab1 (as `list` shows it)."""
-    from cli import args
+    from turtlectl.cli import args
 
     assert args.node_name("/navigator") == ("", "navigator")
     assert args.node_name("lab1/navigator") == ("lab1", "navigator")
@@ -472,7 +472,7 @@ def test_a_node_name_may_have_ros_s_slash_or_the_domain_list_shows(monkeypatch):
 
 
 def test_warn_is_warning_as_ros_spells_it():
-    from cli import args
+    from turtlectl.cli import args
 
     assert args.log_level("warn") == "WARNING" and args.log_level(" Error ") == "ERROR"
 

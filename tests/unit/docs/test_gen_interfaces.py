@@ -7,7 +7,7 @@ from pathlib import Path
 import msgspec
 import pytest
 
-from messages import ALL_TYPES, keys
+from turtlectl.messages import ALL_TYPES, keys
 
 ROOT = Path(__file__).resolve().parents[3]
 

@@ -6,7 +6,7 @@ from pathlib import Path
 
 import pytest
 
-from runtime.exitcodes import ExitCode
+from turtlectl.runtime.exitcodes import ExitCode
 
 ROOT = Path(__file__).resolve().parents[3]
 
@@ -33,7 +33,7 @@ def test_every_exit_code_has_its_meaning_and_no_other():
 def test_the_command_reference_has_every_command_and_option_of_the_app():
     import typer
 
-    from cli.main import app
+    from turtlectl.cli.main import app
 
     page = (ROOT / "docs" / "reference" / "cli.md").read_text()
     root = typer.main.get_command(app)
@@ -45,7 +45,7 @@ def test_the_command_reference_has_every_command_and_option_of_the_app():
 
 
 def test_the_launch_file_reference_has_every_parameter_of_every_kind():
-    from nodes.kinds import KINDS
+    from turtlectl.nodes.kinds import KINDS
 
     page = (ROOT / "docs" / "reference" / "launch-file.md").read_text()
     for kind, spec in KINDS.items():

@@ -5,7 +5,7 @@ record-and-replay guide (once the README's section) says each recorded channel's
 
 from pathlib import Path
 
-from messages.reference import FIELDS
+from turtlectl.messages.reference import FIELDS
 
 ROOT = Path(__file__).resolve().parents[3]
 DOC = (ROOT / "docs" / "interfaces.md").read_text()

@@ -2,7 +2,7 @@
 
 import math
 
-from messages import (
+from turtlectl.messages import (
     Ack,
     Cancel,
     ErrorReply,

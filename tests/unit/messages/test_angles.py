@@ -6,7 +6,13 @@ from pathlib import Path
 
 import pytest
 
-from messages.angles import degrees_0_360, heading_degrees, heading_difference_degrees, heading_radians, wrap_radians
+from turtlectl.messages.angles import (
+    degrees_0_360,
+    heading_degrees,
+    heading_difference_degrees,
+    heading_radians,
+    wrap_radians,
+)
 
 
 @pytest.mark.parametrize(

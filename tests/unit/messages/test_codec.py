@@ -3,7 +3,8 @@
 import msgspec
 import pytest
 
-from messages import (
+from tests.unit.messages.samples import SAMPLES
+from turtlectl.messages import (
     DecodeError,
     NavigateToRequest,
     Pose,
@@ -15,7 +16,6 @@ from messages import (
     encoding_for,
     type_from_encoding,
 )
-from tests.unit.messages.samples import SAMPLES
 
 
 @pytest.mark.parametrize("msg", SAMPLES, ids=lambda m: type(m).__name__)

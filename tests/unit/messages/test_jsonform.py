@@ -9,10 +9,10 @@ import math
 import msgspec
 import pytest
 
-from messages import LaserScan, Pose, decode_any, encode
-from messages.jsonform import NON_FINITE, JsonFormError, from_json, json_schema, to_json
-from messages.types import ALL_TYPES
 from tests.unit.messages.samples import SAMPLES
+from turtlectl.messages import LaserScan, Pose, decode_any, encode
+from turtlectl.messages.jsonform import NON_FINITE, JsonFormError, from_json, json_schema, to_json
+from turtlectl.messages.types import ALL_TYPES
 
 
 @pytest.mark.parametrize("msg", SAMPLES, ids=lambda m: type(m).__name__)
@@ -39,7 +39,7 @@ def test_non_finite_floats_are_spelled_and_come_back():
 
 
 def test_a_string_field_keeps_a_non_finite_spelling_as_text():
-    from messages import NavigateToResponse
+    from turtlectl.messages import NavigateToResponse
 
     response = NavigateToResponse(success=False, time_taken=1.0, reason="NaN", detail="Infinity")
     again = from_json(to_json(response))

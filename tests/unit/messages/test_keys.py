@@ -1,10 +1,10 @@
 """messages.keys: every key has a type; node, entity, domain and client tokens round-trip."""
 
-from messages import (
+from turtlectl.messages import (
     NavigateToRequest,
     NavigateToResponse,
 )
-from messages.keys import (
+from turtlectl.messages.keys import (
     SERVICES,
     TOPICS,
     EntityInfo,

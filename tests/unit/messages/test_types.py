@@ -6,7 +6,8 @@ import math
 import msgspec
 import pytest
 
-from messages import (
+from tests.unit.messages.samples import SAMPLES
+from turtlectl.messages import (
     ALL_TYPES,
     DecodeError,
     GoalState,
@@ -20,7 +21,6 @@ from messages import (
     encoding_for,
     to_json,
 )
-from tests.unit.messages.samples import SAMPLES
 
 
 def test_samples_cover_every_type():

@@ -3,7 +3,7 @@
 import msgspec
 import pytest
 
-from messages.world import Limits, Obstacle, World
+from turtlectl.messages.world import Limits, Obstacle, World
 
 
 @pytest.mark.parametrize(

@@ -4,8 +4,8 @@ import math
 
 import pytest
 
-from messages import Pose
-from nodes.battery import drain, make_status, travelled
+from turtlectl.messages import Pose
+from turtlectl.nodes.battery import drain, make_status, travelled
 
 
 def test_battery_drains_with_time_and_distance_and_never_below_zero():

@@ -6,8 +6,8 @@ import random
 
 import pytest
 
-from messages.world import TURTLESIM_SIZE, Limits
-from nodes.control import (
+from turtlectl.messages.world import TURTLESIM_SIZE, Limits
+from turtlectl.nodes.control import (
     Gains,
     Phase,
     Pose2D,
@@ -19,7 +19,7 @@ from nodes.control import (
     rotate_drive_rotate_time,
     trapezoid_time,
 )
-from sim.kinematics import STEP, TurtleState, accelerate, effective_command, step, wrap_angle
+from turtlectl.sim.kinematics import STEP, TurtleState, accelerate, effective_command, step, wrap_angle
 
 LIMITS = Limits()
 GAINS = Gains()

@@ -5,11 +5,11 @@ import math
 import numpy as np
 import pytest
 
-from messages.world import Obstacle, World
-from nodes.costmap import PAD, Costmap
-from nodes.planner import containing
-from nodes.scan import hit_points, off_walls
-from sim.lidar import beam_angles, cast_rays
+from turtlectl.messages.world import Obstacle, World
+from turtlectl.nodes.costmap import PAD, Costmap
+from turtlectl.nodes.planner import containing
+from turtlectl.nodes.scan import hit_points, off_walls
+from turtlectl.sim.lidar import beam_angles, cast_rays
 
 SIZE = 11.0
 ANGLES = beam_angles(-math.pi, math.pi, 72)

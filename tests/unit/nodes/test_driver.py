@@ -9,13 +9,13 @@ import msgspec
 import numpy as np
 import pytest
 
-from messages import GoalState, LaserScan, Pose, Twist
-from messages.world import Limits, Obstacle, World
-from nodes.control import Pose2D
-from nodes.driver import Arrived, Blocked, Drive, Driver, Step
-from nodes.params import NavigatorParams
-from nodes.surroundings import Surroundings
-from sim.kinematics import STEP, TurtleState, accelerate, effective_command, step
+from turtlectl.messages import GoalState, LaserScan, Pose, Twist
+from turtlectl.messages.world import Limits, Obstacle, World
+from turtlectl.nodes.control import Pose2D
+from turtlectl.nodes.driver import Arrived, Blocked, Drive, Driver, Step
+from turtlectl.nodes.params import NavigatorParams
+from turtlectl.nodes.surroundings import Surroundings
+from turtlectl.sim.kinematics import STEP, TurtleState, accelerate, effective_command, step
 
 PARAMS = NavigatorParams(blocked_timeout=3.0, scan_timeout=1.0)
 LIMITS = Limits()

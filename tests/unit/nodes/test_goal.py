@@ -4,10 +4,10 @@ import math
 
 import pytest
 
-from messages import NavigateToRequest
-from messages.angles import heading_difference_degrees
-from messages.world import Obstacle, World
-from nodes.goal import allowed_speed, clearance_speed, goal_problem
+from turtlectl.messages import NavigateToRequest
+from turtlectl.messages.angles import heading_difference_degrees
+from turtlectl.messages.world import Obstacle, World
+from turtlectl.nodes.goal import allowed_speed, clearance_speed, goal_problem
 
 WORLD = World(size=10.0, obstacles=[Obstacle(x=8.0, y=8.0, radius=0.5)])
 

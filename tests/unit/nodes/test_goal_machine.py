@@ -10,11 +10,11 @@ import msgspec
 import numpy as np
 import pytest
 
-from messages import Ack, GoalState, LaserScan, NavigateToRequest, Pose, TurtleStatus, Twist
-from messages.world import Limits, Obstacle, World
-from nodes.goal_machine import GoalMachine, Note, Reply
-from nodes.params import NavigatorParams
-from sim.kinematics import STEP, TurtleState, accelerate, effective_command, step
+from turtlectl.messages import Ack, GoalState, LaserScan, NavigateToRequest, Pose, TurtleStatus, Twist
+from turtlectl.messages.world import Limits, Obstacle, World
+from turtlectl.nodes.goal_machine import GoalMachine, Note, Reply
+from turtlectl.nodes.params import NavigatorParams
+from turtlectl.sim.kinematics import STEP, TurtleState, accelerate, effective_command, step
 
 PARAMS = NavigatorParams(blocked_timeout=3.0, goal_timeout=30.0, pose_timeout=0.5, scan_timeout=1.0)
 WORLD = World(size=11.0)
@@ -672,7 +672,7 @@ def test_no_scan_yet_is_not_scans_stopping_and_the_first_scan_is_not_scans_comin
 def _drive_with_scans(m: GoalMachine[str], start: TurtleState, seen: World, until: float) -> tuple[Reply | None, list]:
     """The machine against the kinematics and a 72-beam lidar over ``seen`` (what the scan sees,
     declared or not) every 0.2 s of fake time; the outcome and the turtle's states."""
-    from sim.lidar import beam_angles, cast_rays
+    from turtlectl.sim.lidar import beam_angles, cast_rays
 
     angles = beam_angles(-math.pi, math.pi, 72)
     s, now, states, outcome, k = start, 0.0, [], None, 0

@@ -7,8 +7,8 @@ import random
 import numpy as np
 import pytest
 
-from messages.world import Obstacle
-from nodes.planner import Arc, Circle, Segment, containing, escape, inflate, shortest_path, wall_plugs
+from turtlectl.messages.world import Obstacle
+from turtlectl.nodes.planner import Arc, Circle, Segment, containing, escape, inflate, shortest_path, wall_plugs
 
 
 def _clear_of(path, circles, size, spacing=0.005):

@@ -5,9 +5,9 @@ import math
 import numpy as np
 import pytest
 
-from messages.world import Obstacle, World
-from nodes.scan import hit_points, off_walls, path_clearance
-from sim.lidar import beam_angles, cast_rays
+from turtlectl.messages.world import Obstacle, World
+from turtlectl.nodes.scan import hit_points, off_walls, path_clearance
+from turtlectl.sim.lidar import beam_angles, cast_rays
 
 EMPTY = World(size=10.0)
 

@@ -9,14 +9,14 @@ from pathlib import Path
 
 import pytest
 
-from runtime.exitcodes import ExitCode, node_exit, respawn_can_help
+from turtlectl.runtime.exitcodes import ExitCode, node_exit, respawn_can_help
 
 ROOT = Path(__file__).resolve().parents[3]
 
 
 def test_commands_and_node_processes_use_the_one_table():
-    from cli import errors
-    from runtime import lifecycle
+    from turtlectl.cli import errors
+    from turtlectl.runtime import lifecycle
 
     assert errors.ExitCode is ExitCode
     # no second table of numbers beside it

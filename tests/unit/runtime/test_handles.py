@@ -1,7 +1,7 @@
 """runtime.handles and Timer.undeclare: every declaration can be withdrawn, once."""
 
-from runtime.handles import Declaration
-from runtime.node import Timer
+from turtlectl.runtime.handles import Declaration
+from turtlectl.runtime.node import Timer
 
 
 class Part:

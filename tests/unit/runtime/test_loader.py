@@ -3,12 +3,13 @@ and every way it can name none (one line each, saying why)."""
 
 from __future__ import annotations
 
+import sys
 import textwrap
 from pathlib import Path
 
 import pytest
 
-from runtime.loader import LoadError, absolute, is_target, load
+from turtlectl.runtime.loader import LoadError, absolute, is_target, load
 
 PATROL = textwrap.dedent(
     """
@@ -95,3 +96,25 @@ def test_a_target_that_names_no_node_class_says_why_in_one_line(project, monkeyp
     with pytest.raises(LoadError) as caught:
         load(target, project)
     assert why in str(caught.value) and "\n" not in str(caught.value)
+
+
+def test_a_files_siblings_come_first_as_for_python_file_py(tmp_path, monkeypatch):
+    """A user's own ``messages.py`` (or ``nodes/``) beside the node file is what it imports, as
+    ``python patrol.py`` would give it; ours are ``turtlectl.messages`` and never in the way
+    (issue 24: the repository root on sys.path gave the node our messages package)."""
+    monkeypatch.setattr("sys.path", list(sys.path))
+    for name in ("messages", "nodes"):
+        monkeypatch.delitem(sys.modules, name, raising=False)
+    (tmp_path / "messages.py").write_text("import msgspec\n\nclass Waypoint(msgspec.Struct):\n    x: float\n")
+    (tmp_path / "nodes").mkdir()
+    (tmp_path / "nodes" / "__init__.py").write_text("LAPS = 3\n")
+    (tmp_path / "walker.py").write_text(
+        "import msgspec\nfrom messages import Waypoint\nfrom nodes import LAPS\n\n"
+        "class Walker:\n    Params = msgspec.defstruct('WalkerParams', [('laps', int, LAPS)])\n"
+        "    first = Waypoint(x=1.0)\n"
+    )
+    cls, params = load("./walker.py:Walker", tmp_path)
+    assert cls.first.x == 1.0 and params().laps == 3
+    import turtlectl.messages
+
+    assert hasattr(turtlectl.messages, "Twist")

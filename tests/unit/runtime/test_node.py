@@ -2,7 +2,7 @@
 
 import pytest
 
-from runtime.node import Timer
+from turtlectl.runtime.node import Timer
 
 
 def test_timer_keeps_an_absolute_grid_and_skips_missed_ticks():

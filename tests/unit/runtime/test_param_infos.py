@@ -6,8 +6,8 @@ from typing import Annotated
 
 import msgspec
 
-from nodes.kinds import KINDS
-from runtime.params import param_infos
+from turtlectl.nodes.kinds import KINDS
+from turtlectl.runtime.params import param_infos
 
 
 def test_every_parameter_of_every_kind_has_a_unit_a_meaning_and_a_range():

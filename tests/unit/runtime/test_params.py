@@ -7,9 +7,9 @@ from typing import Annotated
 import msgspec
 import pytest
 
-from nodes.params import NavigatorParams, ObstacleDetectorParams, StatusMonitorParams
-from runtime.params import ParamRefused, with_value
-from sim.params import SimParams
+from turtlectl.nodes.params import NavigatorParams, ObstacleDetectorParams, StatusMonitorParams
+from turtlectl.runtime.params import ParamRefused, with_value
+from turtlectl.sim.params import SimParams
 
 
 def test_a_value_is_set_converted_and_the_old_one_returned():
@@ -39,7 +39,7 @@ def test_a_change_that_cannot_be_made_says_why(params, name, value, message):
 
 def test_describe_gives_every_parameter_with_its_value_now_and_why_it_cannot_change():
     """Issue 22 (5): what every node serves on turtlectl/params/<node>/describe, whatever its kind."""
-    from runtime.params import describe
+    from turtlectl.runtime.params import describe
 
     params, _ = with_value(StatusMonitorParams(), "rate", 2)
     described = describe("status_monitor", "status_monitor", params)
@@ -58,7 +58,7 @@ def test_describe_works_for_a_kind_defined_without_source():
     described all the same (before: inspect raised on the Zenoh thread)."""
     import msgspec
 
-    from runtime.params import describe
+    from turtlectl.runtime.params import describe
 
     namespace: dict = {"msgspec": msgspec}
     exec("class Loose(msgspec.Struct):\n    speed: float = 1.0  # m/s: how fast\n", namespace)  # noqa: S102

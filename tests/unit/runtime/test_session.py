@@ -1,6 +1,6 @@
 """Session settings that need no running Zenoh."""
 
-from runtime.session import local_address_towards
+from turtlectl.runtime.session import local_address_towards
 
 
 def test_nodes_listen_where_they_reach_the_router():

@@ -4,8 +4,8 @@ import math
 
 import pytest
 
-from messages.world import TURTLESIM_SIZE, Limits, Obstacle
-from sim.kinematics import STEP, TurtleState, accelerate, collide, effective_command, step, wrap_angle
+from turtlectl.messages.world import TURTLESIM_SIZE, Limits, Obstacle
+from turtlectl.sim.kinematics import STEP, TurtleState, accelerate, collide, effective_command, step, wrap_angle
 
 LIMITS = Limits(max_linear_speed=4.0, max_angular_speed=9.0, max_linear_accel=10.0, max_angular_accel=40.0)
 

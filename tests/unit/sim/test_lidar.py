@@ -5,9 +5,9 @@ import math
 import numpy as np
 import pytest
 
-from messages.world import Obstacle, World
-from sim.lidar import beam_angles, cast_rays, new_phantoms
 from tests.integration.harness import obstacles_in_view
+from turtlectl.messages.world import Obstacle, World
+from turtlectl.sim.lidar import beam_angles, cast_rays, new_phantoms
 
 EMPTY = World(size=10.0)
 

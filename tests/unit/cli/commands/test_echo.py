@@ -8,9 +8,9 @@ import json
 import pytest
 from typer.testing import CliRunner
 
-from cli.main import app
-from cli.tools import topics
-from messages import TurtleStatus
+from turtlectl.cli.main import app
+from turtlectl.cli.tools import topics
+from turtlectl.messages import TurtleStatus
 
 STATUSES = [
     TurtleStatus(x=1.5, y=2.0, theta=0.0, vel_x=0.0, vel_y=0.0, battery=90.0, seq=1),

@@ -10,10 +10,10 @@ import pytest
 
 jsonschema = pytest.importorskip("jsonschema")
 
-from cli.foxglove.bridge import SERVICES, _message_schema  # noqa: E402
-from messages import Cancel, NavigateToRequest, Reset, TeleportAbsolute, decode_any, encode  # noqa: E402
-from messages.jsonform import from_json, json_schema, to_json  # noqa: E402
 from tests.unit.messages.samples import SAMPLES  # noqa: E402
+from turtlectl.cli.foxglove.bridge import SERVICES, _message_schema  # noqa: E402
+from turtlectl.messages import Cancel, NavigateToRequest, Reset, TeleportAbsolute, decode_any, encode  # noqa: E402
+from turtlectl.messages.jsonform import from_json, json_schema, to_json  # noqa: E402
 
 README_REQUESTS = [  # README: `turtlectl call ...` and the Foxglove section
     (NavigateToRequest, {"x": 8, "y": 5, "theta": 90}),

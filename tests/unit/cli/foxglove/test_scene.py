@@ -1,8 +1,8 @@
 """cli.foxglove.scene: the Foxglove scene drawn from turtlectl's messages (no server needed)."""
 
-from cli.foxglove.scene import goal_entity
-from messages import NavigateToFeedback
 from tests.protobuf_schemas import decoded
+from turtlectl.cli.foxglove.scene import goal_entity
+from turtlectl.messages import NavigateToFeedback
 
 
 def _feedback(path):

@@ -13,11 +13,11 @@ import textwrap
 
 import pytest
 
-from cli.errors import ExitCode, exit_code
-from cli.recording.bag import BagWriter, RecordingError
-from cli.recording.reading import Recording
-from messages import LaserScan, Pose, TurtleStatus, decode_any, encode, encoding_for
 from tests.unit.messages.samples import SAMPLES as WRITTEN
+from turtlectl.cli.errors import ExitCode, exit_code
+from turtlectl.cli.recording.bag import BagWriter, RecordingError
+from turtlectl.cli.recording.reading import Recording
+from turtlectl.messages import LaserScan, Pose, TurtleStatus, decode_any, encode, encoding_for
 
 SAMPLES = [decode_any(encode(m)) for m in WRITTEN]  # as received: floats where the samples wrote ints
 
@@ -88,8 +88,8 @@ KILLED_WRITER = textwrap.dedent(
     """
     import os, sys, time
     from pathlib import Path
-    from cli.recording.bag import BagWriter
-    from messages import Pose, encode, encoding_for
+    from turtlectl.cli.recording.bag import BagWriter
+    from turtlectl.messages import Pose, encode, encoding_for
     writer = BagWriter(Path(sys.argv[1]))
     start = time.monotonic()
     i = 0
@@ -210,8 +210,8 @@ def test_tick_closes_a_chunk_whose_first_message_is_old_enough(tmp_path):
 
 
 def test_scene_messages_are_counted_with_the_others(tmp_path):
-    from cli.foxglove.scene import SceneMaker
-    from messages.world import World
+    from turtlectl.cli.foxglove.scene import SceneMaker
+    from turtlectl.messages.world import World
 
     path = tmp_path / "run.mcap"
     writer = BagWriter(path)

@@ -2,8 +2,8 @@
 
 from __future__ import annotations
 
-from cli.system.access import ROLES, access_control, node_rights, permitted, who_may
-from nodes.kinds import KINDS
+from turtlectl.cli.system.access import ROLES, access_control, node_rights, permitted, who_may
+from turtlectl.nodes.kinds import KINDS
 
 
 def test_roles_grow_viewer_operator_teleop():
@@ -41,9 +41,9 @@ def test_the_role_check_reads_a_domain_s_key_from_outside_it_and_roles_are_named
     an unknown TURTLECTL_ROLE looked like a missing login; a corrupt credentials file like an empty one."""
     import pytest
 
-    from cli.errors import BadInput
-    from cli.system import credentials
-    from cli.tools import client
+    from turtlectl.cli.errors import BadInput
+    from turtlectl.cli.system import credentials
+    from turtlectl.cli.tools import client
 
     monkeypatch.setattr(client, "_ROLE", ["operator"])
     client.require("call", "lab1/navigate_to")
@@ -68,8 +68,8 @@ def test_every_node_serves_the_description_of_its_parameters_and_a_viewer_may_re
 
 
 def test_a_user_kind_without_an_interface_may_do_what_teleop_may_and_use_its_own_name():
-    from nodes.kinds import Interface, NodeKind
-    from sim.params import SimParams
+    from turtlectl.nodes.kinds import Interface, NodeKind
+    from turtlectl.sim.params import SimParams
 
     mine = node_rights("guard", NodeKind("/p/patrol.py:Patrol", SimParams))
     assert "turtle1/cmd_vel" in mine["publish"] and "guard/**" in mine["publish"] and mine["serve"][0] == "guard/**"

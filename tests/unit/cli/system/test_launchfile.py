@@ -5,14 +5,14 @@ from pathlib import Path
 import msgspec
 import pytest
 
-from cli.system.launchfile import (
+from turtlectl.cli.system.launchfile import (
     PACKAGED_LAUNCH,
     LaunchFileError,
     load_launch,
     parse_launch,
     select_nodes,
 )
-from cli.system.overrides import node_config, parse_assignment, with_overrides
+from turtlectl.cli.system.overrides import node_config, parse_assignment, with_overrides
 
 ROOT = Path(__file__).resolve().parents[4]
 
@@ -311,7 +311,7 @@ def test_only_and_exclude_suggest_the_nearest_node():
 
 
 def _running(scan_timeout: float = 1.0, rate: float = 5.0) -> dict:
-    from nodes.params import NavigatorParams, ObstacleDetectorParams, StatusMonitorParams
+    from turtlectl.nodes.params import NavigatorParams, ObstacleDetectorParams, StatusMonitorParams
 
     def table(struct, **changes):
         return {**msgspec.to_builtins(struct), **changes}
@@ -325,8 +325,8 @@ def _running(scan_timeout: float = 1.0, rate: float = 5.0) -> dict:
 
 def test_a_change_is_validated_against_what_runs_as_launch_set_validates_a_file():
     """Issue 13: `param set` refuses what the launch file refuses, naming the rule it would break."""
-    from cli.system.overrides import running_change
-    from messages.world import World
+    from turtlectl.cli.system.overrides import running_change
+    from turtlectl.messages.world import World
 
     assert running_change(_running(), World(), "navigator", "goal_timeout", "60", "param set") == 60.0
     with pytest.raises(
@@ -344,8 +344,8 @@ def test_a_change_is_validated_against_what_runs_as_launch_set_validates_a_file(
 def test_a_system_that_already_breaks_a_rule_still_takes_changes_that_do_not_break_it_further():
     """Review of issue 13: the navigator respawned with its launch file's scan_timeout (1 s) after the detector
     was slowed to 0.8 Hz under a longer one: every `param set` on every node was refused from then on."""
-    from cli.system.overrides import running_change
-    from messages.world import World
+    from turtlectl.cli.system.overrides import running_change
+    from turtlectl.messages.world import World
 
     broken = _running(scan_timeout=1.0, rate=0.8)
     assert running_change(broken, World(), "status_monitor", "rate", "5", "param set") == 5.0
@@ -357,8 +357,8 @@ def test_a_system_that_already_breaks_a_rule_still_takes_changes_that_do_not_bre
 
 def test_a_mistake_in_the_value_itself_is_named_as_such_not_as_a_broken_rule():
     """Second review of issue 13: a list item's missing key read "it would break a rule of the running system"."""
-    from cli.system.overrides import running_change
-    from messages.world import World
+    from turtlectl.cli.system.overrides import running_change
+    from turtlectl.messages.world import World
 
     with pytest.raises(LaunchFileError) as err:
         running_change(

@@ -10,8 +10,8 @@ from pathlib import Path
 
 import pytest
 
-from cli.system.launchfile import LaunchFileError, load_launch
-from cli.system.overrides import class_plan, node_config, parse_assignment, with_overrides
+from turtlectl.cli.system.launchfile import LaunchFileError, load_launch
+from turtlectl.cli.system.overrides import class_plan, node_config, parse_assignment, with_overrides
 
 PATROL = textwrap.dedent(
     """
@@ -19,7 +19,7 @@ PATROL = textwrap.dedent(
 
     import msgspec
 
-    from runtime.config import Claim
+    from turtlectl.runtime.config import Claim
 
 
     class Gains(msgspec.Struct, forbid_unknown_fields=True, kw_only=True):

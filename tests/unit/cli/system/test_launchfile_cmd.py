@@ -9,9 +9,9 @@ from pathlib import Path
 
 import pytest
 
-from cli.system.launchfile import LaunchFileError, load_launch, select_nodes
-from cli.system.overrides import node_config, parse_assignment, with_overrides
-from cli.tools.format import plan_text
+from turtlectl.cli.system.launchfile import LaunchFileError, load_launch, select_nodes
+from turtlectl.cli.system.overrides import node_config, parse_assignment, with_overrides
+from turtlectl.cli.tools.format import plan_text
 
 SIM = '[[node]]\nname = "sim"\nrun = "sim"\n'
 

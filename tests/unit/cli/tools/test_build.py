@@ -2,9 +2,9 @@
 
 import pytest
 
-from cli.errors import BadInput, ExitCode, TurtlectlError, exit_code
-from cli.tools.build import message_from_json, service_request, topic_message
-from messages import (
+from turtlectl.cli.errors import BadInput, ExitCode, TurtlectlError, exit_code
+from turtlectl.cli.tools.build import message_from_json, service_request, topic_message
+from turtlectl.messages import (
     Cancel,
     Pose,
     TeleportAbsolute,
@@ -41,7 +41,7 @@ def test_a_known_key_keeps_its_type():
 
 def test_the_services_every_node_has_take_their_own_request_types():
     """Issue 13: `call turtlectl/params/navigator/set '{...}'` needs no --type."""
-    from messages import SetLogLevel, SetParameter
+    from turtlectl.messages import SetLogLevel, SetParameter
 
     assert service_request("turtlectl/params/navigator/set", '{"name": "goal_timeout", "value": 60}') == SetParameter(
         name="goal_timeout", value=60

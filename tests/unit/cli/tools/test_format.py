@@ -5,8 +5,9 @@ import math
 
 import pytest
 
-from cli.errors import BadInput
-from cli.tools.format import (
+from tests.unit.messages.samples import FEEDBACK
+from turtlectl.cli.errors import BadInput
+from turtlectl.cli.tools.format import (
     csv_header,
     csv_row,
     heading_text,
@@ -17,7 +18,7 @@ from cli.tools.format import (
     select_field,
     teleport_line,
 )
-from messages import (
+from turtlectl.messages import (
     LaserScan,
     NavigateToFeedback,
     NavigateToResponse,
@@ -25,7 +26,6 @@ from messages import (
     TurtleStatus,
     Twist,
 )
-from tests.unit.messages.samples import FEEDBACK
 
 
 def test_formats():
@@ -106,9 +106,9 @@ def test_a_block_never_rounds_a_heading_up_to_360_and_writes_booleans_as_json_do
 
 def test_non_finite_floats_are_spelled_in_json_as_in_recordings_and_on_the_foxglove_server():
     # one rule wherever turtlectl writes JSON: "Infinity", "-Infinity", "NaN" (messages.jsonform)
-    from cli.tools import format as fmt
-    from messages import LaserScan
-    from messages.jsonform import to_json as recorded
+    from turtlectl.cli.tools import format as fmt
+    from turtlectl.messages import LaserScan
+    from turtlectl.messages.jsonform import to_json as recorded
 
     scan = LaserScan(
         angle_min=0.0,

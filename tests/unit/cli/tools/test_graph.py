@@ -1,7 +1,7 @@
 """cli.tools.graph: the live graph built from liveliness tokens, and how it is shown."""
 
-from cli.tools.graph import build_graph, graph_text
-from messages.keys import (
+from turtlectl.cli.tools.graph import build_graph, graph_text
+from turtlectl.messages.keys import (
     EntityInfo,
     NodeInfo,
     domain_token,
@@ -63,7 +63,7 @@ def test_an_empty_graph_says_what_to_do():
 
 def test_list_counts_the_services_every_node_has_instead_of_listing_them():
     """Issue 13: parameters, node info and log level are served by every node: listed with --all."""
-    from cli.tools.graph import Graph, ServiceRow, without_node_services
+    from turtlectl.cli.tools.graph import Graph, ServiceRow, without_node_services
 
     keys = [
         "navigate_to",

@@ -11,9 +11,9 @@ import sys
 import msgspec
 import pytest
 
-from cli.errors import ExitCode
-from messages import ALL_TYPES, Twist
 from tests.unit.cli.test_main import invoke
+from turtlectl.cli.errors import ExitCode
+from turtlectl.messages import ALL_TYPES, Twist
 
 
 @pytest.fixture(autouse=True)
@@ -27,7 +27,9 @@ def sigint_back():
 
 def turtlectl(*argv: str) -> subprocess.CompletedProcess:
     """The real command, as a user runs it."""
-    return subprocess.run([sys.executable, "-m", "cli", *argv], capture_output=True, text=True, timeout=60, check=False)
+    return subprocess.run(
+        [sys.executable, "-m", "turtlectl.cli", *argv], capture_output=True, text=True, timeout=60, check=False
+    )
 
 
 def test_list_names_every_type_with_the_keys_that_carry_it():
@@ -70,8 +72,8 @@ def test_an_unknown_type_is_one_line_naming_the_known_ones_exit_2():
 
 def test_list_gives_each_type_its_whole_first_sentence():
     """Issue 22: `interface list` cut ParameterEvent's summary mid-sentence (its first line)."""
-    from cli.tools.interface import listing
-    from messages.reference import doc
+    from turtlectl.cli.tools.interface import listing
+    from turtlectl.messages.reference import doc
 
     for row, t in zip(listing(), ALL_TYPES, strict=True):
         first = " ".join(doc(t).split("\n\n", 1)[0].split())

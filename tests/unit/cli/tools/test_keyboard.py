@@ -2,8 +2,8 @@
 
 from __future__ import annotations
 
-from cli.tools.keyboard import PERIOD, RELEASE, Driver, Shown, keys, status_line
-from messages import Twist
+from turtlectl.cli.tools.keyboard import PERIOD, RELEASE, Driver, Shown, keys, status_line
+from turtlectl.messages import Twist
 
 
 def test_arrows_wasd_space_and_q_are_read_from_what_the_terminal_sends():

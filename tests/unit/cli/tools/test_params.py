@@ -8,10 +8,10 @@ from typing import Annotated, Any
 import msgspec
 import pytest
 
-from cli.errors import BadInput, ExitCode, exit_code
-from cli.tools.params import dump, names, value
-from messages.keys import NodeDetails
-from messages.world import World
+from turtlectl.cli.errors import BadInput, ExitCode, exit_code
+from turtlectl.cli.tools.params import dump, names, value
+from turtlectl.messages.keys import NodeDetails
+from turtlectl.messages.world import World
 
 PARAMS = {
     "goal_timeout": 30.0,
@@ -50,8 +50,8 @@ def test_dump_is_toml_that_reads_back_as_the_same_table():
 
 def test_an_unknown_parameter_suggests_the_nearest():
     """Review of issue 13: `param get` dumped the whole list where `param set` said "did you mean"."""
-    from cli.errors import BadInput
-    from cli.tools.params import value
+    from turtlectl.cli.errors import BadInput
+    from turtlectl.cli.tools.params import value
 
     with pytest.raises(
         BadInput, match=r"navigator has no parameter 'goal_timeot'; did you mean goal_timeout\? \(it has: "
@@ -61,8 +61,8 @@ def test_an_unknown_parameter_suggests_the_nearest():
 
 def test_no_node_says_where_systems_run_when_none_runs_here(monkeypatch):
     """Second review of issue 13: `--domain lab2 param get navigator ...` said "(running: none)" and no more."""
-    from cli.tools.params import no_node
-    from runtime.endpoint import DOMAIN_ENV
+    from turtlectl.cli.tools.params import no_node
+    from turtlectl.runtime.endpoint import DOMAIN_ENV
 
     monkeypatch.setenv(DOMAIN_ENV, "lab2")
     text = no_node(
@@ -77,7 +77,7 @@ def test_no_node_says_where_systems_run_when_none_runs_here(monkeypatch):
 
 # -- a value refused reads the same for every node kind (issue 22 review, C) -----------
 def _described(node: str, kind: str, params: Any):
-    from runtime.params import describe
+    from turtlectl.runtime.params import describe
 
     return describe(node, kind, params)
 
@@ -85,8 +85,8 @@ def _described(node: str, kind: str, params: Any):
 def test_a_user_node_s_refusal_is_its_one_line_reason_exit_2(monkeypatch):
     """It read "turtlectl/params/mine/set rejected the request: mine: rate: Expected `float`
     <= 50.0 - at `$.rate`"."""
-    from cli.tools import params, services
-    from runtime.params import ParamRefused, with_value
+    from turtlectl.cli.tools import params, services
+    from turtlectl.runtime.params import ParamRefused, with_value
 
     mine = _Mine()
     monkeypatch.setattr(params, "description", lambda connect, node: _described(node, "mine", mine))
@@ -106,8 +106,8 @@ def test_a_user_node_s_refusal_is_its_one_line_reason_exit_2(monkeypatch):
 
 
 def test_a_built_in_node_s_refusal_has_the_same_wording(monkeypatch):
-    from cli.tools import params
-    from nodes.params import NavigatorParams
+    from turtlectl.cli.tools import params
+    from turtlectl.nodes.params import NavigatorParams
 
     monkeypatch.setattr(params, "description", lambda connect, node: _described(node, "navigator", NavigatorParams()))
     running = params.Running(

@@ -2,7 +2,7 @@
 
 import pytest
 
-from cli.tools.rates import rate_stats
+from turtlectl.cli.tools.rates import rate_stats
 
 
 def test_rates_from_arrivals_and_stamps():
@@ -28,7 +28,7 @@ def _feed(rates, key, start, stop, hz, stamped=True):
 
 
 def test_a_rate_is_over_the_last_seconds_and_a_stopped_topic_prints_no_rate():
-    from cli.tools.rates import SPAN, Rates
+    from turtlectl.cli.tools.rates import SPAN, Rates
 
     rates = Rates(["k"], size=1000, now=0.0)
     _feed(rates, "k", 0.0, 10.0, 10.0)
@@ -42,7 +42,7 @@ def test_a_rate_is_over_the_last_seconds_and_a_stopped_topic_prints_no_rate():
 
 
 def test_the_window_holds_at_most_size_messages():
-    from cli.tools.rates import Rates
+    from turtlectl.cli.tools.rates import Rates
 
     rates = Rates(["k"], size=10, now=0.0)
     _feed(rates, "k", 0.0, 2.0, 50.0)
@@ -51,7 +51,7 @@ def test_the_window_holds_at_most_size_messages():
 
 
 def test_a_topic_is_silent_once_per_silence_and_says_whether_it_had_flowed():
-    from cli.tools.rates import SILENCE, Rates
+    from turtlectl.cli.tools.rates import SILENCE, Rates
 
     rates = Rates(["a", "b"], size=100, now=0.0)
     _feed(rates, "a", 0.0, 5.0, 10.0)
@@ -68,7 +68,7 @@ def test_a_topic_is_silent_once_per_silence_and_says_whether_it_had_flowed():
 
 
 def test_quiet_is_due_once_per_silence_whether_or_not_anything_arrived():
-    from cli.tools.rates import SILENCE, Quiet
+    from turtlectl.cli.tools.rates import SILENCE, Quiet
 
     quiet = Quiet(now=100.0)
     assert not quiet.due(100.0 + SILENCE - 0.01)

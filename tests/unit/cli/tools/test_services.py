@@ -2,13 +2,13 @@
 
 import pytest
 
-from cli.errors import ExitCode, Interrupted, exit_code
-from cli.tools.services import given_up, reply_code
-from messages import (
+from tests.unit.messages.samples import FEEDBACK
+from turtlectl.cli.errors import ExitCode, Interrupted, exit_code
+from turtlectl.cli.tools.services import given_up, reply_code
+from turtlectl.messages import (
     Ack,
     NavigateToResponse,
 )
-from tests.unit.messages.samples import FEEDBACK
 
 
 def test_an_answer_that_says_no_is_exit_code_1():

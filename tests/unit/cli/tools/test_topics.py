@@ -1,8 +1,8 @@
 """cli.tools.topics: what a silent topic says."""
 
-from cli.tools.graph import build_graph
-from cli.tools.topics import silence_text
-from messages.keys import (
+from turtlectl.cli.tools.graph import build_graph
+from turtlectl.cli.tools.topics import silence_text
+from turtlectl.messages.keys import (
     EntityInfo,
     NodeInfo,
     entity_token,

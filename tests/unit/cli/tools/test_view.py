@@ -2,14 +2,14 @@
 
 import math
 
-from cli.tools.view import Scene, render
-from messages import (
+from turtlectl.cli.tools.view import Scene, render
+from turtlectl.messages import (
     LaserScan,
     NavigateToFeedback,
     Pose,
     TurtleStatus,
 )
-from messages.world import Obstacle, World
+from turtlectl.messages.world import Obstacle, World
 
 
 def test_view_draws_walls_obstacles_turtle_goal_and_status():

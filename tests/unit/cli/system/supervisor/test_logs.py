@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from cli.system.supervisor import logs
+from turtlectl.cli.system.supervisor import logs
 
 
 def test_run_folders_beyond_keep_logs_are_removed_oldest_first(tmp_path):

@@ -9,12 +9,12 @@ import signal
 import sys
 import time
 
-from cli.system.launchfile import parse_launch
-from cli.system.overrides import node_config
-from cli.system.supervisor.printer import Printer
-from cli.system.supervisor.process import Child, node_command
-from nodes.kinds import KINDS
-from runtime.config import ENV_VAR, SUPERVISOR_PID_VAR, decode_config
+from turtlectl.cli.system.launchfile import parse_launch
+from turtlectl.cli.system.overrides import node_config
+from turtlectl.cli.system.supervisor.printer import Printer
+from turtlectl.cli.system.supervisor.process import Child, node_command
+from turtlectl.nodes.kinds import KINDS
+from turtlectl.runtime.config import ENV_VAR, SUPERVISOR_PID_VAR, decode_config
 
 PLAN = parse_launch('[[node]]\nname = "nav"\nrun = "navigator"\n')
 

@@ -7,9 +7,9 @@ import time
 
 import pytest
 
-from cli.errors import CannotStart, ExitCode, Unreachable, exit_code
-from cli.system.supervisor.router import free_port_near, join_router, open_router, port_in_use
-from runtime.session import close_session
+from turtlectl.cli.errors import CannotStart, ExitCode, Unreachable, exit_code
+from turtlectl.cli.system.supervisor.router import free_port_near, join_router, open_router, port_in_use
+from turtlectl.runtime.session import close_session
 
 
 def test_a_busy_port_is_cannot_start_naming_the_command_with_a_free_port():

@@ -17,10 +17,17 @@ from collections.abc import Callable
 
 import pytest
 
-from cli.errors import ExitCode
-from cli.system.launchfile import parse_launch
-from cli.system.supervisor.printer import Printer
-from cli.system.supervisor.supervision import KILL_WAIT, POLL, REAP_POLL, STABLE_RUN, Supervision, respawn_delay
+from turtlectl.cli.errors import ExitCode
+from turtlectl.cli.system.launchfile import parse_launch
+from turtlectl.cli.system.supervisor.printer import Printer
+from turtlectl.cli.system.supervisor.supervision import (
+    KILL_WAIT,
+    POLL,
+    REAP_POLL,
+    STABLE_RUN,
+    Supervision,
+    respawn_delay,
+)
 
 INT, TERM, KILL = signal.SIGINT, signal.SIGTERM, signal.SIGKILL
 LAG = 2 * POLL + 1e-6  # how late the policy may notice something: it looks every POLL s

@@ -1,0 +1,79 @@
+"""turtlectl: a turtlesim-like robot stack over Eclipse Zenoh, and a platform for your own nodes.
+
+The public API, the only names a user's code needs (typed; ``py.typed``)::
+
+    from turtlectl import Node, run_main          # write a node (docs/tutorials/your-own-node.md)
+    from turtlectl import Claim, Interface        # what it alone does, what it may do under --secure
+    from turtlectl import Message                 # the base of every message type
+    from turtlectl.messages import Twist, Pose    # the message types (docs/reference/interfaces.md)
+
+``Publisher``, ``Latest``, ``Request``, ``Timer`` and ``Declaration`` are what a node's
+declarations return (each can be undeclared).  Everything else (``turtlectl.cli``,
+``turtlectl.runtime``, ``turtlectl.nodes``, ``turtlectl.sim``) is private: it may change
+without notice.
+
+Every module is under ``turtlectl``, so a user's own ``messages.py``, ``nodes/`` or
+``runtime.py`` never shadows ours.  How the repository's top-level folders (the design
+card's ``messages/``, ``runtime/``, ``sim/``, ``nodes/``, ``cli/``) become this package:
+an installed wheel maps them under ``turtlectl/`` (pyproject.toml's ``package-dir``); in the
+source tree (``make``'s editable install puts ``src/``, which holds only this package, on
+``sys.path``) this package's ``__path__`` also holds the repository root, so
+``turtlectl.messages`` is ``messages/`` there, with no import hook, and ``import messages``
+finds a user's module, never ours.
+
+The names are loaded when first used, so ``import turtlectl.cli`` (``turtlectl --help``)
+pays for none of them.
+"""
+
+from __future__ import annotations
+
+import importlib
+import os
+from typing import TYPE_CHECKING, Any
+
+if not os.path.isdir(os.path.join(os.path.dirname(__file__), "messages")):  # the source tree: src/turtlectl/
+    __path__.append(os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)))))
+
+if TYPE_CHECKING:
+    from turtlectl.messages.types import Message
+    from turtlectl.runtime.config import Claim, Interface
+    from turtlectl.runtime.entities import Latest, Publisher, Request, Timer
+    from turtlectl.runtime.handles import Declaration
+    from turtlectl.runtime.lifecycle import run_main
+    from turtlectl.runtime.node import Node
+
+__all__ = [
+    "Claim",
+    "Declaration",
+    "Interface",
+    "Latest",
+    "Message",
+    "Node",
+    "Publisher",
+    "Request",
+    "Timer",
+    "run_main",
+]
+
+_HOME = {
+    "Claim": "turtlectl.runtime.config",
+    "Declaration": "turtlectl.runtime.handles",
+    "Interface": "turtlectl.runtime.config",
+    "Latest": "turtlectl.runtime.entities",
+    "Message": "turtlectl.messages.types",
+    "Node": "turtlectl.runtime.node",
+    "Publisher": "turtlectl.runtime.entities",
+    "Request": "turtlectl.runtime.entities",
+    "Timer": "turtlectl.runtime.entities",
+    "run_main": "turtlectl.runtime.lifecycle",
+}
+
+
+def __getattr__(name: str) -> Any:
+    if name in _HOME:
+        return getattr(importlib.import_module(_HOME[name]), name)
+    raise AttributeError(f"module 'turtlectl' has no attribute {name!r}")
+
+
+def __dir__() -> list[str]:
+    return sorted([*globals(), *__all__])
