@@ -24,11 +24,16 @@ __all__ = [
 
 
 class TurtlectlError(Exception):
-    """An error for the user: one line of text (``message``)."""
+    """An error for the user: one line of text (``message``); public as ``turtlectl.Error``."""
 
     def __init__(self, message: str):
         super().__init__(message)
         self.message = message
+
+    @property
+    def exit_code(self) -> ExitCode:
+        """The exit code the command line ends with for this error (docs/reference/exit-codes.md)."""
+        return exit_code(self)
 
 
 class BadInput(TurtlectlError):

@@ -36,21 +36,18 @@ def goto(
 
     Example: turtlectl goto 8 5 90
     """
-    from turtlectl.cli.tools import services
-    from turtlectl.messages import NavigateToFeedback, NavigateToRequest
+    from turtlectl.cli.tools.api import Client
+    from turtlectl.messages import NavigateToFeedback
 
-    request = NavigateToRequest(
-        x=args.finite_number(x, "x"), y=args.finite_number(y, "y"), theta=args.finite_number(theta, "theta")
-    )
+    goal = args.finite_number(x, "x"), args.finite_number(y, "y"), args.finite_number(theta, "theta")
     live = sys.stdout.isatty() and not json
 
     def show(fb: NavigateToFeedback) -> None:  # the terminal's width now: it may be resized meanwhile
         typer.echo("\r\033[K" + format.progress_line(fb, shutil.get_terminal_size().columns), nl=False)
 
     try:
-        response, _ = services.navigate(
-            connect, request, timeout if timeout is not None else services.NO_LIMIT, show if live else None
-        )
+        with Client(connect) as client:
+            response = client.goto(*goal, timeout=timeout, on_feedback=show if live else None)
     except KeyboardInterrupt:  # before the goal was sent (one running is canceled and checked in navigate)
         raise Interrupted("interrupted") from None
     finally:
@@ -67,10 +64,10 @@ def cancel(connect: str = ConnectOption, domain: str = DomainOption) -> None:
 
     Example: turtlectl cancel
     """
-    from turtlectl.cli.tools import services
-    from turtlectl.messages import Cancel, keys
+    from turtlectl.cli.tools.api import Client
 
-    (ack,) = services.simple_call(connect, keys.CANCEL, Cancel())
+    with Client(connect) as client:
+        ack = client.cancel()
     result(ack.detail)
     raise typer.Exit(ExitCode.OK if ack.ok else ExitCode.FAILED)
 

@@ -83,14 +83,22 @@ class Raw(msgspec.Struct):
 @contextlib.contextmanager
 def service_session(connect: str) -> Iterator[zenoh.Session]:
     """A client session whose "nothing serves" errors say which domains have a system."""
-    with client_session(connect) as session:
-        try:
-            yield session
-        except RouterLost as exc:
-            raise RouterLost(exc.message.replace("lost the router", f"lost the router at {connect}", 1)) from None
-        except NobodyServes as exc:
-            where = f" in domain {default_domain()}" if default_domain() else ""
-            raise NobodyServes(exc.message.replace(" (", f"{where} (", 1) + domain_hint(connect)) from None
+    with client_session(connect) as session, hinted(connect):
+        yield session
+
+
+@contextlib.contextmanager
+def hinted(connect: str, domain: str | None = None) -> Iterator[None]:
+    """Errors of the calls inside say where: the router's endpoint when it is lost, the domain
+    and which domains have a system when nothing serves a key."""
+    domain = default_domain() if domain is None else domain
+    try:
+        yield
+    except RouterLost as exc:
+        raise RouterLost(exc.message.replace("lost the router", f"lost the router at {connect}", 1)) from None
+    except NobodyServes as exc:
+        where = f" in domain {domain}" if domain else ""
+        raise NobodyServes(exc.message.replace(" (", f"{where} (", 1) + domain_hint(connect)) from None
 
 
 ROUTER_LOSS_WAIT = 0.5  # s: how long a query's end may come before the session notices its router is gone

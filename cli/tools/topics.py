@@ -242,12 +242,13 @@ def publish(connect: str, topic: str, message: Message, rate: float | None, time
     return sent
 
 
-def live_graph(session: zenoh.Session) -> Graph:
-    """The live graph as this session sees it.  Outside any domain that includes every
-    domain's graph, its names and keys prefixed with the domain (``lab1/sim``): tokens
-    declared in a namespace are ``lab1/@turtlectl/...``, which ``@turtlectl/**`` cannot match
-    (Zenoh never matches a chunk starting with ``@`` by a wildcard), hence the second query."""
-    selectors = [GRAPH] if default_domain() else [GRAPH, DOMAIN_GRAPHS]
+def live_graph(session: zenoh.Session, domain: str | None = None) -> Graph:
+    """The live graph as this session (in ``domain``, default: the environment's) sees it.
+    Outside any domain that includes every domain's graph, its names and keys prefixed with
+    the domain (``lab1/sim``): tokens declared in a namespace are ``lab1/@turtlectl/...``,
+    which ``@turtlectl/**`` cannot match (Zenoh never matches a chunk starting with ``@`` by
+    a wildcard), hence the second query."""
+    selectors = [GRAPH] if (default_domain() if domain is None else domain) else [GRAPH, DOMAIN_GRAPHS]
     keys = {
         str(r.ok.key_expr) for sel in selectors for r in session.liveliness().get(sel, timeout=2.0) if r.ok is not None
     }

@@ -5,10 +5,14 @@ The public API, the only names a user's code needs (typed; ``py.typed``)::
     from turtlectl import Node, run_main          # write a node (docs/tutorials/your-own-node.md)
     from turtlectl import Claim, Interface        # what it alone does, what it may do under --secure
     from turtlectl import Message                 # the base of every message type
-    from turtlectl.messages import Twist, Pose    # the message types (docs/reference/interfaces.md)
+    from turtlectl.messages import Twist, Pose    # the message types (docs/interfaces.md)
+    from turtlectl import Client                  # a running system from a script (goto, topics, ...)
+    from turtlectl import Error                   # what goes wrong; .exit_code is the command line's
 
 ``Publisher``, ``Latest``, ``Request``, ``Timer`` and ``Declaration`` are what a node's
-declarations return (each can be undeclared).  Everything else (``turtlectl.cli``,
+declarations return, ``Subscription`` what a client's ``subscribe`` returns (each can be
+undeclared).  ``Error``'s subclasses: ``BadInput`` (exit 2), ``Unreachable`` (3),
+``Failed`` (1), ``Interrupted`` (130), ``CancelUnconfirmed`` (5), ``CannotStart`` (4).  Everything else (``turtlectl.cli``,
 ``turtlectl.runtime``, ``turtlectl.nodes``, ``turtlectl.sim``) is private: it may change
 without notice.
 
@@ -35,6 +39,9 @@ if not os.path.isdir(os.path.join(os.path.dirname(__file__), "messages")):  # th
     __path__.append(os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)))))
 
 if TYPE_CHECKING:
+    from turtlectl.cli.errors import BadInput, CancelUnconfirmed, CannotStart, Failed, Interrupted, Unreachable
+    from turtlectl.cli.errors import TurtlectlError as Error
+    from turtlectl.cli.tools.api import Client, Subscription
     from turtlectl.messages.types import Message
     from turtlectl.runtime.config import Claim, Interface
     from turtlectl.runtime.entities import Latest, Publisher, Request, Timer
@@ -43,19 +50,37 @@ if TYPE_CHECKING:
     from turtlectl.runtime.node import Node
 
 __all__ = [
+    "BadInput",
+    "CancelUnconfirmed",
+    "CannotStart",
     "Claim",
+    "Client",
     "Declaration",
+    "Error",
+    "Failed",
     "Interface",
+    "Interrupted",
     "Latest",
     "Message",
     "Node",
     "Publisher",
     "Request",
+    "Subscription",
     "Timer",
+    "Unreachable",
     "run_main",
 ]
 
 _HOME = {
+    "BadInput": "turtlectl.cli.errors",
+    "CancelUnconfirmed": "turtlectl.cli.errors",
+    "CannotStart": "turtlectl.cli.errors",
+    "Client": "turtlectl.cli.tools.api",
+    "Error": "turtlectl.cli.errors",
+    "Failed": "turtlectl.cli.errors",
+    "Interrupted": "turtlectl.cli.errors",
+    "Subscription": "turtlectl.cli.tools.api",
+    "Unreachable": "turtlectl.cli.errors",
     "Claim": "turtlectl.runtime.config",
     "Declaration": "turtlectl.runtime.handles",
     "Interface": "turtlectl.runtime.config",
@@ -69,9 +94,12 @@ _HOME = {
 }
 
 
+_NAMED = {"Error": "TurtlectlError"}  # public name -> its name in its module
+
+
 def __getattr__(name: str) -> Any:
     if name in _HOME:
-        return getattr(importlib.import_module(_HOME[name]), name)
+        return getattr(importlib.import_module(_HOME[name]), _NAMED.get(name, name))
     raise AttributeError(f"module 'turtlectl' has no attribute {name!r}")
 
 

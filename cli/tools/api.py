@@ -1,0 +1,245 @@
+"""``turtlectl.Client``: a running system from a Python script, as the command line sees it.
+
+One client session to the router, opened by the constructor and closed (bounded) by
+``close`` or the ``with`` block.  Each method does what its command does, through the same
+functions (``goto`` is ``turtlectl goto``: a client token, feedback, a timeout or Ctrl-C
+cancels the goal and checks the cancel), and raises what the command would exit with:
+``turtlectl.Error`` subclasses whose ``exit_code`` is the command's (docs/reference/exit-codes.md).
+"""
+
+from __future__ import annotations
+
+import contextlib
+import os
+import queue
+import threading
+from collections.abc import Callable, Iterator
+from types import TracebackType
+from typing import Any
+
+import msgspec
+import zenoh
+
+from turtlectl.cli.args import endpoint
+from turtlectl.cli.errors import BadInput, Failed
+from turtlectl.cli.tools import params as _params
+from turtlectl.cli.tools.client import check_key, client_session, require
+from turtlectl.cli.tools.graph import Graph, NodeRow, ServiceRow, TopicRow
+from turtlectl.cli.tools.services import NO_LIMIT, Raw, Rejected, hinted, replies, run_goal
+from turtlectl.cli.tools.topics import Received, decode_sample, live_graph
+from turtlectl.messages import (
+    Ack,
+    Cancel,
+    Message,
+    NavigateToFeedback,
+    NavigateToRequest,
+    NavigateToResponse,
+    encode,
+    encoding_for,
+)
+from turtlectl.messages.keys import CANCEL, NAVIGATE_TO, param_set_key, params_key
+from turtlectl.runtime.endpoint import CONNECT_ENV, DEFAULT_ENDPOINT, default_domain
+from turtlectl.runtime.handles import Declaration
+
+CALL_TIMEOUT = 5.0  # s: a service call's default
+
+
+class Subscription(Declaration):
+    """Messages on a topic: iterate over it (``for status in sub``; each waits for the next), or
+    give ``subscribe`` a callback (called on Zenoh's thread).  ``undeclare()`` ends it."""
+
+    def __init__(
+        self, owner: list[Declaration], session: zenoh.Session, key: str, callback: Callable[[Message], None] | None
+    ):
+        super().__init__(owner, "subscription", key)
+        self._inbox: queue.SimpleQueue[Received | None] = queue.SimpleQueue()
+
+        def on_sample(sample: zenoh.Sample) -> None:  # Zenoh's thread
+            got = decode_sample(str(sample.key_expr), sample.payload.to_bytes(), str(sample.encoding))
+            if callback is None:
+                self._inbox.put(got)
+            elif got.message is not None and self.active:
+                callback(got.message)
+
+        self.add(session.declare_subscriber(key, on_sample))
+
+    def undeclare(self) -> None:
+        """End it: no more messages; an iteration over it ends."""
+        if self.active:
+            super().undeclare()
+            self._inbox.put(None)
+
+    def next(self, timeout: float | None = None) -> Message:
+        """The next message (a payload that does not decode is skipped); Failed after ``timeout`` s."""
+        while True:
+            try:
+                got = self._inbox.get(timeout=timeout)
+            except queue.Empty:
+                raise Failed(f"no message within {timeout:g} s") from None
+            if got is None:
+                raise StopIteration
+            if got.message is not None:
+                return got.message
+
+    def __iter__(self) -> Iterator[Message]:
+        while True:
+            try:
+                yield self.next()
+            except StopIteration:
+                return
+
+
+class Client:
+    """A client of a running system: ``with Client() as client: client.goto(8, 5, 90)``.
+
+    ``connect``: the router's endpoint (default: ``TURTLECTL_CONNECT``, else
+    ``tcp/127.0.0.1:7447``); ``domain``: the system's domain (default: ``TURTLECTL_DOMAIN``).
+    Raises ``turtlectl.Error`` (``Unreachable``, exit code 3) if no router answers."""
+
+    def __init__(self, connect: str | None = None, domain: str | None = None) -> None:
+        self.connect = endpoint(connect or os.environ.get(CONNECT_ENV, DEFAULT_ENDPOINT))
+        self.domain = default_domain() if domain is None else domain
+        self._stack = contextlib.ExitStack()
+        self._session: zenoh.Session = self._stack.enter_context(client_session(self.connect, self.domain))
+        self._publishers: dict[str, zenoh.Publisher] = {}
+        self._declared: list[Declaration] = []  # its subscriptions, undeclared by close
+        self._lock = threading.Lock()
+
+    def close(self) -> None:
+        """Undeclare what this client declared and close its session (bounded); idempotent."""
+        with self._lock:
+            for pub in self._publishers.values():
+                pub.undeclare()
+            self._publishers.clear()
+        for declared in list(self._declared):
+            declared.undeclare()
+        self._stack.close()
+
+    def __enter__(self) -> Client:
+        return self
+
+    def __exit__(self, kind: type[BaseException] | None, error: BaseException | None, tb: TracebackType | None) -> None:
+        self.close()
+
+    # goals -------------------------------------------------------------------------------------
+
+    def goto(
+        self,
+        x: float,
+        y: float,
+        theta: float,
+        *,
+        timeout: float | None = None,
+        on_feedback: Callable[[NavigateToFeedback], None] | None = None,
+    ) -> NavigateToResponse:
+        """Drive to (``x``, ``y``) m facing ``theta`` degrees and wait for the outcome (its
+        ``success`` says whether the goal was reached).  ``on_feedback`` gets each feedback
+        as it arrives.  After ``timeout`` s (default: the navigator's goal_timeout) or a
+        KeyboardInterrupt the goal is canceled and the cancel checked: ``Failed`` (exit 1),
+        ``Interrupted`` (130), or ``CancelUnconfirmed`` (5: the turtle may still drive)."""
+        request = NavigateToRequest(x=float(x), y=float(y), theta=float(theta))
+        with self._hinted():
+            return run_goal(self._session, NAVIGATE_TO, request, NO_LIMIT if timeout is None else timeout, on_feedback)
+
+    def cancel(self) -> Ack:
+        """Cancel the running goal; the navigator's Ack (``ok`` false: no goal was running)."""
+        answer = self.call(CANCEL, Cancel())
+        if not isinstance(answer, Ack):
+            raise Failed(f"{CANCEL} answered {type(answer).__name__}, not Ack")
+        return answer
+
+    # topics ------------------------------------------------------------------------------------
+
+    def publish(self, topic: str, message: Message) -> None:
+        """Publish ``message`` on ``topic`` (its publisher is kept until ``close``)."""
+        key = check_key(topic, publish=True)
+        require("publish", key)
+        with self._lock:
+            pub = self._publishers.get(key)
+            if pub is None:
+                pub = self._session.declare_publisher(key, encoding=zenoh.Encoding(encoding_for(type(message))))
+                self._publishers[key] = pub
+        pub.put(encode(message))
+
+    def subscribe(self, topic: str, callback: Callable[[Message], None] | None = None) -> Subscription:
+        """Messages on ``topic`` (a key expression: ``robot/status``, ``turtle1/*``), decoded."""
+        key = check_key(topic)
+        require("subscribe", key)
+        return Subscription(self._declared, self._session, key, callback)
+
+    def latest(self, topic: str, timeout: float = 5.0) -> Message:
+        """The next message on ``topic``; ``Failed`` (exit 1) if none comes within ``timeout`` s."""
+        sub = self.subscribe(topic)
+        try:
+            return sub.next(timeout)
+        except Failed:
+            raise Failed(f"no message on {topic} within {timeout:g} s") from None
+        finally:
+            sub.undeclare()
+
+    # services ----------------------------------------------------------------------------------
+
+    def call(self, service: str, request: Message, timeout: float = CALL_TIMEOUT) -> Message:
+        """Call ``service`` and return its last reply (a goal service's response, after its
+        feedback).  ``Unreachable`` if nothing serves it; ``BadInput`` if it refuses the request."""
+        key = check_key(service)
+        with self._hinted():
+            answers = list(replies(self._session, key, request, timeout))
+        last = answers[-1] if answers else None
+        if not isinstance(last, Message):
+            raise Failed(f"{key} answered with something that is not a message")
+        return last
+
+    # parameters --------------------------------------------------------------------------------
+
+    def params(self, node: str) -> dict[str, Any]:
+        """The parameters ``node`` runs with, by name (tables as dicts)."""
+        with self._hinted():
+            answers = list(replies(self._session, params_key(node), b"", CALL_TIMEOUT))
+        if not answers or not isinstance(answers[-1], Raw):
+            raise Failed(f"{node} sent no parameters")
+        return msgspec.json.decode(answers[-1].payload)
+
+    def param(self, node: str, name: str) -> Any:
+        """``node``'s parameter ``name`` (dotted into a table: ``gains.lookahead``)."""
+        return _params.value(self.params(node), node, name)
+
+    def set_param(self, node: str, name: str, value: Any) -> str:
+        """Set ``node``'s parameter ``name`` to ``value`` while it runs; the node's answer.
+        ``BadInput`` (exit 2) with the node's reason if it refuses (type, range, fixed)."""
+        from turtlectl.messages import SetParameter
+
+        try:
+            with self._hinted():
+                answer = self.call(param_set_key(node), SetParameter(name=name, value=value))
+        except Rejected as exc:
+            raise BadInput(exc.reason) from None
+        if not isinstance(answer, Ack):
+            raise Failed(f"{node} did not confirm the change")
+        if not answer.ok:
+            raise BadInput(answer.detail)
+        return answer.detail
+
+    # the live graph ----------------------------------------------------------------------------
+
+    def graph(self) -> Graph:
+        """Nodes, topics and services alive now (from liveliness, never cached)."""
+        return live_graph(self._session, self.domain)
+
+    def nodes(self) -> list[NodeRow]:
+        """The nodes alive now: name, pid, host, uptime."""
+        return self.graph().nodes
+
+    def topics(self) -> list[TopicRow]:
+        """The topics in use now: key, type, publishers, subscribers."""
+        return self.graph().topics
+
+    def services(self) -> list[ServiceRow]:
+        """The services served now: key, request type, servers."""
+        return self.graph().services
+
+    def _hinted(self) -> contextlib.AbstractContextManager[None]:
+        return hinted(self.connect, self.domain)
+
+
+__all__ = ["Client", "Subscription"]

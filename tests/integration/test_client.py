@@ -1,0 +1,98 @@
+"""Issue 24 (4): ``turtlectl.Client`` against the real system: the live graph, topics
+(latest, subscribe by iteration and by callback, publish), a goal with its feedback,
+cancel, parameters (read, set, refused), and errors that carry the command line's exit codes."""
+
+from __future__ import annotations
+
+import threading
+
+import pytest
+
+import turtlectl
+from tests.integration.harness import NODES, free_port, running_system
+from turtlectl.messages import NavigateToFeedback, Pose, TurtleStatus, Twist
+
+pytestmark = pytest.mark.integration
+
+
+@pytest.fixture(scope="module")
+def system():
+    with running_system() as system:
+        yield system
+
+
+def test_the_live_graph(system):
+    with turtlectl.Client(system.endpoint) as client:
+        assert {n.name for n in client.nodes()} == set(NODES)
+        assert any(t.key == "robot/status" and t.type == "TurtleStatus" for t in client.topics())
+        assert any(s.key == "navigate_to" and s.servers == ["navigator"] for s in client.services())
+
+
+def test_topics_latest_iterated_and_called_back(system):
+    with turtlectl.Client(system.endpoint) as client:
+        assert isinstance(client.latest("robot/status"), TurtleStatus)
+
+        sub = client.subscribe("robot/status")
+        statuses = []
+        for status in sub:
+            statuses.append(status)
+            if len(statuses) == 3:
+                sub.undeclare()
+        assert len(statuses) == 3 and not sub.active
+
+        poses: list[Pose] = []
+        three = threading.Event()
+
+        def on_pose(pose: Pose) -> None:
+            poses.append(pose)
+            if len(poses) >= 3:
+                three.set()
+
+        handle = client.subscribe("turtle1/pose", on_pose)
+        assert three.wait(10.0), "three poses by callback"
+        handle.undeclare()
+
+        start = client.latest("turtle1/pose")
+        moved = client.subscribe("turtle1/pose")
+        for _ in range(50):  # the sim's command timeout stops it: publish as a teleop does
+            client.publish("turtle1/cmd_vel", Twist(linear=0.0, angular=1.0))
+            if abs(moved.next(5.0).theta - start.theta) > 0.05:
+                break
+        else:
+            pytest.fail("the turtle did not turn on our cmd_vel")
+        moved.undeclare()
+        client.publish("turtle1/cmd_vel", Twist(linear=0.0, angular=0.0))
+
+
+def test_a_goal_with_its_feedback_then_cancel_with_nothing_running(system):
+    feedback: list[NavigateToFeedback] = []
+    with turtlectl.Client(system.endpoint) as client:
+        response = client.goto(3.0, 3.0, 45.0, on_feedback=feedback.append)
+        assert response.success, response
+        assert feedback and all(isinstance(f, NavigateToFeedback) for f in feedback)
+        assert client.cancel().ok is False
+
+
+def test_parameters_read_set_and_refused(system):
+    with turtlectl.Client(system.endpoint) as client:
+        before = client.params("navigator")["goal_timeout"]
+        client.set_param("navigator", "goal_timeout", before + 1)
+        assert client.param("navigator", "goal_timeout") == before + 1
+        with pytest.raises(turtlectl.BadInput, match="goal_timeout") as refused:
+            client.set_param("navigator", "goal_timeout", -1)
+        assert refused.value.exit_code == 2
+        with pytest.raises(turtlectl.Unreachable) as nobody:
+            client.params("nobody_here")
+        assert nobody.value.exit_code == 3
+        client.set_param("navigator", "goal_timeout", before)
+
+
+def test_no_system_is_unreachable_exit_3_and_close_is_idempotent(system):
+    with pytest.raises(turtlectl.Unreachable, match="no turtlectl system") as caught:
+        turtlectl.Client(f"tcp/127.0.0.1:{free_port()}")
+    assert caught.value.exit_code == 3
+    client = turtlectl.Client(system.endpoint)
+    sub = client.subscribe("robot/status")
+    client.close()
+    client.close()
+    assert not sub.active and list(sub) == []
