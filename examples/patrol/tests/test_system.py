@@ -1,0 +1,43 @@
+"""The project's nodes in the real system, through turtlectl's pytest plugin: the
+``turtlectl_system`` fixture launches ``launch.toml`` (pytest.ini) on a free port, waits until
+every node is ready and hands over a ``turtlectl.Client``; the system is stopped after the test."""
+
+from __future__ import annotations
+
+import math
+import time
+
+import pytest
+
+from turtlectl.messages import Pose
+
+
+def poses_until(client, done, seconds: float) -> Pose:
+    """Poses of the turtle until ``done(pose)``; fails after ``seconds`` s of driving."""
+    deadline = time.monotonic() + seconds
+    sub = client.subscribe("turtle1/pose")
+    try:
+        while time.monotonic() < deadline:
+            pose = sub.next(timeout=5.0)
+            if done(pose):
+                return pose
+    finally:
+        sub.undeclare()
+    pytest.fail(f"not within {seconds:g} s")
+
+
+def test_the_patrol_drives_to_its_first_corner(turtlectl_system):
+    client = turtlectl_system
+    assert {n.name for n in client.nodes()} >= {"sim", "navigator", "patrol"}
+    assert client.param("patrol", "side") == 3.0
+    # the square of side 3 m round (5.5, 5.5): its first corner is (4, 4)
+    poses_until(client, lambda p: math.hypot(p.x - 4.0, p.y - 4.0) < 0.05, seconds=60.0)
+
+
+@pytest.mark.turtlectl_launch("../wander.toml", "--set", "wanderer.speed=1.0")
+def test_the_wanderer_drives_and_turns_before_the_obstacle(turtlectl_system):
+    client = turtlectl_system
+    assert client.param("wanderer", "speed") == 1.0
+    poses_until(client, lambda p: p.linear_velocity > 0.5, seconds=20.0)  # driving towards it
+    turned = poses_until(client, lambda p: p.angular_velocity > 0.5, seconds=20.0)  # and turning away
+    assert turned.x < 8.5 - 0.8, turned  # before it reached the obstacle

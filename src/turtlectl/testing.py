@@ -1,0 +1,37 @@
+"""Testing your own system, as ``launch_testing`` does for ROS 2 and dora's ``MockNode`` for
+its nodes (docs/how-to/test-your-system.md):
+
+* ``LaunchedSystem(launch_file, args=())``: the real ``turtlectl launch`` on a free port,
+  ready when every node is, failed at once with the node's output when one dies while
+  starting, always stopped (its process group killed).  ``.client()`` is a ``turtlectl.Client``.
+* the pytest plugin (installed with turtlectl: a ``pytest11`` entry point) gives every test
+  the fixtures ``turtlectl_system`` (a Client of the system your launch file starts: the
+  ``turtlectl_launch`` marker's file, else the ini option ``turtlectl_launch``, else
+  ``launch.toml`` in the rootdir) and ``turtlectl_launch`` (a factory for more systems).
+* ``FakeNode(NodeClass, params)``: your node class without Zenoh: deliver messages and
+  requests, advance a fake clock so timers fire, read what it published and answered.
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:
+    from turtlectl.cli.system.launched import LaunchedSystem, StartFailed
+    from turtlectl.runtime.fake import FakeNode
+
+__all__ = ["FakeNode", "LaunchedSystem", "StartFailed"]
+
+_HOME = {
+    "FakeNode": "turtlectl.runtime.fake",
+    "LaunchedSystem": "turtlectl.cli.system.launched",
+    "StartFailed": "turtlectl.cli.system.launched",
+}
+
+
+def __getattr__(name: str) -> Any:
+    if name in _HOME:
+        import importlib
+
+        return getattr(importlib.import_module(_HOME[name]), name)
+    raise AttributeError(f"module 'turtlectl.testing' has no attribute {name!r}")
