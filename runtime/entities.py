@@ -137,9 +137,11 @@ class Request(Generic[M]):
 
 class Timer:
     """A periodic callback on an absolute grid (tick k due at ``start + k * period``); a
-    paused timer is not due at all, so it does not wake the node."""
+    paused timer is not due at all, so it does not wake the node.  ``clock`` (s) is the node's."""
 
-    def __init__(self, period: float, callback: Callable[[], None], start: float):
+    def __init__(
+        self, period: float, callback: Callable[[], None], start: float, clock: Callable[[], float] = time.monotonic
+    ):
         self.period = period
         self.callback = callback
         self.start = start
@@ -148,11 +150,12 @@ class Timer:
         self.active = True
         self.undeclared = False
         self._owner: list[Timer] | None = None  # the node's timers, set by Node.timer
+        self._clock = clock  # s: read when ``retime``/``resume`` are not told ``now`` (the node's)
 
     def retime(self, period: float, now: float | None = None) -> None:
         """Tick every ``period`` s from now on (a grid starting ``now``; the next tick is one
         new period away)."""
-        now = time.monotonic() if now is None else now
+        now = self._clock() if now is None else now
         self.period, self.start, self.ticks = period, now, 1
         self.deadline = now + period
 
@@ -178,7 +181,7 @@ class Timer:
         if self.active or self.undeclared:
             return
         self.active = True
-        now = time.monotonic() if now is None else now
+        now = self._clock() if now is None else now
         if self.deadline <= now:
             self.ticks = int((now - self.start) / self.period) + 1
             self.deadline = self.start + self.ticks * self.period

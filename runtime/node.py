@@ -21,7 +21,8 @@ at its tick: each sample is decoded and kept where Zenoh delivers it, and the no
 thread is not woken for it.
 
 Timers run on an absolute-deadline schedule (tick k is due at start + k*period),
-so the period does not drift with the time the callbacks take.
+so the period does not drift with the time the callbacks take, on the node's ``clock``
+(``time.monotonic``; ``runtime.fake.FakeNode`` runs a node class on a fake one, without Zenoh).
 
 Every declaration returns a handle with ``undeclare()`` (``runtime.handles``): the
 entity and its graph token go, and its callbacks are silenced at once, even one
@@ -88,8 +89,17 @@ class NodeConflict(Exception):
 class Node(Generic[P]):
     """A running node: its name, typed params, the shared world, and its Zenoh entities."""
 
-    def __init__(self, config: NodeConfig, params: P, session: zenoh.Session, started_ns: int | None = None):
+    def __init__(
+        self,
+        config: NodeConfig,
+        params: P,
+        session: zenoh.Session,
+        started_ns: int | None = None,
+        *,
+        clock: Callable[[], float] = time.monotonic,
+    ):
         self.name = config.name
+        self.clock = clock  # s: what timers run on (``runtime.fake`` gives a fake one)
         self.kind = config.kind
         self.started_ns = time.time_ns() if started_ns is None else started_ns
         self._connect, self._domain, self._credentials = config.connect, config.domain, config.credentials
@@ -248,7 +258,7 @@ class Node(Generic[P]):
 
     def timer(self, period: float, callback: Callable[[], None]) -> Timer:
         """Call ``callback()`` every ``period`` s on an absolute schedule (until paused)."""
-        timer = Timer(period, callback, time.monotonic())
+        timer = Timer(period, callback, self.clock(), clock=self.clock)
         timer._owner = self._timers
         self._timers.append(timer)
         return timer
@@ -380,20 +390,17 @@ class Node(Generic[P]):
         ok = True
         # this loop runs at the fastest timer's rate (the simulator's 62.5 Hz): names bound once,
         # no generator per turn
-        timers, get, monotonic, empty = self._timers, self._queue.get, time.monotonic, queue.Empty
+        timers, get, clock, empty, fire_due = self._timers, self._queue.get, self.clock, queue.Empty, self._fire_due
         try:
             while self._running:
-                now = monotonic()
-                for t in timers:
-                    if t.active and now >= t.deadline:
-                        t.advance(now)
-                        t.callback()
+                now = clock()
+                fire_due(now)
                 wake = now + 1.0
                 for t in timers:  # after every callback: one may have paused or resumed a timer
                     if t.active and t.deadline < wake:
                         wake = t.deadline
                 try:
-                    func, args = get(timeout=max(0.0, wake - monotonic()))
+                    func, args = get(timeout=max(0.0, wake - clock()))
                 except empty:
                     continue
                 func(*args)
@@ -402,6 +409,24 @@ class Node(Generic[P]):
             ok = False
         self.shutdown()
         return ok
+
+    def _fire_due(self, now: float) -> None:
+        """Run every active timer due at ``now`` (one step of ``spin``; ``runtime.fake`` too)."""
+        for t in self._timers:
+            if t.active and now >= t.deadline:
+                t.advance(now)
+                t.callback()
+
+    def _drain(self) -> None:
+        """Run everything queued, and what that queues, without waiting (``runtime.fake``).
+        Node code that raises propagates; what is still queued stays queued."""
+        get, empty = self._queue.get_nowait, queue.Empty
+        while True:
+            try:
+                func, args = get()
+            except empty:
+                return
+            func(*args)
 
     def shutdown(self) -> None:
         """Run the shutdown hooks once, each even if an earlier one raised."""

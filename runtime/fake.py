@@ -1,0 +1,320 @@
+"""A node class unit-tested without Zenoh, as dora's ``MockNode`` or ROS's ``launch_testing``
+do: ``FakeNode(MyNode, {"side": 2.0})`` runs the real ``runtime.node.Node`` code over an
+in-memory session (``FakeSession``) and a fake clock, so the test delivers messages and
+requests, moves time on so timers fire, and reads what the node published and answered::
+
+    fake = FakeNode(Patrol, {"side": 2.0})
+    fake.deliver("turtle1/pose", Pose(x=1.0, y=1.0, theta=0.0))
+    fake.advance(0.35)  # a 0.1 s timer: three ticks, each at its own deadline
+    assert fake.published("turtle1/cmd_vel")[-1].linear > 0
+
+Messages travel encoded (``messages.encode``), as on the wire, so the node's decoding and
+its handling of garbage (``deliver(key, b"...")``) run as in production.  Everything runs on
+the test's thread, at once: each method runs what it queued before it returns, and an
+exception raised by node code reaches the test.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from types import SimpleNamespace
+from typing import Any, Generic
+
+import msgspec
+import zenoh
+
+from turtlectl.messages import Message, SetParameter, decode_any, encode
+from turtlectl.messages.keys import param_set_key
+from turtlectl.messages.world import Limits, World
+from turtlectl.runtime.config import NodeConfig
+from turtlectl.runtime.entities import sample_encoding
+from turtlectl.runtime.node import Node, P
+
+__all__ = ["FakeNode", "FakeSession"]
+
+_JSON = zenoh.Encoding.APPLICATION_JSON
+_EPSILON = 1e-9  # s: a deadline this close to where ``advance`` stops is reached (float rounding)
+
+
+def _matches(a: str, b: str) -> bool:
+    return zenoh.KeyExpr(a).intersects(zenoh.KeyExpr(b))
+
+
+def _sample(key: str, data: bytes, encoding: Any = None, kind: Any = zenoh.SampleKind.PUT) -> SimpleNamespace:
+    """What a subscriber callback reads of a ``zenoh.Sample`` (the payload is a real ``ZBytes``)."""
+    return SimpleNamespace(key_expr=key, payload=zenoh.ZBytes(data), encoding=encoding, kind=kind)
+
+
+class _Query:
+    """What a queryable callback reads and calls of a ``zenoh.Query``: replies are kept, an
+    error one (``reply_err``) as any other (its payload is an ``ErrorReply``)."""
+
+    def __init__(self, key: str, data: bytes | None, encoding: Any, replies: list[tuple[bytes, Any]]):
+        self.key_expr, self.encoding, self.replies = key, encoding, replies
+        self.payload = None if data is None else zenoh.ZBytes(data)
+        self.dropped = False
+
+    def reply(self, key: str, payload: bytes, encoding: Any = None) -> None:
+        self.replies.append((bytes(payload), encoding))
+
+    def reply_err(self, payload: bytes, encoding: Any = None) -> None:
+        self.replies.append((bytes(payload), encoding))
+
+    def drop(self) -> None:
+        self.dropped = True
+
+
+class _Entity:
+    """A declared publisher, subscriber, queryable or token: ``undeclare`` takes it out."""
+
+    def __init__(self, registry: list[Any], key: str, target: Any = None):
+        self.key = key
+        self.target = target
+        self._registry = registry
+        registry.append(self)
+
+    def undeclare(self) -> None:
+        if self in self._registry:
+            self._registry.remove(self)
+
+
+class _Publisher(_Entity):
+    def __init__(self, session: FakeSession, key: str, encoding: Any):
+        super().__init__(session.publishers, key)
+        self._session = session
+        self.encoding = encoding
+
+    def put(self, payload: bytes) -> None:
+        self._session.put(self.key, bytes(payload), self.encoding)
+
+
+class FakeSession:
+    """An in-memory stand-in for what ``Node`` and its entities use of a ``zenoh.Session``.
+    A ``put`` is recorded and delivered to the matching subscribers of this session (as Zenoh
+    delivers locally); a ``get`` is answered by ``answers`` (``FakeNode.answer``)."""
+
+    def __init__(self) -> None:
+        self.published: list[tuple[str, bytes]] = []
+        self.publishers: list[_Publisher] = []
+        self.subscribers: list[_Entity] = []
+        self.queryables: list[_Entity] = []
+        self.tokens: list[_Entity] = []
+        self.liveliness_subscribers: list[_Entity] = []
+        self.answers: dict[str, Callable[[Message], list[Message]]] = {}
+        self.info = SimpleNamespace(routers_zid=list)  # no router: ``Node.claim`` has nobody to ask
+
+    # what the node declares
+    def declare_publisher(self, key: str, encoding: Any = None) -> _Publisher:
+        return _Publisher(self, key, encoding)
+
+    def declare_subscriber(self, key: str, callback: Callable[[Any], None]) -> _Entity:
+        return _Entity(self.subscribers, key, callback)
+
+    def declare_queryable(self, key: str, callback: Callable[[Any], None]) -> _Entity:
+        return _Entity(self.queryables, key, callback)
+
+    def liveliness(self) -> SimpleNamespace:
+        return SimpleNamespace(
+            declare_token=lambda key: _Entity(self.tokens, key),
+            declare_subscriber=lambda key, callback: _Entity(self.liveliness_subscribers, key, callback),
+        )
+
+    def get(self, key: str, handler: zenoh.handlers.Callback, payload: bytes | None = None, **_: Any) -> None:
+        """The node queries ``key``: what ``answers`` holds for it replies, then it is done."""
+        for served, answer in list(self.answers.items()):
+            if _matches(served, key):
+                for reply in answer(decode_any(payload if payload is not None else b"\x80")):
+                    handler.callback(SimpleNamespace(ok=_sample(served, encode(reply), sample_encoding(type(reply)))))
+        handler.drop()
+
+    # what comes to the node
+    def put(self, key: str, data: bytes, encoding: Any = None) -> None:
+        """A sample on ``key``: recorded if the node published it, delivered to every match."""
+        self.published.append((key, data))
+        self.deliver(key, data, encoding)
+
+    def deliver(self, key: str, data: bytes, encoding: Any = None) -> None:
+        for sub in list(self.subscribers):
+            if _matches(sub.key, key):
+                sub.target(_sample(key, data, encoding))
+
+    def query(self, key: str, data: bytes | None, encoding: Any = None) -> list[tuple[bytes, Any]]:
+        """Query every matching queryable; their replies, as they come (the list grows)."""
+        replies: list[tuple[bytes, Any]] = []
+        for queryable in list(self.queryables):
+            if _matches(queryable.key, key):
+                queryable.target(_Query(key, data, encoding, replies))
+        return replies
+
+    def token(self, key: str, alive: bool) -> None:
+        kind = zenoh.SampleKind.PUT if alive else zenoh.SampleKind.DELETE
+        for sub in list(self.liveliness_subscribers):
+            if _matches(sub.key, key):
+                sub.target(_sample(key, b"", None, kind))
+
+
+def _decoded(data: bytes, encoding: Any) -> Any:
+    """A reply as the test reads it: a message (an error as ``ErrorReply``), or a JSON answer's
+    document (``answer_json``: parameters, node details)."""
+    if encoding is not None and str(encoding) == str(_JSON):
+        return msgspec.json.decode(data)
+    return decode_any(data)
+
+
+class _Replies(list[Any]):
+    """The decoded replies of one request, growing as the handler answers (later ones too)."""
+
+    def __init__(self, raw: list[tuple[bytes, Any]]):
+        super().__init__()
+        self._raw = raw
+
+    def refresh(self) -> _Replies:
+        for data, encoding in self._raw[len(self) :]:
+            self.append(_decoded(data, encoding))
+        return self
+
+
+def _snake(name: str) -> str:
+    """``WallFollower`` -> ``wall_follower`` (a class's name as its node's, as ``turtlectl run``)."""
+    return "".join(f"_{c.lower()}" if c.isupper() and i else c.lower() for i, c in enumerate(name))
+
+
+class FakeNode(Generic[P]):
+    """``node_class`` built on a real ``Node`` over a ``FakeSession`` and a fake clock.
+
+    ``params``: None (the defaults), a dict (validated as a launch file's, ValueError if it is
+    not valid) or the ``node_class.Params`` Struct itself.  ``name``: the node's, by default
+    the class's in snake case.  ``.node`` is the ``Node``, ``.instance`` the node class's
+    object, ``.now`` the fake time in s (0.0 at the start).  A context manager: ``shutdown``
+    on exit."""
+
+    def __init__(
+        self,
+        node_class: Callable[[Node[P]], Any],
+        params: P | dict[str, Any] | None = None,
+        *,
+        name: str | None = None,
+        world: World | None = None,
+        limits: Limits | None = None,
+    ):
+        params_type = getattr(node_class, "Params", None)
+        struct = _params(node_class, params_type, params)
+        self.now = 0.0
+        self.session = FakeSession()
+        self._pending: list[_Replies] = []  # every request's replies, refreshed as the node runs
+        config = NodeConfig(
+            name=name or _snake(getattr(node_class, "__name__", "node")),
+            kind=getattr(node_class, "__name__", "node"),
+            connect="fake",
+            params=msgspec.to_builtins(struct),
+            world=world or World(),
+            limits=limits or Limits(),
+        )
+        self.node: Node[P] = Node(config, struct, self.session, clock=self._clock)  # type: ignore[arg-type]
+        self.instance = node_class(self.node)
+        self._ran()
+
+    def _clock(self) -> float:
+        return self.now
+
+    # -- what happens to the node --------------------------------------------
+    def deliver(self, key: str, message: Message | bytes) -> None:
+        """``message`` arrives on ``key`` (bytes: a raw payload, garbage included); what it
+        queued runs."""
+        if isinstance(message, bytes):
+            self.session.deliver(key, message)
+        else:
+            self.session.deliver(key, encode(message), sample_encoding(type(message)))
+        self._ran()
+
+    def request(self, key: str, request: Message | bytes | None = None) -> list[Any]:
+        """Call the node's service ``key`` with ``request`` (bytes: a raw payload; None: no
+        payload): its replies so far, decoded (an error reply as ``ErrorReply``, a JSON answer
+        as its document; none: nobody serves ``key``).  The list grows with replies sent
+        later (a goal's feedback and result, after ``advance``)."""
+        if request is None or isinstance(request, bytes):
+            raw = self.session.query(key, request)
+        else:
+            raw = self.session.query(key, encode(request), sample_encoding(type(request)))
+        replies = _Replies(raw)
+        self._pending.append(replies)
+        self._ran()
+        return replies.refresh()
+
+    def _ran(self) -> None:
+        self.node._drain()
+        for replies in self._pending:
+            replies.refresh()
+
+    def advance(self, seconds: float) -> None:
+        """Move the fake clock ``seconds`` on, firing each timer due meanwhile at its own
+        deadline, in order, and running what it queued, as the node's loop would."""
+        if seconds < 0:
+            raise ValueError(f"the clock only moves forward (advance({seconds}))")
+        until = self.now + seconds
+        self._ran()
+        while True:
+            due = [t.deadline for t in self.node._timers if t.active]
+            deadline = min(due, default=None)
+            if deadline is None or deadline > until + _EPSILON:
+                break
+            self.now = max(self.now, deadline)
+            self.node._fire_due(self.now)
+            self._ran()
+        self.now = max(self.now, until)
+
+    def answer(self, key: str, fn: Callable[[Message], list[Message]]) -> None:
+        """What a service the node calls (``Node.call``) on ``key`` answers: ``fn(request)``'s
+        messages.  A key nothing answers: the call is done at once, with no replies."""
+        self.session.answers[key] = fn
+
+    def liveliness(self, key: str, alive: bool) -> None:
+        """A liveliness token ``key`` appears (``alive``) or vanishes (``watch_liveliness``)."""
+        self.session.token(key, alive)
+        self._ran()
+
+    def set_param(self, name: str, value: Any) -> Message:
+        """``turtlectl param set``, through the node's own service: its ``Ack``, or the
+        ``ErrorReply`` saying why not."""
+        replies = self.request(param_set_key(self.node.name), SetParameter(name=name, value=value))
+        if not replies:
+            raise RuntimeError(f"{self.node.name} did not answer its parameter set")
+        reply: Message = replies[0]
+        return reply
+
+    def shutdown(self) -> None:
+        """Stop the node: its shutdown hooks run (once)."""
+        self.node.shutdown()
+        self._ran()
+
+    # -- what the node did ----------------------------------------------------
+    def published(self, key: str) -> list[Message]:
+        """The messages the node published on ``key``, decoded, oldest first."""
+        return [decode_any(data) for k, data in self.session.published if k == key]
+
+    def published_all(self) -> list[tuple[str, Message]]:
+        """Every message the node published, as (key, message), oldest first."""
+        return [(k, decode_any(data)) for k, data in self.session.published]
+
+    def __enter__(self) -> FakeNode[P]:
+        return self
+
+    def __exit__(self, *_: object) -> None:
+        self.shutdown()
+
+
+def _params(node_class: Any, params_type: Any, params: Any) -> msgspec.Struct:
+    """The node's parameter Struct from what the test gave (ValueError if it is not valid)."""
+    shown = getattr(node_class, "__name__", repr(node_class))
+    if isinstance(params, msgspec.Struct):
+        if params_type is not None and not isinstance(params, params_type):
+            raise ValueError(f"{shown} takes {params_type.__name__} params, not {type(params).__name__}")
+        return params
+    if not (isinstance(params_type, type) and issubclass(params_type, msgspec.Struct)):
+        raise ValueError(f"{shown} is not a node class: it has no Params (its parameter msgspec.Struct)")
+    if params is not None and not isinstance(params, dict):
+        raise ValueError(f"params for {shown}: a dict or a {params_type.__name__}, not {type(params).__name__}")
+    try:
+        return msgspec.convert(params or {}, params_type, strict=True)
+    except msgspec.ValidationError as exc:
+        raise ValueError(f"invalid params for {shown}: {exc}") from None
