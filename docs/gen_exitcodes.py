@@ -33,7 +33,7 @@ MEANINGS: dict[ExitCode, str] = {
         "ran but did not succeed: goal refused by the navigator (invalid, battery low) or not reached (the line says why), an answer that says no (`cancel` with no goal running, `call` getting `ok: false` or `success: false`), a required node died, every node exited; on a `--secure` system, an action the client's role is not permitted. A node: its own code raised (a crash; respawned if its launch entry says so)"
     ),
     ExitCode.BAD_INPUT: (
-        'bad input: arguments (NaN, text for a number, a type that is not the key\'s) or launch file (the message names the file and key path): nothing was sent or started; or a request the service rejected as invalid (a teleport into an obstacle or out of the world: "turtle1/teleport_absolute rejected the request: …"). A node: its configuration cannot be used (never respawned)'
+        'bad input: arguments (NaN, text for a number, a type that is not the key\'s) or launch file (the message names the file and key path): nothing was sent or started; or a request the service rejected as invalid (a teleport into an obstacle or out of the world: "turtle1/teleport_absolute rejected the request: …"). A node: its configuration cannot be used, or it declared something outside its interface (never respawned)'
     ),
     ExitCode.UNREACHABLE: (
         "nothing to talk to: no router at the endpoint (at once), nothing serving the service (within 3 s; the line names the domains that have a system), no message (`echo --timeout`), or the router lost while waiting; a `--secure` router that did not let the client in (no or a wrong login, no or a foreign TLS certificate, plaintext to TLS). A node: no Zenoh session to the router (respawned)"

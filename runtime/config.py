@@ -22,7 +22,8 @@ LOG_LEVELS = ("DEBUG", "INFO", "WARNING", "ERROR")
 class Claim(msgspec.Struct, frozen=True, forbid_unknown_fields=True):
     """What only one node of a system may do: publish ("pub") or serve ("srv") ``key``.
 
-    Declared once, by the node kind (nodes.kinds); the runtime checks it before the node starts."""
+    A node class declares its claims once, ``Claims = (Claim("pub", "patrol/state"),)``;
+    ``launch --check`` and the runtime (before the node starts) refuse a second node claiming the same."""
 
     role: Literal["pub", "srv"]
     key: str
@@ -34,8 +35,11 @@ class Claim(msgspec.Struct, frozen=True, forbid_unknown_fields=True):
 
 
 class Interface(msgspec.Struct, frozen=True):
-    """The keys a node uses, beyond what every node does (its parameters, node info, log
-    level, parameter events and liveliness tokens: the runtime's), as key expressions."""
+    """What a node publishes, subscribes to, serves, calls and watches (liveliness), as key
+    expressions, beyond what every node does (its parameters, node info, log level, parameter
+    events and liveliness tokens: the runtime's).  A node class declares it once,
+    ``Interface = Interface(publishes=("patrol/state",), calls=("navigate_to",))``: the runtime
+    refuses any other declaration, and a ``launch --secure`` router allows exactly this."""
 
     publishes: tuple[str, ...] = ()
     subscribes: tuple[str, ...] = ()
@@ -58,6 +62,9 @@ class NodeConfig(msgspec.Struct, forbid_unknown_fields=True, kw_only=True):
     connect: str
     domain: str = ""  # a Zenoh namespace that prefixes every key of the system (isolation)
     params: dict[str, Any] = msgspec.field(default_factory=dict)
+    #: what the node may declare beyond every node's share (its kind's Interface, or what an
+    #: undeclared user kind may do); the runtime refuses anything else.  None: no check
+    interface: Interface | None = None
     claims: list[Claim] = msgspec.field(default_factory=list)  # checked before the node starts
     world: World = msgspec.field(default_factory=World)
     limits: Limits = msgspec.field(default_factory=Limits)

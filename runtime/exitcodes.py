@@ -18,7 +18,7 @@ class ExitCode(enum.IntEnum):
     #: died; a node: its own code raised (a crash)
     FAILED = 1
     #: what it was given cannot be used, nothing was sent or started: a command's arguments or
-    #: launch file; a node's configuration
+    #: launch file; a node's configuration, or a declaration outside its interface
     BAD_INPUT = 2
     #: nothing to talk to: no router, nobody serving or publishing what was asked for; a node:
     #: no Zenoh session to the router
@@ -35,7 +35,7 @@ class ExitCode(enum.IntEnum):
 
 #: what a node's exit with each code means, as the supervisor says it
 _NODE_MEANINGS = {
-    ExitCode.BAD_INPUT: "bad input: its configuration cannot be used",
+    ExitCode.BAD_INPUT: "bad input: its configuration or its declarations cannot be used",
     ExitCode.CANNOT_START: "could not start: another process already holds what it claims",
 }
 

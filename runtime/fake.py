@@ -26,9 +26,10 @@ import zenoh
 from turtlectl.messages import Message, SetParameter, decode_any, encode
 from turtlectl.messages.keys import param_set_key
 from turtlectl.messages.world import Limits, World
-from turtlectl.runtime.config import NodeConfig
+from turtlectl.runtime.config import Interface, NodeConfig
 from turtlectl.runtime.entities import sample_encoding
 from turtlectl.runtime.node import Node, P
+from turtlectl.runtime.roles import interface_of
 
 __all__ = ["FakeNode", "FakeSession"]
 
@@ -202,11 +203,15 @@ class FakeNode(Generic[P]):
         self.now = 0.0
         self.session = FakeSession()
         self._pending: list[_Replies] = []  # every request's replies, refreshed as the node runs
+        name = name or _snake(getattr(node_class, "__name__", "node"))
+        declared = getattr(node_class, "Interface", None)
         config = NodeConfig(
-            name=name or _snake(getattr(node_class, "__name__", "node")),
+            name=name,
             kind=getattr(node_class, "__name__", "node"),
             connect="fake",
             params=msgspec.to_builtins(struct),
+            # what it may declare, as in a launched system: a declaration outside it raises here too
+            interface=interface_of(name, declared if isinstance(declared, Interface) else None),
             world=world or World(),
             limits=limits or Limits(),
         )

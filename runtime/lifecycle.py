@@ -8,7 +8,8 @@ work and returns the exit code, and ``run_main`` is the one place that exits:
   node has claimed what it owns ends it at once instead: killed by SIGTERM, nothing to save);
 * 1 the node's own code raised (traceback logged once, shutdown hooks run, so the
   navigator still commands a stop; the supervisor's respawn applies);
-* 2 the configuration could not be used; 3 no Zenoh session; 4 another node
+* 2 the configuration could not be used, or the node declared something its interface does not
+  name (runtime.interface); 3 no Zenoh session; 4 another node
   already holds what this one claims (see ``Node.claim``): the supervisor does not respawn
   a node after a 2 or a 4, the next start would end the same way.
 
@@ -33,6 +34,7 @@ import zenoh
 from turtlectl.messages.keys import NodeInfo, node_token
 from turtlectl.runtime.config import ENV_VAR, SUPERVISOR_PID_VAR, decode_config
 from turtlectl.runtime.exitcodes import ExitCode
+from turtlectl.runtime.interface import OutsideInterface, where
 from turtlectl.runtime.node import Node, NodeConflict, P
 from turtlectl.runtime.session import close_session, node_session_config
 
@@ -145,6 +147,11 @@ def run(node_class: Callable[[Node[P]], Any], params_type: type[P]) -> int:
             log.error("%s", exc)
             node.shutdown()
             return ExitCode.CANNOT_START
+        except OutsideInterface as exc:  # its declaration and its code disagree: starting again cannot help
+            at = where(exc)
+            node.log.error("%s%s", exc, f" ({at})" if at else "")
+            node.shutdown()
+            return ExitCode.BAD_INPUT
         except Exception:  # the node's own code: a defect, reported once, and the node still stops cleanly
             node.log.exception("failed while starting")
             node.shutdown()

@@ -68,9 +68,10 @@ from turtlectl.messages.keys import (
 )
 from turtlectl.messages.params import ParamInfo
 from turtlectl.messages.world import Limits, World
-from turtlectl.runtime.config import LOG_LEVELS, Claim, NodeConfig
+from turtlectl.runtime.config import LOG_LEVELS, Claim, Interface, NodeConfig
 from turtlectl.runtime.entities import Latest, Publisher, Request, Timer, sample_encoding
 from turtlectl.runtime.handles import Declaration
+from turtlectl.runtime.interface import check
 from turtlectl.runtime.params import ParamRefused, describe, lookup, param_infos, with_value
 from turtlectl.runtime.session import client_config, close_session
 
@@ -104,6 +105,7 @@ class Node(Generic[P]):
         self.started_ns = time.time_ns() if started_ns is None else started_ns
         self._connect, self._domain, self._credentials = config.connect, config.domain, config.credentials
         self.params: P = params
+        self.interface: Interface | None = None  # the runtime's own declarations below are every node's share
         self.world: World = config.world
         self.limits: Limits = config.limits
         self.session = session
@@ -123,6 +125,7 @@ class Node(Generic[P]):
         self._param_events = self.publisher(PARAMETER_EVENTS, ParameterEvent)
         self.serve(param_set_key(self.name), SetParameter, Ack, self._set_param)
         self.serve(log_level_key(self.name), SetLogLevel, Ack, self._set_log_level)
+        self.interface = config.interface  # from here on, what the node declares is checked against it
 
     # -- declarations -------------------------------------------------------
     def _announce(self, role: str, msg_type: type[Message] | str, key: str) -> zenoh.LivelinessToken:
@@ -134,6 +137,7 @@ class Node(Generic[P]):
 
     def publisher(self, key: str, msg_type: type[M]) -> Publisher[M]:
         """A publisher of ``msg_type`` on ``key`` (``publish``; ``undeclare`` withdraws it)."""
+        check(self.name, self.interface, "publish", key)
         declared = Declaration(self._entities, "publisher", key)
         pub = Publisher(self.session, key, msg_type, declared)
         declared.add(self._announce("pub", msg_type, key))
@@ -142,6 +146,7 @@ class Node(Generic[P]):
     def subscribe(self, key: str, msg_type: type[M], callback: Callable[[M], None]) -> Declaration:
         """Call ``callback(msg)`` on the node thread for each valid ``msg_type`` on ``key``,
         until the returned declaration is undeclared."""
+        check(self.name, self.interface, "subscribe", key)
         declared = Declaration(self._entities, "subscription", key)
         declared.add(self.session.declare_subscriber(key, self._queuing(key, msg_type, callback, declared)))
         declared.add(self._announce("sub", msg_type, key))
@@ -150,6 +155,7 @@ class Node(Generic[P]):
     def latest(self, key: str, msg_type: type[M]) -> Latest[M]:
         """Keep the newest ``msg_type`` on ``key`` for the node to read at its own pace
         (``.get()``), without waking the node for each message (see ``Latest``)."""
+        check(self.name, self.interface, "subscribe", key)
         declared = Declaration(self._entities, "subscription", key)
         latest = Latest(self, key, msg_type, declared)
         declared.add(self._announce("sub", msg_type, key))
@@ -164,6 +170,7 @@ class Node(Generic[P]):
     ) -> Declaration:
         """Serve a queryable; ``handler(request)`` runs on the node thread and responds when it
         likes, until the returned declaration is undeclared."""
+        check(self.name, self.interface, "serve", key)
         declared = Declaration(self._entities, "service", key)
 
         def on_query(query: zenoh.Query) -> None:  # Zenoh thread: queue only
@@ -208,6 +215,7 @@ class Node(Generic[P]):
         """Query ``key`` with ``request`` without waiting: ``on_done(replies)`` runs on the node
         thread once every server has answered (at once when nobody serves ``key``), with the
         replies that decoded; bounded by ``timeout`` s."""
+        check(self.name, self.interface, "call", key)
         replies: list[Message] = []
 
         def on_reply(reply: zenoh.Reply) -> None:  # Zenoh thread: collect only
@@ -231,6 +239,7 @@ class Node(Generic[P]):
         """Answer every query on ``key`` with a JSON ``document``, or what ``document()``
         returns then (read-only: answered right on the Zenoh thread; a callable must only
         read attributes the node thread swaps whole)."""
+        check(self.name, self.interface, "serve", key)
 
         def on_query(query: zenoh.Query) -> None:
             body = document() if callable(document) else document
@@ -244,6 +253,7 @@ class Node(Generic[P]):
     def watch_liveliness(self, key_expr: str, callback: Callable[[str, bool], None]) -> Declaration:
         """Call ``callback(key, alive)`` on the node thread when a matching token appears or
         vanishes, until the returned declaration is undeclared."""
+        check(self.name, self.interface, "watch", key_expr)
         declared = Declaration(self._entities, "liveliness watch", key_expr)
 
         def live(key: str, alive: bool) -> None:

@@ -23,25 +23,21 @@ from typing import TYPE_CHECKING, Any
 import zenoh
 
 from turtlectl.messages.keys import (
-    CANCEL,
-    CLIENT_TOKEN_PREFIX,
-    CMD_VEL,
     ENTITY_TOKEN_PREFIX,
-    NAVIGATE_TO,
     NODE_TOKEN_PREFIX,
     PARAMETER_EVENTS,
-    RESET,
-    TELEPORT,
-    WORLD_KEY,
     log_level_key,
     node_key,
     param_describe_key,
     param_set_key,
     params_key,
 )
+from turtlectl.runtime.roles import GRAPH_KEYS, OPERATOR, ROLES, VIEWER, interface_of, undeclared
 
 if TYPE_CHECKING:  # the clients' check (``permitted``) needs no node kind
-    from turtlectl.nodes.kinds import Interface, NodeKind
+    from turtlectl.nodes.kinds import NodeKind
+
+__all__ = ["GRAPH_KEYS", "OPERATOR", "ROLES", "VIEWER", "access_control", "node_rights", "permitted", "undeclared"]
 
 #: a verb -> the Zenoh messages it takes, each with its direction at the router
 #: (ingress: from the session; egress: to it)
@@ -62,44 +58,11 @@ VERBS: dict[str, tuple[tuple[str, str], ...]] = {
     ),
 }
 
-GRAPH_KEYS = ("@turtlectl/**", "*/@turtlectl/**")  # the graph, and (outside a domain) every domain's
-VIEWER: dict[str, tuple[str, ...]] = {
-    "subscribe": ("**",),
-    "call": (params_key("*"), param_describe_key("*"), node_key("*"), WORLD_KEY),
-    "watch": GRAPH_KEYS,
-}
-OPERATOR: dict[str, tuple[str, ...]] = {
-    **VIEWER,
-    "call": (*VIEWER["call"], NAVIGATE_TO, CANCEL, TELEPORT, RESET, param_set_key("*"), log_level_key("*")),
-    "token": (f"{CLIENT_TOKEN_PREFIX}/**",),  # a goal's caller holds one while it waits
-}
-ROLES: dict[str, dict[str, tuple[str, ...]]] = {
-    "viewer": VIEWER,
-    "operator": OPERATOR,
-    "teleop": {**OPERATOR, "publish": (CMD_VEL,)},
-}
-
-
-def _undeclared(name: str) -> Interface:
-    """What a user's node class that declares no Interface may do: what a ``teleop`` client
-    may (subscribe to everything, the operator's calls, cmd_vel, a caller's token), and
-    publish and serve under its own name."""
-    from turtlectl.nodes.kinds import Interface
-
-    teleop = ROLES["teleop"]
-    return Interface(
-        publishes=(*teleop["publish"], f"{name}/**"),
-        subscribes=teleop["subscribe"],
-        serves=(f"{name}/**",),
-        calls=teleop["call"],
-        watches=teleop["watch"],
-    )
-
 
 def node_rights(name: str, kind: NodeKind) -> dict[str, tuple[str, ...]]:
     """What node ``name`` of ``kind`` may do: its kind's interface (``_undeclared``'s when it
     declares none) and every node's share."""
-    i = kind.interface if kind.interface is not None else _undeclared(name)
+    i = interface_of(name, kind.interface)
     tokens = ROLES["teleop"]["token"] if kind.interface is None else ()
     return {
         "publish": (*i.publishes, PARAMETER_EVENTS),

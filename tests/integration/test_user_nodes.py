@@ -29,7 +29,8 @@ PATROL = textwrap.dedent(
 
     from messages import Waypoint  # the project's own messages.py: never turtlectl's
 
-    from turtlectl import Node, run_main
+    from turtlectl import Interface, Node, run_main
+    from turtlectl.messages import Twist
 
 
     class PatrolParams(msgspec.Struct, forbid_unknown_fields=True, kw_only=True):
@@ -51,10 +52,19 @@ PATROL = textwrap.dedent(
         Params = PatrolParams
 
         def __init__(self, node: Node[PatrolParams]):
-            from turtlectl.messages import Twist
-
             pub = node.publisher("turtle1/cmd_vel", Twist)
             node.timer(0.1, lambda: pub.publish(Twist(linear=0.5, angular=0.0)))
+
+
+    class Alarm:
+        """Declares an Interface, then publishes outside it."""
+
+        Params = PatrolParams
+        Interface = Interface(publishes=("alarm/state",))
+
+        def __init__(self, node):
+            node.publisher("alarm/state", Twist)
+            node.publisher("robot/alarm", Twist)
 
 
     class Broken:
@@ -206,3 +216,18 @@ def test_params_of_a_user_node_that_do_not_validate_start_nothing(project):
     assert run.returncode == ExitCode.BAD_INPUT and run.stderr.splitlines() == [
         "turtlectl: error: --param patrol.side: Expected `float` > 0.0"
     ], run.stderr
+
+
+def test_a_declaration_outside_its_interface_stops_the_node_with_exit_2_not_respawned(project):
+    """Issue 24 (3): what --secure's router would drop silently is refused by the runtime at once,
+    in every mode: one line naming the key and where, exit 2, and respawn cannot help."""
+    (project / "launch.toml").write_text(
+        '[[node]]\nname = "sim"\nrun = "sim"\n\n[[node]]\nname = "alarm"\nrun = "./patrol.py:Alarm"\n'
+        "respawn = true\nrespawn_delay = 0.1\n"
+    )
+    with running_system(project / "launch.toml", ready=("sim",), cwd=project) as system:
+        system.wait_line(r"alarm exited with code 2", 30.0)
+        out = system.output()
+        assert "alarm may not publish robot/alarm: its Interface publishes alarm/state" in out, out
+        assert "patrol.py:" in out and "Traceback" not in out
+        assert "respawning cannot help" in out and "respawning in" not in out

@@ -30,6 +30,7 @@ PURE = [
     "runtime.exitcodes",
     "runtime.handles",
     "runtime.loader",
+    "runtime.roles",
     "sim.kinematics",
     "sim.lidar",
     "sim.params",

@@ -18,7 +18,7 @@ def _generator(name: str):
     return module
 
 
-@pytest.mark.parametrize("name", ["gen_cli", "gen_launchfile", "gen_exitcodes"])
+@pytest.mark.parametrize("name", ["gen_cli", "gen_launchfile", "gen_exitcodes", "gen_api"])
 def test_the_committed_page_is_what_the_generator_renders_now(name):
     gen = _generator(name)
     assert gen.OUTPUT.read_text() == gen.render(), (

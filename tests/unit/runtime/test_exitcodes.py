@@ -39,7 +39,7 @@ def test_only_a_configuration_error_or_a_conflict_is_not_worth_a_respawn(code, h
 
 
 def test_a_node_s_exit_is_described_by_what_it_means_for_a_node():
-    assert node_exit(2) == "exited with code 2 (bad input: its configuration cannot be used)"
+    assert node_exit(2) == "exited with code 2 (bad input: its configuration or its declarations cannot be used)"
     assert node_exit(4) == "exited with code 4 (could not start: another process already holds what it claims)"
     assert node_exit(1) == "exited with code 1"
     assert node_exit(-9) == "was killed by SIGKILL"

@@ -11,8 +11,10 @@ import pytest
 
 from turtlectl.messages import Ack, ErrorReply, Message, ParameterEvent, Pose, Reset, Twist
 from turtlectl.messages.keys import PARAMETER_EVENTS, param_set_key, params_key
+from turtlectl.runtime.config import Interface
 from turtlectl.runtime.entities import Timer
 from turtlectl.runtime.fake import FakeNode
+from turtlectl.runtime.interface import OutsideInterface
 from turtlectl.runtime.node import Node
 
 
@@ -28,6 +30,13 @@ class Counter:
     liveliness watch, parameter hook, shutdown hook."""
 
     Params = CounterParams
+    Interface = Interface(
+        publishes=("demo/count",),
+        subscribes=("demo/cmd", "demo/pose"),
+        serves=("demo/reset",),
+        calls=("demo/other",),
+        watches=("demo/alive/*",),
+    )
 
     def __init__(self, node: Node[CounterParams]):
         self.node = node
@@ -206,3 +215,35 @@ def test_a_timer_reads_the_clock_it_was_given():
     now[0] = 101.5
     t.resume()
     assert t.deadline == pytest.approx(101.73)
+
+
+class Talker:
+    """Publishes what its Interface does not name: refused at once (issue 24, item 3)."""
+
+    Params = CounterParams
+    Interface = Interface(publishes=("chatter",))
+
+    def __init__(self, node: Node[CounterParams]):
+        node.publisher("chatter", Twist)
+        node.publisher("robot/alarm", Twist)
+
+
+class Undeclared:
+    """No Interface: what a teleop client may do (cmd_vel, subscribe to all) and its own name's keys."""
+
+    Params = CounterParams
+
+    def __init__(self, node: Node[CounterParams]):
+        node.publisher("turtle1/cmd_vel", Twist)
+        node.publisher("undeclared/state", Twist)
+        node.subscribe("anything/at/all", Twist, print)
+        node.serve("robot/reset_all", Reset, Ack, print)
+
+
+def test_a_declaration_outside_the_interface_is_refused_at_once():
+    with pytest.raises(OutsideInterface, match=r"talker may not publish robot/alarm: its Interface publishes chatter"):
+        FakeNode(Talker)
+    with pytest.raises(
+        OutsideInterface, match=r"undeclared may not serve robot/reset_all: its Interface serves undeclared/\*\*"
+    ):
+        FakeNode(Undeclared)

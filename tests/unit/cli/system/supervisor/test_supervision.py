@@ -239,7 +239,7 @@ def test_a_required_node_gone_for_good_stops_the_system_with_exit_code_failed():
     system.process("sim", runs=(1.5,), code=2)
     navigator = system.process("navigator")
     assert system.run() == ExitCode.FAILED
-    why = "exited with code 2 (bad input: its configuration cannot be used)"
+    why = "exited with code 2 (bad input: its configuration or its declarations cannot be used)"
     assert system.supervision.stop_reason == f"required node sim {why}"
     assert f"sim {why}; it is required, stopping the system" in system.lines()
     assert navigator.got == [(pytest.approx(1.5, abs=LAG), INT)]  # the others stopped as on Ctrl-C
@@ -388,7 +388,7 @@ def test_children_are_stopped_even_when_starting_one_fails():
 @pytest.mark.parametrize(
     "code, why",
     [
-        (2, "exited with code 2 (bad input: its configuration cannot be used)"),
+        (2, "exited with code 2 (bad input: its configuration or its declarations cannot be used)"),
         (4, "exited with code 4 (could not start: another process already holds what it claims)"),
     ],
 )

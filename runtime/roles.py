@@ -1,0 +1,64 @@
+"""The roles of a ``launch --secure`` system's clients, and what a user's node class that declares
+no ``Interface`` may do (pure data: cli.system.access turns them into the router's rules, the
+supervisor hands a node its interface, the node's runtime (and runtime.fake) refuses anything else).
+
+* ``viewer``: echo, hz, list, view, record, node/topic info, param get (subscribe to
+  everything, read the JSON answers, follow the graph);
+* ``operator``: also goto, cancel, teleport, reset, call, param set, log-level;
+* ``teleop``: also publishes ``turtle1/cmd_vel`` (teleop, pub).
+"""
+
+from __future__ import annotations
+
+from turtlectl.messages.keys import (
+    CANCEL,
+    CLIENT_TOKEN_PREFIX,
+    CMD_VEL,
+    NAVIGATE_TO,
+    RESET,
+    TELEPORT,
+    WORLD_KEY,
+    log_level_key,
+    node_key,
+    param_describe_key,
+    param_set_key,
+    params_key,
+)
+from turtlectl.runtime.config import Interface
+
+GRAPH_KEYS = ("@turtlectl/**", "*/@turtlectl/**")  # the graph, and (outside a domain) every domain's
+VIEWER: dict[str, tuple[str, ...]] = {
+    "subscribe": ("**",),
+    "call": (params_key("*"), param_describe_key("*"), node_key("*"), WORLD_KEY),
+    "watch": GRAPH_KEYS,
+}
+OPERATOR: dict[str, tuple[str, ...]] = {
+    **VIEWER,
+    "call": (*VIEWER["call"], NAVIGATE_TO, CANCEL, TELEPORT, RESET, param_set_key("*"), log_level_key("*")),
+    "token": (f"{CLIENT_TOKEN_PREFIX}/**",),  # a goal's caller holds one while it waits
+}
+ROLES: dict[str, dict[str, tuple[str, ...]]] = {
+    "viewer": VIEWER,
+    "operator": OPERATOR,
+    "teleop": {**OPERATOR, "publish": (CMD_VEL,)},
+}
+
+
+def undeclared(name: str) -> Interface:
+    """What a user's node class that declares no Interface may do: what a ``teleop`` client
+    may (subscribe to everything, the operator's calls, cmd_vel, a caller's token), and
+    publish and serve under its own name."""
+    teleop = ROLES["teleop"]
+    return Interface(
+        publishes=(*teleop["publish"], f"{name}/**"),
+        subscribes=teleop["subscribe"],
+        serves=(f"{name}/**",),
+        calls=teleop["call"],
+        watches=teleop["watch"],
+    )
+
+
+def interface_of(name: str, declared: Interface | None) -> Interface:
+    """What node ``name`` may do beyond every node's share: the interface its kind declares,
+    or ``undeclared(name)``'s.  The one source for the router's rules and the node's runtime."""
+    return declared if declared is not None else undeclared(name)
