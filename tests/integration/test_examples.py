@@ -19,9 +19,9 @@ EXAMPLE = Path(__file__).resolve().parents[2] / "examples" / "patrol"
 
 
 def pytest_in(folder: Path) -> subprocess.CompletedProcess[str]:
-    """The project's own ``pytest``, run in its folder (its pytest.ini is the rootdir's)."""
+    """The project's own ``pytest`` (the console script, as a user runs it), in its folder."""
     return subprocess.run(
-        [sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider"],
+        [str(Path(sys.executable).parent / "pytest"), "-q", "-p", "no:cacheprovider"],
         cwd=folder,
         capture_output=True,
         text=True,
