@@ -44,7 +44,7 @@ commands).
 
 #: the groups of `turtlectl --help`, in order, and their commands in the order listed
 COMMAND_GROUPS: dict[str, tuple[str, ...]] = {
-    "System": ("launch", "router", "run", "log-level", "certs"),
+    "System": ("launch", "router", "run", "new", "log-level", "certs"),
     "Goals and driving": ("goto", "cancel", "teleport", "reset", "teleop"),
     "Topics": ("echo", "hz", "pub", "topic"),
     "Services": ("call",),

@@ -181,8 +181,36 @@ def log_level_command(
     result(introspect.set_log_level(connect, node, level))
 
 
+new_app = typer.Typer(help="Start something of your own (as `ros2 pkg create`).\n\nExample: turtlectl new node patrol")
+
+
+@new_app.command("node")
+def new_node(
+    name: str = typer.Argument(..., metavar="NAME", help="The node's module name, snake_case (patrol, wall_follower)."),
+    folder: Path = typer.Option(Path("."), "--dir", help="The project folder (default: here)."),
+) -> None:
+    """Write a node class to start from (NAME.py: its Params, Interface, a timer), its unit test
+    (tests/test_NAME.py, with FakeNode) and a pytest.ini if there is none; print its launch-file
+    entry.  Nothing is overwritten (exit 2).
+
+    Example: turtlectl new node patrol
+    """
+    from turtlectl.cli.tools import scaffold
+
+    files = scaffold.node_files(name, folder)
+    for path, text in files.items():
+        path.parent.mkdir(parents=True, exist_ok=True)
+        path.write_text(text)
+    wrote = ", ".join(str(p) for p in files)
+    result(
+        f"wrote {wrote}\n\nadd to your launch.toml:\n\n{scaffold.launch_entry(name)}\n"
+        f"then: turtlectl launch --check; turtlectl launch; pytest"
+    )
+
+
 def register(app: typer.Typer) -> None:
     """Add this group's commands to ``app``."""
+    app.add_typer(new_app, name="new")
     app.command()(launch)
     app.command()(certs)
     app.command()(router)
