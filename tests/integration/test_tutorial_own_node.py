@@ -46,8 +46,10 @@ def test_the_tutorial_runs_in_a_project_folder_of_its_own(tmp_path):
         env = {**os.environ, "TURTLECTL_CONNECT": system.endpoint}
         for command, expected in EXPECTED.items():
             args = shlex.split(command)
+            # `pytest` as the page says: the console script (python -m pytest would put the folder on sys.path)
+            pytest_script = str(Path(sys.executable).parent / "pytest")
             argv = (
-                [sys.executable, "-m", "pytest", *args[1:], "-p", "no:cacheprovider"]
+                [pytest_script, *args[1:], "-p", "no:cacheprovider"]
                 if args[0] == "pytest"
                 else [*turtlectl(), *args[1:]]
             )
