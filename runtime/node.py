@@ -34,7 +34,6 @@ from __future__ import annotations
 import logging
 import os
 import queue
-import socket
 import time
 from collections.abc import Callable
 from typing import Any, Generic, TypeVar
@@ -43,11 +42,7 @@ import msgspec
 import zenoh
 
 from turtlectl.messages import (
-    Ack,
     Message,
-    ParameterEvent,
-    SetLogLevel,
-    SetParameter,
     decode,
     decode_any,
     encode,
@@ -55,24 +50,16 @@ from turtlectl.messages import (
 from turtlectl.messages.codec import type_name
 from turtlectl.messages.keys import (
     ENTITY_TOKEN_PREFIX,
-    PARAMETER_EVENTS,
     EntityInfo,
-    NodeDetails,
     entity_token,
-    log_level_key,
-    node_key,
-    param_describe_key,
-    param_set_key,
-    params_key,
     parse_entity_token,
 )
-from turtlectl.messages.params import ParamInfo
 from turtlectl.messages.world import Limits, World
-from turtlectl.runtime.config import LOG_LEVELS, Claim, Interface, NodeConfig
+from turtlectl.runtime.config import Claim, Interface, NodeConfig
 from turtlectl.runtime.entities import Latest, Publisher, Request, Timer, sample_encoding
 from turtlectl.runtime.handles import Declaration
 from turtlectl.runtime.interface import check
-from turtlectl.runtime.params import ParamRefused, describe, lookup, param_infos, with_value
+from turtlectl.runtime.own_services import OwnServices
 from turtlectl.runtime.session import client_config, close_session
 
 P = TypeVar("P", bound=msgspec.Struct)
@@ -88,7 +75,17 @@ class NodeConflict(Exception):
 
 
 class Node(Generic[P]):
-    """A running node: its name, typed params, the shared world, and its Zenoh entities."""
+    """A running node, handed to a node class's constructor (``def __init__(self, node)``);
+    the runtime makes it, a node's code never does.
+
+    What a node reads: ``name``, ``params`` (its ``Params`` Struct: the launch file's values,
+    swapped whole when ``param set`` changes one; read it where it is used), ``world`` and
+    ``limits`` (the launch file's), ``log`` (its logger: its lines are prefixed with its name
+    and kept in its log file), ``clock`` (monotonic s; a fake one under ``FakeNode``) and
+    ``interface`` (what it may declare).  What it declares: ``publisher``, ``subscribe``,
+    ``latest``, ``serve``, ``call``, ``timer``, ``watch_liveliness`` (each returns a handle
+    with ``undeclare()``), and the hooks ``on_params`` and ``on_shutdown``.  Every callback
+    runs on the node's one thread."""
 
     def __init__(
         self,
@@ -117,14 +114,7 @@ class Node(Generic[P]):
         self._running = True
         self._on_shutdown: list[Callable[[], None]] = []
         self._on_params: list[Callable[[P], None]] = []
-        # every node: its parameters (read, describe and set), what it is, its log level
-        self.answer_json(params_key(self.name), lambda: msgspec.json.encode(self.params))
-        self._param_infos: list[ParamInfo] | None = None  # made at the first describe
-        self.answer_json(param_describe_key(self.name), self._describe_params)
-        self.answer_json(node_key(self.name), self._details)
-        self._param_events = self.publisher(PARAMETER_EVENTS, ParameterEvent)
-        self.serve(param_set_key(self.name), SetParameter, Ack, self._set_param)
-        self.serve(log_level_key(self.name), SetLogLevel, Ack, self._set_log_level)
+        OwnServices(self)  # every node's: its parameters (read, describe, set), what it is, its log level
         self.interface = config.interface  # from here on, what the node declares is checked against it
 
     # -- declarations -------------------------------------------------------
@@ -285,53 +275,6 @@ class Node(Generic[P]):
         self._on_shutdown.append(callback)
 
     # -- internals ----------------------------------------------------------
-    def _details(self) -> bytes:
-        level = logging.getLevelName(logging.getLogger().getEffectiveLevel())
-        details = NodeDetails(
-            name=self.name,
-            pid=os.getpid(),
-            host=socket.gethostname(),
-            start_ns=self.started_ns,
-            kind=self.kind,
-            log_level=level,
-        )
-        return msgspec.json.encode(details)
-
-    def _describe_params(self) -> bytes:
-        """``turtlectl param describe`` and ``param set``'s checks: every parameter's type, unit,
-        range, default, value now and whether it can change, from the node's own Struct
-        (answered on the Zenoh thread: ``self.params`` is read once, swapped whole)."""
-        params = self.params
-        if self._param_infos is None:
-            self._param_infos = param_infos(type(params))
-        return msgspec.json.encode(describe(self.name, self.kind, params, self._param_infos))
-
-    def _set_param(self, request: Request[SetParameter]) -> None:
-        """``turtlectl param set``: validate, swap the Struct, run the hooks, tell everyone."""
-        name, value = request.body.name, request.body.value
-        try:
-            new, old = with_value(self.params, name, value)
-        except ParamRefused as exc:
-            request.fail(f"{self.name}: {exc}")
-            return
-        self.params = new  # type: ignore[assignment]  # with_value keeps the Struct's type
-        for callback in self._on_params:
-            callback(new)  # type: ignore[arg-type]
-        value = lookup(msgspec.to_builtins(new), name)  # as converted: 60 -> 60.0 for a float
-        self.log.info("parameter %s: %s -> %s", name, _shown(old), _shown(value))
-        self._param_events.publish(ParameterEvent(node=self.name, name=name, old_value=old, new_value=value))
-        request.respond(Ack(detail=f"{self.name} {name} = {_shown(value)} (was {_shown(old)})"))
-
-    def _set_log_level(self, request: Request[SetLogLevel]) -> None:
-        level = request.body.level.upper()
-        if level not in LOG_LEVELS:
-            request.fail(f"unknown log level {request.body.level!r} (known: {', '.join(LOG_LEVELS)})")
-            return
-        root = logging.getLogger()
-        was = logging.getLevelName(root.getEffectiveLevel())
-        root.setLevel(level)
-        request.respond(Ack(detail=f"{self.name} logs {level} and above (was {was})"))
-
     def _queuing(
         self, key: str, msg_type: type[M], callback: Callable[[M], None], declared: Declaration
     ) -> Callable[[zenoh.Sample], None]:
@@ -447,8 +390,3 @@ class Node(Generic[P]):
                 callback()
             except Exception:  # one failing hook must not keep the next (e.g. the stop command) from running
                 self.log.exception("shutdown hook %s failed", getattr(callback, "__qualname__", callback))
-
-
-def _shown(value: Any) -> str:
-    """A parameter value as JSON text (what ``param get`` prints)."""
-    return msgspec.json.encode(value).decode()

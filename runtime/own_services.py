@@ -1,0 +1,97 @@
+"""What every node serves about itself, whatever its kind: its parameters (read, described,
+set at run time, each change told on ``turtlectl/parameter_events``), what it is (node info)
+and its log level.  Declared by ``Node`` before its own code runs (outside its interface: every
+node's share)."""
+
+from __future__ import annotations
+
+import logging
+import os
+import socket
+from typing import TYPE_CHECKING, Any
+
+import msgspec
+
+from turtlectl.messages import Ack, ParameterEvent, SetLogLevel, SetParameter
+from turtlectl.messages.keys import (
+    PARAMETER_EVENTS,
+    NodeDetails,
+    log_level_key,
+    node_key,
+    param_describe_key,
+    param_set_key,
+    params_key,
+)
+from turtlectl.messages.params import ParamInfo
+from turtlectl.runtime.config import LOG_LEVELS
+from turtlectl.runtime.entities import Request
+from turtlectl.runtime.params import ParamRefused, describe, lookup, param_infos, with_value
+
+if TYPE_CHECKING:
+    from turtlectl.runtime.node import Node
+
+
+class OwnServices:
+    """A node's own services, declared on ``node``."""
+
+    def __init__(self, node: Node[Any]):
+        self.node = node
+        self._infos: list[ParamInfo] | None = None  # made at the first describe
+        node.answer_json(params_key(node.name), lambda: msgspec.json.encode(node.params))
+        node.answer_json(param_describe_key(node.name), self.describe_params)
+        node.answer_json(node_key(node.name), self.details)
+        self._events = node.publisher(PARAMETER_EVENTS, ParameterEvent)
+        node.serve(param_set_key(node.name), SetParameter, Ack, self.set_param)
+        node.serve(log_level_key(node.name), SetLogLevel, Ack, self.set_log_level)
+
+    def details(self) -> bytes:
+        level = logging.getLevelName(logging.getLogger().getEffectiveLevel())
+        details = NodeDetails(
+            name=self.node.name,
+            pid=os.getpid(),
+            host=socket.gethostname(),
+            start_ns=self.node.started_ns,
+            kind=self.node.kind,
+            log_level=level,
+        )
+        return msgspec.json.encode(details)
+
+    def describe_params(self) -> bytes:
+        """``turtlectl param describe`` and ``param set``'s checks: every parameter's type, unit,
+        range, default, value now and whether it can change, from the node's own Struct
+        (answered on the Zenoh thread: ``self.node.params`` is read once, swapped whole)."""
+        params = self.node.params
+        if self._infos is None:
+            self._infos = param_infos(type(params))
+        return msgspec.json.encode(describe(self.node.name, self.node.kind, params, self._infos))
+
+    def set_param(self, request: Request[SetParameter]) -> None:
+        """``turtlectl param set``: validate, swap the Struct, run the hooks, tell everyone."""
+        name, value = request.body.name, request.body.value
+        try:
+            new, old = with_value(self.node.params, name, value)
+        except ParamRefused as exc:
+            request.fail(f"{self.node.name}: {exc}")
+            return
+        self.node.params = new  # type: ignore[assignment]  # with_value keeps the Struct's type
+        for callback in self.node._on_params:
+            callback(new)  # type: ignore[arg-type]
+        value = lookup(msgspec.to_builtins(new), name)  # as converted: 60 -> 60.0 for a float
+        self.node.log.info("parameter %s: %s -> %s", name, _shown(old), _shown(value))
+        self._events.publish(ParameterEvent(node=self.node.name, name=name, old_value=old, new_value=value))
+        request.respond(Ack(detail=f"{self.node.name} {name} = {_shown(value)} (was {_shown(old)})"))
+
+    def set_log_level(self, request: Request[SetLogLevel]) -> None:
+        level = request.body.level.upper()
+        if level not in LOG_LEVELS:
+            request.fail(f"unknown log level {request.body.level!r} (known: {', '.join(LOG_LEVELS)})")
+            return
+        root = logging.getLogger()
+        was = logging.getLevelName(root.getEffectiveLevel())
+        root.setLevel(level)
+        request.respond(Ack(detail=f"{self.node.name} logs {level} and above (was {was})"))
+
+
+def _shown(value: Any) -> str:
+    """A parameter value as JSON text (what ``param get`` prints)."""
+    return msgspec.json.encode(value).decode()
