@@ -1,9 +1,11 @@
 """A user's node class from its ``run`` target (pure: no zenoh of its own, though the user's
 module may import it).
 
-A target names a class as ``module:Class`` (``mypkg.patrol:Patrol``, importable on
-``sys.path``/``PYTHONPATH``) or ``file.py:Class`` (``./patrol.py:Patrol``; relative to a base
-folder, the launch file's).  The class is a node if it has a ``Params`` attribute: its
+A target names a class as ``module:Class`` (``mypkg.patrol:Patrol``: found in a base folder,
+the launch file's, first, then on ``sys.path``/``PYTHONPATH``) or ``file.py:Class``
+(``./patrol.py:Patrol``; relative to the base folder, its own folder then first on sys.path).
+The node process runs in the base folder (``python -m`` puts it first on its sys.path): the
+supervisor's check and the node find the same module.  The class is a node if it has a ``Params`` attribute: its
 parameter Struct (a ``msgspec.Struct`` subclass), as ``class Patrol: Params = PatrolParams``.
 
 Everything that makes a target unusable raises ``LoadError`` with one line saying why (the
@@ -68,7 +70,7 @@ def load(target: str, base: Path | None = None) -> tuple[type, type[msgspec.Stru
     where, _, name = target.rpartition(":")
     if not where or not _CLASS_RE.match(name):
         raise LoadError(f"{target!r}: write it as module:Class or ./file.py:Class")
-    module = _load_file(where, base or Path.cwd()) if is_file(where) else _load_module(where)
+    module = _load_file(where, base or Path.cwd()) if is_file(where) else _load_module(where, base or Path.cwd())
     shown = where if not is_file(where) else Path(where).name
     cls = getattr(module, name, None)
     if cls is None:
@@ -88,21 +90,27 @@ def load(target: str, base: Path | None = None) -> tuple[type, type[msgspec.Stru
     return cls, params
 
 
-def _load_module(where: str) -> ModuleType:
+def _load_module(where: str, base: Path) -> ModuleType:
     if not _MODULE_RE.match(where):
         raise LoadError(f"{where!r} is not a module name (write a file as ./{where}.py)")
+    _first_on_path(base)  # the project's folder, as the node's own process has it (its working folder)
     try:
         return importlib.import_module(where)
     except ModuleNotFoundError as exc:
         if exc.name and (where == exc.name or where.startswith(exc.name + ".")):
             raise LoadError(
-                f"cannot import {where}: no module named {exc.name!r} (on sys.path or PYTHONPATH)"
+                f"cannot import {where}: no module named {exc.name!r} (in {base} or on PYTHONPATH)"
             ) from None
         raise LoadError(f"cannot import {where}: {_why(exc)}") from None
     except (ImportError, SyntaxError) as exc:
         raise LoadError(f"cannot import {where}: {_why(exc)}") from None
     except Exception as exc:  # the module's own code, at import: kept for its traceback
         raise ImportRaised(f"importing {where} raised {_why(exc)}") from exc
+
+
+def _first_on_path(folder: Path) -> None:
+    if str(folder) not in sys.path:
+        sys.path.insert(0, str(folder))
 
 
 def _load_file(where: str, base: Path) -> ModuleType:
@@ -119,11 +127,9 @@ def _load_file(where: str, base: Path) -> ModuleType:
     if spec is None or spec.loader is None:
         raise LoadError(f"cannot import {where}: not a Python file")
     module = importlib.util.module_from_spec(spec)
-    folder = str(path.parent)
-    if folder not in sys.path:
-        # its siblings import first, as `python patrol.py` gives them (a user's own messages.py or
-        # nodes/ included: ours are turtlectl.messages and turtlectl.nodes, never in their way)
-        sys.path.insert(0, folder)
+    # its siblings import first, as `python patrol.py` gives them (a user's own messages.py or
+    # nodes/ included: ours are turtlectl.messages and turtlectl.nodes, never in their way)
+    _first_on_path(path.parent)
     sys.modules[name] = module
     try:
         spec.loader.exec_module(module)

@@ -98,6 +98,7 @@ class LaunchPlan(msgspec.Struct, kw_only=True):
     params: dict[str, dict[str, Any]]  # node name -> full parameters (defaults filled in)
     kinds: dict[str, NodeKind] = msgspec.field(default_factory=dict)  # node name -> what its run names
     commands: dict[str, list[str]] = msgspec.field(default_factory=dict)  # cmd node -> its argv, program resolved
+    folder: str = ""  # the launch file's folder: where user nodes and programs run, and module:Class is found first
 
 
 # -- messages ----------------------------------------------------------------
@@ -253,7 +254,9 @@ def validate(data: Any, source: str, report: Report, base: Path | None = None) -
                 f"{navigator['scan_timeout']:g} s is not longer than the scan period of {detector.name} "
                 f"({1.0 / rate:g} s at {rate:g} Hz): obstacles would be forgotten between scans",
             )
-    return LaunchPlan(source=source, launch=launch, params=params, kinds=resolved, commands=commands)
+    return LaunchPlan(
+        source=source, launch=launch, params=params, kinds=resolved, commands=commands, folder=str(base)
+    )
 
 
 def _program(cmd: list[str], base: Path, error: Any, i: int) -> str:
@@ -358,4 +361,5 @@ def select_nodes(plan: LaunchPlan, only: list[str], exclude: list[str]) -> Launc
         params={e.name: plan.params[e.name] for e in kept},
         kinds={e.name: plan.kinds[e.name] for e in kept if e.name in plan.kinds},
         commands={e.name: plan.commands[e.name] for e in kept if e.name in plan.commands},
+        folder=plan.folder,
     )

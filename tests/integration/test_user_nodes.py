@@ -231,3 +231,49 @@ def test_a_declaration_outside_its_interface_stops_the_node_with_exit_2_not_resp
         assert "alarm may not publish robot/alarm: its Interface publishes alarm/state" in out, out
         assert "patrol.py:" in out and "Traceback" not in out
         assert "respawning cannot help" in out and "respawning in" not in out
+
+
+HELLO = """import msgspec
+
+
+class Hello:
+    Params = msgspec.defstruct("HelloParams", [("greeting", str, "hi")])
+
+    def __init__(self, node):
+        import os
+
+        node.log.info("%s from %s", node.params.greeting, os.getcwd())
+"""
+
+
+def test_a_module_class_is_found_in_the_launch_files_folder_from_anywhere(tmp_path):
+    """Issue 24, found by a new user: ``nodes.hello:Hello`` (the project's own ``nodes/`` package)
+    was valid or not depending on the folder `launch` ran from and on the order of the nodes; the
+    node then ran in that folder.  Now it is found in the launch file's folder first (`run`: the
+    current folder), and user nodes and programs run in the launch file's folder."""
+    project = tmp_path / "proj"
+    (project / "nodes").mkdir(parents=True)
+    (project / "nodes" / "__init__.py").write_text("")
+    (project / "nodes" / "hello.py").write_text(HELLO)
+    (project / "launch.toml").write_text(
+        '[[node]]\nname = "sim"\nrun = "sim"\n\n[[node]]\nname = "hello"\nrun = "nodes.hello:Hello"\n'
+    )
+    checked = subprocess.run(
+        [*turtlectl(), "launch", "proj/launch.toml", "--check"],
+        cwd=tmp_path,
+        capture_output=True,
+        text=True,
+        timeout=60,
+    )
+    assert checked.returncode == 0, checked.stderr
+    with running_system(project / "launch.toml", ready=("sim", "hello"), cwd=tmp_path) as system:
+        system.wait_line(rf"hi from {project}$", 30.0)
+    # `run` finds it in the current folder: imported, then its params checked (a number for a str: exit 2)
+    ran = subprocess.run(
+        [*turtlectl(), "run", "nodes.hello:Hello", "-p", "greeting=3"],
+        cwd=project,
+        capture_output=True,
+        text=True,
+        timeout=60,
+    )
+    assert ran.returncode == 2 and "--param hello.greeting: Expected `str`" in ran.stderr, ran.stderr

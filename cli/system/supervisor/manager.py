@@ -236,11 +236,11 @@ class Supervisor:
         changed by ``--persist``).  A built-in kind is forked by the zygote; a user's node class
         is always exec'd (``python -m turtlectl.runtime TARGET``): the zygote never imports a user's module
         (runtime/__main__.py says why); so is a ``cmd`` node's program."""
-        if name in self.plan.commands:
+        if name in self.plan.commands:  # a user's program or node class runs in the launch file's folder
             argv, env = program_command(name, self.plan.commands[name], self.endpoint, self.domain)
-            return Child(name, argv, env, self.printer)
+            return Child(name, argv, env, self.printer, self.plan.folder)
         kind = self.plan.kinds[name]
         argv, env = node_command(self._config(name), supervisor_pid=os.getpid(), kind=kind)
         if self.zygote is not None and kind.builtin:
             return ZygoteChild(name, argv, env, self.printer, self.zygote)
-        return Child(name, argv, env, self.printer)
+        return Child(name, argv, env, self.printer, None if kind.builtin else self.plan.folder)

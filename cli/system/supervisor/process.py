@@ -31,10 +31,11 @@ CONNECT_VAR = "TURTLECTL_CONNECT"
 
 
 class Child:
-    def __init__(self, name: str, argv: list[str], env: dict[str, str], printer: Printer):
+    def __init__(self, name: str, argv: list[str], env: dict[str, str], printer: Printer, cwd: str | None = None):
         self.name = name
         self.argv = argv
         self.env = env
+        self.cwd = cwd or None  # where it runs (a user's node or program: the launch file's folder)
         self.printer = printer
         self.proc: subprocess.Popen[bytes] | None = None
         self._reader: threading.Thread | None = None
@@ -49,6 +50,7 @@ class Child:
         self.proc = subprocess.Popen(
             self.argv,
             env=self.env,
+            cwd=self.cwd,
             stdin=subprocess.DEVNULL,
             stdout=subprocess.PIPE,
             stderr=subprocess.STDOUT,
