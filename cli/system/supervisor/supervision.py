@@ -186,6 +186,7 @@ class Supervision:
             self.stop(f"required node {name} {how}", ExitCode.FAILED)
         else:
             self.printer.system(f"{name} {how}")
+            self._check_ready()  # the others may be all that will be ready
 
     def _drain_events(self) -> None:
         while True:
@@ -209,15 +210,21 @@ class Supervision:
             self._check_ready()
 
     def _check_ready(self) -> None:
-        """Say once when every node is ready."""
-        if not self._ready_reported and all(self.ready(n) for n in self.entries):
-            self._ready_reported = True
-            elapsed = self.clock() - self._t0
-            count = len(self.entries)
-            self.printer.system(
-                f"{'all ' * (count > 1)}{count} node{'s' * (count != 1)} ready in {elapsed:.2f} s"
-                " (since turtlectl started)"
-            )
+        """Say once when every node is ready, or every node that will be: the others given up on
+        while starting (an optional node that raised) are named."""
+        if self._ready_reported:
+            return
+        missing = [n for n in self.entries if not self.ready(n)]
+        if any(n not in self._given_up for n in missing) or len(missing) == len(self.entries):
+            return
+        self._ready_reported = True
+        elapsed = self.clock() - self._t0
+        count = len(self.entries)
+        since = f"ready in {elapsed:.2f} s (since turtlectl started)"
+        if missing:
+            self.printer.system(f"{count - len(missing)} of {count} nodes {since}; not running: {', '.join(missing)}")
+        else:
+            self.printer.system(f"{'all ' * (count > 1)}{count} node{'s' * (count != 1)} {since}")
 
     def ready(self, name: str) -> bool:
         """True once this very process of node ``name`` has announced itself (a cmd node: once started)."""

@@ -473,3 +473,18 @@ def test_a_system_of_cmd_nodes_only_is_ready_once_they_are_started():
     assert [line for line in system.lines() if "ready in" in line] == [
         "1 node ready in 0.00 s (since turtlectl started)"
     ]
+
+
+def test_when_an_optional_node_dies_while_starting_the_rest_is_reported_ready_with_who_is_missing():
+    """A new user's report: `broken` raised in its constructor and the launch never said that the
+    other nodes were ready (no line at all, only 'all N ready' existed)."""
+    system = System(node("sim") + node("navigator") + '[[node]]\nname = "broken"\nrun = "status_monitor"\n')
+    system.process("sim", ready_after=0.4)
+    system.process("navigator", ready_after=0.8)
+    system.process("broken", runs=(0.2,), code=1)
+    system.stop_at(3.0)
+    system.run()
+    ready = [line for line in system.lines() if "ready in" in line]
+    assert len(ready) == 1, system.lines()
+    match = re.fullmatch(r"2 of 3 nodes ready in (\S+) s \(since turtlectl started\); not running: broken", ready[0])
+    assert match and 0.8 <= float(match[1]) <= 0.8 + LAG, ready
