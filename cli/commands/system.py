@@ -139,6 +139,9 @@ def run(
     ),
     param: list[str] = typer.Option([], "--param", "-p", help="KEY=VALUE override (repeatable; a.b=1 for tables)."),
     file: Path | None = typer.Option(None, "--file", help="Launch file (default as for launch)."),
+    name: str | None = typer.Option(
+        None, "--name", help="A node class's name in the system (default: its class's, Patrol: patrol)."
+    ),
     log_level: str = LogLevelOption,
     connect: str = ConnectOption,
     domain: str = DomainOption,
@@ -146,11 +149,12 @@ def run(
     """Run one node in the foreground with the parameters the launch file gives it (and
     overrides), joining the system at --connect: for debugging, or on another machine.  A
     node class (module:Class, or ./file.py:Class from here) runs with its parameters' defaults
-    and overrides, named after its class (Patrol: patrol), as `ros2 run` does.
+    and overrides, named after its class (Patrol: patrol) or --name, as `ros2 run` does; two
+    nodes of one name both run (`turtlectl list` shows both), so give a second one its own.
 
     Example: turtlectl run navigator -p goal_timeout=60 --log-level DEBUG
     """
-    from turtlectl.cli.system.launchfile import default_launch_file, load_launch
+    from turtlectl.cli.system.launchfile import NAME_RE, default_launch_file, load_launch
     from turtlectl.cli.system.overrides import class_plan, node_config
     from turtlectl.cli.system.supervisor.process import exec_node
     from turtlectl.runtime.loader import is_file, is_target
@@ -159,9 +163,15 @@ def run(
         raise BadInput(f"{node} names a file: add its node class, as {node}:ClassName")
     level = args.log_level(log_level)
     endpoint = args.endpoint(connect)
+    if name is not None and not NAME_RE.match(name):
+        raise BadInput(f"--name {name!r}: use letters, digits, _ and - (like patrol2)")
     if is_target(node):  # a node's name has no ':'
-        plan, name = class_plan(node, param, Path.cwd())
-        exec_node(node_config(plan, name, endpoint, None, default_domain(), level), plan.kinds[name])
+        plan, named = class_plan(node, param, Path.cwd(), name)
+        exec_node(node_config(plan, named, endpoint, None, default_domain(), level), plan.kinds[named])
+    if name is not None:
+        raise BadInput(
+            f"--name renames a node class (module:Class, ./file.py:Class); {node} is named by its launch file"
+        )
     plan = load_launch(file or default_launch_file())
     exec_node(node_config(plan, node, endpoint, param, default_domain(), level), plan.kinds[node])
 

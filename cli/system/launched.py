@@ -47,15 +47,18 @@ class LaunchedSystem:
     """``turtlectl launch LAUNCH_FILE`` on a free port (``endpoint``), started by ``start()``.
 
     ``args``: more options for ``launch`` (``--set navigator.goal_timeout=5``, ``--only sim``).
-    It runs in the launch file's folder, its logs in a folder of its own (``log_dir``)."""
+    It runs in the launch file's folder, its logs in ``log_dir`` (default: a new temporary folder;
+    the pytest plugin gives one under pytest's own, which pytest prunes)."""
 
-    def __init__(self, launch_file: str | Path, args: Sequence[str] = (), domain: str = ""):
+    def __init__(
+        self, launch_file: str | Path, args: Sequence[str] = (), domain: str = "", log_dir: str | Path | None = None
+    ):
         self.launch_file = Path(launch_file).resolve()
         self.args = tuple(args)
         self.domain = domain
         self.port = free_port()
         self.endpoint = f"tcp/127.0.0.1:{self.port}"
-        self.log_dir = Path(tempfile.mkdtemp(prefix="turtlectl-test-logs-"))
+        self.log_dir = Path(log_dir) if log_dir is not None else Path(tempfile.mkdtemp(prefix="turtlectl-test-logs-"))
         self.lines: list[str] = []
         self._changed = threading.Condition()
         self._ready = False

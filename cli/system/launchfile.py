@@ -254,9 +254,7 @@ def validate(data: Any, source: str, report: Report, base: Path | None = None) -
                 f"{navigator['scan_timeout']:g} s is not longer than the scan period of {detector.name} "
                 f"({1.0 / rate:g} s at {rate:g} Hz): obstacles would be forgotten between scans",
             )
-    return LaunchPlan(
-        source=source, launch=launch, params=params, kinds=resolved, commands=commands, folder=str(base)
-    )
+    return LaunchPlan(source=source, launch=launch, params=params, kinds=resolved, commands=commands, folder=str(base))
 
 
 def _program(cmd: list[str], base: Path, error: Any, i: int) -> str:

@@ -162,16 +162,17 @@ def launch_plan(path: Path, only: list[str], exclude: list[str], settings: list[
     return with_overrides(plan, [parse_assignment(item, "--set", SET_FORM) for item in settings], "--set")
 
 
-def class_plan(target: str, overrides: list[str], base: Path) -> tuple[LaunchPlan, str]:
+def class_plan(target: str, overrides: list[str], base: Path, name: str | None = None) -> tuple[LaunchPlan, str]:
     """``turtlectl run module:Class`` (or ``./file.py:Class``, relative to ``base``): a plan of
-    that one node, named after its class (``Patrol`` -> ``patrol``), with its parameters'
-    defaults and ``overrides`` (``KEY=VALUE``), validated as a launch file is (LaunchFileError
-    naming ``--param``, or the target when it names no node class); and the node's name."""
+    that one node, named ``name`` or after its class (``Patrol`` -> ``patrol``), with its
+    parameters' defaults and ``overrides`` (``KEY=VALUE``), validated as a launch file is
+    (LaunchFileError naming ``--param``, or the target when it names no node class); and the
+    node's name."""
     try:
         kind = kind_of(target, base)
     except KindError as exc:
         raise LaunchFileError(f"{target}: {exc}") from None
-    name = _snake(kind.target.rpartition(":")[2])
+    name = name or _snake(kind.target.rpartition(":")[2])
     data: dict[str, Any] = {"node": [{"name": name, "run": target, "params": {}}]}
     for text in overrides:
         item = parse_assignment(text, "--param", "KEY=VALUE")

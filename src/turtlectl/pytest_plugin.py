@@ -42,7 +42,7 @@ def pytest_configure(config: pytest.Config) -> None:
 
 
 @pytest.fixture
-def turtlectl_launch() -> Iterator[Callable[..., LaunchedSystem]]:
+def turtlectl_launch(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Callable[..., LaunchedSystem]]:
     """A factory: ``turtlectl_launch(path, *launch_options, domain="") -> LaunchedSystem``, each
     system ready when returned and stopped after the test (its process group killed)."""
     from turtlectl.cli.errors import TurtlectlError
@@ -51,7 +51,7 @@ def turtlectl_launch() -> Iterator[Callable[..., LaunchedSystem]]:
     started: list[LaunchedSystem] = []
 
     def launch(path: str | Path, *args: str, domain: str = "") -> LaunchedSystem:
-        system = LaunchedSystem(path, args, domain)
+        system = LaunchedSystem(path, args, domain, tmp_path_factory.mktemp("turtlectl-logs"))
         started.append(system)
         try:
             return system.start()

@@ -137,7 +137,17 @@ def test_a_user_node_class_runs_beside_the_builtins_supervised_as_they_are(proje
 
         # `turtlectl run ./patrol.py:Patrol` in the foreground, named after its class, joining the system
         run = subprocess.Popen(
-            [*turtlectl(), "run", "./patrol.py:Patrol", "-p", "side=1.5", "--connect", system.endpoint],
+            [
+                *turtlectl(),
+                "run",
+                "./patrol.py:Patrol",
+                "-p",
+                "side=1.5",
+                "--name",
+                "scout",
+                "--connect",
+                system.endpoint,
+            ],
             cwd=project,
             stdout=subprocess.PIPE,
             stderr=subprocess.STDOUT,
@@ -145,9 +155,9 @@ def test_a_user_node_class_runs_beside_the_builtins_supervised_as_they_are(proje
             text=True,
         )
         try:
-            system.wait_until(lambda: "patrol" in system.alive or run.poll() is not None, 30.0, "turtlectl run")
+            system.wait_until(lambda: "scout" in system.alive or run.poll() is not None, 30.0, "turtlectl run")
             assert run.poll() is None, run.communicate()[0]
-            assert json.loads(system.run_cli("param", "get", "patrol", "side").stdout) == 1.5
+            assert json.loads(system.run_cli("param", "get", "scout", "side").stdout) == 1.5
             run.send_signal(signal.SIGINT)
             out, _ = run.communicate(timeout=10)
             assert run.returncode == 0, out

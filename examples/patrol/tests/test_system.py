@@ -32,12 +32,3 @@ def test_the_patrol_drives_to_its_first_corner(turtlectl_system):
     assert client.param("patrol", "side") == 3.0
     # the square of side 3 m round (5.5, 5.5): its first corner is (4, 4)
     poses_until(client, lambda p: math.hypot(p.x - 4.0, p.y - 4.0) < 0.05, seconds=60.0)
-
-
-@pytest.mark.turtlectl_launch("../wander.toml", "--set", "wanderer.speed=1.0")
-def test_the_wanderer_drives_and_turns_before_the_obstacle(turtlectl_system):
-    client = turtlectl_system
-    assert client.param("wanderer", "speed") == 1.0
-    poses_until(client, lambda p: p.linear_velocity > 0.5, seconds=20.0)  # driving towards it
-    turned = poses_until(client, lambda p: p.angular_velocity > 0.5, seconds=20.0)  # and turning away
-    assert turned.x < 8.5 - 0.8, turned  # before it reached the obstacle

@@ -1,9 +1,11 @@
-"""The wanderer, unit-tested: its pure rule (``command``) and the node on a fake clock."""
+"""The wanderer: its pure rule (``command``), the node on a fake clock, and in the real system."""
 
 from __future__ import annotations
 
 import math
 
+import pytest
+from test_system import poses_until
 from wander import Wanderer, WanderParams, command
 
 from turtlectl.messages import LaserScan, Twist
@@ -41,3 +43,12 @@ def test_the_node_commands_at_its_rate_from_the_newest_scan_and_stops_at_shutdow
     fake.shutdown()
     last = fake.published("turtle1/cmd_vel")[-1]
     assert (last.linear, last.angular) == (0.0, 0.0)
+
+
+@pytest.mark.turtlectl_launch("../wander.toml", "--set", "wanderer.speed=1.0")
+def test_the_wanderer_drives_and_turns_before_the_obstacle(turtlectl_system):
+    client = turtlectl_system
+    assert client.param("wanderer", "speed") == 1.0
+    poses_until(client, lambda p: p.linear_velocity > 0.5, seconds=20.0)  # driving towards it
+    turned = poses_until(client, lambda p: p.angular_velocity > 0.5, seconds=20.0)  # and turning away
+    assert turned.x < 8.5 - 0.8, turned  # before it reached the obstacle
