@@ -8,8 +8,9 @@ cheap for the command line (``turtlectl --help``)."""
 
 from __future__ import annotations
 
-import importlib
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
+
+from turtlectl import _lazy
 
 if TYPE_CHECKING:
     from turtlectl.runtime.entities import Latest, Publisher, Request, Timer
@@ -30,7 +31,4 @@ _HOME = {
 }
 
 
-def __getattr__(name: str) -> Any:
-    if name in _HOME:
-        return getattr(importlib.import_module(_HOME[name]), name)
-    raise AttributeError(f"module 'runtime' has no attribute {name!r}")
+__getattr__ = _lazy(__name__, _HOME)

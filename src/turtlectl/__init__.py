@@ -33,6 +33,7 @@ from __future__ import annotations
 
 import importlib
 import os
+from collections.abc import Callable
 from typing import TYPE_CHECKING, Any
 
 if not os.path.isdir(os.path.join(os.path.dirname(__file__), "messages")):  # the source tree: src/turtlectl/
@@ -94,13 +95,19 @@ _HOME = {
 }
 
 
-_NAMED = {"Error": "TurtlectlError"}  # public name -> its name in its module
+def _lazy(module: str, home: dict[str, str], named: dict[str, str] | None = None) -> Callable[[str], Any]:
+    """A module's ``__getattr__`` that imports each name of ``home`` (name -> the module that
+    defines it, as ``named`` calls it there) when first used: our packages' lazy exports."""
+
+    def __getattr__(name: str) -> Any:
+        if name in home:
+            return getattr(importlib.import_module(home[name]), (named or {}).get(name, name))
+        raise AttributeError(f"module {module!r} has no attribute {name!r}")
+
+    return __getattr__
 
 
-def __getattr__(name: str) -> Any:
-    if name in _HOME:
-        return getattr(importlib.import_module(_HOME[name]), _NAMED.get(name, name))
-    raise AttributeError(f"module 'turtlectl' has no attribute {name!r}")
+__getattr__ = _lazy(__name__, _HOME, {"Error": "TurtlectlError"})
 
 
 def __dir__() -> list[str]:

@@ -14,7 +14,9 @@ its nodes (docs/how-to/test-your-system.md):
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
+
+from turtlectl import _lazy
 
 if TYPE_CHECKING:
     from turtlectl.cli.system.launched import LaunchedSystem, StartFailed
@@ -29,9 +31,4 @@ _HOME = {
 }
 
 
-def __getattr__(name: str) -> Any:
-    if name in _HOME:
-        import importlib
-
-        return getattr(importlib.import_module(_HOME[name]), name)
-    raise AttributeError(f"module 'turtlectl.testing' has no attribute {name!r}")
+__getattr__ = _lazy(__name__, _HOME)
