@@ -1,8 +1,10 @@
 """Encoding and decoding of wire messages: msgpack via msgspec.
 
-Encoders and decoders are built once at import.  Every sample also carries an
-encoding string ``application/msgpack;<TypeName>`` so a generic tool (``turtlectl
-echo``) can decode any topic without knowing it in advance.
+Every sample carries an encoding string ``application/msgpack;<TypeName>`` so a generic tool
+(``turtlectl echo``) can decode any topic without knowing it in advance.  The types known by
+name are the built-ins and every type this process has used (``register``: a node registers
+the types it declares, a tool the ones it learnt from their descriptions); a decoder is built
+for a type on first use, and every failure to decode is ``DecodeError`` (a ValueError).
 """
 
 from __future__ import annotations
@@ -26,8 +28,8 @@ def type_name(msg_type: type[Message]) -> str:
 TYPES_BY_NAME: dict[str, type[Message]] = {type_name(t): t for t in ALL_TYPES}
 
 _encoder = msgspec.msgpack.Encoder()
-_decoders: dict[type[Message], msgspec.msgpack.Decoder] = {t: msgspec.msgpack.Decoder(t) for t in ALL_TYPES}
-_any_decoder = msgspec.msgpack.Decoder(Union[ALL_TYPES])  # type: ignore[valid-type]  # noqa: UP007 (a tuple of types)
+_decoders: dict[type, msgspec.msgpack.Decoder] = {}
+_any_decoder: list[msgspec.msgpack.Decoder] = []  # of every known type, made again when one is added
 
 
 class DecodeError(ValueError):
@@ -44,18 +46,37 @@ def encoding_for(msg_type: type[Message]) -> str:
     return f"{MEDIA_TYPE};{type_name(msg_type)}"
 
 
+def register(msg_type: type[Message]) -> type[Message]:
+    """Know ``msg_type`` by its name from now on (``type_from_encoding``, ``decode_any``).
+    ValueError if another class already goes by that name in this process."""
+    name = type_name(msg_type)
+    known = TYPES_BY_NAME.setdefault(name, msg_type)
+    if known is not msg_type:
+        raise ValueError(
+            f"two message types named {name!r}: {known.__module__}.{known.__qualname__} and "
+            f"{msg_type.__module__}.{msg_type.__qualname__}"
+        )
+    _any_decoder.clear()
+    return msg_type
+
+
 def decode(payload: bytes, msg_type: type[M]) -> M:
     """Decode ``payload`` as ``msg_type``; raise DecodeError with a readable reason."""
+    decoder = _decoders.get(msg_type)
     try:
-        return _decoders[msg_type].decode(payload)
-    except msgspec.DecodeError as exc:  # ValidationError is a subclass
+        if decoder is None:
+            decoder = _decoders[msg_type] = msgspec.msgpack.Decoder(msg_type)
+        return decoder.decode(payload)
+    except (msgspec.DecodeError, TypeError) as exc:  # ValidationError is a DecodeError; TypeError: not a type
         raise DecodeError(f"not a valid {msg_type.__name__}: {exc}") from None
 
 
 def decode_any(payload: bytes) -> Message:
     """Decode a payload of any known type, using its tag."""
+    if not _any_decoder:
+        _any_decoder.append(msgspec.msgpack.Decoder(Union[tuple(TYPES_BY_NAME.values())]))  # type: ignore[misc]  # noqa: UP007
     try:
-        return _any_decoder.decode(payload)
+        return _any_decoder[0].decode(payload)
     except msgspec.DecodeError as exc:
         raise DecodeError(f"not a valid turtlectl message: {exc}") from None
 

@@ -181,6 +181,16 @@ def node_key(name: str) -> str:
     return f"turtlectl/nodes/{name}"
 
 
+TYPES = "turtlectl/types"  # every node: the description of each message type it uses (JSON)
+
+
+def type_key(type_name: str, node: str) -> str:
+    """Queryable on which ``node`` describes the message type ``type_name`` it uses (JSON
+    TypeDescription, messages.described); ``turtlectl/types/<name>/*`` asks every node that
+    uses it, ``turtlectl/types/*/*`` every type in use."""
+    return f"{TYPES}/{type_name}/{node}"
+
+
 def log_level_key(name: str) -> str:
     """Service on which node ``name`` changes its log level (SetLogLevel -> Ack)."""
     return f"{node_key(name)}/log_level"

@@ -31,18 +31,21 @@ def sample_encoding(msg_type: type[Message]) -> zenoh.Encoding:
 
 
 class Publisher(Generic[M]):
-    """Publishes messages of one type on one key, filling in ``stamp`` and ``seq``."""
+    """Publishes messages of one type on one key, filling in ``stamp`` and ``seq`` (a type that
+    has them: a user's type need not)."""
 
     def __init__(self, session: zenoh.Session, key: str, msg_type: type[M], declared: Declaration):
         self.key = key
         self._pub = session.declare_publisher(key, encoding=sample_encoding(msg_type))
         self._seq = 0
+        fields = msg_type.__struct_fields__
+        self._stamped = "stamp" in fields and "seq" in fields
         self._declaration = declared  # the publisher and its graph token
         declared.add(self._pub)
 
     def publish(self, msg: M) -> M:
         """Stamp ``msg`` (wall clock, ns) and the next sequence number, then send it."""
-        stamped = msgspec.structs.replace(msg, stamp=time.time_ns(), seq=self._seq)
+        stamped = msgspec.structs.replace(msg, stamp=time.time_ns(), seq=self._seq) if self._stamped else msg
         self._seq += 1
         self._pub.put(encode(stamped))
         return stamped

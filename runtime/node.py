@@ -114,7 +114,7 @@ class Node(Generic[P]):
         self._running = True
         self._on_shutdown: list[Callable[[], None]] = []
         self._on_params: list[Callable[[P], None]] = []
-        OwnServices(self)  # every node's: its parameters (read, describe, set), what it is, its log level
+        self._own = OwnServices(self)  # every node's: its parameters, what it is, its log level, its types
         self.interface = config.interface  # from here on, what the node declares is checked against it
 
     # -- declarations -------------------------------------------------------
@@ -128,6 +128,7 @@ class Node(Generic[P]):
     def publisher(self, key: str, msg_type: type[M]) -> Publisher[M]:
         """A publisher of ``msg_type`` on ``key`` (``publish``; ``undeclare`` withdraws it)."""
         check(self.name, self.interface, "publish", key)
+        self._own.uses(msg_type)
         declared = Declaration(self._entities, "publisher", key)
         pub = Publisher(self.session, key, msg_type, declared)
         declared.add(self._announce("pub", msg_type, key))
@@ -137,6 +138,7 @@ class Node(Generic[P]):
         """Call ``callback(msg)`` on the node thread for each valid ``msg_type`` on ``key``,
         until the returned declaration is undeclared."""
         check(self.name, self.interface, "subscribe", key)
+        self._own.uses(msg_type)
         declared = Declaration(self._entities, "subscription", key)
         declared.add(self.session.declare_subscriber(key, self._queuing(key, msg_type, callback, declared)))
         declared.add(self._announce("sub", msg_type, key))
@@ -146,6 +148,7 @@ class Node(Generic[P]):
         """Keep the newest ``msg_type`` on ``key`` for the node to read at its own pace
         (``.get()``), without waking the node for each message (see ``Latest``)."""
         check(self.name, self.interface, "subscribe", key)
+        self._own.uses(msg_type)
         declared = Declaration(self._entities, "subscription", key)
         latest = Latest(self, key, msg_type, declared)
         declared.add(self._announce("sub", msg_type, key))
@@ -161,6 +164,8 @@ class Node(Generic[P]):
         """Serve a queryable; ``handler(request)`` runs on the node thread and responds when it
         likes, until the returned declaration is undeclared."""
         check(self.name, self.interface, "serve", key)
+        self._own.uses(request_type)
+        self._own.uses(response_type)
         declared = Declaration(self._entities, "service", key)
 
         def on_query(query: zenoh.Query) -> None:  # Zenoh thread: queue only
@@ -206,6 +211,7 @@ class Node(Generic[P]):
         thread once every server has answered (at once when nobody serves ``key``), with the
         replies that decoded; bounded by ``timeout`` s."""
         check(self.name, self.interface, "call", key)
+        self._own.uses(type(request))
         replies: list[Message] = []
 
         def on_reply(reply: zenoh.Reply) -> None:  # Zenoh thread: collect only

@@ -1,6 +1,7 @@
 """What every node serves about itself, whatever its kind: its parameters (read, described,
-set at run time, each change told on ``turtlectl/parameter_events``), what it is (node info)
-and its log level.  Declared by ``Node`` before its own code runs (outside its interface: every
+set at run time, each change told on ``turtlectl/parameter_events``), what it is (node info),
+its log level, and the description of every message type it uses
+(``turtlectl/types/<name>/<node>``, messages.described: how tools understand a user's type).  Declared by ``Node`` before its own code runs (outside its interface: every
 node's share)."""
 
 from __future__ import annotations
@@ -11,8 +12,11 @@ import socket
 from typing import TYPE_CHECKING, Any
 
 import msgspec
+import zenoh
 
-from turtlectl.messages import Ack, ParameterEvent, SetLogLevel, SetParameter
+from turtlectl.messages import Ack, Message, ParameterEvent, SetLogLevel, SetParameter
+from turtlectl.messages.codec import register, type_name
+from turtlectl.messages.described import describe as describe_type
 from turtlectl.messages.keys import (
     PARAMETER_EVENTS,
     NodeDetails,
@@ -21,6 +25,7 @@ from turtlectl.messages.keys import (
     param_describe_key,
     param_set_key,
     params_key,
+    type_key,
 )
 from turtlectl.messages.params import ParamInfo
 from turtlectl.runtime.config import LOG_LEVELS
@@ -36,13 +41,33 @@ class OwnServices:
 
     def __init__(self, node: Node[Any]):
         self.node = node
+        node._own = self  # its declarations below describe their types through this, as the node's will
         self._infos: list[ParamInfo] | None = None  # made at the first describe
+        self._types: dict[type[Message], list[Any]] = {}  # each type it uses: [its description (JSON), when asked]
+        self._queryables: list[Any] = []  # kept: a dropped queryable would go
         node.answer_json(params_key(node.name), lambda: msgspec.json.encode(node.params))
         node.answer_json(param_describe_key(node.name), self.describe_params)
         node.answer_json(node_key(node.name), self.details)
         self._events = node.publisher(PARAMETER_EVENTS, ParameterEvent)
         node.serve(param_set_key(node.name), SetParameter, Ack, self.set_param)
         node.serve(log_level_key(node.name), SetLogLevel, Ack, self.set_log_level)
+
+    def uses(self, msg_type: type[Message]) -> None:
+        """The node uses ``msg_type``: known by its name in this process from now on, and its
+        description served (made the first time it is asked for)."""
+        if msg_type in self._types:
+            return
+        register(msg_type)  # ValueError: a second class under a name this process knows
+        self._types[msg_type] = []
+        key = type_key(type_name(msg_type), self.node.name)
+        made = self._types[msg_type]
+
+        def on_query(query: Any) -> None:  # Zenoh thread: made once, then read
+            if not made:
+                made.append(msgspec.json.encode(describe_type(msg_type)))
+            query.reply(key, made[0], encoding=zenoh.Encoding.APPLICATION_JSON)
+
+        self._queryables.append(self.node.session.declare_queryable(key, on_query))
 
     def details(self) -> bytes:
         level = logging.getLevelName(logging.getLogger().getEffectiveLevel())

@@ -17,6 +17,7 @@ from turtlectl.messages.keys import (
     NAVIGATE_TO,
     RESET,
     TELEPORT,
+    TYPES,
     WORLD_KEY,
     log_level_key,
     node_key,
@@ -29,7 +30,7 @@ from turtlectl.runtime.config import Interface
 GRAPH_KEYS = ("@turtlectl/**", "*/@turtlectl/**")  # the graph, and (outside a domain) every domain's
 VIEWER: dict[str, tuple[str, ...]] = {
     "subscribe": ("**",),
-    "call": (params_key("*"), param_describe_key("*"), node_key("*"), WORLD_KEY),
+    "call": (params_key("*"), param_describe_key("*"), node_key("*"), WORLD_KEY, f"{TYPES}/**"),
     "watch": GRAPH_KEYS,
 }
 OPERATOR: dict[str, tuple[str, ...]] = {

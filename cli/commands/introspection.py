@@ -60,14 +60,19 @@ interface_app = typer.Typer(
 
 
 @interface_app.command("list")
-def interface_list(json: bool = typer.Option(False, "--json", help="One JSON array.")) -> None:
-    """Every message type on the wire, with the keys that carry it (as `ros2 interface list`).
+def interface_list(
+    json: bool = typer.Option(False, "--json", help="One JSON array."),
+    connect: str = ConnectOption,
+    domain: str = DomainOption,
+) -> None:
+    """Every message type on the wire, with the keys that carry it (as `ros2 interface list`);
+    with a system running, also every other type its nodes use (yours), with those nodes.
 
     Example: turtlectl interface list
     """
     from turtlectl.cli.tools import interface
 
-    rows = interface.listing()
+    rows = interface.listing(interface.live_types(connect))
     result(format.json_value(rows) if json else interface.listing_text(rows))
 
 
@@ -75,6 +80,8 @@ def interface_list(json: bool = typer.Option(False, "--json", help="One JSON arr
 def interface_show(
     type_: str = typer.Argument(..., metavar="TYPE", help="A message type, e.g. Twist (any case)."),
     json: bool = JsonOption,
+    connect: str = ConnectOption,
+    domain: str = DomainOption,
 ) -> None:
     """A message type's fields: type, default, unit, range and meaning; its wire tag,
     encoding and keys (as `ros2 interface show`).
@@ -83,7 +90,8 @@ def interface_show(
     """
     from turtlectl.cli.tools import interface
 
-    described = interface.description(type_)
+    builtin = interface.is_builtin(type_)
+    described = interface.description(type_, None if builtin else interface.live_types(connect))
     result(format.json_value(described) if json else interface.description_text(described))
 
 

@@ -43,15 +43,18 @@ def echo(
     header = False
     wildcard = "*" in topic
     fields = list(dict.fromkeys(field))  # each once, in the order typed
+    skipped: dict[str, int] = {}
     try:
         for item in topics.stream(connect, topic, limit, timeout):
             if isinstance(item, topics.Silence):
                 typer.echo(item.text, err=True)
                 continue
-            if item.message is None:
-                typer.echo(f"skipped a message on {item.key}: {item.problem}", err=True)
+            if item.message is None and item.generic is None:  # not decodable at all: named once per key, counted
+                skipped[item.key] = skipped.get(item.key, 0) + 1
+                if skipped[item.key] == 1:
+                    typer.echo(f"skipped a message on {item.key}: {item.problem} (more are counted)", err=True)
                 continue
-            msg = item.message
+            msg = item.message if item.message is not None else format.Undescribed(item.generic, item.unknown)
             if fields:
                 values = {path: format.select_field(msg, path) for path in fields}
                 if csv and not header:
@@ -71,6 +74,10 @@ def echo(
         pass
     except BrokenPipeError:  # `| head`: the reader has what it wanted
         sys.stderr.close()
+        return
+    for key, count in skipped.items():
+        if count > 1:
+            typer.echo(f"skipped {count} messages on {key} in all", err=True)
 
 
 def hz(

@@ -31,6 +31,7 @@ from turtlectl.messages.keys import (
     param_describe_key,
     param_set_key,
     params_key,
+    type_key,
 )
 from turtlectl.runtime.roles import GRAPH_KEYS, OPERATOR, ROLES, VIEWER, interface_of, undeclared
 
@@ -74,8 +75,10 @@ def node_rights(name: str, kind: NodeKind) -> dict[str, tuple[str, ...]]:
             param_set_key(name),
             node_key(name),
             log_level_key(name),
+            type_key("*", name),  # the description of each message type it uses
         ),
-        "asked": (params_key("*"), node_key("*")),  # `param list`, `param set` ask every node at once
+        # `param list`, `param set` and the tools learning a type ask every node at once
+        "asked": (params_key("*"), node_key("*"), type_key("*", "*")),
         "call": i.calls,
         "token": (f"{NODE_TOKEN_PREFIX}/{name}/**", f"{ENTITY_TOKEN_PREFIX}/{name}/**", *tokens),
         # the claim check asks which entities exist; the navigator follows its callers' tokens

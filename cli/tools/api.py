@@ -13,6 +13,7 @@ import contextlib
 import os
 import queue
 import threading
+import time
 from collections.abc import Callable, Iterator
 from types import TracebackType
 from typing import Any
@@ -26,7 +27,8 @@ from turtlectl.cli.tools import params as _params
 from turtlectl.cli.tools.client import check_key, client_session, require
 from turtlectl.cli.tools.graph import Graph, NodeRow, ServiceRow, TopicRow
 from turtlectl.cli.tools.services import NO_LIMIT, Raw, Rejected, hinted, replies, run_goal
-from turtlectl.cli.tools.topics import Received, decode_sample, live_graph
+from turtlectl.cli.tools.topics import Received, decode_sample, learn, live_graph
+from turtlectl.cli.tools.typebook import TypeBook
 from turtlectl.messages import (
     Ack,
     Cancel,
@@ -49,10 +51,16 @@ class Subscription(Declaration):
     give ``subscribe`` a callback (called on Zenoh's thread).  ``undeclare()`` ends it."""
 
     def __init__(
-        self, owner: list[Declaration], session: zenoh.Session, key: str, callback: Callable[[Message], None] | None
+        self,
+        owner: list[Declaration],
+        session: zenoh.Session,
+        key: str,
+        callback: Callable[[Message], None] | None,
+        book: TypeBook,
     ):
         super().__init__(owner, "subscription", key)
         self._inbox: queue.SimpleQueue[Received | None] = queue.SimpleQueue()
+        self._book = book
 
         def on_sample(sample: zenoh.Sample) -> None:  # Zenoh's thread
             got = decode_sample(str(sample.key_expr), sample.payload.to_bytes(), str(sample.encoding))
@@ -70,14 +78,17 @@ class Subscription(Declaration):
             self._inbox.put(None)
 
     def next(self, timeout: float | None = None) -> Message:
-        """The next message (a payload that does not decode is skipped); Failed after ``timeout`` s."""
+        """The next message (a type not known yet is learnt from the nodes that use it; a
+        payload that does not decode is skipped); Failed after ``timeout`` s."""
+        deadline = None if timeout is None else time.monotonic() + timeout
         while True:
             try:
-                got = self._inbox.get(timeout=timeout)
+                got = self._inbox.get(timeout=None if deadline is None else max(0.0, deadline - time.monotonic()))
             except queue.Empty:
                 raise Failed(f"no message within {timeout:g} s") from None
             if got is None:
                 raise StopIteration
+            got = learn(got, self._book)
             if got.message is not None:
                 return got.message
 
@@ -103,6 +114,7 @@ class Client:
         self._session: zenoh.Session = self._stack.enter_context(client_session(self.connect, self.domain))
         self._publishers: dict[str, zenoh.Publisher] = {}
         self._declared: list[Declaration] = []  # its subscriptions, undeclared by close
+        self._book = TypeBook(self._session)  # the message types it has learnt from the nodes
         self._lock = threading.Lock()
 
     def close(self) -> None:
@@ -165,7 +177,11 @@ class Client:
         """Messages on ``topic`` (a key expression: ``robot/status``, ``turtle1/*``), decoded."""
         key = check_key(topic)
         require("subscribe", key)
-        return Subscription(self._declared, self._session, key, callback)
+        if callback is not None:  # a callback runs on Zenoh's thread, which must not ask: learn the topic's types now
+            for row in self.topics():
+                if zenoh.KeyExpr(row.key).intersects(zenoh.KeyExpr(key)):
+                    self._book.resolve(row.type)
+        return Subscription(self._declared, self._session, key, callback, self._book)
 
     def latest(self, topic: str, timeout: float = 5.0) -> Message:
         """The next message on ``topic``; ``Failed`` (exit 1) if none comes within ``timeout`` s."""

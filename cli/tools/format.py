@@ -39,14 +39,37 @@ def _value(value: object, full: bool) -> str:
     return str(value)
 
 
-def _fields(msg: Message) -> dict[str, Any]:
+class Undescribed:
+    """A payload no description explains, as decoded (a msgpack or JSON map, or any value):
+    shown as a message is, marked undescribed."""
+
+    def __init__(self, data: Any, type_name: str = ""):
+        self.data = data
+        self.type_name = type_name or (data.get("type", "") if isinstance(data, dict) else "")
+
+    @property
+    def name(self) -> str:
+        return f"{self.type_name or 'data'} (undescribed)"
+
+
+Shown = Message | Undescribed
+
+
+def _name(msg: Shown) -> str:
+    return msg.name if isinstance(msg, Undescribed) else type(msg).__name__
+
+
+def _fields(msg: Shown) -> dict[str, Any]:
     """The message's fields as plain data, without the type tag."""
-    data = to_builtins(msg)
+    if isinstance(msg, Undescribed):
+        data = dict(msg.data) if isinstance(msg.data, dict) else {"value": msg.data}
+    else:
+        data = to_builtins(msg)
     data.pop("type", None)
     return data
 
 
-def select_field(msg: Message, path: str) -> Any:
+def select_field(msg: Shown, path: str) -> Any:
     """The value at a dotted ``path`` (``ranges.0`` indexes a list); BadInput if there is none."""
     value: Any = _fields(msg)
     for part in path.split("."):
@@ -57,14 +80,14 @@ def select_field(msg: Message, path: str) -> Any:
                 raise BadInput(f"{path!r}: index {part} is out of range ({len(value)} values)")
             value = value[int(part)]
         else:
-            raise BadInput(f"{type(msg).__name__} has no field {path!r}")
+            raise BadInput(f"{_name(msg)} has no field {path!r}")
     return value
 
 
-def message_block(msg: Message, full: bool = False, key: str | None = None) -> str:
+def message_block(msg: Shown, full: bool = False, key: str | None = None) -> str:
     """A readable block, as ``ros2 topic echo`` prints: the type (and the key, when given),
     one ``field: value`` per line, then ``---``."""
-    header = f"# {type(msg).__name__}" + (f" on {key}" if key else "")
+    header = f"# {_name(msg)}" + (f" on {key}" if key else "")
     lines = [header] + [f"{name}: {_value(value, full)}" for name, value in _fields(msg).items()]
     return "\n".join(lines) + "\n---"
 
@@ -73,9 +96,12 @@ def value_text(value: Any, full: bool = False) -> str:
     return _value(value, full)
 
 
-def message_json(msg: Message, key: str | None = None) -> str:
+def message_json(msg: Shown, key: str | None = None) -> str:
     """One JSON object on one line (its ``type`` names the message type); with ``key``, a
     ``"key"`` member after ``type`` names the key it came on (echo of a wildcard)."""
+    if isinstance(msg, Undescribed):
+        where = {"key": key} if key is not None else {}
+        return json_value({"type": msg.type_name, **where, "undescribed": True, **_fields(msg)})
     if key is None:
         return to_json(msg).decode()
     data = to_builtins(msg)
@@ -88,7 +114,7 @@ def json_value(value: Any) -> str:
     return msgspec.json.encode(spelled(value)).decode()
 
 
-def csv_header(msg: Message) -> str:
+def csv_header(msg: Shown) -> str:
     return ",".join(_fields(msg))
 
 
@@ -99,7 +125,7 @@ def _csv_line(values: list[Any]) -> str:
     return out.getvalue()
 
 
-def csv_row(msg: Message) -> str:
+def csv_row(msg: Shown) -> str:
     """One CSV line of the message's fields; arrays as one quoted JSON cell."""
     return _csv_line(list(_fields(msg).values()))
 

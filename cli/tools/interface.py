@@ -1,14 +1,19 @@
 """``turtlectl interface``: the message types of the wire contract, as ``ros2 interface
-list / show``.  Builds values and text from messages.reference (units, ranges, meanings,
-keys); prints nothing itself."""
+list / show``: the built-ins (messages.reference: units, ranges, meanings, keys) and, when a
+system runs, every other type its nodes use, from the descriptions they serve
+(messages.described), with the nodes that use each and any conflict; prints nothing itself."""
 
 from __future__ import annotations
 
 from typing import Any
 
+import msgspec
+
+from turtlectl.cli.errors import Unreachable
 from turtlectl.cli.tools.build import type_named
 from turtlectl.messages import ALL_TYPES
-from turtlectl.messages.codec import encoding_for, type_name
+from turtlectl.messages.codec import MEDIA_TYPE, encoding_for, type_name
+from turtlectl.messages.described import TypeDescription
 from turtlectl.messages.reference import FIELDS, KEYS, default_text, doc, struct_fields
 from turtlectl.messages.reference import type_name as field_type
 
@@ -24,22 +29,68 @@ def summary(cls: type) -> str:
     return " ".join(doc(cls).split("\n\n", 1)[0].split())
 
 
-def listing() -> list[dict[str, Any]]:
-    """Every message type: its name, the keys that carry it, and its summary."""
-    return [{"type": type_name(t), "keys": _keys_of(type_name(t)), "summary": summary(t)} for t in ALL_TYPES]
+Live = dict[str, dict[str, TypeDescription]]  # type name -> node -> its description
+
+
+def live_types(connect: str, domain: str | None = None) -> Live:
+    """What the running system's nodes say of the types they use ({} when none runs)."""
+    from turtlectl.cli.tools.client import client_session
+    from turtlectl.cli.tools.typebook import descriptions
+
+    try:
+        with client_session(connect, domain) as session:
+            return descriptions(session)
+    except Unreachable:
+        return {}
+
+
+def is_builtin(name: str) -> bool:
+    return any(type_name(t).lower() == name.lower() for t in ALL_TYPES)
+
+
+def _conflict(said: dict[str, TypeDescription]) -> str:
+    hashes = {d.hash for d in said.values()}
+    if len(hashes) < 2:
+        return ""
+    ways = ", ".join(f"{d.hash.removeprefix('TH01_')[:8]} by {node}" for node, d in sorted(said.items()))
+    return f"described {len(hashes)} ways: {ways}"
+
+
+def listing(live: Live | None = None) -> list[dict[str, Any]]:
+    """Every message type: its name, the keys that carry it, and its summary; then the types
+    the running nodes use besides (``live``), with those nodes and any conflict."""
+    rows = [{"type": type_name(t), "keys": _keys_of(type_name(t)), "summary": summary(t)} for t in ALL_TYPES]
+    builtin = {r["type"] for r in rows}
+    for name, said in sorted((live or {}).items()):
+        if name in builtin:
+            continue
+        first = next(iter(said.values()))
+        row = {"type": name, "keys": [], "summary": first.doc, "nodes": sorted(said)}
+        if _conflict(said):
+            row["conflict"] = _conflict(said)
+        rows.append(row)
+    return rows
 
 
 def listing_text(rows: list[dict[str, Any]]) -> str:
     width = max(len(r["type"]) for r in rows)
     lines = [
-        f"{r['type']:{width}}  {r['summary']}" + (f"  [{', '.join(r['keys'])}]" if r["keys"] else "") for r in rows
+        f"{r['type']:{width}}  {r['summary']}"
+        + (f"  [{', '.join(r['keys'])}]" if r["keys"] else "")
+        + (f"  (used by {', '.join(r['nodes'])})" if r.get("nodes") else "")
+        + (f"  CONFLICT: {r['conflict']}" if r.get("conflict") else "")
+        for r in rows
     ]
     return "\n".join(lines + ["", "turtlectl interface show TYPE: its fields, units and defaults"])
 
 
-def description(name: str) -> dict[str, Any]:
+def description(name: str, live: Live | None = None) -> dict[str, Any]:
     """One type in full: wire tag and encoding, the keys that carry it, its documentation and
-    every field (type, default, unit, range, meaning).  BadInput for a name that is no type."""
+    every field (type, default, unit, range, meaning).  A type the running nodes use (``live``)
+    from its description.  BadInput for a name that is no type."""
+    said = next((s for n, s in (live or {}).items() if n.lower() == name.lower()), None)
+    if said is not None and not any(type_name(t).lower() == name.lower() for t in ALL_TYPES):
+        return _described(said)
     cls = type_named(name)
     tag = type_name(cls)
     fields = []
@@ -64,14 +115,46 @@ def description(name: str) -> dict[str, Any]:
     }
 
 
+def _described(said: dict[str, TypeDescription]) -> dict[str, Any]:
+    first = next(iter(said.values()))
+    body = first.schema["$defs"][first.schema["$ref"].rsplit("/", 1)[-1]]
+    props = body.get("properties", {})
+    required = set(body.get("required", ()))
+    fields = [
+        {
+            "name": f.name,
+            "type": f.type,
+            "default": "" if f.name in required else msgspec.json.encode(props.get(f.name, {}).get("default")).decode(),
+            "unit": f.unit or "-",
+            "range": "",
+            "meaning": f.meaning,
+        }
+        for f in first.fields
+    ]
+    described = {
+        "type": first.name,
+        "encoding": f"{MEDIA_TYPE};{first.name}",
+        "keys": [],
+        "doc": first.doc,
+        "fields": fields,
+        "hash": first.hash,
+        "nodes": sorted(said),
+    }
+    if _conflict(said):
+        described["conflict"] = _conflict(said)
+    return described
+
+
 def description_text(d: dict[str, Any]) -> str:
     head = [
         f'{d["type"]}: msgpack map tagged "type": "{d["type"]}" (encoding {d["encoding"]})',
         f"keys: {', '.join(d['keys']) or '(none of its own)'}",
-        "",
-        d["doc"],
-        "",
     ]
+    if d.get("nodes"):
+        head.append(f"described by: {', '.join(d['nodes'])} (hash {d['hash']})")
+    if d.get("conflict"):
+        head.append(f"CONFLICT: {d['conflict']}")
+    head += ["", d["doc"], ""]
     rows = [("field", "type", "default", "unit", "range / values")] + [
         (f["name"], f["type"], f["default"], f["unit"], f["range"]) for f in d["fields"]
     ]

@@ -9,6 +9,7 @@ import contextlib
 import queue
 import time
 from collections.abc import Callable, Iterator
+from typing import Any
 
 import msgspec
 import zenoh
@@ -26,7 +27,9 @@ from turtlectl.cli.tools.client import (
 from turtlectl.cli.tools.graph import Graph, build_graph
 from turtlectl.cli.tools.rates import SILENCE, Quiet, Rates, RateStats
 from turtlectl.cli.tools.services import RouterLost
+from turtlectl.cli.tools.typebook import TypeBook, generic
 from turtlectl.messages import DecodeError, Message, decode, decode_any, encode, encoding_for, type_from_encoding
+from turtlectl.messages.codec import MEDIA_TYPE, TYPES_BY_NAME
 from turtlectl.messages.keys import CMD_VEL, DOMAIN_GRAPHS, FEEDBACK, GRAPH, PARAMETER_EVENTS
 from turtlectl.runtime.endpoint import default_domain
 
@@ -34,12 +37,23 @@ WHILE_A_GOAL_RUNS = (FEEDBACK, CMD_VEL)  # published by the navigator only while
 
 
 class Received:
-    """One sample as echo sees it: the key, the decoded message or why it is not one."""
+    """One sample as echo sees it: the key, the decoded message or why it is not one.  A type
+    not known here keeps its payload (``unknown``: its name) for the reader's thread to learn
+    it (``learn``); a payload no description explains is ``generic`` (decoded as what it is)."""
 
-    def __init__(self, key: str, message: Message | None, problem: str = ""):
+    def __init__(self, key: str, message: Message | None, problem: str = "", payload: bytes = b"", encoding: str = ""):
         self.key = key
         self.message = message
         self.problem = problem
+        self.payload = payload
+        self.encoding = encoding
+        self.generic: Any = None  # an undescribed payload's data (dict, list, ...)
+
+    @property
+    def unknown(self) -> str:
+        """The type name the sample's encoding gives, when no type of that name is known here."""
+        media, _, name = self.encoding.partition(";")
+        return name if self.message is None and media == MEDIA_TYPE and name and name not in TYPES_BY_NAME else ""
 
 
 def decode_sample(key: str, payload: bytes, encoding: str) -> Received:
@@ -48,8 +62,21 @@ def decode_sample(key: str, payload: bytes, encoding: str) -> Received:
     try:
         message = decode(payload, msg_type) if msg_type is not None else decode_any(payload)
     except DecodeError as exc:
-        return Received(key, None, f"{exc} (encoding {encoding!r}, {len(payload)} bytes)")
+        return Received(key, None, f"{exc} (encoding {encoding!r}, {len(payload)} bytes)", payload, encoding)
     return Received(key, message)
+
+
+def learn(item: Received, book: TypeBook) -> Received:
+    """``item`` again, on the reader's thread: decoded by its type learnt from the nodes that
+    use it, else (no description anywhere) decoded generically and marked so."""
+    if item.message is not None:
+        return item
+    if item.unknown and book.resolve(item.unknown) is not None:
+        return decode_sample(item.key, item.payload, item.encoding)
+    data = generic(item.payload, item.encoding)
+    if data is not None:
+        item.generic, item.problem = data, ""
+    return item
 
 
 @contextlib.contextmanager
@@ -146,6 +173,7 @@ def stream(connect: str, topic: str, count: int | None, timeout: float | None) -
     """
     key = check_key(topic)
     with client_session(connect) as session, subscription(session, key) as samples:
+        book = TypeBook(session)
         started = time.monotonic()
         deadline = None if timeout is None else started + timeout
         received = 0
@@ -166,17 +194,21 @@ def stream(connect: str, topic: str, count: int | None, timeout: float | None) -
             except queue.Empty:
                 continue
             quiet.heard(time.monotonic())
-            if item.message is not None:
+            item = learn(item, book)
+            if item.message is not None or item.generic is not None:
                 received += 1
             yield item
 
 
 def _stamp(payload: bytes) -> int:
-    """The message's ``stamp`` in ns, 0 if it has none or is no message."""
+    """The message's ``stamp`` in ns, 0 if it has none or is no message (any type, described or
+    not: a msgpack map with a ``stamp``)."""
     try:
-        return getattr(decode_any(payload), "stamp", 0) or 0
-    except DecodeError:
+        data = msgspec.msgpack.decode(payload)
+    except msgspec.DecodeError:
         return 0
+    stamp = data.get("stamp", 0) if isinstance(data, dict) else 0
+    return stamp if isinstance(stamp, int) and stamp > 0 else 0
 
 
 def measure_rates(

@@ -1,0 +1,92 @@
+"""The message types a tool understands: the built-ins, and any other it learns, on first
+meeting it, from the nodes that use it (each serves ``turtlectl/types/<name>/<node>``, the
+type's description: messages.described).  A learnt type is rebuilt as a class
+(``struct_from``) and known by name in this process from then on, so every tool decodes,
+shows and validates it as a built-in.  Two nodes describing one name differently are a
+conflict, kept with who said what."""
+
+from __future__ import annotations
+
+import time
+from typing import Any
+
+import msgspec
+import zenoh
+
+from turtlectl.messages import Message
+from turtlectl.messages.codec import TYPES_BY_NAME, register
+from turtlectl.messages.described import DescriptionError, TypeDescription, struct_from
+from turtlectl.messages.keys import type_key
+
+ASK_TIMEOUT = 2.0  # s: how long the nodes have to describe a type
+RETRY = 5.0  # s: an undescribed type is asked about again after this (its node may start meanwhile)
+
+
+def descriptions(session: zenoh.Session, name: str = "*") -> dict[str, dict[str, TypeDescription]]:
+    """What the nodes now running say of type ``name`` (``*``: of every type in use): type
+    name -> node -> description.  Replies that do not read as a description are left out."""
+    found: dict[str, dict[str, TypeDescription]] = {}
+    replies = session.get(
+        type_key(name, "*"),
+        target=zenoh.QueryTarget.ALL,
+        consolidation=zenoh.ConsolidationMode.NONE,
+        timeout=ASK_TIMEOUT,
+    )
+    for reply in replies:
+        if reply.ok is None:
+            continue
+        parts = str(reply.ok.key_expr).split("/")
+        try:
+            described = msgspec.json.decode(reply.ok.payload.to_bytes(), type=TypeDescription)
+        except msgspec.DecodeError:
+            continue
+        found.setdefault(parts[-2], {})[parts[-1]] = described
+    return found
+
+
+class TypeBook:
+    """The types one session's tool has met; ``resolve`` learns one the first time."""
+
+    def __init__(self, session: zenoh.Session):
+        self.session = session
+        self.described: dict[str, dict[str, TypeDescription]] = {}  # name -> node -> what it said
+        self._asked: dict[str, float] = {}  # undescribed name -> when last asked
+
+    def resolve(self, name: str) -> type[Message] | None:
+        """The class of type ``name``: known (a built-in, or learnt), else learnt now from the
+        nodes that use it; None if none describes it (asked again after RETRY s)."""
+        known = TYPES_BY_NAME.get(name)
+        if known is not None:
+            return known
+        asked = self._asked.get(name)
+        if asked is not None and time.monotonic() - asked < RETRY:
+            return None
+        said = descriptions(self.session, name).get(name, {})
+        self._asked[name] = time.monotonic()
+        if not said:
+            return None
+        self.described[name] = said
+        first = next(iter(said.values()))
+        try:
+            return register(struct_from(first))
+        except DescriptionError:
+            return None
+
+    def conflict(self, name: str) -> str:
+        """Who describes ``name`` how, when they disagree ('' when they agree or it is unknown):
+        ``WallState is described two ways: a1b2c3d4 by follower, e5f6a7b8 by mapper``."""
+        said = self.described.get(name, {})
+        hashes = {d.hash for d in said.values()}
+        if len(hashes) < 2:
+            return ""
+        ways = ", ".join(f"{d.hash.removeprefix('TH01_')[:8]} by {node}" for node, d in sorted(said.items()))
+        return f"{name} is described {len(hashes)} ways: {ways}"
+
+
+def generic(payload: bytes, encoding: str) -> Any:
+    """A payload no description explains, decoded as what it is (msgpack or JSON), or None."""
+    decoder = msgspec.json.decode if encoding.startswith("application/json") else msgspec.msgpack.decode
+    try:
+        return decoder(payload)
+    except msgspec.DecodeError:
+        return None

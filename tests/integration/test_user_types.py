@@ -1,0 +1,159 @@
+"""Issue 25: a user's own message type, defined in a project file and published by a user node,
+is understood by the tools without a build step: the node describes it on the wire, `echo`
+(block, --json, --field, --csv), `hz` (the publisher's rate), `interface list/show` and the
+Python client use the description; a raw undescribed payload is shown generically; two nodes
+describing one name differently are reported."""
+
+from __future__ import annotations
+
+import json
+import textwrap
+
+import msgspec
+import pytest
+
+import turtlectl
+from tests.integration.harness import running_system
+
+pytestmark = pytest.mark.integration
+
+WALL = textwrap.dedent(
+    '''
+    import msgspec
+
+    from turtlectl import Message
+
+
+    class Corner(msgspec.Struct, frozen=True):
+        x: float
+        y: float
+
+
+    class WallState(Message, tag="WallState"):
+        """What the wall follower sees."""
+
+        distance: float  # m: to the wall
+        side: str = "left"  # -: which side the wall is on
+        corners: list[Corner] = []  # m: corners seen
+        stamp: int = 0  # ns: when it was published
+        seq: int = 0  # -: per-publisher count
+
+
+    class OtherWallState(Message, tag="WallState"):
+        """Another team's WallState: one name, another type."""
+
+        level: int
+
+
+    class Wall:
+        Params = msgspec.defstruct("WallParams", [])
+
+        def __init__(self, node):
+            pub = node.publisher("wall/state", WallState)
+            node.timer(0.1, lambda: pub.publish(WallState(distance=0.75, corners=[Corner(1.0, 2.0)])))
+
+
+    class Other:
+        Params = msgspec.defstruct("OtherParams", [])
+
+        def __init__(self, node):
+            node.publisher("other/state", OtherWallState)
+    '''
+)
+
+
+@pytest.fixture(scope="module")
+def system(tmp_path_factory):
+    project = tmp_path_factory.mktemp("walls")
+    (project / "wall.py").write_text(WALL)
+    (project / "launch.toml").write_text(
+        '[[node]]\nname = "sim"\nrun = "sim"\n\n[[node]]\nname = "wall"\nrun = "./wall.py:Wall"\n'
+    )
+    with running_system(project / "launch.toml", ready=("sim", "wall"), cwd=project) as system:
+        yield system
+
+
+def test_echo_shows_a_user_type_in_every_form(system):
+    block = system.run_cli("echo", "wall/state", "--count", "2")
+    assert block.returncode == 0, block.stderr
+    assert block.stdout.count("# WallState") == 2 and "distance: 0.75" in block.stdout, block.stdout
+    assert "skipped" not in block.stderr, block.stderr
+    line = json.loads(system.run_cli("echo", "wall/state", "--once", "--json").stdout)
+    assert line["type"] == "WallState" and line["corners"] == [{"x": 1.0, "y": 2.0}]
+    assert system.run_cli("echo", "wall/state", "--once", "--field", "distance").stdout.strip() == "0.75"
+    csv = system.run_cli("echo", "wall/state", "--count", "2", "--csv").stdout.splitlines()
+    assert csv[0] == "distance,side,corners,stamp,seq" and csv[1].startswith("0.75,left,")
+
+
+def test_hz_gives_the_publishers_own_rate(system):
+    done = system.run_cli("hz", "wall/state", "--duration", "3")
+    assert done.returncode == 0, done.stderr
+    publisher = float(done.stdout.strip().splitlines()[-1].split("publisher ", 1)[1].split(" Hz")[0])
+    assert 8.0 < publisher < 12.0, done.stdout
+
+
+def test_interface_list_and_show_a_live_user_type(system):
+    listed = system.run_cli("interface", "list")
+    assert "WallState" in listed.stdout and "(used by wall)" in listed.stdout, listed.stdout
+    shown = system.run_cli("interface", "show", "WallState")
+    assert shown.returncode == 0, shown.stderr
+    assert "described by: wall (hash TH01_" in shown.stdout and "to the wall" in shown.stdout, shown.stdout
+
+
+def test_the_python_client_decodes_a_user_type_with_attribute_access(system):
+    with turtlectl.Client(system.endpoint) as client:
+        state = client.latest("wall/state")
+        assert type(state).__name__ == "WallState" and state.distance == 0.75 and state.corners[0].y == 2.0
+
+
+def test_an_undescribed_payload_is_shown_as_what_it_is(system):
+    session = system.session
+    assert session is not None
+    sub = system.run_cli  # noqa: F841  (the echo below runs while we publish)
+    import subprocess
+
+    from tests.integration.harness import turtlectl as command
+
+    echo = subprocess.Popen(
+        [*command(), "echo", "raw/data", "--once", "--connect", system.endpoint],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
+    try:
+        system.wait_until(lambda: echo.poll() is not None or _put(session), 20.0, "echo got it")
+        out, err = echo.communicate(timeout=20)
+    finally:
+        if echo.poll() is None:
+            echo.kill()
+    assert "# Mystery (undescribed)" in out and "a: 1" in out, (out, err)
+    assert "skipped" not in err
+
+
+def _put(session) -> bool:
+    session.put("raw/data", msgspec.msgpack.encode({"type": "Mystery", "a": 1}), encoding="application/msgpack;Mystery")
+    return False
+
+
+def test_two_descriptions_of_one_name_are_reported(system, tmp_path):
+    import subprocess
+
+    from tests.integration.harness import turtlectl as command
+
+    (tmp_path / "wall.py").write_text(WALL)
+    other = subprocess.Popen(
+        [*command(), "run", "./wall.py:Other", "--connect", system.endpoint],
+        cwd=tmp_path,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.STDOUT,
+        text=True,
+    )
+    try:
+        system.wait_until(lambda: "other" in system.alive or other.poll() is not None, 30.0, "the other node")
+        shown = system.run_cli("interface", "show", "WallState")
+        assert "CONFLICT: described 2 ways:" in shown.stdout and " by other" in shown.stdout, shown.stdout
+        listed = system.run_cli("interface", "list")
+        assert "CONFLICT" in listed.stdout
+    finally:
+        other.terminate()
+        other.wait(10)
