@@ -36,9 +36,10 @@ def call(
     it); an Ack with ok false or a response with success false is exit code 1.
     Example: turtlectl call turtle1/teleport_absolute '{"x": 2, "y": 2, "theta": 0}'
     """
-    from turtlectl.cli.tools import build, client, services
+    from turtlectl.cli.tools import build, client, services, topics
 
     key = client.check_key(service)
+    type_name = topics.learn_type(connect, client.base_key(key), type_name)  # yours: from the nodes using it
     body = build.service_request(client.base_key(key), request, type_name)
 
     def show(reply: Any) -> None:

@@ -133,6 +133,7 @@ def pub(
     from turtlectl.cli.tools import build, client, topics
 
     key = client.check_key(topic, publish=True)
+    type_name = topics.learn_type(connect, client.base_key(key), type_name)  # yours: from the nodes using it
     msg = build.topic_message(client.base_key(key), message, type_name)
     count = args.publish_count(once, rate, times)
     try:

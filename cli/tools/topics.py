@@ -30,7 +30,7 @@ from turtlectl.cli.tools.services import RouterLost
 from turtlectl.cli.tools.typebook import TypeBook, generic
 from turtlectl.messages import DecodeError, Message, decode, decode_any, encode, encoding_for, type_from_encoding
 from turtlectl.messages.codec import MEDIA_TYPE, TYPES_BY_NAME
-from turtlectl.messages.keys import CMD_VEL, DOMAIN_GRAPHS, FEEDBACK, GRAPH, PARAMETER_EVENTS
+from turtlectl.messages.keys import CMD_VEL, DOMAIN_GRAPHS, FEEDBACK, GRAPH, PARAMETER_EVENTS, SERVICES, TOPICS
 from turtlectl.runtime.endpoint import default_domain
 
 WHILE_A_GOAL_RUNS = (FEEDBACK, CMD_VEL)  # published by the navigator only while a goal runs
@@ -272,6 +272,30 @@ def publish(connect: str, topic: str, message: Message, rate: float | None, time
         finally:
             pub.undeclare()
     return sent
+
+
+def learn_type(connect: str, key: str, type_name: str | None) -> str | None:
+    """Before a message for ``key`` is built from JSON (``pub``, ``call``): a type this process
+    does not know (``type_name``, or else the one the live graph says ``key`` carries) is learnt
+    from the nodes that use it, so it is validated and encoded as a built-in is.  Returns the
+    type's name to build with (``type_name``, or the graph's), None when there is none.  Nothing
+    to ask for a known type; nothing learnt if no node describes it (build says it is unknown)."""
+    if type_name is not None and type_name.lower() in {n.lower() for n in TYPES_BY_NAME}:
+        return type_name
+    if type_name is None and (key in TOPICS or key in SERVICES):
+        return None
+    try:
+        with client_session(connect) as session:
+            if type_name is None:
+                current = live_graph(session)
+                rows = [*current.topics, *current.services]
+                type_name = next((r.type for r in rows if r.key == key and r.type not in TYPES_BY_NAME), None)
+            for name in TypeBook(session).learn_all():  # every type in use: a service's answer types too
+                if type_name is not None and name.lower() == type_name.lower():
+                    type_name = name
+    except Unreachable:
+        pass  # no system: build says what it can without one
+    return type_name
 
 
 def live_graph(session: zenoh.Session, domain: str | None = None) -> Graph:

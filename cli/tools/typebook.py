@@ -63,6 +63,17 @@ class TypeBook:
             return None
         said = descriptions(self.session, name).get(name, {})
         self._asked[name] = time.monotonic()
+        return self._learnt(name, said)
+
+    def learn_all(self) -> dict[str, dict[str, TypeDescription]]:
+        """Every type the running nodes use, learnt at once (one query); what they said."""
+        said = descriptions(self.session)
+        for name, by_node in said.items():
+            if name not in TYPES_BY_NAME:
+                self._learnt(name, by_node)
+        return said
+
+    def _learnt(self, name: str, said: dict[str, TypeDescription]) -> type[Message] | None:
         if not said:
             return None
         self.described[name] = said

@@ -39,6 +39,12 @@ WALL = textwrap.dedent(
         seq: int = 0  # -: per-publisher count
 
 
+    class WallReset(Message, tag="WallReset"):
+        """Start again from a distance."""
+
+        to: float  # m: the distance to report
+
+
     class OtherWallState(Message, tag="WallState"):
         """Another team's WallState: one name, another type."""
 
@@ -51,6 +57,8 @@ WALL = textwrap.dedent(
         def __init__(self, node):
             pub = node.publisher("wall/state", WallState)
             node.timer(0.1, lambda: pub.publish(WallState(distance=0.75, corners=[Corner(1.0, 2.0)])))
+            node.subscribe("wall/cmd", WallState, lambda m: node.log.info("heard distance %s", m.distance))
+            node.serve("wall/restart", WallReset, WallState, lambda r: r.respond(WallState(distance=r.body.to)))
 
 
     class Other:
@@ -157,3 +165,14 @@ def test_two_descriptions_of_one_name_are_reported(system, tmp_path):
     finally:
         other.terminate()
         other.wait(10)
+
+
+def test_pub_and_call_build_a_user_type_from_json_validated(system):
+    sent = system.run_cli("pub", "wall/cmd", '{"distance": 2.5}')  # its type: from the graph and the node
+    assert sent.returncode == 0, sent.stderr
+    system.wait_line(r"heard distance 2.5", 20.0)
+    bad = system.run_cli("pub", "wall/cmd", '{"distance": "far"}')
+    assert bad.returncode == 2 and "not a valid WallState: distance: Expected `float`, got `str`" in bad.stderr, bad
+    answered = system.run_cli("call", "wall/restart", '{"to": 1.5}')
+    assert answered.returncode == 0, answered.stderr
+    assert "# WallState" in answered.stdout and "distance: 1.5" in answered.stdout, answered.stdout
