@@ -27,6 +27,7 @@ import generated  # noqa: E402
 
 from turtlectl.messages import ALL_TYPES, keys  # noqa: E402
 from turtlectl.messages.codec import MEDIA_TYPE  # noqa: E402
+from turtlectl.messages.described import FieldDescription, TypeDescription  # noqa: E402
 from turtlectl.messages.params import ParamDescription, ParamInfo  # noqa: E402
 from turtlectl.messages.reference import FIELDS, KEYS, default_text, doc, struct_fields, type_name  # noqa: E402
 from turtlectl.messages.world import Limits, Obstacle, World  # noqa: E402
@@ -118,6 +119,35 @@ def describe_section() -> list[str]:
         out.append(_row(*["---"] * 3))
         for f in struct_fields(cls):
             out.append(_row(f"`{f.name}`", type_name(f.type), comments.get(f.name, "")))
+    return out
+
+
+def descriptions_section() -> list[str]:
+    """How a message type is described on the wire, built-in or a user's own (messages.described)."""
+    out = [
+        f"## Type descriptions: `{keys.type_key('<TypeName>', '<node>')}` (JSON)",
+        "",
+        "Every node describes each message type it publishes, subscribes to, serves or calls, built-in or its own, "
+        f"on `{keys.type_key('<TypeName>', '<node>')}` (encoding `application/json`): a get on "
+        f"`{keys.type_key('<TypeName>', '*')}` asks every node that uses the type, `{keys.type_key('*', '*')}` every "
+        "type in use (last two chunks of each reply's key: the type's name and the node's). This is how every "
+        "turtlectl tool understands a type it was not built with, and how an independent client can too: decode "
+        "with the JSON Schema (`schema`), show fields in order with their units (`fields`). A type is described "
+        "from its class alone: its wire tag, msgspec's JSON Schema of it (nested Structs in `$defs`), each "
+        "field's unit and meaning (a user type's `# unit: meaning` comment after the field; a built-in's from the "
+        "tables above) and its docstring's first paragraph. `hash` is `TH01_` and the sha256 of the canonical JSON "
+        '(sorted keys) of `{"name": ..., "schema": ...}`: two nodes that describe one name with different hashes '
+        "use two different types under one name, and the tools say so (`turtlectl interface list/show`).",
+        "",
+        "Supported field types: bool, int, float, str, bytes (base64 in JSON), enums of str or int values, nested "
+        "Structs, lists, tuples, dicts with str keys, and `X | None`; defaults JSON can write.",
+    ]
+    for cls in (TypeDescription, FieldDescription):
+        out += ["", f"### {cls.__name__}", "", "```text", doc(cls), "```", ""]
+        out.append(_row("field", "type"))
+        out.append(_row(*["---"] * 2))
+        for f in struct_fields(cls):
+            out.append(_row(f"`{f.name}`", type_name(f.type)))
     return out
 
 
@@ -273,6 +303,7 @@ def render() -> str:
         services_section(),
         types_section(),
         params_section(),
+        descriptions_section(),
         world_section(),
         example_section(SAMPLE_OUTPUT),
     ):

@@ -95,3 +95,35 @@ def test_a_node_publishes_and_receives_a_user_type_and_survives_garbage_on_it():
     fake.deliver("wall/in", b"\x01\x02garbage")
     fake.deliver("wall/in", sample())
     assert fake.instance.got == [sample()]
+
+
+def test_a_description_round_trips_and_its_hash_is_what_the_interfaces_page_says():
+    """An independent client recomputes the hash from the served JSON with any JSON library
+    (sorted keys, no spaces) and rebuilds a class that decodes the type's payloads."""
+    import hashlib
+    import json
+
+    from turtlectl.messages.described import TypeDescription, describe, struct_from
+
+    served = msgspec.json.encode(describe(WallState))
+    plain = json.loads(served)
+    canonical = json.dumps({"name": plain["name"], "schema": plain["schema"]}, sort_keys=True, separators=(",", ":"))
+    assert plain["hash"] == "TH01_" + hashlib.sha256(canonical.encode()).hexdigest()
+    assert [(f["name"], f["unit"], f["meaning"]) for f in plain["fields"]][:2] == [
+        ("distance", "m", "to the wall"),
+        ("side", "-", "which side the wall is on"),
+    ]
+    rebuilt = struct_from(msgspec.json.decode(served, type=TypeDescription))
+    again = decode(encode(sample()), rebuilt)
+    assert again.corners[1].y == 4.0 and again.side.value == "right" and again.raw == b"\x00\x01"
+
+
+def test_every_built_in_type_is_described_the_same_way_with_its_units():
+    from turtlectl.messages import ALL_TYPES
+    from turtlectl.messages.described import describe
+
+    for cls in ALL_TYPES:
+        described = describe(cls)
+        assert described.hash.startswith("TH01_") and [f.name for f in described.fields] == list(cls.__struct_fields__)
+    pose = {f.name: f.unit for f in describe(next(t for t in ALL_TYPES if t.__name__ == "Pose")).fields}
+    assert pose["x"] == "m" and pose["theta"] == "rad"
