@@ -46,7 +46,7 @@ def echo(
     skipped: dict[str, int] = {}
     try:
         for item in topics.stream(connect, topic, limit, timeout):
-            if isinstance(item, topics.Silence):
+            if isinstance(item, topics.Notice):  # a silence and why, a type described two ways
                 typer.echo(item.text, err=True)
                 continue
             if item.message is None and item.generic is None:  # not decodable at all: named once per key, counted

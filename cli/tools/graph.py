@@ -40,6 +40,7 @@ class Graph(msgspec.Struct):
     domains: list[str] = msgspec.field(default_factory=list)  # with a system on this router (seen from outside)
     hint: str = ""  # what to do when there are no nodes (e.g. "add --domain lab1")
     hidden_services: int = 0  # each node's own services left out (``list`` without --all)
+    conflicts: list[str] = msgspec.field(default_factory=list)  # a type name two nodes describe differently
 
 
 #: where the services every node has live (parameters, node info, log level)
@@ -148,4 +149,6 @@ def graph_text(graph: Graph) -> str:
         lines.append(
             f"DOMAINS (their nodes and keys are listed with the domain in front)\n  {', '.join(graph.domains)}"
         )
+    if graph.conflicts:
+        lines += ["CONFLICTS (one type name, two types: rename one)"] + [f"  {c}" for c in graph.conflicts]
     return "\n".join(lines)

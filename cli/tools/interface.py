@@ -11,6 +11,7 @@ import msgspec
 
 from turtlectl.cli.errors import Unreachable
 from turtlectl.cli.tools.build import type_named
+from turtlectl.cli.tools.typebook import conflict
 from turtlectl.messages import ALL_TYPES
 from turtlectl.messages.codec import MEDIA_TYPE, encoding_for, type_name
 from turtlectl.messages.described import TypeDescription
@@ -48,14 +49,6 @@ def is_builtin(name: str) -> bool:
     return any(type_name(t).lower() == name.lower() for t in ALL_TYPES)
 
 
-def _conflict(said: dict[str, TypeDescription]) -> str:
-    hashes = {d.hash for d in said.values()}
-    if len(hashes) < 2:
-        return ""
-    ways = ", ".join(f"{d.hash.removeprefix('TH01_')[:8]} by {node}" for node, d in sorted(said.items()))
-    return f"described {len(hashes)} ways: {ways}"
-
-
 def listing(live: Live | None = None) -> list[dict[str, Any]]:
     """Every message type: its name, the keys that carry it, and its summary; then the types
     the running nodes use besides (``live``), with those nodes and any conflict."""
@@ -66,8 +59,8 @@ def listing(live: Live | None = None) -> list[dict[str, Any]]:
             continue
         first = next(iter(said.values()))
         row = {"type": name, "keys": [], "summary": first.doc, "nodes": sorted(said)}
-        if _conflict(said):
-            row["conflict"] = _conflict(said)
+        if conflict(said):
+            row["conflict"] = conflict(said)
         rows.append(row)
     return rows
 
@@ -140,8 +133,8 @@ def _described(said: dict[str, TypeDescription]) -> dict[str, Any]:
         "hash": first.hash,
         "nodes": sorted(said),
     }
-    if _conflict(said):
-        described["conflict"] = _conflict(said)
+    if conflict(said):
+        described["conflict"] = conflict(said)
     return described
 
 

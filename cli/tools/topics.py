@@ -27,7 +27,7 @@ from turtlectl.cli.tools.client import (
 from turtlectl.cli.tools.graph import Graph, build_graph
 from turtlectl.cli.tools.rates import SILENCE, Quiet, Rates, RateStats
 from turtlectl.cli.tools.services import RouterLost
-from turtlectl.cli.tools.typebook import TypeBook, generic
+from turtlectl.cli.tools.typebook import TypeBook, conflicts, generic
 from turtlectl.messages import DecodeError, Message, decode, decode_any, encode, encoding_for, type_from_encoding
 from turtlectl.messages.codec import MEDIA_TYPE, TYPES_BY_NAME
 from turtlectl.messages.keys import CMD_VEL, DOMAIN_GRAPHS, FEEDBACK, GRAPH, PARAMETER_EVENTS, SERVICES, TOPICS
@@ -94,14 +94,18 @@ def subscription(session: zenoh.Session, key: str) -> Iterator[queue.SimpleQueue
         sub.undeclare()
 
 
-class Silence:
-    """Yielded once per silence when nothing has arrived on ``key`` for SILENCE seconds
-    (from the start, or after messages flowed); ``text`` says why, from the live graph (who
-    publishes it, and when)."""
+class Notice:
+    """A line for the reader about ``key``, between its messages (``text``)."""
 
     def __init__(self, key: str, text: str):
         self.key = key
         self.text = text
+
+
+class Silence(Notice):
+    """Yielded once per silence when nothing has arrived on ``key`` for SILENCE seconds
+    (from the start, or after messages flowed); ``text`` says why, from the live graph (who
+    publishes it, and when)."""
 
 
 def silence_text(key: str, current: Graph, hint: Callable[[], str], domain: str = "", flowed: bool = False) -> str:
@@ -164,7 +168,7 @@ class _RouterWatch:
             )
 
 
-def stream(connect: str, topic: str, count: int | None, timeout: float | None) -> Iterator[Received | Silence]:
+def stream(connect: str, topic: str, count: int | None, timeout: float | None) -> Iterator[Received | Notice]:
     """Decoded samples on ``key`` until ``count`` valid messages or ``timeout`` s.
 
     Yields a ``Silence`` saying why once per silence of SILENCE s: nothing arrived yet, or
@@ -174,6 +178,7 @@ def stream(connect: str, topic: str, count: int | None, timeout: float | None) -
     key = check_key(topic)
     with client_session(connect) as session, subscription(session, key) as samples:
         book = TypeBook(session)
+        warned: set[str] = set()  # the type names whose conflict was said
         started = time.monotonic()
         deadline = None if timeout is None else started + timeout
         received = 0
@@ -194,7 +199,12 @@ def stream(connect: str, topic: str, count: int | None, timeout: float | None) -
             except queue.Empty:
                 continue
             quiet.heard(time.monotonic())
+            unknown = item.unknown
             item = learn(item, book)
+            if unknown and book.conflict(unknown) and unknown not in warned:
+                warned.add(unknown)
+                shown_as = next(iter(book.described[unknown]))
+                yield Notice(key, f"warning: {book.conflict(unknown)}; shown as {shown_as}'s")
             if item.message is not None or item.generic is not None:
                 received += 1
             yield item
@@ -286,13 +296,15 @@ def learn_type(connect: str, key: str, type_name: str | None) -> str | None:
         return None
     try:
         with client_session(connect) as session:
+            from_graph = None
             if type_name is None:
                 current = live_graph(session)
-                rows = [*current.topics, *current.services]
-                type_name = next((r.type for r in rows if r.key == key and r.type not in TYPES_BY_NAME), None)
+                from_graph = next((r.type for r in [*current.topics, *current.services] if r.key == key), None)
             for name in TypeBook(session).learn_all():  # every type in use: a service's answer types too
                 if type_name is not None and name.lower() == type_name.lower():
                     type_name = name
+            if from_graph is not None and from_graph in TYPES_BY_NAME:  # a message type, not "JSON"
+                type_name = from_graph
     except Unreachable:
         pass  # no system: build says what it can without one
     return type_name
@@ -312,9 +324,11 @@ def live_graph(session: zenoh.Session, domain: str | None = None) -> Graph:
 
 
 def graph(connect: str) -> Graph:
-    """The live graph: asked of the router's liveliness table now, never cached."""
+    """The live graph: asked of the router's liveliness table now, never cached; with the type
+    names its nodes describe differently (``conflicts``)."""
     with client_session(connect) as session:
         current = live_graph(session)
+        current.conflicts = conflicts(session)
     if not current.nodes:
         current.hint = domain_hint(connect).removeprefix("; ")
     return current

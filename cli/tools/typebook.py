@@ -84,14 +84,24 @@ class TypeBook:
             return None
 
     def conflict(self, name: str) -> str:
-        """Who describes ``name`` how, when they disagree ('' when they agree or it is unknown):
-        ``WallState is described two ways: a1b2c3d4 by follower, e5f6a7b8 by mapper``."""
+        """Who describes ``name`` how, when they disagree ('' when they agree or it is unknown)."""
         said = self.described.get(name, {})
-        hashes = {d.hash for d in said.values()}
-        if len(hashes) < 2:
-            return ""
-        ways = ", ".join(f"{d.hash.removeprefix('TH01_')[:8]} by {node}" for node, d in sorted(said.items()))
-        return f"{name} is described {len(hashes)} ways: {ways}"
+        return f"{name} is {conflict(said)}" if conflict(said) else ""
+
+
+def conflict(said: dict[str, TypeDescription]) -> str:
+    """``described 2 ways: a1b2c3d4 by follower, e5f6a7b8 by mapper`` when the nodes' descriptions
+    of one type name differ ('' when they agree)."""
+    hashes = {d.hash for d in said.values()}
+    if len(hashes) < 2:
+        return ""
+    ways = ", ".join(f"{d.hash.removeprefix('TH01_')[:8]} by {node}" for node, d in sorted(said.items()))
+    return f"described {len(hashes)} ways: {ways}"
+
+
+def conflicts(session: zenoh.Session) -> list[str]:
+    """Every type name the running nodes describe differently, each with who says what."""
+    return [f"{name} is {conflict(said)}" for name, said in sorted(descriptions(session).items()) if conflict(said)]
 
 
 def generic(payload: bytes, encoding: str) -> Any:

@@ -162,6 +162,10 @@ def test_two_descriptions_of_one_name_are_reported(system, tmp_path):
         assert "CONFLICT: described 2 ways:" in shown.stdout and " by other" in shown.stdout, shown.stdout
         listed = system.run_cli("interface", "list")
         assert "CONFLICT" in listed.stdout
+        graph = system.run_cli("list")
+        assert "CONFLICTS" in graph.stdout and "WallState is described 2 ways:" in graph.stdout, graph.stdout
+        echoed = system.run_cli("echo", "wall/state", "--once")  # met by echo too
+        assert "warning: WallState is described 2 ways:" in echoed.stderr, echoed.stderr
     finally:
         other.terminate()
         other.wait(10)
