@@ -45,6 +45,12 @@ class TypeDescription(msgspec.Struct, frozen=True, forbid_unknown_fields=True):
     schema: dict[str, Any]  # the JSON Schema of one message, with its nested Structs in $defs
 
 
+def describable(name: str) -> bool:
+    """Whether a type could be described under ``name`` (``turtlectl/types/<name>/<node>``): one
+    key chunk, no wildcard.  A raw payload's encoding may name anything (``a//b``, ``**``)."""
+    return bool(name) and not name.startswith("@") and not any(c in "/*$?#" for c in name)
+
+
 def type_hash(name: str, schema: dict[str, Any]) -> str:
     """``TH01_`` and the sha256 of the name and the canonical JSON of the schema."""
     canonical = msgspec.json.encode({"name": name, "schema": schema}, order="sorted")

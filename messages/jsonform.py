@@ -103,3 +103,46 @@ def json_schema(msg_type: type[Message]) -> dict[str, Any]:
     top = spelled(_allow_non_finite(top))  # a NaN default too: JSON has no NaN
     top["$schema"] = "https://json-schema.org/draft/2020-12/schema"
     return top
+
+
+def _plain_numbers(schema: Any) -> Any:
+    """``_allow_non_finite`` undone: each number that allows the three spellings is a number
+    again (a spelled default a float again)."""
+    if isinstance(schema, list):
+        return [_plain_numbers(s) for s in schema]
+    if not isinstance(schema, dict):
+        return schema
+    out = {k: _plain_numbers(v) for k, v in schema.items()}
+    either = out.get("anyOf")
+    if (
+        isinstance(either, list)
+        and len(either) == 2
+        and isinstance(either[0], dict)
+        and either[0].get("type") == "number"
+        and either[1] == {"enum": list(NON_FINITE)}
+    ):
+        rest = {k: v for k, v in out.items() if k != "anyOf"}
+        out = {**either[0], **rest}
+        if out.get("default") in NON_FINITE:
+            out["default"] = float(out["default"])
+    return out
+
+
+def message_class(name: str, schema: dict[str, Any]) -> type[Message]:
+    """The message class ``json_schema`` described as ``name`` (a recording's schema of a type
+    turtlectl was not built with), rebuilt as messages.described does from a node's description.
+    DescriptionError if the schema is not one ``json_schema`` writes."""
+    from turtlectl.messages.described import DescriptionError, TypeDescription, struct_from, type_hash
+
+    if not isinstance(schema, dict) or not isinstance(schema.get("properties"), dict):
+        raise DescriptionError(f"{name}: not the JSON Schema of a message")
+    plain = _plain_numbers(schema)
+    defs = dict(plain.pop("$defs", {}))
+    root = name if name not in defs else f"{name}_"
+    defs[root] = {k: v for k, v in plain.items() if k not in ("$schema", "title")} | {"title": root}
+    rebuilt = {"$ref": f"#/$defs/{root}", "$defs": defs}
+    description = TypeDescription(name=name, hash=type_hash(name, rebuilt), doc="", fields=[], schema=rebuilt)
+    try:
+        return struct_from(description)
+    except (KeyError, TypeError, AttributeError) as exc:  # a schema shaped otherwise than json_schema's
+        raise DescriptionError(f"{name}: not the JSON Schema of a message ({exc})") from None

@@ -3,7 +3,8 @@ protocol (the foxglove-sdk's server).  Nothing here prints.
 
 * Every topic of the live graph is a channel of the same name, its messages JSON with the
   type's JSON Schema (messages.jsonform), appearing and disappearing with the graph (checked
-  every ``GRAPH_PERIOD`` s).
+  every ``GRAPH_PERIOD`` s).  A user's own type is learnt from the nodes that use it
+  (cli.tools.typebook) and served as a built-in is; a type no node describes is not served.
 * The ready-made scene (cli.foxglove.scene): ``scene`` and ``scene/scan`` in Foxglove's well-known (protobuf)
   schemas, so the 3D panel shows the world, the turtle, its trail, the scan and the goal.
 * ``navigate_to``, ``navigate_to/cancel``, ``reset`` and ``turtle1/teleport_absolute`` are
@@ -31,6 +32,7 @@ from turtlectl.cli.foxglove.scene import SCAN, SCENE, SceneMaker
 from turtlectl.cli.tools.client import NotPermitted, client_session, logged_in_as
 from turtlectl.cli.tools.services import world as world_of
 from turtlectl.cli.tools.topics import live_graph
+from turtlectl.cli.tools.typebook import TypeBook
 from turtlectl.messages import (
     Ack,
     Cancel,
@@ -47,6 +49,7 @@ from turtlectl.messages import (
     type_from_encoding,
 )
 from turtlectl.messages.codec import TYPES_BY_NAME, DecodeError, type_name
+from turtlectl.messages.described import describable
 from turtlectl.messages.jsonform import JsonFormError, from_json, json_schema, to_json
 from turtlectl.messages.keys import CANCEL, NAVIGATE_TO, RESET, TELEPORT
 
@@ -140,6 +143,7 @@ class Bridge(ServerListener):
 
     def __init__(self, session: zenoh.Session):
         self.session = session
+        self.book = TypeBook(session)  # the user's own types, learnt from the nodes (refresh's thread)
         self.channels: dict[str, Channel] = {}  # key -> its JSON channel
         self.scene = SceneUpdateChannel(SCENE)
         self.scan = LaserScanChannel(SCAN)
@@ -154,12 +158,17 @@ class Bridge(ServerListener):
     def refresh(self) -> None:
         """Channels for the topics the graph has now (a publisher and a known type), and none
         for those it no longer has."""
-        topics = {t.key: t.type for t in live_graph(self.session).topics if t.publishers and t.type in TYPES_BY_NAME}
+        live = [t for t in live_graph(self.session).topics if t.publishers]
+        topics = {t.key: t.type for t in live if t.type in TYPES_BY_NAME or self._learnt(t.type)}
         for key in [k for k in self.channels if k not in topics]:
             self.channels.pop(key).close()
         for key, name in topics.items():
             if key not in self.channels:
                 self.channels[key] = Channel(key, schema=_schema(TYPES_BY_NAME[name]), message_encoding="json")
+
+    def _learnt(self, name: str) -> bool:
+        """A type turtlectl was not built with, now learnt from the nodes that use it."""
+        return describable(name) and self.book.resolve(name) is not None
 
     def on_sample(self, sample: zenoh.Sample) -> None:  # Zenoh thread: take and queue only
         self.inbox.put((str(sample.key_expr), str(sample.encoding), sample.payload.to_bytes(), time.time_ns()))

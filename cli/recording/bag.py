@@ -2,7 +2,8 @@
 
 What a recording holds.  An MCAP file, chunked with zstd.  Each key recorded is a channel
 whose topic is the key; each message type a schema named by its wire name ("Pose"), a JSON
-Schema (``messages.jsonform.json_schema``), and messages are JSON (``messages.jsonform``,
+Schema (``messages.jsonform.json_schema``; a user's own type too, once ``record`` has learnt it
+from its nodes, and ``reading`` knows it again from that schema), and messages are JSON (``messages.jsonform``,
 lossless: ``inf`` and ``NaN`` survive), so Foxglove opens the file as it is.  Per message:
 ``log_time`` is when the recorder received it, ``publish_time`` its own ``stamp`` (its log
 time if it has none), ``sequence`` its ``seq``.  A payload that is not a known message (a

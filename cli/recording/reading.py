@@ -1,6 +1,9 @@
 """Reading recordings (``play``, ``info``, ``recover``): a file written by cli.recording.bag,
 in log-time order, with what it holds; one that was never closed is read as far as it is
-whole (what a recording holds, and why it may not be closed: cli.recording.bag).  No Zenoh here."""
+whole (what a recording holds, and why it may not be closed: cli.recording.bag).  A type
+turtlectl was not built with (a user's own) is known from the JSON Schema the file holds for it
+(messages.jsonform.message_class), so ``info`` names it and ``play`` sends it as it was sent.
+No Zenoh here."""
 
 from __future__ import annotations
 
@@ -10,7 +13,7 @@ from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
-from turtlectl.cli.recording.bag import JSON, PROTOBUF, WORLD, Record, RecordingError
+from turtlectl.cli.recording.bag import JSON, JSON_SCHEMA, PROTOBUF, WORLD, Record, RecordingError
 from turtlectl.messages.codec import TYPES_BY_NAME
 
 
@@ -92,7 +95,7 @@ class Recording:
         for schema, channel in self._channels():
             if channel.message_encoding == PROTOBUF and schema is not None and schema.name.startswith("foxglove."):
                 continue  # the scene of record --scene
-            unknown = schema is None or schema.name not in TYPES_BY_NAME
+            unknown = schema is None or (schema.name not in TYPES_BY_NAME and not _learn(schema))
             if channel.message_encoding == PROTOBUF or (channel.message_encoding == JSON and unknown):
                 name = schema.name if schema is not None else "no schema"
                 known = ", ".join(sorted(TYPES_BY_NAME))
@@ -188,6 +191,24 @@ class Recording:
             count=sum(counts.values()),
             topics=topics,
         )
+
+
+def _learn(schema: Any) -> bool:
+    """A type turtlectl was not built with (a user's own, recorded with its JSON Schema) known
+    from the schema the file holds, as a tool knows it from a node's description; False if the
+    schema is not one turtlectl writes."""
+    import json
+
+    from turtlectl.messages.codec import register
+    from turtlectl.messages.jsonform import message_class
+
+    if schema.encoding != JSON_SCHEMA:
+        return False
+    try:
+        register(message_class(schema.name, json.loads(schema.data)))
+    except ValueError:  # not JSON, or not a message's schema (DescriptionError), or a name taken
+        return False
+    return True
 
 
 def _record(schema: Any, channel: Any, message: Any) -> Record:

@@ -1,7 +1,8 @@
 """``turtlectl record``: what arrives on key expressions, written to a recording (cli.recording.bag).
 
 Nothing here prints; ``record`` yields progress for the command to show.  Samples are taken
-with their receive time on Zenoh's threads and written on the caller's thread, which also
+with their receive time on Zenoh's threads and written on the caller's thread (which first
+learns a type turtlectl was not built with from the nodes that use it: cli.tools.typebook), which also
 closes a chunk before its first message is a second old (cli.recording.bag.CHUNK_SPAN); when ``stop`` is set (Ctrl-C, SIGTERM) or the duration is over,
 what is queued is written and the file is finished.
 """
@@ -21,6 +22,9 @@ import zenoh
 
 from turtlectl.cli.recording.bag import BagWriter
 from turtlectl.cli.tools.client import check_key, client_session
+from turtlectl.cli.tools.typebook import TypeBook
+from turtlectl.messages.codec import MEDIA_TYPE, TYPES_BY_NAME
+from turtlectl.messages.described import describable
 from turtlectl.messages.keys import WORLD_KEY
 from turtlectl.messages.world import World
 
@@ -53,6 +57,16 @@ def keys_to_record(topics: list[str], everything: bool, exclude: list[str]) -> t
         raise BadInput("nothing to record: give topics (key expressions) or -a/--all for every topic")
     keys = [ALL] if everything else list(dict.fromkeys(check_key(t) for t in topics))
     return keys, [check_key(e) for e in exclude]
+
+
+def learn(book: TypeBook, encoding: str) -> None:
+    """Before a sample of ``encoding`` is written: the type it names, if turtlectl was not built
+    with it (a user's own), learnt from the nodes that use it, so that it is recorded with its
+    JSON Schema as a built-in is; a type no node describes stays unknown (the sample is kept raw).
+    On the writer's thread: the query blocks, which a Zenoh callback must not."""
+    media, _, name = encoding.partition(";")
+    if media == MEDIA_TYPE and describable(name) and name not in TYPES_BY_NAME:
+        book.resolve(name)
 
 
 class _Drawing:
@@ -117,6 +131,7 @@ def record(
                     world = msgspec.json.decode(reply.ok.payload.to_bytes(), type=World)
                     break
             drawing = _Drawing(writer, world) if scene else None
+            book = TypeBook(session)  # a type turtlectl was not built with, learnt from its nodes
             subs = [session.declare_subscriber(k, taker(i)) for i, k in enumerate(keys)]
             started = time.monotonic()
             next_report = started
@@ -124,6 +139,7 @@ def record(
                 while not stop.is_set() and (duration is None or time.monotonic() - started < duration):
                     try:
                         sample = inbox.get(timeout=0.05)
+                        learn(book, sample[1])
                         message = writer.add(*sample)
                         if drawing is not None and message is not None:
                             drawing.draw(sample[0], message, sample[3])
@@ -141,9 +157,11 @@ def record(
                     sub.undeclare()
                 while True:  # what was received before the end is kept
                     try:
-                        writer.add(*inbox.get_nowait())
+                        sample = inbox.get_nowait()
                     except queue.Empty:
                         break
+                    learn(book, sample[1])
+                    writer.add(*sample)
             elapsed = time.monotonic() - started
         finally:
             writer.close()
