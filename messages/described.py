@@ -141,8 +141,8 @@ def struct_from(description: TypeDescription) -> type[Message]:
             return list[of(prop.get("items", {}))] if prop.get("items") else list  # type: ignore[misc]
         if kind == "object":
             return dict[str, of(prop["additionalProperties"])] if prop.get("additionalProperties") else dict  # type: ignore[misc]
-        if not prop:
-            return Any
+        if not {k: v for k, v in prop.items() if k not in ("default", "title", "description")}:
+            return Any  # an untyped field (Any): msgspec's schema names no type
         raise DescriptionError(f"{description.name}: a field of JSON Schema {prop} is not supported")
 
     def struct(name: str) -> Any:

@@ -15,7 +15,7 @@ import zenoh
 
 from turtlectl.messages import Message
 from turtlectl.messages.codec import TYPES_BY_NAME, register
-from turtlectl.messages.described import DescriptionError, TypeDescription, struct_from
+from turtlectl.messages.described import DescriptionError, TypeDescription, describable, struct_from
 from turtlectl.messages.keys import type_key
 
 ASK_TIMEOUT = 2.0  # s: how long the nodes have to describe a type
@@ -58,6 +58,8 @@ class TypeBook:
         known = TYPES_BY_NAME.get(name)
         if known is not None:
             return known
+        if not describable(name):  # a raw encoding may name anything (a//b, **): no key to ask on
+            return None
         asked = self._asked.get(name)
         if asked is not None and time.monotonic() - asked < RETRY:
             return None

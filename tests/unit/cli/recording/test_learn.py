@@ -19,14 +19,14 @@ class FakeBook:
 def test_an_unknown_type_is_asked_about_and_a_known_or_foreign_one_is_not():
     book = FakeBook()
     for encoding in (
-        "application/msgpack;WallState",
+        "application/msgpack;SomeoneElsesType",
         "application/msgpack;Pose",  # a built-in
         "application/json",
         "text/plain;WallState",
         "application/msgpack",
     ):
         learn(book, encoding)  # type: ignore[arg-type]
-    assert book.asked == ["WallState"]
+    assert book.asked == ["SomeoneElsesType"]
 
 
 def test_a_name_no_node_could_describe_is_not_asked_about():
