@@ -57,8 +57,10 @@ def type_hash(name: str, schema: dict[str, Any]) -> str:
     return HASH_PREFIX + hashlib.sha256(canonical).hexdigest()
 
 
-def _comments(cls: type) -> dict[str, str]:
-    """``# comments`` after the fields in the class's source (none without source)."""
+def field_comments(cls: type) -> dict[str, str]:
+    """``# comments`` after the fields in the class's source: a message type's and a parameter
+    Struct's ``unit: meaning``.  A class without source (defined in ``python -c``, or shipped
+    without its .py) has none: its fields are described without them."""
     try:
         source = inspect.getsource(cls)
     except (OSError, TypeError):
@@ -96,7 +98,7 @@ def describe(cls: type[Message]) -> TypeDescription:
     name = str(cls.__struct_config__.tag)
     schema = msgspec.json.schema(cls)
     body = schema["$defs"][schema["$ref"].rsplit("/", 1)[-1]]
-    comments = {} if cls in ALL_TYPES else _comments(cls)
+    comments = {} if cls in ALL_TYPES else field_comments(cls)
     fields = []
     for field in msgspec.structs.fields(cls):
         unit, meaning = _unit_meaning(cls, field.name, comments)

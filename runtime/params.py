@@ -14,12 +14,12 @@ parameters validated as the node's config is; the node applies them at once (its
 
 from __future__ import annotations
 
-import inspect
 import re
 from typing import Any
 
 import msgspec
 
+from turtlectl.messages.described import field_comments as field_comments  # also for the nodes' Params
 from turtlectl.messages.params import ParamDescription, ParamInfo
 from turtlectl.messages.reference import default_text, doc, struct_fields, type_name
 
@@ -27,22 +27,6 @@ BIG = 1e9  # the stand-in for "finite" (messages.units)
 
 
 # -- described -----------------------------------------------------------
-def field_comments(cls: type) -> dict[str, str]:
-    """``# comments`` after the fields in the class's source: parameter Structs keep each
-    field's ``unit: meaning`` there.  A class without source (defined in ``python -c``, or
-    shipped without its .py) has none: its parameters are described without them."""
-    try:
-        source = inspect.getsource(cls)
-    except (OSError, TypeError):
-        return {}
-    found: dict[str, str] = {}
-    for line in source.splitlines():
-        name, colon, rest = line.strip().partition(":")
-        if colon and name.isidentifier() and "#" in rest:
-            found[name] = rest.split("#", 1)[1].strip()
-    return found
-
-
 def fixed_reason(params_type: type, name: str) -> str | None:
     """Why parameter ``name`` (dotted) of ``params_type`` cannot change while its node runs,
     or None: a parameter Struct lists those in its class variable ``FIXED``."""

@@ -6,14 +6,16 @@ describing one name differently are reported."""
 
 from __future__ import annotations
 
+import contextlib
 import json
 import textwrap
+from collections.abc import Iterator
 
 import msgspec
 import pytest
 
 import turtlectl
-from tests.integration.harness import running_system
+from tests.integration.harness import System, running_system
 
 pytestmark = pytest.mark.integration
 
@@ -70,14 +72,21 @@ WALL = textwrap.dedent(
 )
 
 
-@pytest.fixture(scope="module")
-def system(tmp_path_factory):
+@contextlib.contextmanager
+def walls_system(tmp_path_factory) -> Iterator[System]:
+    """The sim and the ``wall`` node (WALL's ``Wall``) from a project folder of their own."""
     project = tmp_path_factory.mktemp("walls")
     (project / "wall.py").write_text(WALL)
     (project / "launch.toml").write_text(
         '[[node]]\nname = "sim"\nrun = "sim"\n\n[[node]]\nname = "wall"\nrun = "./wall.py:Wall"\n'
     )
     with running_system(project / "launch.toml", ready=("sim", "wall"), cwd=project) as system:
+        yield system
+
+
+@pytest.fixture(scope="module")
+def system(tmp_path_factory):
+    with walls_system(tmp_path_factory) as system:
         yield system
 
 

@@ -19,9 +19,9 @@ import pytest
 import zenoh
 from websockets.asyncio.client import connect
 
-from tests.integration.harness import Router, free_port, running_system, turtlectl
+from tests.integration.harness import Router, free_port, turtlectl
 from tests.integration.test_foxglove import SUBPROTOCOL, Client, _bridge
-from tests.integration.test_user_types import WALL
+from tests.integration.test_user_types import walls_system
 from turtlectl.runtime.session import client_config, close_session
 
 pytestmark = pytest.mark.integration
@@ -32,12 +32,7 @@ MYSTERY = msgspec.msgpack.encode({"type": "Mystery", "a": 1})
 
 @pytest.fixture(scope="module")
 def system(tmp_path_factory):
-    project = tmp_path_factory.mktemp("walls")
-    (project / "wall.py").write_text(WALL)
-    (project / "launch.toml").write_text(
-        '[[node]]\nname = "sim"\nrun = "sim"\n\n[[node]]\nname = "wall"\nrun = "./wall.py:Wall"\n'
-    )
-    with running_system(project / "launch.toml", ready=("sim", "wall"), cwd=project) as system:
+    with walls_system(tmp_path_factory) as system:
         yield system
 
 
