@@ -4,7 +4,9 @@ Nothing here prints.  ``plan`` (pure) picks and remaps what is played; ``play`` 
 on an absolute schedule: message i is due at ``start + (log_time_i - first) / rate`` on the
 monotonic clock (time spent paused moves the start), so delays never add up; messages get a
 fresh ``stamp`` unless ``keep_stamps``.  It yields each message's lateness (actual − scheduled)
-for the progress line and the benchmark.
+for the progress line and the benchmark.  While it plays, it describes each user type it
+publishes on ``turtlectl/types/<TypeName>/play``, as a node does, so the tools understand it
+with no node of that type running.
 """
 
 from __future__ import annotations
@@ -24,10 +26,13 @@ from turtlectl.cli.errors import BadInput
 from turtlectl.cli.recording.bag import Record
 from turtlectl.cli.recording.reading import Recording
 from turtlectl.cli.tools.client import check_key, client_session, require
-from turtlectl.messages import Message, encode, encoding_for
-from turtlectl.messages.keys import WORLD_KEY
+from turtlectl.messages import ALL_TYPES, Message, encode, encoding_for
+from turtlectl.messages.codec import TYPES_BY_NAME, type_name
+from turtlectl.messages.described import describable, describe
+from turtlectl.messages.keys import WORLD_KEY, type_key
 
 SPIN = 0.0015  # s before a message is due when sleeping stops and the wait spins (timer slack)
+DESCRIBER = "play"  # the 'node' in turtlectl/types/<TypeName>/play
 
 
 @dataclasses.dataclass(frozen=True)
@@ -74,6 +79,34 @@ def _payload(record: Record, message: Message | None, keep_stamps: bool) -> tupl
     if not keep_stamps and "stamp" in type(message).__struct_fields__:
         message = msgspec.structs.replace(message, stamp=time.time_ns())
     return encode(message), encoding_for(type(message))
+
+
+def user_types(records: Iterable[Record]) -> list[type[Message]]:
+    """The message classes of ``records`` that are not built-ins (a user's own types, known
+    from the file's schemas), each once, by name."""
+    builtin = set(ALL_TYPES)
+    found: dict[str, type[Message]] = {}
+    for r in records:
+        if r.type_name and not r.scene and r.type_name not in found and describable(r.type_name):
+            cls = TYPES_BY_NAME.get(r.type_name)
+            if cls is not None and cls not in builtin:
+                found[r.type_name] = cls
+    return [found[name] for name in sorted(found)]
+
+
+def serve_types(session: zenoh.Session, classes: list[type[Message]]) -> list[zenoh.Queryable]:
+    """Describe each of ``classes`` on ``turtlectl/types/<TypeName>/play`` (JSON
+    TypeDescription), as a node describes the types it uses; undeclare them when play ends."""
+    queryables = []
+    for cls in classes:
+        key = type_key(type_name(cls), DESCRIBER)
+        document = msgspec.json.encode(describe(cls))
+
+        def on_query(query: zenoh.Query, key: str = key, document: bytes = document) -> None:
+            query.reply(key, document, encoding=zenoh.Encoding.APPLICATION_JSON)
+
+        queryables.append(session.declare_queryable(key, on_query))
+    return queryables
 
 
 def serve_world(session: zenoh.Session, document: bytes | None) -> zenoh.Queryable | None:
@@ -123,6 +156,7 @@ def play(
     first = records[0].log_time
     with client_session(connect) as session:
         world = serve_world(session, recording.world())  # kept: a queryable lives while referenced
+        described = serve_types(session, user_types(records))
         publishers: dict[tuple[str, str], zenoh.Publisher] = {}
         round_ = 0
         try:
@@ -165,6 +199,8 @@ def play(
                 pub.undeclare()
             if world is not None:
                 world.undeclare()
+            for queryable in described:
+                queryable.undeclare()
 
 
 @contextlib.contextmanager

@@ -9,6 +9,7 @@ from __future__ import annotations
 import asyncio
 import json
 import queue
+import signal
 import subprocess
 import threading
 import time
@@ -159,6 +160,49 @@ def test_play_publishes_a_user_type_back_identical(recording):
         if seq in seen:  # the subscriber of the fixture saw it too: the same bytes
             assert (payload, encoding) == seen[seq]
     assert sum(1 for payload, _ in played if msgspec.msgpack.decode(payload)["seq"] in seen) >= count - 2
+
+
+def test_play_describes_the_user_types_it_plays(recording):
+    """Into a bare router (no node uses WallState): while `play` runs, it describes the type on
+    turtlectl/types/WallState/play, so echo and `interface show` understand it (before: undescribed)."""
+    path = recording[0]
+    router = Router()
+    router.start()
+    player = subprocess.Popen(
+        [*turtlectl(), "play", str(path), "--topics", "wall/state", "--loop", "--connect", router.endpoint],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
+    try:
+        # echo --once returns on the first message played: the description is declared before it
+        echoed = subprocess.run(
+            [*turtlectl(), "echo", "wall/state", "--once", "--connect", router.endpoint],
+            capture_output=True,
+            text=True,
+            timeout=60,
+        )
+        shown = subprocess.run(
+            [*turtlectl(), "interface", "show", "WallState", "--connect", router.endpoint],
+            capture_output=True,
+            text=True,
+            timeout=60,
+        )
+    finally:
+        player.send_signal(signal.SIGINT)
+        try:
+            out, err = player.communicate(timeout=20)
+        finally:
+            if player.poll() is None:
+                player.kill()
+            router.kill()
+    assert echoed.returncode == 0, echoed.stderr
+    assert "# WallState" in echoed.stdout and "(undescribed)" not in echoed.stdout, echoed.stdout
+    assert "distance: 0.75" in echoed.stdout, echoed.stdout
+    assert shown.returncode == 0, shown.stdout + shown.stderr
+    described_by = [line for line in shown.stdout.splitlines() if line.startswith("described by:")]
+    assert described_by and "play" in described_by[0].split("(hash")[0], shown.stdout
+    assert player.returncode == 0 and "Traceback" not in err, err
 
 
 def test_foxglove_advertises_a_user_type_with_its_schema(system):
