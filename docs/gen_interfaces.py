@@ -135,9 +135,11 @@ def descriptions_section() -> list[str]:
         "with the JSON Schema (`schema`), show fields in order with their units (`fields`). A type is described "
         "from its class alone: its wire tag, msgspec's JSON Schema of it (nested Structs in `$defs`), each "
         "field's unit and meaning (a user type's `# unit: meaning` comment after the field; a built-in's from the "
-        "tables above) and its docstring's first paragraph. `hash` is `TH01_` and the sha256 of the canonical JSON "
-        '(sorted keys) of `{"name": ..., "schema": ...}`: two nodes that describe one name with different hashes '
-        "use two different types under one name, and the tools say so (`turtlectl interface list/show`).",
+        "tables above) and its docstring's first paragraph. `hash` is `TH01_` and the hex sha256 of the UTF-8 bytes of "
+        '`{"name": ..., "schema": ...}` as compact JSON with sorted keys and no escaping beyond JSON\'s own (in Python: '
+        '`json.dumps(obj, sort_keys=True, separators=(",", ":"), ensure_ascii=False).encode()`): two nodes that '
+        "describe one name with different hashes use two different types under one name, and the tools say so "
+        "(`turtlectl list`, `interface list/show`, `echo`, which shows each message by the description it fits).",
         "",
         "Supported field types: bool, int, float, str, bytes (base64 in JSON), enums of str or int values, nested "
         "Structs, lists, tuples, dicts with str keys, and `X | None`; defaults JSON can write.",

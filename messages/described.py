@@ -29,6 +29,9 @@ HASH_PREFIX = "TH01_"  # a type hash: version 1 of this scheme, then sha256 of n
 
 
 class FieldDescription(msgspec.Struct, frozen=True, forbid_unknown_fields=True):
+    """One field of a described type, in the type's order: its name on the wire, its JSON
+    Schema type (a nested Struct's or an enum's name for those), its unit and meaning."""
+
     name: str
     type: str  # as JSON Schema names it: "number", "integer", "string", "array", ... or a Struct's name
     unit: str = ""
@@ -166,10 +169,7 @@ def struct_from(description: TypeDescription) -> type[Message]:
                 fields.append((key, of(prop)))
             elif "default" in prop:
                 kind = of(prop)
-                default = (
-                    kind(prop["default"]) if isinstance(kind, type) and issubclass(kind, enum.Enum) else prop["default"]
-                )
-                fields.append((key, kind, _default(default)))
+                fields.append((key, kind, _default(_as(prop["default"], kind))))
             else:
                 fields.append((key, Union[of(prop), None], None))  # noqa: UP007
         if name == root:
@@ -179,6 +179,15 @@ def struct_from(description: TypeDescription) -> type[Message]:
         return made[name]
 
     return struct(root)
+
+
+def _as(value: Any, kind: Any) -> Any:
+    """A default as JSON wrote it, as the field holds it: bytes from base64, an enum member, a
+    tuple, a Struct (kept as written if it does not convert)."""
+    try:
+        return msgspec.json.decode(msgspec.json.encode(value), type=kind)
+    except (msgspec.DecodeError, TypeError):
+        return value
 
 
 def _default(value: Any) -> Any:

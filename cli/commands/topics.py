@@ -5,6 +5,7 @@ Sessions and rates (cli.tools.topics, cli.tools.rates) are imported inside each 
 from __future__ import annotations
 
 import sys
+from typing import Any
 
 import typer
 
@@ -40,44 +41,60 @@ def echo(
 
     args.one_format(json, csv)
     limit = args.echo_limit(once, count)
-    header = False
     wildcard = "*" in topic
     fields = list(dict.fromkeys(field))  # each once, in the order typed
     skipped: dict[str, int] = {}
     try:
-        for item in topics.stream(connect, topic, limit, timeout):
-            if isinstance(item, topics.Notice):  # a silence and why, a type described two ways
-                typer.echo(item.text, err=True)
-                continue
-            if item.message is None and item.generic is None:  # not decodable at all: named once per key, counted
-                skipped[item.key] = skipped.get(item.key, 0) + 1
-                if skipped[item.key] == 1:
-                    typer.echo(f"skipped a message on {item.key}: {item.problem} (more are counted)", err=True)
-                continue
-            msg = item.message if item.message is not None else format.Undescribed(item.generic, item.unknown)
-            if fields:
-                values = {path: format.select_field(msg, path) for path in fields}
-                if csv and not header:
-                    typer.echo(format.fields_header(fields))
-                    header = True
-                typer.echo(format.fields_line(values, json, csv, full))
-            elif json:
-                typer.echo(format.message_json(msg, item.key if wildcard else None))
-            elif csv:
-                if not header:
-                    typer.echo(format.csv_header(msg))
-                    header = True
-                typer.echo(format.csv_row(msg))
-            else:
-                typer.echo(format.message_block(msg, full, item.key if wildcard else None))
+        _echo(topics.stream(connect, topic, limit, timeout), skipped, fields, json, csv, full, wildcard)
     except KeyboardInterrupt:
         pass
     except BrokenPipeError:  # `| head`: the reader has what it wanted
         sys.stderr.close()
         return
-    for key, count in skipped.items():
-        if count > 1:
-            typer.echo(f"skipped {count} messages on {key} in all", err=True)
+    finally:  # the undecodable payloads, counted: said however echo ends (a --timeout included)
+        for key, count in skipped.items():
+            if count > 1:
+                typer.echo(f"skipped {count} messages on {key} in all", err=True)
+
+
+def _echo(
+    stream: Any,
+    skipped: dict[str, int],
+    fields: list[str],
+    json: bool,
+    csv: bool,
+    full: bool,
+    wildcard: bool,
+) -> None:
+    """Print each message of ``stream`` as echo's options say (``skipped``: undecodable ones, by key)."""
+    from turtlectl.cli.tools import topics
+
+    header = False
+    for item in stream:
+        if isinstance(item, topics.Notice):  # a silence and why, a type described two ways
+            typer.echo(item.text, err=True)
+            continue
+        if item.message is None and item.generic is None:  # not decodable at all: named once per key, counted
+            skipped[item.key] = skipped.get(item.key, 0) + 1
+            if skipped[item.key] == 1:
+                typer.echo(f"skipped a message on {item.key}: {item.problem} (more are counted)", err=True)
+            continue
+        msg = item.message if item.message is not None else format.Undescribed(item.generic, item.unknown)
+        if fields:
+            values = {path: format.select_field(msg, path) for path in fields}
+            if csv and not header:
+                typer.echo(format.fields_header(fields))
+                header = True
+            typer.echo(format.fields_line(values, json, csv, full))
+        elif json:
+            typer.echo(format.message_json(msg, item.key if wildcard else None))
+        elif csv:
+            if not header:
+                typer.echo(format.csv_header(msg))
+                header = True
+            typer.echo(format.csv_row(msg))
+        else:
+            typer.echo(format.message_block(msg, full, item.key if wildcard else None))
 
 
 def hz(

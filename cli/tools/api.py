@@ -39,7 +39,7 @@ from turtlectl.messages import (
     encode,
     encoding_for,
 )
-from turtlectl.messages.keys import CANCEL, NAVIGATE_TO, param_set_key, params_key
+from turtlectl.messages.keys import CANCEL, NAVIGATE_TO, param_set_key, params_key, service_types
 from turtlectl.runtime.endpoint import CONNECT_ENV, DEFAULT_ENDPOINT, default_domain
 from turtlectl.runtime.handles import Declaration
 
@@ -199,6 +199,8 @@ class Client:
         """Call ``service`` and return its last reply (a goal service's response, after its
         feedback).  ``Unreachable`` if nothing serves it; ``BadInput`` if it refuses the request."""
         key = check_key(service)
+        if not service_types(key):  # a service of the user's: its answer's type from the nodes' descriptions
+            self._book.learn_all()
         with self._hinted():
             answers = list(replies(self._session, key, request, timeout))
         last = answers[-1] if answers else None

@@ -101,7 +101,7 @@ def message_json(msg: Shown, key: str | None = None) -> str:
     ``"key"`` member after ``type`` names the key it came on (echo of a wildcard)."""
     if isinstance(msg, Undescribed):
         where = {"key": key} if key is not None else {}
-        return json_value({"type": msg.type_name, **where, "undescribed": True, **_fields(msg)})
+        return json_value({"type": msg.type_name or None, **where, "undescribed": True, **_fields(msg)})
     if key is None:
         return to_json(msg).decode()
     data = to_builtins(msg)
@@ -119,9 +119,9 @@ def csv_header(msg: Shown) -> str:
 
 
 def _csv_line(values: list[Any]) -> str:
-    """One CSV line; arrays as one quoted JSON cell."""
+    """One CSV line; arrays and tables (nested Structs) as one quoted JSON cell."""
     out = io.StringIO()
-    csv.writer(out, lineterminator="").writerow([json_value(v) if isinstance(v, list) else v for v in values])
+    csv.writer(out, lineterminator="").writerow([json_value(v) if isinstance(v, list | dict | tuple) else v for v in values])
     return out.getvalue()
 
 

@@ -68,11 +68,21 @@ def decode_sample(key: str, payload: bytes, encoding: str) -> Received:
 
 def learn(item: Received, book: TypeBook) -> Received:
     """``item`` again, on the reader's thread: decoded by its type learnt from the nodes that
-    use it, else (no description anywhere) decoded generically and marked so."""
+    use it (when they describe one name two ways, by the description it fits), else (no
+    description anywhere) decoded generically and marked so.  A payload that names a known
+    type and is not one stays what it is: skipped, never shown as undescribed."""
     if item.message is not None:
         return item
+    name = item.encoding.partition(";")[2] if item.encoding.startswith(MEDIA_TYPE) else ""
     if item.unknown and book.resolve(item.unknown) is not None:
-        return decode_sample(item.key, item.payload, item.encoding)
+        item = decode_sample(item.key, item.payload, item.encoding)
+    for variant in book.variants(name) if item.message is None else ():
+        try:
+            return Received(item.key, decode(item.payload, variant))
+        except DecodeError:
+            continue
+    if item.message is not None or (name and book.resolve(name) is not None):
+        return item
     data = generic(item.payload, item.encoding)
     if data is not None:
         item.generic, item.problem = data, ""
@@ -203,8 +213,7 @@ def stream(connect: str, topic: str, count: int | None, timeout: float | None) -
             item = learn(item, book)
             if unknown and book.conflict(unknown) and unknown not in warned:
                 warned.add(unknown)
-                shown_as = next(iter(book.described[unknown]))
-                yield Notice(key, f"warning: {book.conflict(unknown)}; shown as {shown_as}'s")
+                yield Notice(key, f"warning: {book.conflict(unknown)}; each message is shown by the one it fits")
             if item.message is not None or item.generic is not None:
                 received += 1
             yield item

@@ -51,6 +51,7 @@ class TypeBook:
         self.session = session
         self.described: dict[str, dict[str, TypeDescription]] = {}  # name -> node -> what it said
         self._asked: dict[str, float] = {}  # undescribed name -> when last asked
+        self._variants: dict[str, list[type[Message]]] = {}  # a conflicting name's other classes
 
     def resolve(self, name: str) -> type[Message] | None:
         """The class of type ``name``: known (a built-in, or learnt), else learnt now from the
@@ -80,10 +81,17 @@ class TypeBook:
             return None
         self.described[name] = said
         first = next(iter(said.values()))
+        others = {d.hash: d for d in said.values() if d.hash != first.hash}  # one name, other types
         try:
-            return register(struct_from(first))
+            self._variants[name] = [struct_from(d) for d in others.values()]
+            known = TYPES_BY_NAME.get(name)  # learnt already in this process (another book)
+            return known if known is not None else register(struct_from(first))
         except DescriptionError:
             return None
+
+    def variants(self, name: str) -> list[type[Message]]:
+        """The other classes of a name the nodes describe more than one way (none: [])."""
+        return self._variants.get(name, [])
 
     def conflict(self, name: str) -> str:
         """Who describes ``name`` how, when they disagree ('' when they agree or it is unknown)."""

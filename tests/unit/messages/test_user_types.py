@@ -107,7 +107,9 @@ def test_a_description_round_trips_and_its_hash_is_what_the_interfaces_page_says
 
     served = msgspec.json.encode(describe(WallState))
     plain = json.loads(served)
-    canonical = json.dumps({"name": plain["name"], "schema": plain["schema"]}, sort_keys=True, separators=(",", ":"))
+    canonical = json.dumps(
+        {"name": plain["name"], "schema": plain["schema"]}, sort_keys=True, separators=(",", ":"), ensure_ascii=False
+    )
     assert plain["hash"] == "TH01_" + hashlib.sha256(canonical.encode()).hexdigest()
     assert [(f["name"], f["unit"], f["meaning"]) for f in plain["fields"]][:2] == [
         ("distance", "m", "to the wall"),
@@ -138,3 +140,14 @@ def test_every_built_in_type_can_be_rebuilt_from_its_description():
     for cls in ALL_TYPES:
         rebuilt = struct_from(describe(cls))
         assert list(rebuilt.__struct_fields__) == list(cls.__struct_fields__), cls.__name__
+
+
+def test_a_rebuilt_class_fills_defaults_as_the_original_does():
+    """A new user's `pub` left `raw: bytes = b""` out: the rebuilt class sent the JSON default
+    "" (a str) and the real node dropped the message (Expected bytes, got str)."""
+    from turtlectl.messages.described import describe, struct_from
+
+    rebuilt = struct_from(describe(WallState))
+    built = msgspec.json.decode(b'{"distance": 1.0}', type=rebuilt)
+    original = decode(encode(built), WallState)
+    assert original.raw == b"" and original.side is Side.LEFT and original.span == (0.0, 0.0)

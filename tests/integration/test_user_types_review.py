@@ -1,0 +1,85 @@
+"""Issue 25, a new user's findings in the real system: the Python client calls a service of the
+user's own types (its answer was "unreadable"); echo counts the undecodable payloads on a key
+however it ends, a --timeout included (the count never came)."""
+
+from __future__ import annotations
+
+import msgspec
+import pytest
+
+import turtlectl
+from tests.integration.test_user_types import walls_system
+from turtlectl import Message
+
+pytestmark = pytest.mark.integration
+
+
+class WallReset(Message, tag="WallReset"):
+    """The test's own copy of the project's request type (same fields, same tag)."""
+
+    to: float
+
+
+@pytest.fixture(scope="module")
+def system(tmp_path_factory):
+    with walls_system(tmp_path_factory) as system:
+        yield system
+
+
+def test_the_client_calls_a_service_of_the_users_own_types(system):
+    with turtlectl.Client(system.endpoint) as client:
+        answer = client.call("wall/restart", WallReset(to=1.25))
+    assert type(answer).__name__ == "WallState" and answer.distance == 1.25
+
+
+def test_echo_counts_undecodable_payloads_even_when_it_times_out(system):
+    import subprocess
+
+    from tests.integration.harness import turtlectl as command
+
+    echo = subprocess.Popen(
+        [*command(), "echo", "raw/garbage", "--timeout", "3", "--connect", system.endpoint],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
+    garbage = b"\xc1\xc1\xc1"  # not msgpack at all
+    try:
+        system.wait_until(lambda: echo.poll() is not None or _put(system.session, garbage), 20.0, "echo ended")
+        _, err = echo.communicate(timeout=20)
+    finally:
+        if echo.poll() is None:
+            echo.kill()
+    assert err.count("skipped a message on raw/garbage") == 1, err
+    assert "messages on raw/garbage in all" in err, err
+
+
+def _put(session, payload: bytes) -> bool:
+    session.put("raw/garbage", payload, encoding="application/msgpack;Mystery")
+    return False
+
+
+def test_json_of_an_untyped_undescribed_payload_says_type_null(system):
+    import json
+    import subprocess
+
+    from tests.integration.harness import turtlectl as command
+
+    echo = subprocess.Popen(
+        [*command(), "echo", "raw/plain", "--once", "--json", "--connect", system.endpoint],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
+    data = msgspec.msgpack.encode({"a": 1})
+    try:
+        system.wait_until(
+            lambda: echo.poll() is not None or system.session.put("raw/plain", data, encoding="application/msgpack"),
+            20.0,
+            "echo got it",
+        )
+        out, err = echo.communicate(timeout=20)
+    finally:
+        if echo.poll() is None:
+            echo.kill()
+    assert json.loads(out) == {"type": None, "undescribed": True, "a": 1}, (out, err)
