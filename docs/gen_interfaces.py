@@ -127,7 +127,8 @@ def descriptions_section() -> list[str]:
     out = [
         f"## Type descriptions: `{keys.type_key('<TypeName>', '<node>')}` (JSON)",
         "",
-        "Every node describes each message type it publishes, subscribes to, serves or calls, built-in or its own, "
+        "Every node describes each message type it publishes, subscribes to, serves or calls, built-in or its own "
+        "(and `turtlectl play` each type of its own it replays, as `play`), "
         f"on `{keys.type_key('<TypeName>', '<node>')}` (encoding `application/json`): a get on "
         f"`{keys.type_key('<TypeName>', '*')}` asks every node that uses the type, `{keys.type_key('*', '*')}` every "
         "type in use (last two chunks of each reply's key: the type's name and the node's). This is how every "
