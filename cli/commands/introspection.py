@@ -72,7 +72,7 @@ def interface_list(
     """
     from turtlectl.cli.tools import interface
 
-    rows = interface.listing(interface.live_types(connect))
+    rows = interface.listing(*interface.live_types(connect))
     result(format.json_value(rows) if json else interface.listing_text(rows))
 
 
@@ -84,14 +84,15 @@ def interface_show(
     domain: str = DomainOption,
 ) -> None:
     """A message type's fields: type, default, unit, range and meaning; its wire tag,
-    encoding and keys (as `ros2 interface show`).
+    encoding and keys (as `ros2 interface show`).  With a system running, also a type its
+    nodes use (its keys from the live graph) or a Struct nested in one.
 
     Example: turtlectl interface show TurtleStatus
     """
     from turtlectl.cli.tools import interface
 
-    builtin = interface.is_builtin(type_)
-    described = interface.description(type_, None if builtin else interface.live_types(connect))
+    live, keys = ({}, {}) if interface.is_builtin(type_) else interface.live_types(connect)
+    described = interface.description(type_, live, keys)
     result(format.json_value(described) if json else interface.description_text(described))
 
 

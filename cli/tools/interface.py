@@ -7,14 +7,11 @@ from __future__ import annotations
 
 from typing import Any
 
-import msgspec
-
-from turtlectl.cli.errors import Unreachable
-from turtlectl.cli.tools.build import type_named
+from turtlectl.cli.errors import BadInput, Unreachable
+from turtlectl.cli.tools.interface_live import Live, keys_by_type, live_description, nested_description
 from turtlectl.cli.tools.typebook import conflict
 from turtlectl.messages import ALL_TYPES
-from turtlectl.messages.codec import MEDIA_TYPE, encoding_for, type_name
-from turtlectl.messages.described import TypeDescription
+from turtlectl.messages.codec import encoding_for, type_name
 from turtlectl.messages.reference import FIELDS, KEYS, default_text, doc, struct_fields
 from turtlectl.messages.reference import type_name as field_type
 
@@ -30,35 +27,38 @@ def summary(cls: type) -> str:
     return " ".join(doc(cls).split("\n\n", 1)[0].split())
 
 
-Live = dict[str, dict[str, TypeDescription]]  # type name -> node -> its description
+Keys = dict[str, list[str]]  # type name -> the keys that carry it in the live graph
 
 
-def live_types(connect: str, domain: str | None = None) -> Live:
-    """What the running system's nodes say of the types they use ({} when none runs)."""
+def live_types(connect: str, domain: str | None = None) -> tuple[Live, Keys]:
+    """What the running system's nodes say of the types they use, and the keys (topics and
+    services) that carry each in the live graph (both {} when none runs)."""
     from turtlectl.cli.tools.client import client_session
+    from turtlectl.cli.tools.topics import live_graph
     from turtlectl.cli.tools.typebook import descriptions
 
     try:
         with client_session(connect, domain) as session:
-            return descriptions(session)
+            return descriptions(session), keys_by_type(live_graph(session, domain))
     except Unreachable:
-        return {}
+        return {}, {}
 
 
 def is_builtin(name: str) -> bool:
     return any(type_name(t).lower() == name.lower() for t in ALL_TYPES)
 
 
-def listing(live: Live | None = None) -> list[dict[str, Any]]:
+def listing(live: Live | None = None, keys: Keys | None = None) -> list[dict[str, Any]]:
     """Every message type: its name, the keys that carry it, and its summary; then the types
-    the running nodes use besides (``live``), with those nodes and any conflict."""
+    the running nodes use besides (``live``), with those nodes, any conflict and the keys that
+    carry them in the live graph (``keys``)."""
     rows = [{"type": type_name(t), "keys": _keys_of(type_name(t)), "summary": summary(t)} for t in ALL_TYPES]
     builtin = {r["type"] for r in rows}
     for name, said in sorted((live or {}).items()):
         if name in builtin:
             continue
         first = next(iter(said.values()))
-        row = {"type": name, "keys": [], "summary": first.doc, "nodes": sorted(said)}
+        row = {"type": name, "keys": (keys or {}).get(name, []), "summary": first.doc, "nodes": sorted(said)}
         if conflict(said):
             row["conflict"] = conflict(said)
         rows.append(row)
@@ -77,17 +77,23 @@ def listing_text(rows: list[dict[str, Any]]) -> str:
     return "\n".join(lines + ["", "turtlectl interface show TYPE: its fields, units and defaults"])
 
 
-def description(name: str, live: Live | None = None) -> dict[str, Any]:
+def description(name: str, live: Live | None = None, keys: Keys | None = None) -> dict[str, Any]:
     """One type in full: wire tag and encoding, the keys that carry it, its documentation and
     every field (type, default, unit, range, meaning).  A type the running nodes use (``live``)
-    from its description.  BadInput for a name that is no type."""
-    said = next((s for n, s in (live or {}).items() if n.lower() == name.lower()), None)
-    if said is not None and not any(type_name(t).lower() == name.lower() for t in ALL_TYPES):
-        return _described(said)
-    cls = type_named(name)
-    tag = type_name(cls)
+    from its description, its keys from the live graph (``keys``); a Struct nested in one from
+    its definition.  BadInput naming the built-ins and the live types for a name that is no type."""
+    builtin = next((t for t in ALL_TYPES if type_name(t).lower() == name.lower()), None)
+    said = next(((n, s) for n, s in (live or {}).items() if n.lower() == name.lower()), None)
+    if builtin is None and said is not None:
+        return live_description(said[1], (keys or {}).get(said[0], []), conflict(said[1]))
+    if builtin is None:
+        nested = nested_description(name, live or {})
+        if nested is None:
+            raise BadInput(f"unknown message type {name!r} (known: {', '.join(_known(live or {}))}; {_SHOW_HINT})")
+        return nested
+    tag = type_name(builtin)
     fields = []
-    for f in struct_fields(cls):
+    for f in struct_fields(builtin):
         unit, span, meaning = FIELDS[tag][f.name]
         fields.append(
             {
@@ -101,48 +107,28 @@ def description(name: str, live: Live | None = None) -> dict[str, Any]:
         )
     return {
         "type": tag,
-        "encoding": encoding_for(cls),
+        "encoding": encoding_for(builtin),
         "keys": _keys_of(tag),
-        "doc": doc(cls),
+        "doc": doc(builtin),
         "fields": fields,
     }
 
 
-def _described(said: dict[str, TypeDescription]) -> dict[str, Any]:
-    first = next(iter(said.values()))
-    body = first.schema["$defs"][first.schema["$ref"].rsplit("/", 1)[-1]]
-    props = body.get("properties", {})
-    required = set(body.get("required", ()))
-    fields = [
-        {
-            "name": f.name,
-            "type": f.type,
-            "default": "" if f.name in required else msgspec.json.encode(props.get(f.name, {}).get("default")).decode(),
-            "unit": f.unit or "-",
-            "range": "",
-            "meaning": f.meaning,
-        }
-        for f in first.fields
-    ]
-    described = {
-        "type": first.name,
-        "encoding": f"{MEDIA_TYPE};{first.name}",
-        "keys": [],
-        "doc": first.doc,
-        "fields": fields,
-        "hash": first.hash,
-        "nodes": sorted(said),
-    }
-    if conflict(said):
-        described["conflict"] = conflict(said)
-    return described
+_SHOW_HINT = "`turtlectl interface show TYPE` for fields"
+
+
+def _known(live: Live) -> list[str]:
+    """The built-in types' names, then the live ones'."""
+    builtins = sorted(type_name(t) for t in ALL_TYPES)
+    return builtins + sorted(n for n in live if n not in builtins)
 
 
 def description_text(d: dict[str, Any]) -> str:
-    head = [
-        f'{d["type"]}: msgpack map tagged "type": "{d["type"]}" (encoding {d["encoding"]})',
-        f"keys: {', '.join(d['keys']) or '(none of its own)'}",
-    ]
+    if d.get("nested_in"):
+        first = f"{d['type']}: {d['what']} nested in {', '.join(d['nested_in'])} (no type tag: never sent alone)"
+    else:
+        first = f'{d["type"]}: msgpack map tagged "type": "{d["type"]}" (encoding {d["encoding"]})'
+    head = [first, f"keys: {', '.join(d['keys']) or '(none of its own)'}"]
     if d.get("nodes"):
         head.append(f"described by: {', '.join(d['nodes'])} (hash {d['hash']})")
     if d.get("conflict"):
@@ -153,5 +139,6 @@ def description_text(d: dict[str, Any]) -> str:
     ]
     widths = [max(len(r[k]) for r in rows) for k in range(4)]
     table = ["  ".join(cell.ljust(w) for cell, w in zip(r[:4], widths, strict=True)) + "  " + r[4] for r in rows]
-    meanings = [f"  {f['name']}: {f['meaning']}" for f in d["fields"]]
-    return "\n".join(head + table + (["", "meaning:"] + meanings if meanings else ["(no fields)"]))
+    meanings = [f"  {f['name']}: {f['meaning']}" for f in d["fields"] if f["meaning"]]  # a nested Struct's: none
+    tail = ["", "meaning:", *meanings] if meanings else [] if d["fields"] else ["(no fields)"]
+    return "\n".join(head + table + tail)

@@ -115,6 +115,17 @@ def test_interface_list_and_show_a_live_user_type(system):
     shown = system.run_cli("interface", "show", "WallState")
     assert shown.returncode == 0, shown.stderr
     assert "described by: wall (hash TH01_" in shown.stdout and "to the wall" in shown.stdout, shown.stdout
+    # issue 25 (a new user's findings): keys from the live graph, Python-like types, required
+    keys = next(line for line in shown.stdout.splitlines() if line.startswith("keys: "))
+    assert "wall/state" in keys and "none of its own" not in keys, shown.stdout
+    distance = next(line for line in shown.stdout.splitlines() if line.startswith("distance "))
+    assert distance.split()[:4] == ["distance", "float", "required", "m"], shown.stdout
+    assert "list[Corner]" in shown.stdout, shown.stdout
+    nested = system.run_cli("interface", "show", "Corner")  # a Struct nested in a live type
+    assert nested.returncode == 0, nested.stderr
+    assert nested.stdout.startswith("Corner: a map nested in WallState") and "\nx " in nested.stdout, nested.stdout
+    unknown = system.run_cli("interface", "show", "Nope")
+    assert unknown.returncode == 2 and "Twist" in unknown.stderr and "WallState" in unknown.stderr, unknown.stderr
 
 
 def test_the_python_client_decodes_a_user_type_with_attribute_access(system):

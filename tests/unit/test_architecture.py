@@ -50,6 +50,7 @@ PURE = [
     "cli.tools.graph",
     "cli.tools.rates",
     "cli.tools.keyboard",
+    "cli.tools.interface_live",
     "cli.recording.bag",  # recordings: MCAP files, read and written without a session
     "cli.recording.reading",
     "cli.system.supervisor.supervision",  # the supervision policy: processes and clock come from outside
