@@ -121,7 +121,9 @@ def csv_header(msg: Shown) -> str:
 def _csv_line(values: list[Any]) -> str:
     """One CSV line; arrays and tables (nested Structs) as one quoted JSON cell."""
     out = io.StringIO()
-    csv.writer(out, lineterminator="").writerow([json_value(v) if isinstance(v, list | dict | tuple) else v for v in values])
+    csv.writer(out, lineterminator="").writerow(
+        [json_value(v) if isinstance(v, list | dict | tuple) else v for v in values]
+    )
     return out.getvalue()
 
 
