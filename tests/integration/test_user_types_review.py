@@ -4,10 +4,14 @@ however it ends, a --timeout included (the count never came)."""
 
 from __future__ import annotations
 
+import json
+import subprocess
+
 import msgspec
 import pytest
 
 import turtlectl
+from tests.integration.harness import turtlectl as command
 from tests.integration.test_user_types import walls_system
 from turtlectl import Message
 
@@ -32,54 +36,35 @@ def test_the_client_calls_a_service_of_the_users_own_types(system):
     assert type(answer).__name__ == "WallState" and answer.distance == 1.25
 
 
-def test_echo_counts_undecodable_payloads_even_when_it_times_out(system):
-    import subprocess
-
-    from tests.integration.harness import turtlectl as command
-
+def echo_while_putting(system, args: list[str], key: str, payload: bytes, encoding: str) -> tuple[str, str]:
+    """``turtlectl echo ARGS`` run while ``payload`` is put on ``key`` again and again, until it
+    ends: its stdout and stderr."""
     echo = subprocess.Popen(
-        [*command(), "echo", "raw/garbage", "--timeout", "3", "--connect", system.endpoint],
+        [*command(), "echo", *args, "--connect", system.endpoint],
         stdout=subprocess.PIPE,
         stderr=subprocess.PIPE,
         text=True,
     )
-    garbage = b"\xc1\xc1\xc1"  # not msgpack at all
     try:
-        system.wait_until(lambda: echo.poll() is not None or _put(system.session, garbage), 20.0, "echo ended")
-        _, err = echo.communicate(timeout=20)
+        system.wait_until(
+            lambda: echo.poll() is not None or system.session.put(key, payload, encoding=encoding), 20.0, "echo ended"
+        )
+        return echo.communicate(timeout=20)
     finally:
         if echo.poll() is None:
             echo.kill()
+
+
+def test_echo_counts_undecodable_payloads_even_when_it_times_out(system):
+    garbage = b"\xc1\xc1\xc1"  # not msgpack at all
+    _, err = echo_while_putting(
+        system, ["raw/garbage", "--timeout", "3"], "raw/garbage", garbage, "application/msgpack;Mystery"
+    )
     assert err.count("skipped a message on raw/garbage") == 1, err
     assert "messages on raw/garbage in all" in err, err
 
 
-def _put(session, payload: bytes) -> bool:
-    session.put("raw/garbage", payload, encoding="application/msgpack;Mystery")
-    return False
-
-
 def test_json_of_an_untyped_undescribed_payload_says_type_null(system):
-    import json
-    import subprocess
-
-    from tests.integration.harness import turtlectl as command
-
-    echo = subprocess.Popen(
-        [*command(), "echo", "raw/plain", "--once", "--json", "--connect", system.endpoint],
-        stdout=subprocess.PIPE,
-        stderr=subprocess.PIPE,
-        text=True,
-    )
     data = msgspec.msgpack.encode({"a": 1})
-    try:
-        system.wait_until(
-            lambda: echo.poll() is not None or system.session.put("raw/plain", data, encoding="application/msgpack"),
-            20.0,
-            "echo got it",
-        )
-        out, err = echo.communicate(timeout=20)
-    finally:
-        if echo.poll() is None:
-            echo.kill()
+    out, err = echo_while_putting(system, ["raw/plain", "--once", "--json"], "raw/plain", data, "application/msgpack")
     assert json.loads(out) == {"type": None, "undescribed": True, "a": 1}, (out, err)
