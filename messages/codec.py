@@ -46,11 +46,19 @@ def encoding_for(msg_type: type[Message]) -> str:
     return f"{MEDIA_TYPE};{type_name(msg_type)}"
 
 
+#: the attribute a class rebuilt from a description (messages.described.struct_from) carries
+REBUILT = "__turtlectl_rebuilt__"
+
+
 def register(msg_type: type[Message]) -> type[Message]:
     """Know ``msg_type`` by its name from now on (``type_from_encoding``, ``decode_any``).
+    A class of the user's own takes the place of one a tool rebuilt from the wire under its
+    name (a script that learnt ``WallState`` through the client, then uses its own); otherwise
     ValueError if another class already goes by that name in this process."""
     name = type_name(msg_type)
     known = TYPES_BY_NAME.setdefault(name, msg_type)
+    if known is not msg_type and getattr(known, REBUILT, False) and not getattr(msg_type, REBUILT, False):
+        TYPES_BY_NAME[name] = known = msg_type
     if known is not msg_type:
         raise ValueError(
             f"two message types named {name!r}: {known.__module__}.{known.__qualname__} and "

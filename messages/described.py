@@ -23,6 +23,7 @@ from typing import Any, Union
 
 import msgspec
 
+from turtlectl.messages.codec import REBUILT
 from turtlectl.messages.types import ALL_TYPES, Message
 
 HASH_PREFIX = "TH01_"  # a type hash: version 1 of this scheme, then sha256 of name and schema
@@ -174,6 +175,7 @@ def struct_from(description: TypeDescription) -> type[Message]:
                 fields.append((key, Union[of(prop), None], None))  # noqa: UP007
         if name == root:
             made[name] = msgspec.defstruct(name, fields, bases=(Message,), tag=description.name, kw_only=True)
+            setattr(made[name], REBUILT, True)  # the user's own class of this name may take its place
         else:
             made[name] = msgspec.defstruct(name, fields, kw_only=True, frozen=True)
         return made[name]

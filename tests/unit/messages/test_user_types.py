@@ -151,3 +151,19 @@ def test_a_rebuilt_class_fills_defaults_as_the_original_does():
     built = msgspec.json.decode(b'{"distance": 1.0}', type=rebuilt)
     original = decode(encode(built), WallState)
     assert original.raw == b"" and original.side is Side.LEFT and original.span == (0.0, 0.0)
+
+
+def test_a_users_own_class_takes_the_place_of_one_rebuilt_from_the_wire():
+    """A script that learnt a type through the client, then uses its own class of that name (the
+    serial test run found it: an integration test's client had learnt WallState first)."""
+    from turtlectl.messages.codec import TYPES_BY_NAME
+    from turtlectl.messages.described import describe, struct_from
+
+    class Seen(Message, tag="UnitSeenType"):
+        n: int  # -: a count
+
+    register(struct_from(describe(Seen)))
+    assert register(Seen) is Seen and TYPES_BY_NAME["UnitSeenType"] is Seen
+    assert decode_any(encode(Seen(n=2))) == Seen(n=2)
+    with pytest.raises(ValueError, match="two message types named 'UnitSeenType'"):
+        register(struct_from(describe(Seen)))  # a rebuilt class never replaces a real one
