@@ -17,8 +17,6 @@ described as none: the field becomes required in the rebuilt class).
 from __future__ import annotations
 
 import enum
-import hashlib
-import inspect
 from typing import Any, Union
 
 import msgspec
@@ -57,6 +55,8 @@ def describable(name: str) -> bool:
 
 def type_hash(name: str, schema: dict[str, Any]) -> str:
     """``TH01_`` and the sha256 of the name and the canonical JSON of the schema."""
+    import hashlib  # here: a node imports this module at start, and describes a type only when asked
+
     canonical = msgspec.json.encode({"name": name, "schema": schema}, order="sorted")
     return HASH_PREFIX + hashlib.sha256(canonical).hexdigest()
 
@@ -65,6 +65,8 @@ def field_comments(cls: type) -> dict[str, str]:
     """``# comments`` after the fields in the class's source: a message type's and a parameter
     Struct's ``unit: meaning``.  A class without source (defined in ``python -c``, or shipped
     without its .py) has none: its fields are described without them."""
+    import inspect  # here: ~10 ms that a node's start does not pay (it describes only when asked)
+
     try:
         source = inspect.getsource(cls)
     except (OSError, TypeError):
@@ -108,6 +110,8 @@ def describe(cls: type[Message]) -> TypeDescription:
         unit, meaning = _unit_meaning(cls, field.name, comments)
         prop = body.get("properties", {}).get(field.encode_name, {})
         fields.append(FieldDescription(field.encode_name, _schema_type(prop), unit, meaning))
+    import inspect
+
     doc = inspect.cleandoc(cls.__doc__ or "").split("\n\n")[0].replace("\n", " ")
     return TypeDescription(name=name, hash=type_hash(name, schema), doc=doc, fields=fields, schema=schema)
 
