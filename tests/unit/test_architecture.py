@@ -46,6 +46,8 @@ PURE = [
     "cli.system.launchfile",
     "cli.system.overrides",
     "cli.args",
+    "cli.verify.spec",
+    "cli.verify.report",
     "cli.tools.format",
     "cli.tools.graph",
     "cli.tools.rates",

@@ -1,0 +1,163 @@
+"""Each part of a specification measured on a running system through a ``turtlectl.Client``:
+the interfaces (each topic present with its type, publisher and period; each service served
+with its type) and every criterion.  Returns verdicts; prints nothing (``progress`` is told
+what is being measured)."""
+
+from __future__ import annotations
+
+import math
+import statistics
+import time
+from collections.abc import Callable
+
+from turtlectl.cli.errors import TurtlectlError
+from turtlectl.cli.tools.api import Client
+from turtlectl.cli.verify.report import Verdict
+from turtlectl.cli.verify.spec import Criterion, Goals, Messages, Period, ReportedTime, Spec, label
+
+
+def _arrivals(client: Client, key: str, count: int, within: float) -> list[float]:
+    """Arrival times (monotonic s) of ``count`` messages on ``key``, or as many as came within ``within`` s."""
+    sub = client.subscribe(key)
+    deadline = time.monotonic() + within
+    times: list[float] = []
+    try:
+        while len(times) < count and time.monotonic() < deadline:
+            try:
+                sub.next(timeout=max(0.01, deadline - time.monotonic()))
+            except TurtlectlError:
+                break
+            times.append(time.monotonic())
+    finally:
+        sub.undeclare()
+    return times
+
+
+def interfaces(client: Client, spec: Spec) -> list[Verdict]:
+    """Each declared topic and service against the live graph (and a topic's period)."""
+    graph = client.graph()
+    topics = {t.key: t for t in graph.topics}
+    services = {s.key: s for s in graph.services}
+    out = []
+    for t in spec.topic:
+        row = topics.get(t.key)
+        what = f"topic {t.key}"
+        required = t.type + (f" from {t.publisher}" if t.publisher else "")
+        if row is None:
+            out.append(Verdict(what, required, "absent", False, "nothing publishes or subscribes to it"))
+            continue
+        problems = []
+        if row.type != t.type:
+            problems.append(f"its type is {row.type}")
+        if t.publisher and t.publisher not in row.publishers:
+            problems.append(f"published by {', '.join(row.publishers) or 'nobody'}")
+        measured = f"{row.type} from {', '.join(row.publishers) or 'nobody'}"
+        if t.period_ms is not None and not problems:
+            times = _arrivals(client, t.key, 21, 20 * t.period_ms / 1000 + 5)
+            if len(times) < 2:
+                problems.append("no messages to measure its period")
+            else:
+                mean = statistics.fmean(b - a for a, b in zip(times, times[1:], strict=False)) * 1000
+                measured += f", mean period {mean:.1f} ms"
+                required += f", every {t.period_ms:g} ± {t.tolerance_ms:g} ms"
+                if abs(mean - t.period_ms) > t.tolerance_ms:
+                    problems.append(f"mean period {mean:.1f} ms is {abs(mean - t.period_ms):.1f} ms off")
+        out.append(Verdict(what, required, measured, not problems, "; ".join(problems)))
+    for s in spec.service:
+        row = services.get(s.key)
+        what = f"service {s.key}"
+        required = s.request + (f" served by {s.server}" if s.server else "")
+        if row is None:
+            out.append(Verdict(what, required, "absent", False, "nothing serves it"))
+            continue
+        problems = []
+        if row.type != s.request:
+            problems.append(f"its request type is {row.type}")
+        if s.server and s.server not in row.servers:
+            problems.append(f"served by {', '.join(row.servers)}")
+        out.append(
+            Verdict(what, required, f"{row.type} served by {', '.join(row.servers)}", not problems, "; ".join(problems))
+        )
+    return out
+
+
+def _period(client: Client, c: Period) -> Verdict:
+    times = _arrivals(client, c.key, c.samples + 1, (c.samples + 1) * c.period_ms / 1000 * 2 + 5)
+    required = f"{c.share:.0%} of {c.samples} periods within {c.period_ms:g} ± {c.tolerance_ms:g} ms"
+    periods = [(b - a) * 1000 for a, b in zip(times, times[1:], strict=False)]
+    if len(periods) < c.samples:
+        return Verdict(label(c), required, f"{len(periods)} periods", False, f"only {len(times)} messages arrived")
+    within = sum(1 for p in periods if abs(p - c.period_ms) <= c.tolerance_ms) / len(periods)
+    measured = f"{within:.0%} within, mean {statistics.fmean(periods):.1f} ms, worst {max(periods, key=lambda p: abs(p - c.period_ms)):.1f} ms"
+    why = "" if within >= c.share else f"{within:.0%} of periods within the tolerance, {c.share:.0%} required"
+    return Verdict(label(c), required, measured, within >= c.share, why)
+
+
+def _goals(client: Client, c: Goals | ReportedTime) -> Verdict:
+    worst_time, worst_distance, worst_gap, problems = 0.0, 0.0, 0.0, []
+    for x, y, theta in c.goals:
+        started = time.monotonic()
+        try:
+            response = client.goto(x, y, theta, timeout=max(c.within_s * 5, 30.0))
+        except TurtlectlError as exc:
+            problems.append(f"({x:g}, {y:g}): {exc.message}")
+            continue
+        elapsed = time.monotonic() - started
+        worst_time = max(worst_time, elapsed)
+        worst_gap = max(worst_gap, abs(elapsed - response.time_taken))
+        if not response.success:
+            problems.append(f"({x:g}, {y:g}) not reached: {response.reason}")
+        if isinstance(c, Goals):
+            distance = math.hypot(response.x - x, response.y - y)
+            worst_distance = max(worst_distance, distance)
+            if elapsed > c.within_s:
+                problems.append(f"({x:g}, {y:g}) took {elapsed:.2f} s, {elapsed - c.within_s:.2f} s too long")
+            if distance > c.distance_m:
+                problems.append(f"({x:g}, {y:g}) ended {distance:.3f} m away")
+        elif abs(elapsed - response.time_taken) > c.within_s:
+            problems.append(f"({x:g}, {y:g}) reported {response.time_taken:.3f} s, the client measured {elapsed:.3f} s")
+    if isinstance(c, Goals):
+        required = f"each within {c.within_s:g} s, {c.distance_m:g} m"
+        measured = f"slowest {worst_time:.2f} s, farthest {worst_distance:.3f} m"
+    else:
+        required = f"|time_taken - client's time| <= {c.within_s:g} s"
+        measured = f"largest gap {worst_gap:.3f} s"
+    return Verdict(label(c), required, measured, not problems, "; ".join(problems))
+
+
+def _messages(client: Client, c: Messages) -> Verdict:
+    before = {n.name: n.pid for n in client.nodes()}
+    times = _arrivals(client, c.key, c.count, c.within_s)
+    after = {n.name: n.pid for n in client.nodes()}
+    lost = sorted(n for n in before if after.get(n) != before[n])
+    problems = []
+    if len(times) < c.count:
+        problems.append(f"only {len(times)} of {c.count} messages within {c.within_s:g} s")
+    if lost:
+        problems.append(f"{', '.join(lost)} died or restarted meanwhile")
+    required = f"{c.count} messages, the same {len(before)} node processes"
+    return Verdict(
+        label(c),
+        required,
+        f"{len(times)} messages, {len(before) - len(lost)} nodes unchanged",
+        not problems,
+        "; ".join(problems),
+    )
+
+
+def criterion(client: Client, c: Criterion) -> Verdict:
+    if isinstance(c, Period):
+        return _period(client, c)
+    if isinstance(c, Messages):
+        return _messages(client, c)
+    return _goals(client, c)
+
+
+def verify(client: Client, spec: Spec, progress: Callable[[str], None] = lambda _: None) -> list[Verdict]:
+    """Every interface and criterion of ``spec``, measured in the spec's order."""
+    progress("interfaces")
+    out = interfaces(client, spec)
+    for c in spec.criterion:
+        progress(label(c))
+        out.append(criterion(client, c))
+    return out
