@@ -18,7 +18,6 @@ from collections.abc import Callable, Iterator
 from types import TracebackType
 from typing import Any
 
-import msgspec
 import zenoh
 
 from turtlectl.cli.args import endpoint
@@ -216,7 +215,7 @@ class Client:
             answers = list(replies(self._session, params_key(node), b"", CALL_TIMEOUT))
         if not answers or not isinstance(answers[-1], Raw):
             raise Failed(f"{node} sent no parameters")
-        return msgspec.json.decode(answers[-1].payload)
+        return _params.parse_params(node, answers[-1].payload)
 
     def param(self, node: str, name: str) -> Any:
         """``node``'s parameter ``name`` (dotted into a table: ``gains.lookahead``)."""

@@ -60,8 +60,13 @@ def _served(connect: str, key: str, node: str, what: str) -> bytes:
 
 def fetch(connect: str, node: str) -> dict[str, Any]:
     """The parameters ``node`` runs with (NobodyServes naming the live nodes)."""
+    return parse_params(node, _served(connect, params_key(node), node, "parameters"))
+
+
+def parse_params(node: str, payload: bytes) -> dict[str, Any]:
+    """``node``'s answer on ``turtlectl/params/<node>`` as its table of parameters; Failed if it is none."""
     try:
-        params = msgspec.json.decode(_served(connect, params_key(node), node, "parameters"))
+        params = msgspec.json.decode(payload)
     except msgspec.DecodeError as exc:
         raise Failed(f"{node} sent unreadable parameters: {exc}") from None
     if not isinstance(params, dict):

@@ -50,10 +50,16 @@ class Received:
         self.generic: Any = None  # an undescribed payload's data (dict, list, ...)
 
     @property
+    def type_name(self) -> str:
+        """The message type the sample's encoding names ('' for none)."""
+        media, _, name = self.encoding.partition(";")
+        return name if media == MEDIA_TYPE else ""
+
+    @property
     def unknown(self) -> str:
         """The type name the sample's encoding gives, when no type of that name is known here."""
-        media, _, name = self.encoding.partition(";")
-        return name if self.message is None and media == MEDIA_TYPE and name and name not in TYPES_BY_NAME else ""
+        name = self.type_name
+        return name if self.message is None and name and name not in TYPES_BY_NAME else ""
 
 
 def decode_sample(key: str, payload: bytes, encoding: str) -> Received:
@@ -73,7 +79,7 @@ def learn(item: Received, book: TypeBook) -> Received:
     type and is not one stays what it is: skipped, never shown as undescribed."""
     if item.message is not None:
         return item
-    name = item.encoding.partition(";")[2] if item.encoding.startswith(MEDIA_TYPE) else ""
+    name = item.type_name
     if item.unknown and book.resolve(item.unknown) is not None:
         item = decode_sample(item.key, item.payload, item.encoding)
     for variant in book.variants(name) if item.message is None else ():

@@ -33,26 +33,36 @@ def _arrivals(client: Client, key: str, count: int, within: float) -> list[float
     return times
 
 
+def _declared(
+    want: str, owner: str, found: tuple[str, list[str]] | None, roles: tuple[str, str, str], absent: str
+) -> tuple[str, str, list[str]]:
+    """A declared topic or service against what the graph has (``found``: its type and its
+    publishers or servers; None: absent): what is required, what was found, what is wrong.
+    ``roles``: how to say the type, the owner in the table, the owner in a problem."""
+    kind, by, wrong_by = roles
+    required = want + (f" {by} {owner}" if owner else "")
+    if found is None:
+        return required, "absent", [absent]
+    got, owners = found
+    problems = [f"its {kind} is {got}"] if got != want else []
+    if owner and owner not in owners:
+        problems.append(f"{wrong_by} {', '.join(owners) or 'nobody'}")
+    return required, f"{got} {by} {', '.join(owners) or 'nobody'}", problems
+
+
 def interfaces(client: Client, spec: Spec) -> list[Verdict]:
     """Each declared topic and service against the live graph (and a topic's period)."""
     graph = client.graph()
-    topics = {t.key: t for t in graph.topics}
-    services = {s.key: s for s in graph.services}
+    topics = {t.key: (t.type, t.publishers) for t in graph.topics}
+    services = {s.key: (s.type, s.servers) for s in graph.services}
     out = []
     for t in spec.topic:
-        row = topics.get(t.key)
-        what = f"topic {t.key}"
-        required = t.type + (f" from {t.publisher}" if t.publisher else "")
-        if row is None:
-            out.append(Verdict(what, required, "absent", False, "nothing publishes or subscribes to it"))
-            continue
-        problems = []
-        if row.type != t.type:
-            problems.append(f"its type is {row.type}")
-        if t.publisher and t.publisher not in row.publishers:
-            problems.append(f"published by {', '.join(row.publishers) or 'nobody'}")
-        measured = f"{row.type} from {', '.join(row.publishers) or 'nobody'}"
-        if t.period_ms is not None and not problems:
+        found = topics.get(t.key)
+        roles = ("type", "from", "published by")
+        required, measured, problems = _declared(
+            t.type, t.publisher, found, roles, "nothing publishes or subscribes to it"
+        )
+        if found is not None and t.period_ms is not None and not problems:
             times = _arrivals(client, t.key, 21, 20 * t.period_ms / 1000 + 5)
             if len(times) < 2:
                 problems.append("no messages to measure its period")
@@ -62,22 +72,11 @@ def interfaces(client: Client, spec: Spec) -> list[Verdict]:
                 required += f", every {t.period_ms:g} ± {t.tolerance_ms:g} ms"
                 if abs(mean - t.period_ms) > t.tolerance_ms:
                     problems.append(f"mean period {mean:.1f} ms is {abs(mean - t.period_ms):.1f} ms off")
-        out.append(Verdict(what, required, measured, not problems, "; ".join(problems)))
+        out.append(Verdict(f"topic {t.key}", required, measured, not problems, "; ".join(problems)))
     for s in spec.service:
-        row = services.get(s.key)
-        what = f"service {s.key}"
-        required = s.request + (f" served by {s.server}" if s.server else "")
-        if row is None:
-            out.append(Verdict(what, required, "absent", False, "nothing serves it"))
-            continue
-        problems = []
-        if row.type != s.request:
-            problems.append(f"its request type is {row.type}")
-        if s.server and s.server not in row.servers:
-            problems.append(f"served by {', '.join(row.servers)}")
-        out.append(
-            Verdict(what, required, f"{row.type} served by {', '.join(row.servers)}", not problems, "; ".join(problems))
-        )
+        roles = ("request type", "served by", "served by")
+        required, measured, problems = _declared(s.request, s.server, services.get(s.key), roles, "nothing serves it")
+        out.append(Verdict(f"service {s.key}", required, measured, not problems, "; ".join(problems)))
     return out
 
 

@@ -16,7 +16,6 @@ import re
 import select
 import shutil
 import signal
-import socket
 import struct
 import subprocess
 import sys
@@ -35,6 +34,7 @@ import psutil
 import zenoh
 
 from turtlectl.cli.system import credentials
+from turtlectl.cli.system.launched import free_port as free_port  # one way to pick a port
 from turtlectl.messages import (
     Message,
     NavigateToFeedback,
@@ -63,12 +63,6 @@ def turtlectl() -> list[str]:
     """The installed console script next to this interpreter."""
     script = Path(sys.executable).parent / "turtlectl"
     return [str(script)] if script.exists() else [sys.executable, "-m", "turtlectl.cli"]
-
-
-def free_port() -> int:
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return s.getsockname()[1]
 
 
 def pid_alive(pid: int) -> bool:
