@@ -16,21 +16,35 @@ from turtlectl.cli.verify.report import Verdict
 from turtlectl.cli.verify.spec import Criterion, Goals, Messages, Period, ReportedTime, Spec, label
 
 
-def _arrivals(client: Client, key: str, count: int, within: float) -> list[float]:
-    """Arrival times (monotonic s) of ``count`` messages on ``key``, or as many as came within ``within`` s."""
+def _arrivals(client: Client, key: str, count: int, within: float) -> list[tuple[float, float | None]]:
+    """``count`` messages on ``key``, or as many as came within ``within`` s: each one's arrival
+    time (monotonic s) and the publisher's ``stamp`` (s; None when its type has none)."""
     sub = client.subscribe(key)
     deadline = time.monotonic() + within
-    times: list[float] = []
+    times: list[tuple[float, float | None]] = []
     try:
         while len(times) < count and time.monotonic() < deadline:
             try:
-                sub.next(timeout=max(0.01, deadline - time.monotonic()))
+                msg = sub.next(timeout=max(0.01, deadline - time.monotonic()))
             except TurtlectlError:
                 break
-            times.append(time.monotonic())
+            stamp = getattr(msg, "stamp", 0)
+            times.append((time.monotonic(), stamp / 1e9 if isinstance(stamp, int) and stamp > 0 else None))
     finally:
         sub.undeclare()
     return times
+
+
+def _periods(times: list[tuple[float, float | None]], at: str) -> tuple[list[float], str]:
+    """The periods (ms) between consecutive messages, by the publisher's stamps (``at`` =
+    "publisher", when every message has one) or by arrival here; and which it was."""
+    stamps = [s for _, s in times if s is not None]
+    stamped = at == "publisher" and bool(times) and len(stamps) == len(times)
+    points = stamps if stamped else [t for t, _ in times]
+    periods = [(b - a) * 1000 for a, b in zip(points, points[1:], strict=False)]
+    if stamped:
+        return periods, "published"
+    return periods, "arrived" if at == "subscriber" else "arrived: its messages have no stamp"
 
 
 def _declared(
@@ -63,12 +77,12 @@ def interfaces(client: Client, spec: Spec) -> list[Verdict]:
             t.type, t.publisher, found, roles, "nothing publishes or subscribes to it"
         )
         if found is not None and t.period_ms is not None and not problems:
-            times = _arrivals(client, t.key, 21, 20 * t.period_ms / 1000 + 5)
-            if len(times) < 2:
+            periods, how = _periods(_arrivals(client, t.key, 21, 20 * t.period_ms / 1000 + 5), "publisher")
+            if not periods:
                 problems.append("no messages to measure its period")
             else:
-                mean = statistics.fmean(b - a for a, b in zip(times, times[1:], strict=False)) * 1000
-                measured += f", mean period {mean:.1f} ms"
+                mean = statistics.fmean(periods)
+                measured += f", mean period {mean:.1f} ms ({how})"
                 required += f", every {t.period_ms:g} ± {t.tolerance_ms:g} ms"
                 if abs(mean - t.period_ms) > t.tolerance_ms:
                     problems.append(f"mean period {mean:.1f} ms is {abs(mean - t.period_ms):.1f} ms off")
@@ -82,12 +96,13 @@ def interfaces(client: Client, spec: Spec) -> list[Verdict]:
 
 def _period(client: Client, c: Period) -> Verdict:
     times = _arrivals(client, c.key, c.samples + 1, (c.samples + 1) * c.period_ms / 1000 * 2 + 5)
-    required = f"{c.share:.0%} of {c.samples} periods within {c.period_ms:g} ± {c.tolerance_ms:g} ms"
-    periods = [(b - a) * 1000 for a, b in zip(times, times[1:], strict=False)]
+    required = f"{c.share:.0%} of {c.samples} periods within {c.period_ms:g} ± {c.tolerance_ms:g} ms ({c.at})"
+    periods, how = _periods(times, c.at)
     if len(periods) < c.samples:
         return Verdict(label(c), required, f"{len(periods)} periods", False, f"only {len(times)} messages arrived")
     within = sum(1 for p in periods if abs(p - c.period_ms) <= c.tolerance_ms) / len(periods)
-    measured = f"{within:.0%} within, mean {statistics.fmean(periods):.1f} ms, worst {max(periods, key=lambda p: abs(p - c.period_ms)):.1f} ms"
+    worst = max(periods, key=lambda p: abs(p - c.period_ms))
+    measured = f"{within:.0%} within, mean {statistics.fmean(periods):.1f} ms, worst {worst:.1f} ms ({how})"
     why = "" if within >= c.share else f"{within:.0%} of periods within the tolerance, {c.share:.0%} required"
     return Verdict(label(c), required, measured, within >= c.share, why)
 

@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import tomllib
 from pathlib import Path
+from typing import Literal
 
 import msgspec
 
@@ -49,14 +50,17 @@ class _Check(_Item, tag_field="check"):
 
 
 class Period(_Check, tag="period", kw_only=True):
-    """``key``'s messages arrive every ``period_ms`` ± ``tolerance_ms`` at a subscriber, for
-    ``share`` of ``samples`` periods."""
+    """``key``'s messages come every ``period_ms`` ± ``tolerance_ms`` (ms) for ``share`` of
+    ``samples`` periods: as published (``at = "publisher"``: between the messages' own
+    ``stamp`` fields, ns, set as each is put; a type without one is timed on arrival) or as they
+    arrive at a subscriber here (``at = "subscriber"``: adds the machine's delivery jitter)."""
 
     key: str
     period_ms: float
     tolerance_ms: float
     samples: int = 50
     share: float = 0.95
+    at: Literal["publisher", "subscriber"] = "publisher"
 
 
 class Goals(_Check, tag="goal", kw_only=True):

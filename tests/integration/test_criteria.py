@@ -58,14 +58,22 @@ def test_criterion_1_the_turtle_reaches_the_goal_within_2_s_of_the_service_call(
 
 
 def test_criterion_2_status_messages_every_100_ms_within_10_ms(system):
+    # "published every 100 ms (± 10 ms)": the periods between the messages' own stamps, set by
+    # the publisher as it puts each one (a subscriber's arrival times add the machine's delivery
+    # jitter: on a loaded 2-core CI machine one late delivery makes a 134 ms / 66 ms pair)
     samples = system.collect(STATUS, TurtleStatus, 51, timeout=15.0)
-    times = [t for t, _ in samples]
-    periods = [b - a for a, b in zip(times, times[1:], strict=False)]
+    stamps = [m.stamp / 1e9 for _, m in samples]
+    periods = [b - a for a, b in zip(stamps, stamps[1:], strict=False)]
     within = sum(1 for p in periods if abs(p - 0.100) <= 0.010)
-    assert within >= 0.95 * len(periods), f"only {within}/{len(periods)} periods within 100 ± 10 ms: {periods}"
+    assert within >= 0.95 * len(periods), (
+        f"only {within}/{len(periods)} published periods within 100 ± 10 ms: {periods}"
+    )
     assert abs(statistics.mean(periods) - 0.100) <= 0.001, statistics.mean(periods)
+    # and at the subscriber: every one arrives, at the same rate
     seqs = [m.seq for _, m in samples]
     assert seqs == list(range(seqs[0], seqs[0] + 51)), "status messages were lost"
+    arrivals = [t for t, _ in samples]
+    assert abs((arrivals[-1] - arrivals[0]) / 50 - 0.100) <= 0.002, arrivals
     status = samples[-1][1]
     assert 0.0 <= status.theta < 360.0 and 0.0 <= status.battery <= 100.0
 
