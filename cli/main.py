@@ -24,7 +24,17 @@ import typer
 import typer.core
 
 from turtlectl.cli import STOPPED_BY_CTRL_C
-from turtlectl.cli.commands import driving, introspection, parameters, recording, services, system, topics, verify
+from turtlectl.cli.commands import (
+    driving,
+    introspection,
+    parameters,
+    recording,
+    services,
+    specification,
+    system,
+    topics,
+    verify,
+)
 from turtlectl.cli.commands.options import DomainOption
 from turtlectl.cli.errors import ExitCode, Interrupted, TurtlectlError, exit_code
 from turtlectl.cli.sigint import ignore_sigint, quiet_unraisable
@@ -44,7 +54,7 @@ commands).
 
 #: the groups of `turtlectl --help`, in order, and their commands in the order listed
 COMMAND_GROUPS: dict[str, tuple[str, ...]] = {
-    "System": ("launch", "router", "run", "new", "verify", "log-level", "certs"),
+    "System": ("launch", "router", "run", "new", "verify", "spec", "log-level", "certs"),
     "Goals and driving": ("goto", "cancel", "teleport", "reset", "teleop"),
     "Topics": ("echo", "hz", "pub", "topic"),
     "Services": ("call",),
@@ -123,7 +133,7 @@ def root(
 
 
 #: the modules of the groups of commands, in COMMAND_GROUPS' order
-GROUPS = (system, driving, topics, services, parameters, introspection, recording, verify)
+GROUPS = (system, driving, topics, services, parameters, introspection, recording, verify, specification)
 for group in GROUPS:
     group.register(app)
 

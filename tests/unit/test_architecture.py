@@ -47,6 +47,7 @@ PURE = [
     "cli.system.overrides",
     "cli.args",
     "cli.verify.spec",
+    "cli.verify.document",
     "cli.verify.report",
     "cli.tools.format",
     "cli.tools.graph",

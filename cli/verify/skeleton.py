@@ -1,0 +1,86 @@
+"""A specification's skeleton from a running system (``turtlectl spec from-system``): the live
+graph, and each published topic's period measured over a short window, from the messages'
+own stamps (as published) or, for a type without one, from their arrivals here.  The
+writing is pure (cli.verify.document); this module only measures, through a ``Client``."""
+
+from __future__ import annotations
+
+import statistics
+import threading
+import time
+from pathlib import Path
+
+from turtlectl.cli.errors import BadInput, Unreachable
+from turtlectl.cli.tools.api import Client
+from turtlectl.cli.tools.graph import Graph, without_node_services
+from turtlectl.cli.verify import document
+from turtlectl.cli.verify.spec import Spec
+
+#: s of messages a period is measured over
+WINDOW = 2.0
+#: the fewest messages a period is measured from (a slower topic gets no period)
+LEAST = 4
+#: a topic's tolerance, as a share of its period
+TOLERANCE = 0.1
+
+
+def period_of(times: list[tuple[float, float | None]]) -> tuple[float, float] | None:
+    """A topic's period and tolerance (ms, as a specification states them) from its messages'
+    arrivals and stamps (s; a stamp None when the type has none): between the stamps when
+    every message has one, else between the arrivals; None from fewer than LEAST messages."""
+    if len(times) < LEAST:
+        return None
+    stamps = [s for _, s in times if s is not None]
+    points = stamps if len(stamps) == len(times) else [t for t, _ in times]
+    gaps = [(b - a) * 1000 for a, b in zip(points, points[1:], strict=False)]
+    mean = statistics.fmean(gaps)
+    if mean <= 0:
+        return None
+    period = document.rounded_period(mean)
+    return period, max(0.01, round(period * TOLERANCE, 2))
+
+
+def measure(client: Client, seconds: float = WINDOW) -> tuple[Graph, dict[str, tuple[float, float]]]:
+    """The live graph (without each node's own services) and each published topic's period
+    and tolerance (ms), measured over ``seconds`` s at once."""
+    graph = without_node_services(client.graph())
+    if not graph.nodes:
+        raise Unreachable(f"no nodes are running at {client.connect}" + (f" ({graph.hint})" if graph.hint else ""))
+    lock = threading.Lock()
+    seen: dict[str, list[tuple[float, float | None]]] = {}
+    subscriptions = []
+
+    def recorder(key: str):  # noqa: ANN202 - a callback on Zenoh's thread
+        def record(message: object) -> None:
+            stamp = getattr(message, "stamp", 0)
+            with lock:
+                seen[key].append((time.monotonic(), stamp / 1e9 if isinstance(stamp, int) and stamp > 0 else None))
+
+        return record
+
+    try:
+        for topic in graph.topics:
+            if topic.publishers:
+                seen[topic.key] = []
+                subscriptions.append(client.subscribe(topic.key, recorder(topic.key)))
+        time.sleep(seconds)  # the measuring window itself
+    finally:
+        for sub in subscriptions:
+            sub.undeclare()
+    with lock:
+        periods = {key: p for key, times in seen.items() if (p := period_of(times)) is not None}
+    return graph, periods
+
+
+def from_system(client: Client, seconds: float = WINDOW) -> Spec:
+    """The skeleton of a specification of the system ``client`` talks to."""
+    graph, periods = measure(client, seconds)
+    return document.skeleton(graph, periods)
+
+
+def write(path: Path, text: str) -> None:
+    """Write the skeleton ``text`` to ``path``; BadInput (exit 2) if it cannot be written."""
+    try:
+        path.write_text(text)
+    except OSError as exc:
+        raise BadInput(f"cannot write {path}: {exc.strerror or exc}") from None

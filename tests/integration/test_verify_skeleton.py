@@ -1,0 +1,49 @@
+"""Issue 26, `turtlectl spec`: the skeleton `spec from-system` writes of the default system
+verifies against that system; `spec show` prints a specification as the capstone's Markdown
+template, and a bad file is exit 2 naming the key."""
+
+from __future__ import annotations
+
+import subprocess
+
+import pytest
+
+from tests.integration.harness import ROOT, running_system, turtlectl
+from turtlectl.cli.verify.spec import Period, load_spec
+
+pytestmark = pytest.mark.integration
+
+
+def test_a_skeleton_from_the_default_system_verifies_against_it(tmp_path):
+    spec = tmp_path / "skeleton.toml"
+    with running_system() as system:
+        done = system.run_cli("spec", "from-system", "-o", str(spec))
+        assert done.returncode == 0, done.stdout + done.stderr
+        loaded = load_spec(spec)
+        assert {n.name for n in loaded.node} == {"sim", "navigator", "status_monitor", "obstacle_detector"}
+        topics = {t.key: t for t in loaded.topic}
+        assert (topics["robot/status"].publisher, topics["robot/status"].period_ms) == ("status_monitor", 100.0)
+        assert (topics["obstacles"].period_ms, topics["obstacles"].tolerance_ms) == (200.0, 20.0)
+        assert {c.key for c in loaded.criterion if isinstance(c, Period)} >= {"robot/status", "obstacles"}
+        verified = system.run_cli("verify", str(spec), timeout=180)
+    assert verified.returncode == 0, verified.stdout + verified.stderr
+    count = len(loaded.topic) + len(loaded.service) + len(loaded.criterion)
+    assert verified.stdout.splitlines()[-1] == f"{count} of {count} hold", verified.stdout
+
+
+def test_spec_show_prints_the_capstone_as_markdown():
+    done = subprocess.run(
+        [*turtlectl(), "spec", "show", str(ROOT / "docs" / "capstone.toml")], capture_output=True, text=True
+    )
+    assert done.returncode == 0, done.stderr
+    assert "## Intent\nA multi-node system" in done.stdout
+    assert "✅ 2. status messages every 100 ms (± 10 ms) (robot/status every 100 ± 10 ms)" in done.stdout
+    assert "❌ multiple turtles" in done.stdout
+
+
+def test_spec_show_of_a_bad_file_is_exit_2_naming_the_key(tmp_path):
+    bad = tmp_path / "bad.toml"
+    bad.write_text('intent = "x"\n[[topic]]\nkey = "a"\ntype = "T"\nrate = 3\n')
+    done = subprocess.run([*turtlectl(), "spec", "show", str(bad)], capture_output=True, text=True)
+    assert done.returncode == 2
+    assert done.stderr.strip() == f"turtlectl: error: {bad}: topic[0]: Object contains unknown field `rate`"
