@@ -82,10 +82,14 @@ class NodeInfo(msgspec.Struct, frozen=True):
 
 class NodeDetails(NodeInfo, frozen=True, forbid_unknown_fields=True):
     """What a node answers on ``turtlectl/nodes/<name>`` (JSON): NodeInfo, and its kind (the
-    launch file's ``run``) and log level (DEBUG, INFO, WARNING, ERROR)."""
+    launch file's ``run``) and log level (DEBUG, INFO, WARNING, ERROR); ``errors``: how many
+    records at ERROR or worse the process has logged since it started, ``last_error`` the last
+    one's message (``verify``'s ``no_errors`` criterion reads them)."""
 
     kind: str = ""
     log_level: str = "INFO"
+    errors: int = 0
+    last_error: str = ""
 
 
 class EntityInfo(msgspec.Struct, frozen=True):

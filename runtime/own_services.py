@@ -36,6 +36,27 @@ if TYPE_CHECKING:
     from turtlectl.runtime.node import Node
 
 
+class ErrorCount(logging.Handler):
+    """Counts the records at ERROR or worse that this process logs (one, on the root logger):
+    what a node's details say as ``errors`` and ``last_error``."""
+
+    def __init__(self) -> None:
+        super().__init__(logging.ERROR)
+        self.count = 0
+        self.last = ""
+
+    def emit(self, record: logging.LogRecord) -> None:
+        self.count += 1
+        try:
+            self.last = record.getMessage()[:300]
+        except (TypeError, ValueError):  # arguments that do not fit the format
+            self.last = str(record.msg)[:300]
+
+
+#: the process's count (a process may build more than one Node in tests: one count)
+ERRORS = ErrorCount()
+
+
 class OwnServices:
     """A node's own services, declared on ``node``."""
 
@@ -45,6 +66,8 @@ class OwnServices:
         self._infos: list[ParamInfo] | None = None  # made at the first describe
         self._types: dict[type[Message], list[Any]] = {}  # each type it uses: [its description (JSON), when asked]
         self._queryables: list[Any] = []  # kept: a dropped queryable would go
+        if ERRORS not in logging.getLogger().handlers:
+            logging.getLogger().addHandler(ERRORS)
         node.answer_json(params_key(node.name), lambda: msgspec.json.encode(node.params))
         node.answer_json(param_describe_key(node.name), self.describe_params)
         node.answer_json(node_key(node.name), self.details)
@@ -78,6 +101,8 @@ class OwnServices:
             start_ns=self.node.started_ns,
             kind=self.node.kind,
             log_level=level,
+            errors=ERRORS.count,
+            last_error=ERRORS.last,
         )
         return msgspec.json.encode(details)
 

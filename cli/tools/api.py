@@ -18,6 +18,7 @@ from collections.abc import Callable, Iterator
 from types import TracebackType
 from typing import Any
 
+import msgspec
 import zenoh
 
 from turtlectl.cli.args import endpoint
@@ -38,7 +39,15 @@ from turtlectl.messages import (
     encode,
     encoding_for,
 )
-from turtlectl.messages.keys import CANCEL, NAVIGATE_TO, param_set_key, params_key, service_types
+from turtlectl.messages.keys import (
+    CANCEL,
+    NAVIGATE_TO,
+    NodeDetails,
+    node_key,
+    param_set_key,
+    params_key,
+    service_types,
+)
 from turtlectl.runtime.endpoint import CONNECT_ENV, DEFAULT_ENDPOINT, default_domain
 from turtlectl.runtime.handles import Declaration
 
@@ -60,6 +69,9 @@ class Subscription(Declaration):
         super().__init__(owner, "subscription", key)
         self._inbox: queue.SimpleQueue[Received | None] = queue.SimpleQueue()
         self._book = book
+        #: payloads that did not decode (skipped), and why the last one did not
+        self.skipped = 0
+        self.last_problem = ""
 
         def on_sample(sample: zenoh.Sample) -> None:  # Zenoh's thread
             got = decode_sample(str(sample.key_expr), sample.payload.to_bytes(), str(sample.encoding))
@@ -67,6 +79,8 @@ class Subscription(Declaration):
                 self._inbox.put(got)
             elif got.message is not None and self.active:
                 callback(got.message)
+            elif got.message is None:
+                self._skip(got)
 
         self.add(session.declare_subscriber(key, on_sample))
 
@@ -78,7 +92,8 @@ class Subscription(Declaration):
 
     def next(self, timeout: float | None = None) -> Message:
         """The next message (a type not known yet is learnt from the nodes that use it; a
-        payload that does not decode is skipped); Failed after ``timeout`` s."""
+        payload that does not decode is skipped and counted in ``skipped``, its reason in
+        ``last_problem``); Failed after ``timeout`` s."""
         deadline = None if timeout is None else time.monotonic() + timeout
         while True:
             try:
@@ -90,6 +105,11 @@ class Subscription(Declaration):
             got = learn(got, self._book)
             if got.message is not None:
                 return got.message
+            self._skip(got)
+
+    def _skip(self, got: Received) -> None:
+        self.skipped += 1
+        self.last_problem = got.problem or f"a {got.type_name or 'message'} payload that no node describes"
 
     def __iter__(self) -> Iterator[Message]:
         while True:
@@ -220,6 +240,18 @@ class Client:
     def param(self, node: str, name: str) -> Any:
         """``node``'s parameter ``name`` (dotted into a table: ``gains.lookahead``)."""
         return _params.value(self.params(node), node, name)
+
+    def node_info(self, node: str) -> NodeDetails:
+        """What ``node`` says about itself: kind, pid, host, start time, log level, and how
+        many records at ERROR or worse it has logged (``errors``, ``last_error``)."""
+        with self._hinted():
+            answers = list(replies(self._session, node_key(node), b"", CALL_TIMEOUT))
+        if not answers or not isinstance(answers[-1], Raw):
+            raise Failed(f"{node} did not say what it is")
+        try:
+            return msgspec.json.decode(answers[-1].payload, type=NodeDetails)
+        except msgspec.DecodeError as exc:
+            raise Failed(f"{node} sent an unreadable answer: {exc}") from None
 
     def set_param(self, node: str, name: str, value: Any) -> str:
         """Set ``node``'s parameter ``name`` to ``value`` while it runs; the node's answer.

@@ -5,15 +5,16 @@ what is being measured)."""
 
 from __future__ import annotations
 
-import math
 import statistics
 import time
 from collections.abc import Callable
 
 from turtlectl.cli.errors import TurtlectlError
 from turtlectl.cli.tools.api import Client
+from turtlectl.cli.verify import running
+from turtlectl.cli.verify.goals import goals
 from turtlectl.cli.verify.report import Verdict
-from turtlectl.cli.verify.spec import Criterion, Goals, Messages, Period, ReportedTime, Spec, label
+from turtlectl.cli.verify.spec import Criterion, Messages, NoErrors, Period, RoundTrip, Spec, label
 
 
 def _arrivals(client: Client, key: str, count: int, within: float) -> list[tuple[float, float | None]]:
@@ -107,38 +108,6 @@ def _period(client: Client, c: Period) -> Verdict:
     return Verdict(label(c), required, measured, within >= c.share, why)
 
 
-def _goals(client: Client, c: Goals | ReportedTime) -> Verdict:
-    worst_time, worst_distance, worst_gap, problems = 0.0, 0.0, 0.0, []
-    for x, y, theta in c.goals:
-        started = time.monotonic()
-        try:
-            response = client.goto(x, y, theta, timeout=max(c.within_s * 5, 30.0))
-        except TurtlectlError as exc:
-            problems.append(f"({x:g}, {y:g}): {exc.message}")
-            continue
-        elapsed = time.monotonic() - started
-        worst_time = max(worst_time, elapsed)
-        worst_gap = max(worst_gap, abs(elapsed - response.time_taken))
-        if not response.success:
-            problems.append(f"({x:g}, {y:g}) not reached: {response.reason}")
-        if isinstance(c, Goals):
-            distance = math.hypot(response.x - x, response.y - y)
-            worst_distance = max(worst_distance, distance)
-            if elapsed > c.within_s:
-                problems.append(f"({x:g}, {y:g}) took {elapsed:.2f} s, {elapsed - c.within_s:.2f} s too long")
-            if distance > c.distance_m:
-                problems.append(f"({x:g}, {y:g}) ended {distance:.3f} m away")
-        elif abs(elapsed - response.time_taken) > c.within_s:
-            problems.append(f"({x:g}, {y:g}) reported {response.time_taken:.3f} s, the client measured {elapsed:.3f} s")
-    if isinstance(c, Goals):
-        required = f"each within {c.within_s:g} s, {c.distance_m:g} m"
-        measured = f"slowest {worst_time:.2f} s, farthest {worst_distance:.3f} m"
-    else:
-        required = f"|time_taken - client's time| <= {c.within_s:g} s"
-        measured = f"largest gap {worst_gap:.3f} s"
-    return Verdict(label(c), required, measured, not problems, "; ".join(problems))
-
-
 def _messages(client: Client, c: Messages) -> Verdict:
     before = {n.name: n.pid for n in client.nodes()}
     times = _arrivals(client, c.key, c.count, c.within_s)
@@ -159,19 +128,29 @@ def _messages(client: Client, c: Messages) -> Verdict:
     )
 
 
-def criterion(client: Client, c: Criterion) -> Verdict:
+def criterion(
+    client: Client, c: Criterion, short: float | None = None, progress: Callable[[str], None] = lambda _: None
+) -> Verdict:
+    """One criterion measured (``short``: s, the longest a long one may run; None: its full time)."""
     if isinstance(c, Period):
         return _period(client, c)
     if isinstance(c, Messages):
         return _messages(client, c)
-    return _goals(client, c)
+    if isinstance(c, NoErrors):
+        return running.no_errors(client, c, short, progress)
+    if isinstance(c, RoundTrip):
+        return running.round_trip(client, c)
+    return goals(client, c)
 
 
-def verify(client: Client, spec: Spec, progress: Callable[[str], None] = lambda _: None) -> list[Verdict]:
-    """Every interface and criterion of ``spec``, measured in the spec's order."""
+def verify(
+    client: Client, spec: Spec, progress: Callable[[str], None] = lambda _: None, short: float | None = None
+) -> list[Verdict]:
+    """Every interface and criterion of ``spec``, measured in the spec's order (``short``: s,
+    the longest a long criterion may run, and its verdict says so; None: their full time)."""
     progress("interfaces")
     out = interfaces(client, spec)
     for c in spec.criterion:
         progress(label(c))
-        out.append(criterion(client, c))
+        out.append(criterion(client, c, short, progress))
     return out

@@ -2,7 +2,11 @@
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import msgspec
+
+from turtlectl.cli.errors import BadInput
 
 
 class Verdict(msgspec.Struct):
@@ -36,3 +40,29 @@ def table(verdicts: list[Verdict]) -> str:
 
 def as_json(verdicts: list[Verdict]) -> str:
     return msgspec.json.encode({"ok": all(v.ok for v in verdicts), "verdicts": verdicts}).decode()
+
+
+def junit(suite: str, verdicts: list[Verdict]) -> str:
+    """The verdicts as a JUnit XML report: one testcase per line of the table, a failing one
+    with its reason (what CI systems show as test results)."""
+    from xml.etree import ElementTree as ET
+
+    failures = sum(not v.ok for v in verdicts)
+    root = ET.Element("testsuites", tests=str(len(verdicts)), failures=str(failures))
+    cases = ET.SubElement(root, "testsuite", name=suite, tests=str(len(verdicts)), failures=str(failures))
+    for v in verdicts:
+        case = ET.SubElement(cases, "testcase", classname="turtlectl.verify", name=v.what)
+        ET.SubElement(case, "system-out").text = f"required: {v.required}\nmeasured: {v.measured}"
+        if not v.ok:
+            ET.SubElement(
+                case, "failure", message=v.why or "does not hold"
+            ).text = f"required: {v.required}; measured: {v.measured}"
+    return ET.tostring(root, encoding="unicode", xml_declaration=True)
+
+
+def write_junit(path: Path, suite: str, verdicts: list[Verdict]) -> None:
+    """``junit`` written to ``path`` (BadInput, exit 2, if it cannot be)."""
+    try:
+        path.write_text(junit(suite, verdicts) + "\n")
+    except OSError as exc:
+        raise BadInput(f"--junit {path}: cannot write: {exc.strerror or exc}") from None

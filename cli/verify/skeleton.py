@@ -20,8 +20,10 @@ from turtlectl.cli.verify.spec import Spec
 WINDOW = 2.0
 #: the fewest messages a period is measured from (a slower topic gets no period)
 LEAST = 4
-#: a topic's tolerance, as a share of its period
+#: a topic's tolerance, as a share of its period, and at least FLOOR ms (a 62.5 Hz pose's
+#: 1.6 ms would fail on the scheduling of a busy machine: the skeleton is a start to edit)
 TOLERANCE = 0.1
+FLOOR = 5.0
 
 
 def period_of(times: list[tuple[float, float | None]]) -> tuple[float, float] | None:
@@ -37,7 +39,7 @@ def period_of(times: list[tuple[float, float | None]]) -> tuple[float, float] | 
     if mean <= 0:
         return None
     period = document.rounded_period(mean)
-    return period, max(0.01, round(period * TOLERANCE, 2))
+    return period, max(FLOOR, round(period * TOLERANCE, 2))
 
 
 def measure(client: Client, seconds: float = WINDOW) -> tuple[Graph, dict[str, tuple[float, float]]]:

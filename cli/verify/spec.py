@@ -12,6 +12,7 @@ from typing import Literal
 import msgspec
 
 from turtlectl.cli.errors import BadInput
+from turtlectl.runtime.loader import suggestion
 from turtlectl.runtime.params import validation_parts
 
 
@@ -34,7 +35,7 @@ class TopicSpec(_Item):
     key: str
     type: str
     publisher: str = ""  # the node that must publish it ("": any)
-    period_ms: float | None = None  # its period at a subscriber, when it has one
+    period_ms: float | None = None  # its mean published period, ms, when it has one
     tolerance_ms: float = 10.0
 
 
@@ -63,13 +64,24 @@ class Period(_Check, tag="period", kw_only=True):
     at: Literal["publisher", "subscriber"] = "publisher"
 
 
+Pose = tuple[float, float, float]
+
+
 class Goals(_Check, tag="goal", kw_only=True):
     """Each goal (x m, y m, theta degrees) is reached within ``within_s`` of the call, the
-    response's pose within ``distance_m`` of it."""
+    response's pose within ``distance_m`` of it (and, with ``heading_deg``, its heading within
+    that many degrees).  ``start``: the turtle is teleported there (x m, y m, theta degrees)
+    before each goal.  ``random``: that many more goals drawn with ``seed`` in ``area``
+    (x_min, y_min, x_max, y_max, m; the same goals for the same seed)."""
 
-    goals: list[tuple[float, float, float]]
+    goals: list[Pose] = []
     within_s: float
     distance_m: float
+    heading_deg: float | None = None
+    start: Pose | None = None
+    random: int = 0
+    seed: int = 0
+    area: tuple[float, float, float, float] = (1.0, 1.0, 10.0, 10.0)
 
 
 class Messages(_Check, tag="messages", kw_only=True):
@@ -83,11 +95,34 @@ class Messages(_Check, tag="messages", kw_only=True):
 class ReportedTime(_Check, tag="reported_time", kw_only=True):
     """A goal's reported ``time_taken`` is within ``within_s`` of the client's own clock."""
 
-    goals: list[tuple[float, float, float]]
+    goals: list[Pose]
     within_s: float
 
 
-Criterion = Period | Goals | Messages | ReportedTime
+class NoErrors(_Check, tag="no_errors", kw_only=True):
+    """``node`` (every node when empty) runs ``minutes`` without errors: alive throughout, the
+    same process (no crash, no respawn), and no log record at ERROR or worse meanwhile.  A long
+    one: ``verify --short S`` runs it S seconds, and the table says so."""
+
+    node: str = ""
+    minutes: float
+
+
+class RoundTrip(_Check, tag="round_trip", kw_only=True):
+    """Every message type on ``keys`` (every published topic when empty) round-trips: a live
+    message decodes strictly as its described type, and encoding it and decoding it again gives
+    the same message.  Each key must have a message within ``within_s``."""
+
+    keys: list[str] = []
+    within_s: float = 5.0
+
+
+Criterion = Period | Goals | Messages | ReportedTime | NoErrors | RoundTrip
+#: each check by its name in a spec file
+CHECKS: dict[str, type[_Check]] = {
+    c.__struct_config__.tag: c  # type: ignore[misc]
+    for c in (Period, Goals, Messages, ReportedTime, NoErrors, RoundTrip)
+}
 
 
 class Spec(_Item):
@@ -106,11 +141,40 @@ def parse_spec(text: str, source: str) -> Spec:
     except tomllib.TOMLDecodeError as exc:
         raise SpecError(f"{source}: not valid TOML: {exc}") from None
     try:
-        return msgspec.convert(data, Spec, strict=True)
+        spec = msgspec.convert(data, Spec, strict=True)
     except msgspec.ValidationError as exc:
         what, path = validation_parts(exc)
         where = path.removeprefix("$").removeprefix(".")
+        what += _hint(what, where, data)
         raise SpecError(f"{source}: {where}: {what}" if where else f"{source}: {what}") from None
+    for i, c in enumerate(spec.criterion):
+        if isinstance(c, Goals) and not c.goals and c.random <= 0:
+            raise SpecError(f"{source}: criterion[{i}]: no goals (give goals = [[x, y, theta], ...] or random = N)")
+    return spec
+
+
+_TABLES: dict[str, type[msgspec.Struct]] = {"node": NodeSpec, "topic": TopicSpec, "service": ServiceSpec}
+
+
+def _hint(what: str, where: str, data: dict[str, object]) -> str:
+    """``; did you mean X?`` for an unknown key or check name, from the keys allowed there."""
+    table = where.split("[", 1)[0]
+    if table == "criterion" and where.endswith(".check"):
+        bad = what.rsplit("'", 2)[-2] if what.count("'") >= 2 else ""
+        return suggestion(bad, list(CHECKS))
+    if not what.startswith("Object contains unknown field `"):
+        return ""
+    bad = what.split("`")[1]
+    if not where:
+        allowed = [f for f in Spec.__struct_fields__]
+    elif table == "criterion":
+        items = data.get("criterion")
+        index = int(where[len("criterion[") :].split("]")[0])
+        check = items[index].get("check") if isinstance(items, list) and isinstance(items[index], dict) else None
+        allowed = list(CHECKS[check].__struct_fields__) if isinstance(check, str) and check in CHECKS else []
+    else:
+        allowed = list(_TABLES[table].__struct_fields__) if table in _TABLES else []
+    return suggestion(bad, [a for a in allowed if a != "check"])
 
 
 def load_spec(path: Path) -> Spec:
@@ -128,7 +192,12 @@ def label(criterion: Criterion) -> str:
     if isinstance(criterion, Period):
         return f"{criterion.key} every {criterion.period_ms:g} ± {criterion.tolerance_ms:g} ms"
     if isinstance(criterion, Goals):
-        return f"{len(criterion.goals)} goals within {criterion.within_s:g} s and {criterion.distance_m:g} m"
+        count = len(criterion.goals) + criterion.random
+        return f"{count} goals within {criterion.within_s:g} s and {criterion.distance_m:g} m"
     if isinstance(criterion, Messages):
         return f"{criterion.count} messages on {criterion.key}, every node alive"
+    if isinstance(criterion, NoErrors):
+        return f"{criterion.node or 'every node'} runs {criterion.minutes:g} min without errors"
+    if isinstance(criterion, RoundTrip):
+        return f"message types round-trip on {', '.join(criterion.keys) if criterion.keys else 'every topic'}"
     return f"time_taken within {criterion.within_s:g} s of the client's clock"

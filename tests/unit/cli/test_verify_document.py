@@ -112,3 +112,11 @@ def test_a_skeleton_from_the_graph_and_its_periods():
     assert parse_spec(text, "skeleton") == spec
     assert 'intent = "TODO: what the system is for"\nnon_goals = []\n' in text
     assert '[[criterion]]\ncheck = "period"\nkey = "pose"\nperiod_ms = 16.0\ntolerance_ms = 1.6\n' in text
+
+
+def test_a_measured_period_gets_a_tolerance_of_10_percent_at_least_5_ms():
+    from turtlectl.cli.verify.skeleton import period_of
+
+    assert period_of([(i * 0.1, i * 0.1) for i in range(10)]) == (100.0, 10.0)
+    assert period_of([(i * 0.016, i * 0.016) for i in range(10)]) == (16.0, 5.0)
+    assert period_of([(0.0, 0.0), (0.1, 0.1)]) is None  # too few to say

@@ -80,3 +80,77 @@ def test_a_period_is_timed_by_the_publishers_stamps_unless_asked_for_arrivals():
             'intent = "x"\n[[criterion]]\ncheck = "period"\nkey = "k"\nperiod_ms = 1\ntolerance_ms = 1\nat = "both"\n',
             "f.toml",
         )
+
+
+def test_seeded_goals_are_the_same_for_the_same_seed_and_in_their_area():
+    from turtlectl.cli.verify.goals import goal_list, heading_error
+
+    text = 'intent = "x"\n[[criterion]]\ncheck = "goal"\ngoals = [[1, 2, 3]]\nrandom = 5\nseed = 7\narea = [2, 3, 4, 5]\nwithin_s = 2\ndistance_m = 0.2\nheading_deg = 1\n'
+    c = parse_spec(text, "f.toml").criterion[0]
+    goals = goal_list(c)  # type: ignore[arg-type]
+    assert goals[0] == (1.0, 2.0, 3.0) and len(goals) == 6 and goal_list(c) == goals  # type: ignore[arg-type]
+    assert all(2 <= x <= 4 and 3 <= y <= 5 and 0 <= t <= 360 for x, y, t in goals[1:])
+    other = parse_spec(text.replace("seed = 7", "seed = 8"), "f.toml").criterion[0]
+    assert goal_list(other)[1:] != goals[1:]  # type: ignore[arg-type]
+    assert heading_error(359.0, 1.0) == pytest.approx(2.0) and heading_error(90.0, 270.0) == pytest.approx(180.0)
+
+
+def test_a_long_criterion_runs_its_full_time_unless_shortened_and_says_so():
+    from turtlectl.cli.verify.running import _duration
+    from turtlectl.cli.verify.spec import NoErrors
+
+    c = NoErrors(node="navigator", minutes=5)
+    assert _duration(c, None) == (300.0, "")
+    assert _duration(c, 600) == (300.0, "")
+    assert _duration(c, 30) == (30.0, "; shortened to 30 s (--short)")
+
+
+@pytest.mark.parametrize(
+    ("text", "error"),
+    [
+        (
+            'intent = "x"\n[[criterion]]\ncheck = "no_error"\n',
+            "criterion[0].check: Invalid value 'no_error'; did you mean no_errors?",
+        ),
+        (
+            'intent = "x"\n[[criterion]]\ncheck = "no_errors"\nnode = "a"\nminute = 5\n',
+            "criterion[0]: Object contains unknown field `minute`; did you mean minutes?",
+        ),
+        (
+            'intent = "x"\n[[criterion]]\ncheck = "round_trip"\nkey = ["a"]\n',
+            "criterion[0]: Object contains unknown field `key`; did you mean keys?",
+        ),
+        (
+            'intent = "x"\n[[topic]]\nkey = "a"\ntype = "T"\nperiod = 3\n',
+            "topic[0]: Object contains unknown field `period`; did you mean period_ms?",
+        ),
+        ('intent = "x"\nnon_goal = []\n', "f.toml: Object contains unknown field `non_goal`; did you mean non_goals?"),
+        (
+            'intent = "x"\n[[criterion]]\ncheck = "goal"\nwithin_s = 2.0\ndistance_m = 0.2\n',
+            "criterion[0]: no goals (give goals = [[x, y, theta], ...] or random = N)",
+        ),
+        (
+            'intent = "x"\n[[criterion]]\ncheck = "goal"\ngoals = [[1, 2]]\nwithin_s = 2.0\ndistance_m = 0.2\n',
+            "criterion[0].goals[0]: Expected `array` of length 3",
+        ),
+    ],
+)
+def test_a_mistake_names_its_key_and_the_nearest_allowed(text, error):
+    with pytest.raises(SpecError) as caught:
+        parse_spec(text, "f.toml")
+    assert error in str(caught.value)
+    assert exit_code(caught.value) == ExitCode.BAD_INPUT
+
+
+def test_the_junit_report_parses_with_one_case_per_verdict_and_the_reasons():
+    from xml.etree import ElementTree as ET
+
+    from turtlectl.cli.verify.report import junit
+
+    verdicts = [Verdict("a", "r", "m", True), Verdict("b <&>", "r2", "m2", False, "too slow by 1 s")]
+    root = ET.fromstring(junit("spec.toml", verdicts))
+    suite = root.find("testsuite")
+    assert suite is not None and suite.get("tests") == "2" and suite.get("failures") == "1"
+    cases = suite.findall("testcase")
+    assert [c.get("name") for c in cases] == ["a", "b <&>"]
+    assert cases[0].find("failure") is None and cases[1].find("failure").get("message") == "too slow by 1 s"  # type: ignore[union-attr]
