@@ -147,7 +147,9 @@ class Driver:
             break
         if self.track is None:
             cmd = self._law(pose)
-            self.phase = cmd.phase
+            # close in the law may change the direction (back up, never turn round): it holds from
+            # then on, so an overshoot beyond `near` is backed out of, not turned round for
+            self.phase, self.direction = cmd.phase, cmd.direction
             if self.stopping and at_rest(pose) and self._within_tolerances(pose):
                 # at rest, and no command but a stop on its way to the simulator: it stays here
                 return Arrived(self._said())

@@ -1,10 +1,15 @@
-"""Issue 26 (a first part): `turtlectl verify` checks a system against a specification file:
-the capstone's passes on the default system it launches; a status monitor slowed with
-`param set` fails the period criterion, with the reason; JSON parses; no system is exit 3."""
+"""Issue 26: `turtlectl verify` checks a system against a specification file: the capstone's
+passes on the default system it launches (criterion 5 shortened); each kind of criterion fails,
+with its reason, on a system made to miss it (a status monitor slowed with `param set`; a user's
+own navigator that takes 3 s, misreports its time and logs errors; a key nobody publishes; a
+payload that is not its type); JSON and JUnit parse; no system is exit 3."""
 
 from __future__ import annotations
 
 import json
+import textwrap
+import threading
+from xml.etree import ElementTree as ET
 
 import pytest
 
@@ -25,13 +30,27 @@ samples = 20
 def test_the_capstone_spec_passes_on_the_default_system(tmp_path):
     import subprocess
 
+    junit = tmp_path / "verify.xml"
     done = subprocess.run(
-        [*turtlectl(), "verify", str(ROOT / "docs" / "capstone.toml"), "--launch", str(ROOT / "launch.toml")],
+        [
+            *turtlectl(),
+            "verify",
+            str(ROOT / "docs" / "capstone.toml"),
+            "--launch",
+            str(ROOT / "launch.toml"),
+            "--short",
+            "5",
+            "--junit",
+            str(junit),
+        ],
         capture_output=True,
         text=True,
         timeout=300,
     )
     assert "measuring: 2. status messages every 100 ms" in done.stderr
+    assert "5 min alive, same process, no ERROR records; shortened to 5 s (--short)" in done.stdout, done.stdout
+    cases = ET.parse(junit).getroot().findall("testsuite/testcase")
+    assert len(cases) == 9 and cases[-1].get("name", "").startswith("every message type"), done.stdout
     # Every check holds; criterion 1's 2 s (1.76 s typical here) once measured 2.83 s on a loaded CI
     # machine: a time only, then, with the goal reached (test_criterion_1 holds the 2 s strictly)
     failed = [line for line in done.stdout.splitlines() if line.endswith("FAIL")]
@@ -39,7 +58,8 @@ def test_the_capstone_spec_passes_on_the_default_system(tmp_path):
         assert "s too long" in done.stdout and "farthest 0.0" in done.stdout, done.stdout
         return
     assert done.returncode == 0, done.stdout + done.stderr
-    assert done.stdout.splitlines()[-1] == "7 of 7 hold", done.stdout
+    assert done.stdout.splitlines()[-1] == "9 of 9 hold", done.stdout
+    assert all(case.find("failure") is None for case in cases)
 
 
 def test_a_slowed_status_monitor_fails_the_period_with_its_reason(tmp_path):
@@ -63,3 +83,129 @@ def test_no_system_is_exit_3(tmp_path):
         [*turtlectl(), "verify", str(spec), "--connect", f"tcp/127.0.0.1:{free_port()}"], capture_output=True, text=True
     )
     assert done.returncode == 3 and "no turtlectl system" in done.stderr, done.stderr
+
+
+#: a user's own navigator in place of ours: takes 3 s a goal, reports 0.5 s, logs an error a second
+SLOW_NAVIGATOR = """
+import time
+
+import msgspec
+
+from turtlectl import Interface
+from turtlectl.messages import NavigateToRequest, NavigateToResponse
+
+
+class SlowNavigator:
+    Params = msgspec.defstruct("SlowParams", [("delay", float, 3.0)], forbid_unknown_fields=True)
+    Interface = Interface(serves=("navigate_to",))
+
+    def __init__(self, node):
+        self.node = node
+        self.pending = []
+        node.serve("navigate_to", NavigateToRequest, NavigateToResponse, self.goal)
+        node.timer(0.05, self.tick)
+        node.timer(1.0, lambda: node.log.error("wheel encoder lost"))
+
+    def goal(self, request):
+        self.pending.append((time.monotonic() + self.node.params.delay, request))
+
+    def tick(self):
+        for due, request in list(self.pending):
+            if time.monotonic() >= due:
+                self.pending.remove((due, request))
+                goal = request.body
+                request.respond(NavigateToResponse(success=True, time_taken=0.5, x=goal.x, y=goal.y, theta=goal.theta))
+"""
+
+USER_SYSTEM = """
+[[node]]
+name = "sim"
+run = "sim"
+
+[[node]]
+name = "status_monitor"
+run = "status_monitor"
+
+[[node]]
+name = "navigator"
+run = "./slow_navigator.py:SlowNavigator"
+"""
+
+EVERY_KIND = textwrap.dedent(
+    """
+    intent = "the capstone's criteria, one of each kind"
+
+    [[criterion]]
+    check = "goal"
+    goals = [[6.5, 5.5, 90.0]]
+    within_s = 2.0
+    distance_m = 0.2
+
+    [[criterion]]
+    check = "reported_time"
+    goals = [[6.0, 5.0, 0.0]]
+    within_s = 0.1
+
+    [[criterion]]
+    check = "no_errors"
+    node = "navigator"
+    minutes = 5
+
+    [[criterion]]
+    check = "messages"
+    key = "nobody/publishes"
+    count = 3
+    within_s = 2
+
+    [[criterion]]
+    check = "round_trip"
+    keys = ["robot/status", "junk/state"]
+    within_s = 2
+
+    [[criterion]]
+    check = "period"
+    key = "robot/status"
+    period_ms = 100
+    tolerance_ms = 10
+    samples = 20
+    """
+)
+
+
+def test_each_kind_of_criterion_fails_with_its_reason_on_a_system_made_to_miss_it(tmp_path):
+    """A user's navigator that takes 3 s fails "goal within 2 s" with the time measured; its
+    reported 0.5 s fails reported_time; its error a second fails no_errors (shortened, and said
+    so); a key nobody publishes fails messages; a payload that is not its type fails round_trip;
+    the status monitor's period still holds.  The JUnit report has one failure per miss."""
+    (tmp_path / "slow_navigator.py").write_text(SLOW_NAVIGATOR)
+    (tmp_path / "launch.toml").write_text(USER_SYSTEM)
+    spec = tmp_path / "spec.toml"
+    spec.write_text(EVERY_KIND)
+    junit = tmp_path / "out.xml"
+    with running_system(tmp_path / "launch.toml", ready=("sim", "status_monitor", "navigator"), cwd=tmp_path) as system:
+        stop = threading.Event()
+
+        def junk() -> None:  # a TurtleStatus that is not one, 10 times a second
+            while not stop.wait(0.1):
+                system.session.put("junk/state", b"not msgpack", encoding="application/msgpack;TurtleStatus")
+
+        feeder = threading.Thread(target=junk, daemon=True)
+        feeder.start()
+        try:
+            done = system.run_cli("verify", str(spec), "--short", "3", "--junit", str(junit), timeout=180)
+        finally:
+            stop.set()
+            feeder.join()
+    out = done.stdout
+    assert done.returncode == 1, out + done.stderr
+    rows = {line.split("  ")[0]: line for line in out.splitlines()}
+    assert rows["1 goals within 2 s and 0.2 m"].endswith("FAIL") and "(6.5, 5.5) took 3.0" in out, out
+    assert "s too long" in out
+    assert "(6, 5) reported 0.500 s, the client measured 3.0" in out
+    assert "shortened to 3 s (--short)" in out and "navigator logged " in out and "wheel encoder lost" in out
+    assert "only 0 of 3 messages within 2 s" in out
+    assert "junk/state: none decoded; " in out and "skipped, the last: " in out
+    assert rows["robot/status every 100 ± 10 ms"].endswith("ok"), out
+    assert out.splitlines()[-1] == "1 of 6 hold; 5 fail", out
+    suite = ET.parse(junit).getroot().find("testsuite")
+    assert suite is not None and suite.get("failures") == "5" and suite.get("tests") == "6"

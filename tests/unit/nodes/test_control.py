@@ -41,7 +41,7 @@ def drive(start: TurtleState, goal: tuple[float, float, float], max_time: float 
     trace = []
     while t < max_time:
         cmd = step_law(s, target, phase, direction)
-        phase = cmd.phase
+        phase, direction = cmd.phase, cmd.direction  # as the driver keeps them
         if phase is Phase.DONE:
             return s, t, trace
         v, w = effective_command(cmd.linear, cmd.angular, 0.0, LIMITS)
@@ -161,3 +161,34 @@ def test_resting_pose_is_where_the_simulator_brakes_to_after_lag_steps_of_the_ol
     assert abs(wrap_angle(rest.theta - s.theta)) <= 1e-9
     # the position follows the heading as it turns; the prediction keeps the present heading
     assert math.hypot(rest.x - s.x, rest.y - s.y) <= (1e-9 if w == 0.0 else 0.1 * abs(v))
+
+
+def drive_late(start: TurtleState, goal: tuple[float, float, float], late_at: int, late: int) -> float:
+    """``drive``'s loop, but the law misses ``late`` steps from step ``late_at`` on (a busy
+    machine: the simulator keeps the last command): the time (s) to arrive."""
+    s, phase, t, k = start, Phase.POSITION, 0.0, 0
+    target = Pose2D(*goal)
+    direction = choose_direction(s, target, LIMITS)
+    cmd = None
+    while t < 10.0:
+        if cmd is None or not late_at <= k < late_at + late:
+            cmd = step_law(s, target, phase, direction)
+            phase, direction = cmd.phase, cmd.direction
+            if phase is Phase.DONE:
+                return t
+        v, w = effective_command(cmd.linear, cmd.angular, 0.0, LIMITS)
+        s = step(s, *accelerate(s, v, w, STEP, LIMITS), STEP, TURTLESIM_SIZE)
+        t, k = t + STEP, k + 1
+    raise AssertionError(f"goal {goal} not reached from {start} within 10 s; ended at {s}")
+
+
+@pytest.mark.parametrize("late", [1, 2, 3])
+def test_steps_missed_while_braking_cost_a_fraction_of_a_second(late):
+    """Criterion 1's goal from the spawn (3 m, heading reversed) took 2.83 s, not 1.76 s, now and
+    then on a busy machine: steps missed while braking, an overshoot, then a half turn to drive
+    the goal's first direction again (1.1 s).  Kept as the driver keeps it, the direction taken
+    close in holds: the overshoot is backed out of."""
+    start, goal = TurtleState(x=5.544445, y=5.544445, theta=0.0), (8.5, 5.5, math.pi)
+    on_time = drive_late(start, goal, 0, 0)
+    worst = max(drive_late(start, goal, at, late) for at in range(50, 80))
+    assert worst <= on_time + 0.4, f"{worst:.3f} s with {late} missed step(s), {on_time:.3f} s on time"
