@@ -292,7 +292,7 @@ KEYS: dict[str, tuple[str, str, str, str, str]] = {
     ),
     keys.node_key("<node>"): (
         "queryable",
-        "JSON (application/json): NodeDetails (name, pid, host, start_ns, kind, log_level)",
+        "JSON (application/json): NodeDetails (name, pid, host, start_ns, kind, log_level, errors, last_error)",
         "each node -> anyone",
         "on request",
         "get; `turtlectl/nodes/*` for every node",

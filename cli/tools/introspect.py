@@ -38,6 +38,8 @@ class NodeReport(msgspec.Struct):
     subscribers: list[Endpoint]
     services: list[Endpoint]
     parameters: dict[str, Any]
+    errors: int = 0  # records at ERROR or worse logged since it started
+    last_error: str = ""  # the last one's message
 
 
 def _no_node(node: str, graph: Graph) -> NobodyServes:
@@ -75,6 +77,8 @@ def node_report(connect: str, node: str) -> NodeReport:
         subscribers=[Endpoint(t.key, t.type) for t in graph.topics if node in t.subscribers],
         services=[Endpoint(s.key, s.type) for s in graph.services if node in s.servers],
         parameters=params.fetch(connect, node),
+        errors=details.errors,
+        last_error=details.last_error,
     )
 
 
@@ -89,6 +93,7 @@ def node_text(report: NodeReport) -> str:
     lines = [
         f"{report.name}  kind {report.kind}, pid {report.pid}, host {report.host}, "
         f"up {report.uptime:.1f} s, log level {report.log_level}",
+        *([f"ERRORS {report.errors} logged, the last: {report.last_error}"] if report.errors else []),
         "PUBLISHERS",
         *_rows(report.publishers),
         "SUBSCRIBERS",

@@ -196,6 +196,8 @@ def test_each_kind_of_criterion_fails_with_its_reason_on_a_system_made_to_miss_i
         finally:
             stop.set()
             feeder.join()
+        info = system.run_cli("node", "info", "navigator").stdout  # what no_errors reads
+        assert "ERRORS " in info and "logged, the last: wheel encoder lost" in info, info
     out = done.stdout
     assert done.returncode == 1, out + done.stderr
     rows = {line.split("  ")[0]: line for line in out.splitlines()}
