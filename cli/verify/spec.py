@@ -193,7 +193,7 @@ def label(criterion: Criterion) -> str:
         return f"{criterion.key} every {criterion.period_ms:g} ± {criterion.tolerance_ms:g} ms"
     if isinstance(criterion, Goals):
         count = len(criterion.goals) + criterion.random
-        return f"{count} goals within {criterion.within_s:g} s and {criterion.distance_m:g} m"
+        return f"{count} goal{'s' * (count != 1)} within {criterion.within_s:g} s and {criterion.distance_m:g} m"
     if isinstance(criterion, Messages):
         return f"{criterion.count} messages on {criterion.key}, every node alive"
     if isinstance(criterion, NoErrors):

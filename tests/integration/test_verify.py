@@ -201,7 +201,7 @@ def test_each_kind_of_criterion_fails_with_its_reason_on_a_system_made_to_miss_i
     out = done.stdout
     assert done.returncode == 1, out + done.stderr
     rows = {line.split("  ")[0]: line for line in out.splitlines()}
-    assert rows["1 goals within 2 s and 0.2 m"].endswith("FAIL") and "(6.5, 5.5) took 3.0" in out, out
+    assert rows["1 goal within 2 s and 0.2 m"].endswith("FAIL") and "(6.5, 5.5) took 3.0" in out, out
     assert "s too long" in out
     assert "(6, 5) reported 0.500 s, the client measured 3.0" in out
     assert "shortened to 3 s (--short)" in out and "navigator logged " in out and "wheel encoder lost" in out

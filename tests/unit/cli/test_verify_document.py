@@ -35,11 +35,13 @@ def test_the_capstone_as_markdown_has_its_template_and_numbers():
     assert "Publishers: obstacle_detector\nSubscribers: navigator\n" in text  # the nodes that declare it an input
     assert "### Service: navigate_to\nRequest: NavigateToRequest\n" in text
     checks = [line for line in text.splitlines() if line.startswith("✅ ")]
-    assert len(checks) == len(spec.criterion) == 4
+    assert len(checks) == len(spec.criterion) == 6
     assert "within 2 s" in checks[0] and "0.2 m" in checks[0]
     assert "100 ± 10 ms" in checks[1]
     assert "10 messages on obstacles" in checks[2]
-    assert "0.1 s" in checks[3]
+    assert "navigator runs 5 min without errors" in checks[3]
+    assert "0.1 s" in checks[4]
+    assert "round-trip" in checks[5]
     assert [line for line in text.splitlines() if line.startswith("❌ ")] == [f"❌ {g}" for g in spec.non_goals]
 
 

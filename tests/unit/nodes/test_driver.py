@@ -141,7 +141,6 @@ def test_at_rest_but_not_after_a_stop_it_is_not_arrived():
     assert isinstance(d.step(Pose(x=8.0, y=5.0, theta=0.0), 1.05), Arrived)
 
 
-
 def test_the_direction_taken_close_in_holds_for_the_rest_of_the_goal():
     """Criterion 1's goal (3 m, heading reversed) took 2.83 s instead of 1.76 s now and then on a
     busy machine: a step missed while braking made the turtle overshoot; close in (within
