@@ -29,14 +29,19 @@ def _arrivals(client: Client, key: str, count: int, within: float) -> list[tuple
                 msg = sub.next(timeout=max(0.01, deadline - time.monotonic()))
             except TurtlectlError:
                 break
-            stamp = getattr(msg, "stamp", 0)
-            times.append((time.monotonic(), stamp / 1e9 if isinstance(stamp, int) and stamp > 0 else None))
+            times.append((time.monotonic(), stamp_of(msg)))
     finally:
         sub.undeclare()
     return times
 
 
-def _periods(times: list[tuple[float, float | None]], at: str) -> tuple[list[float], str]:
+def stamp_of(message: object) -> float | None:
+    """When ``message`` was published (s since the epoch), from its ``stamp`` (ns); None without one."""
+    stamp = getattr(message, "stamp", 0)
+    return stamp / 1e9 if isinstance(stamp, int) and stamp > 0 else None
+
+
+def periods_of(times: list[tuple[float, float | None]], at: str) -> tuple[list[float], str]:
     """The periods (ms) between consecutive messages, by the publisher's stamps (``at`` =
     "publisher", when every message has one) or by arrival here; and which it was."""
     stamps = [s for _, s in times if s is not None]
@@ -78,7 +83,7 @@ def interfaces(client: Client, spec: Spec) -> list[Verdict]:
             t.type, t.publisher, found, roles, "nothing publishes or subscribes to it"
         )
         if found is not None and t.period_ms is not None and not problems:
-            periods, how = _periods(_arrivals(client, t.key, 21, 20 * t.period_ms / 1000 + 5), "publisher")
+            periods, how = periods_of(_arrivals(client, t.key, 21, 20 * t.period_ms / 1000 + 5), "publisher")
             if not periods:
                 problems.append("no messages to measure its period")
             else:
@@ -98,7 +103,7 @@ def interfaces(client: Client, spec: Spec) -> list[Verdict]:
 def _period(client: Client, c: Period) -> Verdict:
     times = _arrivals(client, c.key, c.samples + 1, (c.samples + 1) * c.period_ms / 1000 * 2 + 5)
     required = f"{c.share:.0%} of {c.samples} periods within {c.period_ms:g} ± {c.tolerance_ms:g} ms ({c.at})"
-    periods, how = _periods(times, c.at)
+    periods, how = periods_of(times, c.at)
     if len(periods) < c.samples:
         return Verdict(label(c), required, f"{len(periods)} periods", False, f"only {len(times)} messages arrived")
     within = sum(1 for p in periods if abs(p - c.period_ms) <= c.tolerance_ms) / len(periods)

@@ -14,6 +14,7 @@ from turtlectl.cli.errors import BadInput, Unreachable
 from turtlectl.cli.tools.api import Client
 from turtlectl.cli.tools.graph import Graph, without_node_services
 from turtlectl.cli.verify import document
+from turtlectl.cli.verify.checks import periods_of, stamp_of
 from turtlectl.cli.verify.spec import Spec
 
 #: s of messages a period is measured over
@@ -32,9 +33,7 @@ def period_of(times: list[tuple[float, float | None]]) -> tuple[float, float] | 
     every message has one, else between the arrivals; None from fewer than LEAST messages."""
     if len(times) < LEAST:
         return None
-    stamps = [s for _, s in times if s is not None]
-    points = stamps if len(stamps) == len(times) else [t for t, _ in times]
-    gaps = [(b - a) * 1000 for a, b in zip(points, points[1:], strict=False)]
+    gaps, _ = periods_of(times, "publisher")
     mean = statistics.fmean(gaps)
     if mean <= 0:
         return None
@@ -54,9 +53,8 @@ def measure(client: Client, seconds: float = WINDOW) -> tuple[Graph, dict[str, t
 
     def recorder(key: str):  # noqa: ANN202 - a callback on Zenoh's thread
         def record(message: object) -> None:
-            stamp = getattr(message, "stamp", 0)
             with lock:
-                seen[key].append((time.monotonic(), stamp / 1e9 if isinstance(stamp, int) and stamp > 0 else None))
+                seen[key].append((time.monotonic(), stamp_of(message)))
 
         return record
 

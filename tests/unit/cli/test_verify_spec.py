@@ -56,16 +56,16 @@ def test_a_period_is_timed_by_the_publishers_stamps_unless_asked_for_arrivals():
     at the subscriber while the publisher kept 100 ms.  ``at = "publisher"`` (the default) times
     the messages' own stamps; "subscriber" the arrivals; a type without stamps is timed on arrival
     and says so."""
-    from turtlectl.cli.verify.checks import _periods
+    from turtlectl.cli.verify.checks import periods_of
 
     stamps = [i * 0.100 for i in range(5)]
     arrivals = [0.001, 0.101, 0.235, 0.301, 0.401]  # the third delivered 34 ms late
     times = list(zip(arrivals, stamps, strict=True))
-    published, how = _periods(times, "publisher")
+    published, how = periods_of(times, "publisher")
     assert published == pytest.approx([100.0] * 4) and how == "published"
-    arrived, how = _periods(times, "subscriber")
+    arrived, how = periods_of(times, "subscriber")
     assert arrived == pytest.approx([100.0, 134.0, 66.0, 100.0]) and how == "arrived"
-    unstamped, how = _periods([(t, None) for t in arrivals], "publisher")
+    unstamped, how = periods_of([(t, None) for t in arrivals], "publisher")
     assert unstamped == pytest.approx(arrived) and how == "arrived: its messages have no stamp"
     assert (
         parse_spec(
