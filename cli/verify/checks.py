@@ -9,7 +9,7 @@ import statistics
 import time
 from collections.abc import Callable
 
-from turtlectl.cli.errors import TurtlectlError
+from turtlectl.cli.errors import TurtlectlError, Unreachable
 from turtlectl.cli.tools.api import Client
 from turtlectl.cli.verify import running
 from turtlectl.cli.verify.goals import goals
@@ -121,6 +121,8 @@ def _messages(client: Client, c: Messages) -> Verdict:
     problems = []
     if len(times) < c.count:
         problems.append(f"only {len(times)} of {c.count} messages within {c.within_s:g} s")
+        if not any(t.key == c.key and t.publishers for t in client.topics()):
+            problems.append(f"nothing publishes {c.key}")
     if lost:
         problems.append(f"{', '.join(lost)} died or restarted meanwhile")
     required = f"{c.count} messages, the same {len(before)} node processes"
@@ -153,6 +155,9 @@ def verify(
 ) -> list[Verdict]:
     """Every interface and criterion of ``spec``, measured in the spec's order (``short``: s,
     the longest a long criterion may run, and its verdict says so; None: their full time)."""
+    nodes = client.nodes()
+    if not nodes:
+        raise Unreachable(f"no nodes are running at {client.connect}: nothing to verify")
     progress("interfaces")
     out = interfaces(client, spec)
     for c in spec.criterion:

@@ -179,16 +179,17 @@ def skeleton(graph: Graph, periods: dict[str, tuple[float, float]]) -> Spec:
     and puts out (keys it publishes), each published topic with its type, its publisher
     (when there is one) and its period, each service with its request type and server, a
     period criterion for each measured topic, no non-goals."""
-    topics = [t for t in graph.topics if t.publishers]
+    used = [t for t in graph.topics if not t.key.startswith("turtlectl/")]  # not the runtime's own (parameter events)
+    topics = [t for t in used if t.publishers]
     nodes = [
         NodeSpec(
             name=n.name,
             purpose=PURPOSE_PLACEHOLDER,
             inputs=sorted(
-                {t.key for t in graph.topics if n.name in t.subscribers}
+                {t.key for t in used if n.name in t.subscribers}
                 | {s.key for s in graph.services if n.name in s.servers}
             ),
-            outputs=sorted(t.key for t in graph.topics if n.name in t.publishers),
+            outputs=sorted(t.key for t in used if n.name in t.publishers),
         )
         for n in sorted(graph.nodes, key=lambda n: n.name)
     ]

@@ -38,6 +38,7 @@ def heading_error(a: float, b: float) -> float:
 
 def goals(client: Client, c: Goals | ReportedTime) -> Verdict:
     worst_time, worst_distance, worst_heading, worst_gap, problems = 0.0, 0.0, 0.0, 0.0, []
+    answered = 0
     for x, y, theta in goal_list(c):
         try:
             if isinstance(c, Goals) and c.start is not None:
@@ -49,6 +50,7 @@ def goals(client: Client, c: Goals | ReportedTime) -> Verdict:
             problems.append(f"({x:g}, {y:g}): {exc.message}")
             continue
         elapsed = time.monotonic() - started
+        answered += 1
         worst_time = max(worst_time, elapsed)
         worst_gap = max(worst_gap, abs(elapsed - response.time_taken))
         if not response.success:
@@ -62,15 +64,16 @@ def goals(client: Client, c: Goals | ReportedTime) -> Verdict:
             if distance > c.distance_m:
                 problems.append(f"({x:g}, {y:g}) ended {distance:.3f} m away")
             if c.heading_deg is not None and heading > c.heading_deg:
-                problems.append(f"({x:g}, {y:g}) ended {heading:.1f} degrees off its heading")
+                problems.append(f"({x:g}, {y:g}) ended {heading:.1f} deg off its heading")
         elif abs(elapsed - response.time_taken) > c.within_s:
             problems.append(f"({x:g}, {y:g}) reported {response.time_taken:.3f} s, the client measured {elapsed:.3f} s")
     if isinstance(c, Goals):
-        heading = "" if c.heading_deg is None else f", {c.heading_deg:g} degrees"
+        heading = "" if c.heading_deg is None else f", {c.heading_deg:g} deg"
         required = f"each within {c.within_s:g} s, {c.distance_m:g} m{heading}"
         measured = f"slowest {worst_time:.2f} s, farthest {worst_distance:.3f} m"
-        measured += "" if c.heading_deg is None else f", {worst_heading:.1f} degrees"
+        measured += "" if c.heading_deg is None else f", {worst_heading:.1f} deg"
+        measured = measured if answered else "no goal answered"
     else:
         required = f"|time_taken - client's time| <= {c.within_s:g} s"
-        measured = f"largest gap {worst_gap:.3f} s"
+        measured = f"largest gap {worst_gap:.3f} s" if answered else "no goal answered"
     return Verdict(label(c), required, measured, not problems, "; ".join(problems))

@@ -79,7 +79,7 @@ def no_errors(
         errors += max(0, new)
         if new > 0:
             problems.append(f"{name} logged {new} error{'s' * (new > 1)} (the last: {now_details.last_error})")
-    measured = f"{time.monotonic() - started:.0f} s, {len(names)} node{'s' * (len(names) > 1)}, {errors} errors"
+    measured = f"{time.monotonic() - started:.0f} s, {len(names)} node{'s' * (len(names) != 1)}, {errors} errors"
     measured += f", {len(events)} stopped or restarted"
     return Verdict(label(c), required, measured, not problems, "; ".join(problems))
 
@@ -121,6 +121,8 @@ def round_trip(client: Client, c: RoundTrip) -> Verdict:
             continue
         if encode(again) != payload:
             problems.append(f"{key}: {kind.__name__} changes on a round trip")
+    if not keys:
+        problems.append("no topic is published")
     required = f"{len(keys)} keys: decode strictly, encode and decode back the same"
     measured = f"{len(types)} types in messages on {received} of {len(keys)} keys"
     measured += f" (silent within {c.within_s:g} s: {', '.join(silent)})" if silent else ""

@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import tomllib
 from pathlib import Path
-from typing import Literal
+from typing import Annotated, Literal
 
 import msgspec
 
@@ -18,6 +18,18 @@ from turtlectl.runtime.params import validation_parts
 
 class SpecError(BadInput):
     """A specification file that cannot be used (exit 2)."""
+
+
+# the ranges a value may take (a share of 95 meant as 95 %, a NaN, a negative time: refused by name)
+Ms = Annotated[float, msgspec.Meta(gt=0.0, le=3_600_000.0)]  # a period, ms
+ToleranceMs = Annotated[float, msgspec.Meta(ge=0.0, le=3_600_000.0)]
+Seconds = Annotated[float, msgspec.Meta(gt=0.0, le=86_400.0)]
+Metres = Annotated[float, msgspec.Meta(gt=0.0, le=1_000_000.0)]
+Degrees = Annotated[float, msgspec.Meta(gt=0.0, le=180.0)]
+Minutes = Annotated[float, msgspec.Meta(gt=0.0, le=10_080.0)]
+Count = Annotated[int, msgspec.Meta(ge=1, le=1_000_000)]
+Share = Annotated[float, msgspec.Meta(gt=0.0, le=1.0)]  # a fraction: 0.95, not 95
+Coordinate = Annotated[float, msgspec.Meta(ge=-1_000_000.0, le=1_000_000.0)]  # m or degrees, finite
 
 
 class _Item(msgspec.Struct, forbid_unknown_fields=True, kw_only=True, frozen=True):
@@ -35,8 +47,8 @@ class TopicSpec(_Item):
     key: str
     type: str
     publisher: str = ""  # the node that must publish it ("": any)
-    period_ms: float | None = None  # its mean published period, ms, when it has one
-    tolerance_ms: float = 10.0
+    period_ms: Ms | None = None  # its mean published period, ms, when it has one
+    tolerance_ms: ToleranceMs = 10.0
 
 
 class ServiceSpec(_Item):
@@ -57,14 +69,14 @@ class Period(_Check, tag="period", kw_only=True):
     arrive at a subscriber here (``at = "subscriber"``: adds the machine's delivery jitter)."""
 
     key: str
-    period_ms: float
-    tolerance_ms: float
-    samples: int = 50
-    share: float = 0.95
+    period_ms: Ms
+    tolerance_ms: ToleranceMs
+    samples: Count = 50
+    share: Share = 0.95
     at: Literal["publisher", "subscriber"] = "publisher"
 
 
-Pose = tuple[float, float, float]
+Pose = tuple[Coordinate, Coordinate, Coordinate]
 
 
 class Goals(_Check, tag="goal", kw_only=True):
@@ -75,28 +87,28 @@ class Goals(_Check, tag="goal", kw_only=True):
     (x_min, y_min, x_max, y_max, m; the same goals for the same seed)."""
 
     goals: list[Pose] = []
-    within_s: float
-    distance_m: float
-    heading_deg: float | None = None
+    within_s: Seconds
+    distance_m: Metres
+    heading_deg: Degrees | None = None
     start: Pose | None = None
-    random: int = 0
+    random: Annotated[int, msgspec.Meta(ge=0, le=10_000)] = 0
     seed: int = 0
-    area: tuple[float, float, float, float] = (1.0, 1.0, 10.0, 10.0)
+    area: tuple[Coordinate, Coordinate, Coordinate, Coordinate] = (1.0, 1.0, 10.0, 10.0)
 
 
 class Messages(_Check, tag="messages", kw_only=True):
     """``count`` messages on ``key`` arrive while every node stays alive (no crash, no respawn)."""
 
     key: str
-    count: int
-    within_s: float = 30.0
+    count: Count
+    within_s: Seconds = 30.0
 
 
 class ReportedTime(_Check, tag="reported_time", kw_only=True):
     """A goal's reported ``time_taken`` is within ``within_s`` of the client's own clock."""
 
-    goals: list[Pose]
-    within_s: float
+    goals: Annotated[list[Pose], msgspec.Meta(min_length=1)]
+    within_s: Seconds
 
 
 class NoErrors(_Check, tag="no_errors", kw_only=True):
@@ -105,7 +117,7 @@ class NoErrors(_Check, tag="no_errors", kw_only=True):
     one: ``verify --short S`` runs it S seconds, and the table says so."""
 
     node: str = ""
-    minutes: float
+    minutes: Minutes
 
 
 class RoundTrip(_Check, tag="round_trip", kw_only=True):
@@ -114,7 +126,7 @@ class RoundTrip(_Check, tag="round_trip", kw_only=True):
     the same message.  Each key must have a message within ``within_s``."""
 
     keys: list[str] = []
-    within_s: float = 5.0
+    within_s: Seconds = 5.0
 
 
 Criterion = Period | Goals | Messages | ReportedTime | NoErrors | RoundTrip
@@ -147,9 +159,15 @@ def parse_spec(text: str, source: str) -> Spec:
         where = path.removeprefix("$").removeprefix(".")
         what += _hint(what, where, data)
         raise SpecError(f"{source}: {where}: {what}" if where else f"{source}: {what}") from None
+    named: dict[str, int] = {}
     for i, c in enumerate(spec.criterion):
         if isinstance(c, Goals) and not c.goals and c.random <= 0:
             raise SpecError(f"{source}: criterion[{i}]: no goals (give goals = [[x, y, theta], ...] or random = N)")
+        if isinstance(c, Goals) and not (c.area[0] < c.area[2] and c.area[1] < c.area[3]):
+            raise SpecError(f"{source}: criterion[{i}].area: not [x_min, y_min, x_max, y_max] with min < max")
+        if c.name and c.name in named:
+            raise SpecError(f"{source}: criterion[{i}].name: {c.name!r} is criterion[{named[c.name]}]'s name too")
+        named.setdefault(c.name, i)
     return spec
 
 
@@ -159,9 +177,9 @@ _TABLES: dict[str, type[msgspec.Struct]] = {"node": NodeSpec, "topic": TopicSpec
 def _hint(what: str, where: str, data: dict[str, object]) -> str:
     """``; did you mean X?`` for an unknown key or check name, from the keys allowed there."""
     table = where.split("[", 1)[0]
-    if table == "criterion" and where.endswith(".check"):
+    if table == "criterion" and where.endswith((".check", ".at")):
         bad = what.rsplit("'", 2)[-2] if what.count("'") >= 2 else ""
-        return suggestion(bad, list(CHECKS))
+        return suggestion(bad, list(CHECKS) if where.endswith(".check") else ["publisher", "subscriber"])
     if not what.startswith("Object contains unknown field `"):
         return ""
     bad = what.split("`")[1]

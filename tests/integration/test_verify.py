@@ -85,6 +85,30 @@ def test_no_system_is_exit_3(tmp_path):
     assert done.returncode == 3 and "no turtlectl system" in done.stderr, done.stderr
 
 
+def test_a_router_without_nodes_is_exit_3_not_a_vacuous_pass(tmp_path):
+    """Found by a new user: against a bare `turtlectl router`, verify ran 27 s and passed
+    no_errors and round_trip on no nodes and no topics (exit 1 for the rest)."""
+    import subprocess
+
+    from tests.integration.harness import Router
+
+    spec = tmp_path / "spec.toml"
+    spec.write_text('intent = "x"\n[[criterion]]\ncheck = "no_errors"\nminutes = 1\n')
+    router = Router()
+    router.start()
+    try:
+        done = subprocess.run(
+            [*turtlectl(), "verify", str(spec), "--short", "1", "--connect", router.endpoint],
+            capture_output=True,
+            text=True,
+            timeout=60,
+        )
+    finally:
+        router.kill()
+    assert done.returncode == 3, done.stdout + done.stderr
+    assert "no nodes are running at" in done.stderr and "nothing to verify" in done.stderr
+
+
 #: a user's own navigator in place of ours: takes 3 s a goal, reports 0.5 s, logs an error a second
 SLOW_NAVIGATOR = """
 import time

@@ -83,6 +83,7 @@ def _graph() -> Graph:
             TopicRow("status", "TurtleStatus", ["monitor"], []),
             TopicRow("events", "ParameterEvent", ["sim", "monitor"], []),
             TopicRow("cmd", "Twist", [], ["sim"]),  # nobody publishes it: not a topic of the spec
+            TopicRow("turtlectl/parameter_events", "ParameterEvent", ["sim", "monitor"], []),  # the runtime's own
         ],
         services=[ServiceRow("reset", "Reset", ["sim", "monitor"]), ServiceRow("teleport", "Teleport", ["sim"])],
     )

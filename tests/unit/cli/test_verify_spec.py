@@ -124,6 +124,34 @@ def test_a_long_criterion_runs_its_full_time_unless_shortened_and_says_so():
             'intent = "x"\n[[topic]]\nkey = "a"\ntype = "T"\nperiod = 3\n',
             "topic[0]: Object contains unknown field `period`; did you mean period_ms?",
         ),
+        (
+            'intent = "x"\n[[criterion]]\ncheck = "period"\nkey = "k"\nperiod_ms = 1\ntolerance_ms = 1\nsamples = 0\n',
+            "criterion[0].samples: Expected `int` >= 1",
+        ),
+        (
+            'intent = "x"\n[[criterion]]\ncheck = "period"\nkey = "k"\nperiod_ms = 1\ntolerance_ms = 1\nshare = 95\n',
+            "criterion[0].share: Expected `float` <= 1.0",
+        ),
+        (
+            'intent = "x"\n[[criterion]]\ncheck = "period"\nkey = "k"\nperiod_ms = 1\ntolerance_ms = 1\nat = "subscribr"\n',
+            "criterion[0].at: Invalid enum value 'subscribr'; did you mean subscriber?",
+        ),
+        (
+            'intent = "x"\n[[criterion]]\ncheck = "goal"\ngoals = [[1, 2, 3]]\nwithin_s = -2\ndistance_m = 0.2\n',
+            "criterion[0].within_s: Expected `float` > 0.0",
+        ),
+        (
+            'intent = "x"\n[[criterion]]\ncheck = "goal"\ngoals = [[nan, 2, 3]]\nwithin_s = 2\ndistance_m = 0.2\n',
+            "criterion[0].goals[0][0]: Expected `float` >= -1000000.0",
+        ),
+        (
+            'intent = "x"\n[[criterion]]\ncheck = "goal"\nrandom = 2\narea = [5, 5, 1, 1]\nwithin_s = 2\ndistance_m = 0.2\n',
+            "criterion[0].area: not [x_min, y_min, x_max, y_max] with min < max",
+        ),
+        (
+            'intent = "x"\n[[criterion]]\ncheck = "messages"\nname = "a"\nkey = "k"\ncount = 1\n[[criterion]]\ncheck = "messages"\nname = "a"\nkey = "k"\ncount = 1\n',
+            "criterion[1].name: 'a' is criterion[0]'s name too",
+        ),
         ('intent = "x"\nnon_goal = []\n', "f.toml: Object contains unknown field `non_goal`; did you mean non_goals?"),
         (
             'intent = "x"\n[[criterion]]\ncheck = "goal"\nwithin_s = 2.0\ndistance_m = 0.2\n',
