@@ -33,6 +33,7 @@ from turtlectl.cli.commands import (
     specification,
     system,
     topics,
+    turtles,
     verify,
 )
 from turtlectl.cli.commands.options import DomainOption
@@ -55,7 +56,7 @@ commands).
 #: the groups of `turtlectl --help`, in order, and their commands in the order listed
 COMMAND_GROUPS: dict[str, tuple[str, ...]] = {
     "System": ("launch", "router", "run", "new", "verify", "spec", "log-level", "certs"),
-    "Goals and driving": ("goto", "cancel", "teleport", "reset", "teleop"),
+    "Goals and driving": ("goto", "cancel", "teleport", "reset", "teleop", "spawn", "kill"),
     "Topics": ("echo", "hz", "pub", "topic"),
     "Services": ("call",),
     "Parameters": ("param",),
@@ -133,7 +134,7 @@ def root(
 
 
 #: the modules of the groups of commands, in COMMAND_GROUPS' order
-GROUPS = (system, driving, topics, services, parameters, introspection, recording, verify, specification)
+GROUPS = (system, driving, turtles, topics, services, parameters, introspection, recording, verify, specification)
 for group in GROUPS:
     group.register(app)
 

@@ -18,6 +18,7 @@ import msgspec
 from turtlectl.messages.types import (
     Ack,
     Cancel,
+    Kill,
     LaserScan,
     Message,
     NavigateToFeedback,
@@ -28,20 +29,45 @@ from turtlectl.messages.types import (
     Reset,
     SetLogLevel,
     SetParameter,
+    SpawnRequest,
+    SpawnResponse,
     TeleportAbsolute,
+    Turtles,
     TurtleStatus,
     Twist,
 )
 
-CMD_VEL = "turtle1/cmd_vel"
-POSE = "turtle1/pose"
+#: the turtle the simulator starts with (turtlesim's); others are spawned under their own names
+FIRST_TURTLE = "turtle1"
+
+
+def cmd_vel_key(turtle: str) -> str:
+    """Topic on which turtle ``turtle`` takes its velocity commands (Twist)."""
+    return f"{turtle}/cmd_vel"
+
+
+def pose_key(turtle: str) -> str:
+    """Topic on which the simulator publishes turtle ``turtle``'s pose (Pose, every step)."""
+    return f"{turtle}/pose"
+
+
+def teleport_key(turtle: str) -> str:
+    """Service that puts turtle ``turtle`` somewhere else (TeleportAbsolute -> Ack)."""
+    return f"{turtle}/teleport_absolute"
+
+
+CMD_VEL = cmd_vel_key(FIRST_TURTLE)
+POSE = pose_key(FIRST_TURTLE)
 STATUS = "robot/status"
 OBSTACLES = "obstacles"
 NAVIGATE_TO = "navigate_to"
 CANCEL = "navigate_to/cancel"
 FEEDBACK = "navigate_to/feedback"
-TELEPORT = "turtle1/teleport_absolute"
+TELEPORT = teleport_key(FIRST_TURTLE)
 RESET = "reset"
+SPAWN = "spawn"
+KILL = "kill"
+TURTLES = "turtles"  # the simulator: every turtle's name and pose
 PARAMETER_EVENTS = "turtlectl/parameter_events"  # every node: a ParameterEvent per change at run time
 
 TOPICS: dict[str, type[Message]] = {
@@ -51,6 +77,7 @@ TOPICS: dict[str, type[Message]] = {
     OBSTACLES: LaserScan,
     FEEDBACK: NavigateToFeedback,
     PARAMETER_EVENTS: ParameterEvent,
+    TURTLES: Turtles,
 }
 
 SERVICES: dict[str, tuple[type[Message], type[Message]]] = {
@@ -58,6 +85,8 @@ SERVICES: dict[str, tuple[type[Message], type[Message]]] = {
     CANCEL: (Cancel, Ack),
     TELEPORT: (TeleportAbsolute, Ack),
     RESET: (Reset, Ack),  # served by the sim (pose) and the status monitor (battery)
+    SPAWN: (SpawnRequest, SpawnResponse),
+    KILL: (Kill, Ack),
 }
 
 NODE_TOKEN_PREFIX = "@turtlectl/node"
@@ -206,6 +235,9 @@ def service_types(key: str) -> tuple[type[Message], type[Message]] | None:
     if key in SERVICES:
         return SERVICES[key]
     parts = key.split("/")
+    if len(parts) == 2 and parts[1] == "teleport_absolute" and parts[0] not in ("", "*", "**"):
+        return TeleportAbsolute, Ack  # any turtle's
+
     if len(parts) == 4 and parts[0] == "turtlectl" and parts[2]:
         if (parts[1], parts[3]) == ("params", "set"):
             return SetParameter, Ack

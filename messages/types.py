@@ -215,7 +215,44 @@ class TeleportAbsolute(Message, tag="TeleportAbsolute"):
 
 
 class Reset(Message, tag="Reset"):
-    """Request to ``reset``: the turtle back to its spawn pose, the battery full."""
+    """Request to ``reset``, as turtlesim's: turtle1 back at its spawn pose (made again if it
+    was killed), every other turtle removed, the battery full."""
+
+
+class SpawnRequest(Message, tag="SpawnRequest"):
+    """Request to ``spawn``, as turtlesim's: a new turtle at x, y (m) facing theta (rad), named
+    ``name`` (empty: the first free ``turtleN``).  Its keys are under its name:
+    ``<name>/cmd_vel``, ``<name>/pose``, ``<name>/teleport_absolute``."""
+
+    x: float
+    y: float
+    theta: float
+    name: str = ""
+
+
+class SpawnResponse(Message, tag="SpawnResponse"):
+    """Answer of ``spawn``: the new turtle's name."""
+
+    name: str
+
+
+class Turtles(Message, tag="Turtles"):
+    """Every turtle in the world, as the simulator publishes them on ``turtles`` (every 4th
+    step: 15.6 Hz): ``names[i]`` is at ``x[i]``, ``y[i]`` (m) facing ``theta[i]`` (rad).  Each is
+    solid to the others (``World.turtle_radius``) and seen by their scans."""
+
+    names: list[str]
+    x: list[float]
+    y: list[float]
+    theta: list[float]
+    stamp: int = 0
+    seq: int = 0
+
+
+class Kill(Message, tag="Kill"):
+    """Request to ``kill``, as turtlesim's: remove the turtle ``name`` (its keys go with it)."""
+
+    name: str
 
 
 class Ack(Message, tag="Ack"):
@@ -275,6 +312,10 @@ ALL_TYPES: tuple[type[Message], ...] = (
     Cancel,
     TeleportAbsolute,
     Reset,
+    SpawnRequest,
+    SpawnResponse,
+    Turtles,
+    Kill,
     Ack,
     ErrorReply,
     SetParameter,

@@ -27,6 +27,7 @@ class World(msgspec.Struct, frozen=True, forbid_unknown_fields=True, kw_only=Tru
 
     size: Positive = TURTLESIM_SIZE  # m: side of the square world
     obstacles: list[Obstacle] = msgspec.field(default_factory=list)  # -: circles, { x, y, radius } tables
+    turtle_radius: Positive = 0.3  # m: a turtle's size to the others: two turtles' centres stay twice this apart
 
     def contains(self, x: float, y: float) -> bool:
         """True if (x, y), in m, lies inside the world (walls included)."""

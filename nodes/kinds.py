@@ -22,13 +22,18 @@ from turtlectl.messages.keys import (
     CLIENT_TOKEN_PREFIX,
     CMD_VEL,
     FEEDBACK,
+    KILL,
     NAVIGATE_TO,
     OBSTACLES,
     POSE,
     RESET,
+    SPAWN,
     STATUS,
-    TELEPORT,
+    TURTLES,
     WORLD_KEY,
+    cmd_vel_key,
+    pose_key,
+    teleport_key,
 )
 from turtlectl.nodes.params import NavigatorParams, ObstacleDetectorParams, StatusMonitorParams
 from turtlectl.runtime.config import Claim, Interface
@@ -91,7 +96,12 @@ KINDS: dict[str, NodeKind] = {
         "turtlectl.sim.node:Simulator",
         SimParams,
         Claim("pub", POSE),
-        Interface(publishes=(POSE,), subscribes=(CMD_VEL,), serves=(TELEPORT, RESET, WORLD_KEY), calls=(CANCEL,)),
+        Interface(
+            publishes=(pose_key("*"), TURTLES),
+            subscribes=(cmd_vel_key("*"),),
+            serves=(teleport_key("*"), RESET, SPAWN, KILL, WORLD_KEY),
+            calls=(CANCEL,),
+        ),
     ),
     "navigator": _builtin(
         "turtlectl.nodes.navigator:Navigator",
@@ -114,6 +124,6 @@ KINDS: dict[str, NodeKind] = {
         "turtlectl.nodes.obstacle_detector:ObstacleDetector",
         ObstacleDetectorParams,
         Claim("pub", OBSTACLES),
-        Interface(publishes=(OBSTACLES,), subscribes=(POSE,)),
+        Interface(publishes=(OBSTACLES,), subscribes=(POSE, TURTLES)),
     ),
 }

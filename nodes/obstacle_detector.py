@@ -2,7 +2,8 @@
 
 Casts rays from the turtle's pose (``turtle1/pose``, the newest one read at each
 tick: the 62.5 Hz poses in between never wake this process) against the world's
-circles and walls, plus obstacles it is told the world does not declare and
+circles and walls, the other turtles (``turtles``, the newest read at each tick: circles of
+the world's turtle radius), plus obstacles it is told the world does not declare and
 short-lived phantom detections if asked for
 (sim.lidar, numpy), and publishes ``obstacles`` (LaserScan).
 """
@@ -14,8 +15,8 @@ import time
 
 import numpy as np
 
-from turtlectl.messages import LaserScan, Pose
-from turtlectl.messages.keys import OBSTACLES, POSE
+from turtlectl.messages import LaserScan, Pose, Turtles
+from turtlectl.messages.keys import FIRST_TURTLE, OBSTACLES, POSE, TURTLES
 from turtlectl.messages.world import Obstacle, World
 from turtlectl.nodes.params import ObstacleDetectorParams
 from turtlectl.runtime import Node, run_main
@@ -28,6 +29,7 @@ class ObstacleDetector:
         p = node.params
         self.pose: Pose | None = None
         self.latest_pose = node.latest(POSE, Pose)
+        self.latest_turtles = node.latest(TURTLES, Turtles)  # the others are seen too
         self.rng = np.random.default_rng(p.phantom_seed)
         self.phantoms: list[tuple[float, Obstacle]] = []  # (expiry, monotonic s), obstacle
         self.pub = node.publisher(OBSTACLES, LaserScan)
@@ -45,17 +47,28 @@ class ObstacleDetector:
             self.timer.retime(1.0 / p.rate)
 
     def world(self) -> World:
-        """The declared world plus the undeclared obstacles and the phantoms alive now (new
-        ones spawned for this tick)."""
+        """The declared world plus the undeclared obstacles, the phantoms alive now (new ones
+        spawned for this tick) and the other turtles (circles of the turtle radius)."""
         p = self.node.params
-        if p.phantom_rate <= 0 or self.pose is None:
-            return self.seen
-        now = time.monotonic()
-        born = new_phantoms(
-            self.rng, self.pose.x, self.pose.y, p.phantom_rate, 1.0 / p.rate, p.phantom_distance, p.phantom_radius
-        )
-        self.phantoms = [(t, o) for t, o in self.phantoms if t > now] + [(now + p.phantom_lifetime, o) for o in born]
-        return World(size=self.seen.size, obstacles=self.seen.obstacles + [o for _, o in self.phantoms])
+        seen = self.seen.obstacles
+        if p.phantom_rate > 0 and self.pose is not None:
+            now = time.monotonic()
+            born = new_phantoms(
+                self.rng, self.pose.x, self.pose.y, p.phantom_rate, 1.0 / p.rate, p.phantom_distance, p.phantom_radius
+            )
+            self.phantoms = [(t, o) for t, o in self.phantoms if t > now] + [
+                (now + p.phantom_lifetime, o) for o in born
+            ]
+            seen = seen + [o for _, o in self.phantoms]
+        turtles = self.latest_turtles.get()
+        if turtles is not None:
+            r = self.node.world.turtle_radius
+            seen = seen + [
+                Obstacle(x=x, y=y, radius=r)
+                for name, x, y in zip(turtles.names, turtles.x, turtles.y, strict=False)
+                if name != FIRST_TURTLE
+            ]
+        return self.seen if seen is self.seen.obstacles else World(size=self.seen.size, obstacles=seen)
 
     def tick(self) -> None:
         self.pose = self.latest_pose.get()

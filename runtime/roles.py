@@ -4,7 +4,7 @@ supervisor hands a node its interface, the node's runtime (and runtime.fake) ref
 
 * ``viewer``: echo, hz, list, view, record, node/topic info, param get (subscribe to
   everything, read the JSON answers, follow the graph);
-* ``operator``: also goto, cancel, teleport, reset, call, param set, log-level;
+* ``operator``: also goto, cancel, teleport (any turtle), reset, spawn, kill, call, param set, log-level;
 * ``teleop``: also publishes ``turtle1/cmd_vel`` (teleop, pub).
 """
 
@@ -14,9 +14,10 @@ from turtlectl.messages.keys import (
     CANCEL,
     CLIENT_TOKEN_PREFIX,
     CMD_VEL,
+    KILL,
     NAVIGATE_TO,
     RESET,
-    TELEPORT,
+    SPAWN,
     TYPES,
     WORLD_KEY,
     log_level_key,
@@ -24,6 +25,7 @@ from turtlectl.messages.keys import (
     param_describe_key,
     param_set_key,
     params_key,
+    teleport_key,
 )
 from turtlectl.runtime.config import Interface
 
@@ -35,7 +37,17 @@ VIEWER: dict[str, tuple[str, ...]] = {
 }
 OPERATOR: dict[str, tuple[str, ...]] = {
     **VIEWER,
-    "call": (*VIEWER["call"], NAVIGATE_TO, CANCEL, TELEPORT, RESET, param_set_key("*"), log_level_key("*")),
+    "call": (
+        *VIEWER["call"],
+        NAVIGATE_TO,
+        CANCEL,
+        teleport_key("*"),
+        RESET,
+        SPAWN,
+        KILL,
+        param_set_key("*"),
+        log_level_key("*"),
+    ),
     "token": (f"{CLIENT_TOKEN_PREFIX}/**",),  # a goal's caller holds one while it waits
 }
 ROLES: dict[str, dict[str, tuple[str, ...]]] = {

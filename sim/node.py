@@ -1,44 +1,89 @@
 """The simulator process: turtlesim's world around sim.kinematics.
 
-Subscribes ``turtle1/cmd_vel`` (Twist), steps the turtle every 16 ms within
-the robot's limits and publishes ``turtle1/pose`` (Pose) after each step, as
-turtlesim does.  Serves turtlesim's ``turtle1/teleport_absolute`` and ``reset``.
+It starts with one turtle, ``turtle1`` at the spawn pose of its parameters; ``spawn`` adds
+more and ``kill`` removes one, as turtlesim's services do (sim.turtles: where one may go, its
+name).  Each turtle has its keys under its name: it takes ``<name>/cmd_vel`` (Twist), is
+stepped every 16 ms within the robot's limits, publishes ``<name>/pose`` (Pose) after each
+step, and serves ``<name>/teleport_absolute``.  Every 4th step the simulator publishes
+``turtles``: every turtle's name and pose.  ``reset`` is turtlesim's: turtle1 back at its
+spawn (made again if it was killed), every other turtle removed.
 
-Declared obstacles are solid, as the walls are: a turtle driven into one stops
-on its surface and its pose says ``contact``.  A teleport or reset first cancels
-a running goal (reason "teleported" / "reset", so the navigator stops driving
-from a pose that no longer holds), then moves the turtle; its Ack is sent once
-the new pose has been published, so a goal sent after the Ack starts from it.
+Declared obstacles are solid, as the walls are, and so are the turtles to each other (two
+centres stay ``2 * world.turtle_radius`` apart): a turtle driven into one stops on its surface
+and its pose says ``contact``.  A teleport or reset of turtle1 first cancels a running goal
+(reason "teleported" / "reset", so the navigator stops driving from a pose that no longer
+holds), then moves the turtle; an Ack (for spawn: its name) is sent once the new pose has
+been published, so a goal sent after it starts from there.
 """
 
 from __future__ import annotations
 
-import math
 import time
 from typing import Any
 
 import msgspec
 
-from turtlectl.messages import Ack, Cancel, Message, Pose, Reset, TeleportAbsolute, Twist
+from turtlectl.messages import (
+    Ack,
+    Cancel,
+    Kill,
+    Message,
+    Pose,
+    Reset,
+    SpawnRequest,
+    SpawnResponse,
+    TeleportAbsolute,
+    Turtles,
+    Twist,
+)
 from turtlectl.messages.angles import heading_degrees
-from turtlectl.messages.keys import CANCEL, CMD_VEL, POSE, RESET, TELEPORT, WORLD_KEY
-from turtlectl.messages.world import World
+from turtlectl.messages.keys import (
+    CANCEL,
+    FIRST_TURTLE,
+    KILL,
+    RESET,
+    SPAWN,
+    TURTLES,
+    WORLD_KEY,
+    cmd_vel_key,
+    pose_key,
+    teleport_key,
+)
 from turtlectl.runtime import Node, Request, run_main
+from turtlectl.runtime.entities import Publisher
+from turtlectl.runtime.handles import Declaration
 from turtlectl.sim.kinematics import STEP, TurtleState, accelerate, collide, effective_command, step, wrap_angle
 from turtlectl.sim.params import SimParams
+from turtlectl.sim.turtles import bodies, free_name, placement_problem, spawn_problem
+
+#: steps between two ``turtles`` messages
+TURTLES_EVERY = 4
 
 
-def placement_problem(world: World, x: float, y: float, theta: float) -> str | None:
-    """Why the turtle cannot be put at (x m, y m, theta rad), or None."""
-    for name, value in (("x", x), ("y", y), ("theta", theta)):
-        if not math.isfinite(value):
-            return f"{name} is {value}"
-    if not world.contains(x, y):
-        return f"({x:g}, {y:g}) is outside the world [0, {world.size:.10g}] m"
-    for o in world.obstacles:
-        if math.hypot(x - o.x, y - o.y) < o.radius:  # on the surface is fine: where a push stops
-            return f"({x:g}, {y:g}) is inside an obstacle"
-    return None
+class Turtle:
+    """One turtle: its state, its last command, and its keys (declared under its name; ``remove``
+    undeclares them)."""
+
+    def __init__(self, sim: Simulator, name: str, state: TurtleState):
+        self.name, self.state = name, state
+        self.cmd = Twist()
+        self.cmd_time: float | None = None
+        self.contact = False
+        node = sim.node
+        self.pose_pub = node.publisher(pose_key(name), Pose)
+        self.declared: list[Publisher[Pose] | Declaration] = [
+            self.pose_pub,
+            node.subscribe(cmd_vel_key(name), Twist, self.on_cmd_vel),
+            node.serve(teleport_key(name), TeleportAbsolute, Ack, lambda request: sim.on_teleport(self, request)),
+        ]
+
+    def on_cmd_vel(self, msg: Twist) -> None:
+        self.cmd = msg
+        self.cmd_time = time.monotonic()
+
+    def remove(self) -> None:
+        for declared in self.declared:
+            declared.undeclare()
 
 
 class Simulator:
@@ -49,61 +94,103 @@ class Simulator:
             node.log.warning("spawn (%.3f, %.3f) is outside the world; clamping to the walls", p.x, p.y)
         size = node.world.size
         self.spawn = TurtleState(x=min(max(p.x, 0.0), size), y=min(max(p.y, 0.0), size), theta=wrap_angle(p.theta))
-        self.state = self.spawn
-        self.cmd = Twist()
-        self.cmd_time: float | None = None
-        self.contact = False
-        self.acks: list[tuple[Request[Any], Ack]] = []  # answered once the next pose is out
-        self.pose_pub = node.publisher(POSE, Pose)
-        node.subscribe(CMD_VEL, Twist, self.on_cmd_vel)
-        node.serve(TELEPORT, TeleportAbsolute, Ack, self.on_teleport)
+        self.turtles: dict[str, Turtle] = {FIRST_TURTLE: Turtle(self, FIRST_TURTLE, self.spawn)}
+        self.acks: list[tuple[Request[Any], Message]] = []  # answered once the next pose is out
+        self.ticks = 0
+        self.turtles_pub = node.publisher(TURTLES, Turtles)
         node.serve(RESET, Reset, Ack, self.on_reset)
-        world_json = msgspec.json.encode(node.world)
-        node.answer_json(WORLD_KEY, world_json)
+        node.serve(SPAWN, SpawnRequest, SpawnResponse, self.on_spawn)
+        node.serve(KILL, Kill, Ack, self.on_kill)
+        node.answer_json(WORLD_KEY, msgspec.json.encode(node.world))
         node.timer(STEP, self.tick)
 
-    def on_cmd_vel(self, msg: Twist) -> None:
-        self.cmd = msg
-        self.cmd_time = time.monotonic()
+    def states(self, but: str = "") -> dict[str, TurtleState]:
+        return {name: t.state for name, t in self.turtles.items() if name != but}
 
-    def on_teleport(self, request: Request[TeleportAbsolute]) -> None:
+    def on_spawn(self, request: Request[SpawnRequest]) -> None:
         body = request.body
-        problem = placement_problem(self.node.world, body.x, body.y, body.theta)
+        name = body.name or free_name(self.turtles)
+        problem = spawn_problem(self.node.world, self.states(), name, body.x, body.y, body.theta)
+        if problem is not None:
+            request.fail(f"cannot spawn: {problem}")
+            return
+        self.turtles[name] = Turtle(self, name, TurtleState(x=body.x, y=body.y, theta=wrap_angle(body.theta)))
+        self.node.log.info("spawned %s at (%g, %g, %g deg)", name, body.x, body.y, heading_degrees(body.theta))
+        self.acks.append((request, SpawnResponse(name=name)))
+
+    def on_kill(self, request: Request[Kill]) -> None:
+        name = request.body.name
+        turtle = self.turtles.pop(name, None)
+        if turtle is None:
+            request.fail(f"no turtle named {name!r} (turtles: {', '.join(self.turtles) or 'none'})")
+            return
+        turtle.remove()
+        self.node.log.info("killed %s", name)
+        request.respond(Ack(detail=f"killed {name}"))
+
+    def on_teleport(self, turtle: Turtle, request: Request[TeleportAbsolute]) -> None:
+        body = request.body
+        problem = placement_problem(self.node.world, body.x, body.y, body.theta, self.states(but=turtle.name))
         if problem is not None:
             request.fail(f"cannot teleport: {problem}")
             return
         place = TurtleState(x=body.x, y=body.y, theta=wrap_angle(body.theta))
         detail = f"teleported to ({body.x:g}, {body.y:g}, {heading_degrees(place.theta):g} deg)"
-        self.move(request, place, "teleported", detail)
+        self.move(request, turtle.name, place, "teleported", detail)
 
     def on_reset(self, request: Request[Reset]) -> None:
-        self.move(request, self.spawn, "reset", "turtle back at its spawn pose")
+        for name in [n for n in self.turtles if n != FIRST_TURTLE]:
+            self.turtles.pop(name).remove()
+        self.move(request, FIRST_TURTLE, self.spawn, "reset", "turtle back at its spawn pose")
 
-    def move(self, request: Request[Any], place: TurtleState, reason: str, detail: str) -> None:
-        """Put the turtle at ``place`` once a running goal is canceled (with ``reason``);
-        the Ack follows the first pose published there."""
+    def move(self, request: Request[Any], name: str, place: TurtleState, reason: str, detail: str) -> None:
+        """Put turtle ``name`` at ``place`` (made again if it is gone) once a running goal is
+        canceled (with ``reason``; the navigator drives turtle1); the Ack follows the first pose
+        published there."""
 
         def apply(_: list[Message]) -> None:
-            self.state = place
-            self.cmd_time = None  # a moved turtle stands still until told otherwise
+            turtle = self.turtles.get(name)
+            if turtle is None:
+                turtle = self.turtles[name] = Turtle(self, name, place)
+            turtle.state = place
+            turtle.cmd_time = None  # a moved turtle stands still until told otherwise
             self.acks.append((request, Ack(detail=detail)))
 
-        self.node.call(CANCEL, Cancel(reason=reason), apply)
+        if name == FIRST_TURTLE:
+            self.node.call(CANCEL, Cancel(reason=reason), apply)
+        else:
+            apply([])
 
     def tick(self) -> None:
-        age = None if self.cmd_time is None else time.monotonic() - self.cmd_time
-        limits = self.node.limits
-        v, w = effective_command(self.cmd.linear, self.cmd.angular, age, limits, self.node.params.cmd_timeout)
-        v, w = accelerate(self.state, v, w, STEP, limits)
-        moved = step(self.state, v, w, STEP, self.node.world.size)
-        self.state, contact = collide(self.state, moved, self.node.world.obstacles)
-        if contact and not self.contact:
-            self.node.log.info("contact with an obstacle at (%.3f, %.3f): stopped", self.state.x, self.state.y)
-        self.contact = contact
-        s = self.state
-        self.pose_pub.publish(
-            Pose(x=s.x, y=s.y, theta=s.theta, linear_velocity=s.v, angular_velocity=s.w, contact=contact)
-        )
+        limits, world = self.node.limits, self.node.world
+        now = time.monotonic()
+        for turtle in self.turtles.values():
+            age = None if turtle.cmd_time is None else now - turtle.cmd_time
+            cmd = turtle.cmd
+            v, w = effective_command(cmd.linear, cmd.angular, age, limits, self.node.params.cmd_timeout)
+            v, w = accelerate(turtle.state, v, w, STEP, limits)
+            moved = step(turtle.state, v, w, STEP, world.size)
+            solid = world.obstacles + bodies(world, self.states(), but=turtle.name)
+            turtle.state, contact = collide(turtle.state, moved, solid)
+            if contact and not turtle.contact:
+                s = turtle.state
+                self.node.log.info("%s: contact at (%.3f, %.3f): stopped", turtle.name, s.x, s.y)
+            turtle.contact = contact
+            s = turtle.state
+            turtle.pose_pub.publish(
+                Pose(x=s.x, y=s.y, theta=s.theta, linear_velocity=s.v, angular_velocity=s.w, contact=contact)
+            )
+        self.ticks += 1
+        if self.ticks % TURTLES_EVERY == 0:
+            states = self.states()
+            self.turtles_pub.publish(
+                Turtles(
+                    names=list(states),
+                    x=[s.x for s in states.values()],
+                    y=[s.y for s in states.values()],
+                    theta=[s.theta for s in states.values()],
+                )
+            )
         acks, self.acks = self.acks, []
         for request, ack in acks:
             request.respond(ack)

@@ -76,6 +76,7 @@ def teleport(
     x: str = typer.Argument(..., metavar="X", help="x, m."),
     y: str = typer.Argument(..., metavar="Y", help="y, m."),
     theta: str = typer.Argument(..., metavar="THETA", help="Heading, degrees (as for goto)."),
+    turtle: str = typer.Option("turtle1", "--turtle", help="Which turtle (one spawned: turtle2, ...)."),
     connect: str = ConnectOption,
     domain: str = DomainOption,
 ) -> None:
@@ -91,7 +92,7 @@ def teleport(
     request = TeleportAbsolute(
         x=args.finite_number(x, "x"), y=args.finite_number(y, "y"), theta=heading_radians(degrees)
     )
-    acks = services.simple_call(connect, keys.TELEPORT, request)
+    acks = services.simple_call(connect, keys.teleport_key(turtle), request)
     if not all(a.ok for a in acks):  # the simulator's own words (they are in radians, as its request)
         raise Failed(format.ack_lines(acks))
     result(format.teleport_line(request.x, request.y, degrees))

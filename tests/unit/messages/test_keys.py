@@ -27,6 +27,7 @@ def test_every_key_has_a_message_type():
         "obstacles",
         "navigate_to/feedback",
         "turtlectl/parameter_events",
+        "turtles",
     }
     assert SERVICES["navigate_to"] == (NavigateToRequest, NavigateToResponse)
 

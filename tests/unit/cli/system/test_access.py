@@ -15,8 +15,9 @@ def test_roles_grow_viewer_operator_teleop():
 
 def test_each_node_may_do_what_its_kind_declares_and_no_more():
     sim = node_rights("sim", KINDS["sim"])
-    assert "turtle1/cmd_vel" in sim["subscribe"] and "turtle1/pose" in sim["publish"]
-    assert "turtle1/cmd_vel" not in sim["publish"] and "navigate_to" not in sim["serve"]
+    # every turtle's keys (issue 27: spawn), turtle1's among them
+    assert "*/cmd_vel" in sim["subscribe"] and "*/pose" in sim["publish"] and "spawn" in sim["serve"]
+    assert "*/cmd_vel" not in sim["publish"] and "navigate_to" not in sim["serve"]
     nav = node_rights("navigator", KINDS["navigator"])
     assert "navigate_to" in nav["serve"] and "turtle1/cmd_vel" in nav["publish"]
     assert "turtlectl/params/navigator/set" in nav["serve"] and "turtlectl/params/sim/set" not in nav["serve"]
@@ -28,7 +29,7 @@ def test_the_router_section_denies_by_default_and_allows_per_user_in_the_domain(
     assert {s["id"]: s["usernames"] for s in section["subjects"]} == {"node-sim": ["node-sim"], "viewer": ["viewer"]}
     rules = {r["id"]: r for r in section["rules"]}
     put = rules["node-sim:publish:put:ingress"]
-    assert put["permission"] == "allow" and "lab1/turtle1/pose" in put["key_exprs"]
+    assert put["permission"] == "allow" and "lab1/*/pose" in put["key_exprs"]  # every turtle's (issue 27)
     assert all(
         r["permission"] == "allow" and all(k.startswith("lab1/") for k in r["key_exprs"]) for r in rules.values()
     )

@@ -39,7 +39,9 @@ def test_list_names_every_type_with_the_keys_that_carry_it():
         assert any(line.startswith(t.__name__ + " ") for line in text.splitlines()), t.__name__
     code, out = invoke("interface", "list", "--json")
     rows = {r["type"]: r for r in json.loads(out)}
-    assert rows["Twist"]["keys"] == ["turtle1/cmd_vel"] and rows["TurtleStatus"]["keys"] == ["robot/status"]
+    assert rows["Twist"]["keys"] == ["turtle1/cmd_vel", "<turtle>/cmd_vel"] and rows["TurtleStatus"]["keys"] == [
+        "robot/status"
+    ]
     assert set(rows) == {t.__name__ for t in ALL_TYPES}
 
 
