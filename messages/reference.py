@@ -39,7 +39,11 @@ FIELDS: dict[str, dict[str, tuple[str, str, str]]] = {
         "theta": ("rad", "[-pi, pi)", "heading; 0 along +x, counter-clockwise positive"),
         "linear_velocity": ("m/s", "[-max_linear_speed, max_linear_speed]", "speed along the heading"),
         "angular_velocity": ("rad/s", "[-max_angular_speed, max_angular_speed]", "yaw rate"),
-        "contact": ("-", "true / false", "the turtle touches a declared obstacle (it stops there, as at a wall)"),
+        "contact": (
+            "-",
+            "true / false",
+            "the turtle touches a declared obstacle or another turtle (it stops there, as at a wall)",
+        ),
         "stamp": STAMP,
         "seq": SEQ,
     },
@@ -163,8 +167,16 @@ FIELDS: dict[str, dict[str, tuple[str, str, str]]] = {
         "reason": ("-", "text, or empty", 'what the canceled goal\'s caller is told (empty: "canceled")'),
     },
     "TeleportAbsolute": {
-        "x": ("m", "[0, world size], not inside a declared obstacle", "new position"),
-        "y": ("m", "[0, world size], not inside a declared obstacle", "new position"),
+        "x": (
+            "m",
+            "[0, world size], not inside a declared obstacle (its centre), not within 2 turtle radii of another turtle",
+            "new position",
+        ),
+        "y": (
+            "m",
+            "[0, world size], not inside a declared obstacle (its centre), not within 2 turtle radii of another turtle",
+            "new position",
+        ),
         "theta": (
             "rad",
             "any finite value (wrapped to [-pi, pi))",
@@ -182,7 +194,7 @@ FIELDS: dict[str, dict[str, tuple[str, str, str]]] = {
         ),
         "name": (
             "-",
-            "empty, or a letter or _ then letters, digits, _ or - (at most 63), not taken",
+            "empty, or a letter or _ then letters, digits, _ or - (at most 63), not taken, not a first chunk of the system's keys (turtlectl, robot, navigate_to, obstacles, reset, spawn, kill, turtles)",
             "the new turtle's name and its keys' first chunk (empty: the first free turtleN)",
         ),
     },

@@ -48,7 +48,7 @@ class Pose(Message, tag="Pose"):
     x, y: position in the world frame, m (origin at the lower-left corner).
     theta: heading, rad, in [-pi, pi), 0 along +x, counter-clockwise positive.
     linear_velocity: m/s along the heading; angular_velocity: rad/s.
-    contact: the turtle touches a declared obstacle (it stops there, as at a wall).
+    contact: the turtle touches a declared obstacle or another turtle (it stops there, as at a wall).
     """
 
     x: float

@@ -5,7 +5,7 @@ supervisor hands a node its interface, the node's runtime (and runtime.fake) ref
 * ``viewer``: echo, hz, list, view, record, node/topic info, param get (subscribe to
   everything, read the JSON answers, follow the graph);
 * ``operator``: also goto, cancel, teleport (any turtle), reset, spawn, kill, call, param set, log-level;
-* ``teleop``: also publishes ``turtle1/cmd_vel`` (teleop, pub).
+* ``teleop``: also publishes every turtle's ``<turtle>/cmd_vel`` (teleop, pub).
 """
 
 from __future__ import annotations
@@ -13,13 +13,13 @@ from __future__ import annotations
 from turtlectl.messages.keys import (
     CANCEL,
     CLIENT_TOKEN_PREFIX,
-    CMD_VEL,
     KILL,
     NAVIGATE_TO,
     RESET,
     SPAWN,
     TYPES,
     WORLD_KEY,
+    cmd_vel_key,
     log_level_key,
     node_key,
     param_describe_key,
@@ -53,7 +53,7 @@ OPERATOR: dict[str, tuple[str, ...]] = {
 ROLES: dict[str, dict[str, tuple[str, ...]]] = {
     "viewer": VIEWER,
     "operator": OPERATOR,
-    "teleop": {**OPERATOR, "publish": (CMD_VEL,)},
+    "teleop": {**OPERATOR, "publish": (cmd_vel_key("*"),)},  # every turtle's (turtle1's among them)
 }
 
 

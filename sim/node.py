@@ -122,7 +122,7 @@ class Simulator:
         name = request.body.name
         turtle = self.turtles.pop(name, None)
         if turtle is None:
-            request.fail(f"no turtle named {name!r} (turtles: {', '.join(self.turtles) or 'none'})")
+            request.fail(f"no turtle named {name!r} (turtles: {', '.join(sorted(self.turtles)) or 'none'})")
             return
         turtle.remove()
         self.node.log.info("killed %s", name)
@@ -139,9 +139,11 @@ class Simulator:
         self.move(request, turtle.name, place, "teleported", detail)
 
     def on_reset(self, request: Request[Reset]) -> None:
-        for name in [n for n in self.turtles if n != FIRST_TURTLE]:
+        others = sorted(n for n in self.turtles if n != FIRST_TURTLE)
+        for name in others:
             self.turtles.pop(name).remove()
-        self.move(request, FIRST_TURTLE, self.spawn, "reset", "turtle back at its spawn pose")
+        removed = f"; removed {', '.join(others)}" if others else ""
+        self.move(request, FIRST_TURTLE, self.spawn, "reset", f"turtle back at its spawn pose{removed}")
 
     def move(self, request: Request[Any], name: str, place: TurtleState, reason: str, detail: str) -> None:
         """Put turtle ``name`` at ``place`` (made again if it is gone) once a running goal is

@@ -16,6 +16,8 @@ from turtlectl.sim.kinematics import TurtleState
 
 #: a turtle's name: one key chunk, as a launch file's node names (no '/', '*', '$', '@' start)
 NAME = re.compile(r"^[A-Za-z_][A-Za-z0-9_\-]{0,62}$")
+#: first chunks of the system's own keys: no turtle is called so (its keys would mix with them)
+RESERVED = frozenset({"turtlectl", "robot", "navigate_to", "obstacles", "reset", "spawn", "kill", "turtles"})
 
 
 def free_name(turtles: Mapping[str, object]) -> str:
@@ -51,7 +53,9 @@ def spawn_problem(
 ) -> str | None:
     """Why turtle ``name`` cannot be spawned at (x, y, theta), or None."""
     if not NAME.match(name):
-        return f"{name!r} is not a turtle name (a letter or _, then letters, digits, _ or -)"
+        return f"{name!r} is not a turtle name (a letter or _, then letters, digits, _ or -; at most 63)"
+    if name in RESERVED:
+        return f"{name!r} is the first part of the system's own keys ({name}/...); choose another name"
     if name in turtles:
         return f"a turtle named {name} exists"
     return placement_problem(world, x, y, theta, turtles)

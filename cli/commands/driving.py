@@ -95,11 +95,13 @@ def teleport(
     acks = services.simple_call(connect, keys.teleport_key(turtle), request)
     if not all(a.ok for a in acks):  # the simulator's own words (they are in radians, as its request)
         raise Failed(format.ack_lines(acks))
-    result(format.teleport_line(request.x, request.y, degrees))
+    line = format.teleport_line(request.x, request.y, degrees)
+    result(line if turtle == "turtle1" else f"{turtle} {line}")
 
 
 def reset(connect: str = ConnectOption, domain: str = DomainOption) -> None:
-    """Put the turtle back at its spawn pose and fill the battery (turtlesim's reset).
+    """Put turtle1 back at its spawn pose (again if it was killed), remove every spawned turtle,
+    and fill the battery (turtlesim's reset).
 
     Example: turtlectl reset
     """

@@ -18,7 +18,7 @@ import zenoh
 from tests.integration.harness import running_system, turtlectl
 from turtlectl.cli.errors import ExitCode
 from turtlectl.cli.system import credentials
-from turtlectl.messages import Twist, encode, encoding_for
+from turtlectl.messages import Pose, Twist, encode, encoding_for
 from turtlectl.messages.keys import CMD_VEL, NAVIGATE_TO
 from turtlectl.runtime.config import Credentials
 from turtlectl.runtime.session import client_config, peer_config
@@ -153,6 +153,21 @@ def test_a_rogue_operator_publishing_cmd_vel_does_not_move_the_turtle(secure):
     moved, _ = run_as(secure, {"TURTLECTL_ROLE": "teleop"}, "pub", "turtle1/cmd_vel", '{"linear": 1.0}', "--once")
     assert moved.returncode == 0, moved.stderr
     secure.wait_moving(0.5)  # the teleop role may drive
+
+
+def test_an_operator_spawns_a_turtle_the_teleop_role_drives_and_the_operator_kills(secure):
+    """Issue 27, found by a new user: on a --secure system a spawned turtle could not be driven
+    (no role might publish turtle2/cmd_vel)."""
+    spawned, _ = run_as(secure, {}, "spawn", "2", "2", "0", "--name", "secured")
+    assert spawned.returncode == 0 and spawned.stdout.strip() == "secured", spawned.stderr
+    try:
+        moved, _ = run_as(secure, {"TURTLECTL_ROLE": "teleop"}, "pub", "secured/cmd_vel", '{"linear": 1.0}', "--once")
+        assert moved.returncode == 0, moved.stderr
+        pose = secure.collect("secured/pose", Pose, 40, timeout=5.0)[-1][1]
+        assert pose.linear_velocity > 0.0 or pose.x > 2.0, pose
+    finally:
+        killed, _ = run_as(secure, {}, "kill", "secured")
+    assert killed.returncode == 0, killed.stderr
 
 
 def test_only_the_navigator_may_serve_navigate_to(secure):

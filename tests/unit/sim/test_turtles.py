@@ -24,6 +24,10 @@ def test_a_spawn_is_refused_with_its_reason():
     assert spawn_problem(WORLD, ONE, "turtle1", 2.0, 2.0, 0.0) == "a turtle named turtle1 exists"
     assert "not a turtle name" in str(spawn_problem(WORLD, ONE, "a/b", 2.0, 2.0, 0.0))
     assert "not a turtle name" in str(spawn_problem(WORLD, ONE, "@x", 2.0, 2.0, 0.0))
+    assert "at most 63" in str(spawn_problem(WORLD, ONE, "a" * 64, 2.0, 2.0, 0.0))
+    assert spawn_problem(WORLD, ONE, "turtlectl", 2.0, 2.0, 0.0) == (
+        "'turtlectl' is the first part of the system's own keys (turtlectl/...); choose another name"
+    )
     assert spawn_problem(WORLD, ONE, "t", 12.0, 2.0, 0.0) == "(12, 2) is outside the world [0, 11] m"
     assert spawn_problem(WORLD, ONE, "t", 2.0, 9.2, 0.0) == "(2, 9.2) is inside an obstacle"
     assert spawn_problem(WORLD, ONE, "t", 5.9, 5.5, 0.0) == (

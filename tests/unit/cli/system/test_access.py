@@ -73,7 +73,8 @@ def test_a_user_kind_without_an_interface_may_do_what_teleop_may_and_use_its_own
     from turtlectl.sim.params import SimParams
 
     mine = node_rights("guard", NodeKind("/p/patrol.py:Patrol", SimParams))
-    assert "turtle1/cmd_vel" in mine["publish"] and "guard/**" in mine["publish"] and mine["serve"][0] == "guard/**"
+    # what teleop may: drive any turtle (issue 27), turtle1 among them
+    assert "*/cmd_vel" in mine["publish"] and "guard/**" in mine["publish"] and mine["serve"][0] == "guard/**"
     assert mine["subscribe"] == ("**",) and "navigate_to" in mine["call"]
     declared = node_rights("guard", NodeKind("/p/patrol.py:Patrol", SimParams, interface=Interface(publishes=("a",))))
     assert declared["publish"][0] == "a"
