@@ -18,6 +18,7 @@ been published, so a goal sent after it starts from there.
 
 from __future__ import annotations
 
+import math
 import time
 from typing import Any
 
@@ -49,6 +50,7 @@ from turtlectl.messages.keys import (
     pose_key,
     teleport_key,
 )
+from turtlectl.messages.world import Obstacle
 from turtlectl.runtime import Node, Request, run_main
 from turtlectl.runtime.entities import Publisher
 from turtlectl.runtime.handles import Declaration
@@ -58,6 +60,11 @@ from turtlectl.sim.turtles import bodies, free_name, placement_problem, spawn_pr
 
 #: steps between two ``turtles`` messages
 TURTLES_EVERY = 4
+
+
+def touches(s: TurtleState, obstacles: list[Obstacle]) -> bool:
+    """Whether the turtle's centre lies on a declared obstacle's surface (where a push stops)."""
+    return any(abs(math.hypot(s.x - o.x, s.y - o.y) - o.radius) < 1e-6 for o in obstacles)
 
 
 class Turtle:
@@ -176,7 +183,9 @@ class Simulator:
             turtle.state, contact = collide(turtle.state, moved, solid)
             if contact and not turtle.contact:
                 s = turtle.state
-                self.node.log.info("%s: contact at (%.3f, %.3f): stopped", turtle.name, s.x, s.y)
+                what = "an obstacle" if touches(s, world.obstacles) else "another turtle"
+                who = "" if turtle.name == FIRST_TURTLE else f"{turtle.name}: "  # turtle1's line as before
+                self.node.log.info("%scontact with %s at (%.3f, %.3f): stopped", who, what, s.x, s.y)
             turtle.contact = contact
             s = turtle.state
             turtle.pose_pub.publish(

@@ -75,6 +75,7 @@ def test_turtles_are_solid_to_each_other_and_turtle1s_scan_sees_the_other(system
         return bool(contact)
 
     system.wait_until(pushed, 10.0, "bob in contact with turtle1")
+    system.wait_line(r"sim .*bob: contact with another turtle at \(6\.144, 5\.544\): stopped", 5.0)
     gap = math.hypot(contact[0].x - SPAWN[0], contact[0].y - SPAWN[1])
     assert gap == pytest.approx(0.6, abs=1e-6)  # two turtle radii, never nearer
     scan = system.collect(OBSTACLES, LaserScan, 2, timeout=5.0)[-1][1]
