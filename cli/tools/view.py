@@ -20,9 +20,9 @@ import zenoh
 
 from turtlectl.cli.tools.client import ROUTER_CHECK, router_lost
 from turtlectl.cli.tools.format import heading_text
-from turtlectl.messages import LaserScan, NavigateToFeedback, Pose, TurtleStatus, decode_any
+from turtlectl.messages import LaserScan, NavigateToFeedback, Pose, Turtles, TurtleStatus, decode_any
 from turtlectl.messages.angles import heading_degrees
-from turtlectl.messages.keys import FEEDBACK, OBSTACLES, POSE, STATUS
+from turtlectl.messages.keys import FEEDBACK, FIRST_TURTLE, OBSTACLES, POSE, STATUS, TURTLES
 from turtlectl.messages.world import World
 
 FRAME = 0.05  # s between frames: 20 frames a second
@@ -40,6 +40,7 @@ class Scene(msgspec.Struct, kw_only=True):
     status: TurtleStatus | None = None
     scan: LaserScan | None = None
     feedback: NavigateToFeedback | None = None
+    turtles: Turtles | None = None  # every turtle (the others are drawn too, and named)
     trail: list[tuple[float, float]] = msgspec.field(default_factory=list)
     router: str = ""  # the endpoint, when the router is lost (shown instead of the pose)
 
@@ -89,15 +90,27 @@ def render(scene: Scene, cols: int, rows: int, unicode: bool = True) -> list[str
                     grid[rc[0]][rc[1]] = "*"
     if fb is not None and (rc := cell(fb.goal_x, fb.goal_y)) is not None:
         grid[rc[0]][rc[1]] = "X"
+    arrows = ARROWS if unicode else ASCII_ARROWS
+    for _, x, y, theta in others(scene):  # the other turtles, as turtle1: an arrow along the heading
+        if (rc := cell(x, y)) is not None:
+            grid[rc[0]][rc[1]] = arrows[int(round(theta / (math.pi / 4))) % 8]
     if scene.pose is not None and (rc := cell(scene.pose.x, scene.pose.y)) is not None:
-        arrows = ARROWS if unicode else ASCII_ARROWS
         grid[rc[0]][rc[1]] = arrows[int(round(scene.pose.theta / (math.pi / 4))) % 8]
 
     lines = ["+" + "-" * width + "+"] + ["|" + "".join(row) + "|" for row in grid] + ["+" + "-" * width + "+"]
     lines += [""] * (map_rows - len(lines))
-    lines.append(LEGEND)
+    named = ", ".join(f"{n} ({x:.1f}, {y:.1f})" for n, x, y, _ in others(scene))
+    lines.append(LEGEND + (f"  | also: {named}" if named else ""))
     lines += status_lines(scene)
     return [line[:cols] for line in lines[:rows]]
+
+
+def others(scene: Scene) -> list[tuple[str, float, float, float]]:
+    """The turtles besides turtle1 (name, x m, y m, theta rad), from the latest ``turtles``."""
+    t = scene.turtles
+    if t is None:
+        return []
+    return [(n, x, y, th) for n, x, y, th in zip(t.names, t.x, t.y, t.theta, strict=False) if n != FIRST_TURTLE]
 
 
 def status_lines(scene: Scene) -> list[str]:
@@ -130,7 +143,7 @@ def run_view(session: zenoh.Session, world: World, endpoint: str = "") -> None:
     inbox: queue.SimpleQueue[tuple[float, bytes]] = queue.SimpleQueue()
     subs = [
         session.declare_subscriber(key, lambda s: inbox.put((time.monotonic(), s.payload.to_bytes())))
-        for key in (POSE, STATUS, OBSTACLES, FEEDBACK)
+        for key in (POSE, STATUS, OBSTACLES, FEEDBACK, TURTLES)
     ]
     scene = Scene(world=world)
     trail: collections.deque[tuple[float, float]] = collections.deque(maxlen=TRAIL)
@@ -161,6 +174,8 @@ def run_view(session: zenoh.Session, world: World, endpoint: str = "") -> None:
                     scene.scan = msg
                 elif isinstance(msg, NavigateToFeedback):
                     scene.feedback, feedback_time = msg, arrived
+                elif isinstance(msg, Turtles):
+                    scene.turtles = msg
             if scene.feedback is not None and time.monotonic() - feedback_time > 0.5:
                 scene.feedback = None  # the goal ended
             scene.trail = list(trail)

@@ -5,10 +5,14 @@ other and seen by turtle1's scan, reset as turtlesim's (the others removed)."""
 from __future__ import annotations
 
 import math
+import os
+import signal
+import time
 
+import pyte
 import pytest
 
-from tests.integration.harness import running_system
+from tests.integration.harness import pump, running_system, set_winsize, view_in_pty
 from turtlectl.messages import LaserScan, Pose, Turtles, Twist, encode, encoding_for
 from turtlectl.messages.keys import OBSTACLES, TURTLES
 
@@ -84,3 +88,23 @@ def test_turtles_are_solid_to_each_other_and_turtle1s_scan_sees_the_other(system
     done = system.run_cli("reset")
     assert done.returncode == 0, done.stderr
     assert set(turtles(system)) == {"turtle1"}  # turtlesim's reset: the others removed
+
+
+def test_view_draws_a_spawned_turtle_and_names_it(system):
+    assert system.run_cli("spawn", "3", "8", "90", "--name", "carol").returncode == 0
+    pid, fd = view_in_pty(system.endpoint)
+    screen = pyte.Screen(120, 30)
+    stream = pyte.ByteStream(screen)
+    try:
+        set_winsize(fd, 30, 120)
+        os.kill(pid, signal.SIGWINCH)
+        deadline = time.monotonic() + 15
+        while "also: carol (3.0, 8.0)" not in "\n".join(screen.display):
+            assert time.monotonic() < deadline, "\n".join(screen.display)
+            assert pump(fd, stream, 0.2)
+        assert "↑" in "\n".join(screen.display[1:-4])  # carol faces +y
+    finally:
+        os.kill(pid, signal.SIGKILL)
+        os.waitpid(pid, 0)
+        os.close(fd)
+        system.run_cli("kill", "carol")

@@ -89,3 +89,26 @@ def test_the_view_draws_the_goals_path_round_an_obstacle():
     assert any("+ path" in line for line in lines)
     plain = render(Scene(world=world, pose=Pose(x=2.0, y=5.0, theta=0.0)), 60, 24)[1:-4]
     assert not any("+" in row.strip("|") for row in plain)
+
+
+def test_the_view_draws_every_turtle_and_names_the_others():
+    """Issue 27: spawned turtles are drawn as turtle1 is (an arrow along the heading) and named
+    beside the legend with where they are."""
+    from turtlectl.messages import Turtles
+
+    scene = Scene(
+        world=World(size=10.0),
+        pose=Pose(x=5.0, y=5.0, theta=0.0),
+        turtles=Turtles(
+            names=["turtle1", "turtle2", "alice"],
+            x=[5.0, 2.0, 8.0],
+            y=[5.0, 2.0, 8.0],
+            theta=[0.0, math.pi / 2, math.pi],
+        ),
+    )
+    lines = render(scene, 120, 30)
+    grid = "\n".join(lines[1:-3])
+    assert grid.count("→") == 1 and grid.count("↑") == 1 and grid.count("←") == 1
+    assert lines[-3].endswith("| also: turtle2 (2.0, 2.0), alice (8.0, 8.0)"), lines[-3]
+    alone = render(Scene(world=World(size=10.0), pose=Pose(x=5.0, y=5.0, theta=0.0)), 120, 30)
+    assert "also:" not in alone[-3] and "\n".join(alone[1:-3]).count("→") == 1
