@@ -28,8 +28,9 @@ import generated  # noqa: E402
 from turtlectl.messages import ALL_TYPES, keys  # noqa: E402
 from turtlectl.messages.codec import MEDIA_TYPE  # noqa: E402
 from turtlectl.messages.described import FieldDescription, TypeDescription  # noqa: E402
+from turtlectl.messages.fieldtext import default_text, doc, struct_fields, type_name  # noqa: E402
 from turtlectl.messages.params import ParamDescription, ParamInfo  # noqa: E402
-from turtlectl.messages.reference import FIELDS, KEYS, default_text, doc, struct_fields, type_name  # noqa: E402
+from turtlectl.messages.reference import FIELDS, KEYS  # noqa: E402
 from turtlectl.messages.world import Limits, Obstacle, World  # noqa: E402
 from turtlectl.nodes.kinds import KINDS  # noqa: E402
 from turtlectl.runtime.params import field_comments, param_infos  # noqa: E402

@@ -21,6 +21,7 @@ from turtlectl.messages.world import Obstacle, World
 from turtlectl.nodes.params import ObstacleDetectorParams
 from turtlectl.runtime import Node, run_main
 from turtlectl.sim.lidar import beam_angles, cast_rays, new_phantoms
+from turtlectl.sim.turtles import others
 
 
 class ObstacleDetector:
@@ -50,7 +51,7 @@ class ObstacleDetector:
         """The declared world plus the undeclared obstacles, the phantoms alive now (new ones
         spawned for this tick) and the other turtles (circles of the turtle radius)."""
         p = self.node.params
-        seen = self.seen.obstacles
+        extra: list[Obstacle] = []
         if p.phantom_rate > 0 and self.pose is not None:
             now = time.monotonic()
             born = new_phantoms(
@@ -59,16 +60,12 @@ class ObstacleDetector:
             self.phantoms = [(t, o) for t, o in self.phantoms if t > now] + [
                 (now + p.phantom_lifetime, o) for o in born
             ]
-            seen = seen + [o for _, o in self.phantoms]
+            extra += [o for _, o in self.phantoms]
         turtles = self.latest_turtles.get()
         if turtles is not None:
             r = self.node.world.turtle_radius
-            seen = seen + [
-                Obstacle(x=x, y=y, radius=r)
-                for name, x, y in zip(turtles.names, turtles.x, turtles.y, strict=False)
-                if name != FIRST_TURTLE
-            ]
-        return self.seen if seen is self.seen.obstacles else World(size=self.seen.size, obstacles=seen)
+            extra += [Obstacle(x=x, y=y, radius=r) for _, x, y, _ in others(turtles, but=FIRST_TURTLE)]
+        return World(size=self.seen.size, obstacles=self.seen.obstacles + extra) if extra else self.seen
 
     def tick(self) -> None:
         self.pose = self.latest_pose.get()

@@ -20,8 +20,8 @@ from typing import Any
 import msgspec
 
 from turtlectl.messages.described import field_comments as field_comments  # also for the nodes' Params
+from turtlectl.messages.fieldtext import default_text, doc, struct_fields, type_name
 from turtlectl.messages.params import ParamDescription, ParamInfo
-from turtlectl.messages.reference import default_text, doc, struct_fields, type_name
 
 BIG = 1e9  # the stand-in for "finite" (messages.units)
 

@@ -179,7 +179,8 @@ class Simulator:
             v, w = effective_command(cmd.linear, cmd.angular, age, limits, self.node.params.cmd_timeout)
             v, w = accelerate(turtle.state, v, w, STEP, limits)
             moved = step(turtle.state, v, w, STEP, world.size)
-            solid = world.obstacles + bodies(world, self.states(), but=turtle.name)
+            alone = len(self.turtles) == 1  # the step's hot path: no other bodies to gather
+            solid = world.obstacles if alone else world.obstacles + bodies(world, self.states(), but=turtle.name)
             turtle.state, contact = collide(turtle.state, moved, solid)
             if contact and not turtle.contact:
                 s = turtle.state

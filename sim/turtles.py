@@ -11,6 +11,7 @@ import math
 import re
 from collections.abc import Mapping
 
+from turtlectl.messages import Turtles
 from turtlectl.messages.world import Obstacle, World
 from turtlectl.sim.kinematics import TurtleState
 
@@ -59,6 +60,12 @@ def spawn_problem(
     if name in turtles:
         return f"a turtle named {name} exists"
     return placement_problem(world, x, y, theta, turtles)
+
+
+def others(turtles: Turtles, but: str) -> list[tuple[str, float, float, float]]:
+    """Every turtle of a ``turtles`` message but ``but``: (name, x m, y m, theta rad)."""
+    rows = zip(turtles.names, turtles.x, turtles.y, turtles.theta, strict=False)
+    return [(n, x, y, theta) for n, x, y, theta in rows if n != but]
 
 
 def bodies(world: World, turtles: Mapping[str, TurtleState], but: str) -> list[Obstacle]:

@@ -44,7 +44,8 @@ def from_system(
     """Write a specification's skeleton from a running system (the `spec --from-system` of
     issue 26): a placeholder intent; each node with the keys it subscribes to or serves
     (inputs) and publishes (outputs); each published topic with its type, its publisher and
-    its period measured over 2 s (from the messages' stamps) with a 10 % tolerance; each
+    its period measured over 2 s (from the messages' stamps) with a 10 % tolerance (at least
+    5 ms); each
     service with its request type and server; a period criterion for each measured topic; no
     non-goals.  Edit it into a real specification; as written, `turtlectl verify` passes it
     on the same system.
@@ -52,14 +53,14 @@ def from_system(
     Example: turtlectl spec from-system -o my_spec.toml && turtlectl verify my_spec.toml
     """
     from turtlectl.cli.tools.api import Client
-    from turtlectl.cli.verify import document, skeleton
+    from turtlectl.cli.verify import document, report, skeleton
 
     with Client(connect) as client:
         text = document.to_toml(skeleton.from_system(client))
     if output is None:
         result(text.rstrip("\n"))
     else:
-        skeleton.write(output, text)
+        report.write(output, text, f"cannot write {output}")
         result(f"wrote {output}")
 
 

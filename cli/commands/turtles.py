@@ -33,8 +33,7 @@ def spawn(
     request = SpawnRequest(
         x=args.finite_number(x, "x"), y=args.finite_number(y, "y"), theta=heading_radians(degrees), name=name
     )
-    with services.service_session(connect) as session:
-        answers = [m for m in services.replies(session, keys.SPAWN, request, 5.0) if isinstance(m, SpawnResponse)]
+    answers = [m for m in services.call_service(connect, keys.SPAWN, request, 5.0) if isinstance(m, SpawnResponse)]
     if not answers:
         raise Failed("the simulator did not say which turtle it spawned")
     result(answers[-1].name)

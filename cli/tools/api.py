@@ -18,7 +18,6 @@ from collections.abc import Callable, Iterator
 from types import TracebackType
 from typing import Any
 
-import msgspec
 import zenoh
 
 from turtlectl.cli.args import endpoint
@@ -244,14 +243,10 @@ class Client:
     def node_info(self, node: str) -> NodeDetails:
         """What ``node`` says about itself: kind, pid, host, start time, log level, and how
         many records at ERROR or worse it has logged (``errors``, ``last_error``)."""
+        from turtlectl.cli.tools.introspect import parse_details
+
         with self._hinted():
-            answers = list(replies(self._session, node_key(node), b"", CALL_TIMEOUT))
-        if not answers or not isinstance(answers[-1], Raw):
-            raise Failed(f"{node} did not say what it is")
-        try:
-            return msgspec.json.decode(answers[-1].payload, type=NodeDetails)
-        except msgspec.DecodeError as exc:
-            raise Failed(f"{node} sent an unreadable answer: {exc}") from None
+            return parse_details(node, list(replies(self._session, node_key(node), b"", CALL_TIMEOUT)))
 
     def set_param(self, node: str, name: str, value: Any) -> str:
         """Set ``node``'s parameter ``name`` to ``value`` while it runs; the node's answer.

@@ -47,15 +47,17 @@ class Graph(msgspec.Struct):
 NODE_SERVICE_ROOTS = ("turtlectl/params/", "turtlectl/nodes/")
 
 
+def under(key: str, roots: tuple[str, ...] = ("turtlectl/",)) -> bool:
+    """Whether ``key`` lies under one of ``roots``, in any domain (default: the runtime's own
+    keys, every node's: parameters, node info, parameter events, type descriptions)."""
+    in_domain = key.partition("/")[2]  # lab1/turtlectl/params/sim seen from outside lab1
+    return any(key.startswith(root) or in_domain.startswith(root) for root in roots)
+
+
 def without_node_services(graph: Graph) -> Graph:
     """``graph`` without the services every node has (``turtlectl/params/<node>``,
     ``turtlectl/nodes/<node>`` and below, in any domain), counted in ``hidden_services``."""
-
-    def own(key: str) -> bool:
-        in_domain = key.partition("/")[2]  # lab1/turtlectl/params/sim seen from outside lab1
-        return any(key.startswith(root) or in_domain.startswith(root) for root in NODE_SERVICE_ROOTS)
-
-    kept = [s for s in graph.services if not own(s.key)]
+    kept = [s for s in graph.services if not under(s.key, NODE_SERVICE_ROOTS)]
     return msgspec.structs.replace(graph, services=kept, hidden_services=len(graph.services) - len(kept))
 
 

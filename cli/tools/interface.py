@@ -12,8 +12,9 @@ from turtlectl.cli.tools.interface_live import Live, keys_by_type, live_descript
 from turtlectl.cli.tools.typebook import conflict
 from turtlectl.messages import ALL_TYPES
 from turtlectl.messages.codec import encoding_for, type_name
-from turtlectl.messages.reference import FIELDS, KEYS, default_text, doc, struct_fields
-from turtlectl.messages.reference import type_name as field_type
+from turtlectl.messages.fieldtext import default_text, doc, struct_fields
+from turtlectl.messages.fieldtext import type_name as field_type
+from turtlectl.messages.reference import FIELDS, KEYS
 
 
 def _keys_of(name: str) -> list[str]:

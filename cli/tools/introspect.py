@@ -48,14 +48,20 @@ def _no_node(node: str, graph: Graph) -> NobodyServes:
     return no_node(node, [n.name for n in graph.nodes], graph.hint)
 
 
-def _details(connect: str, node: str) -> NodeDetails:
-    answers = [a for a in call_service(connect, node_key(node), b"", TIMEOUT) if isinstance(a, Raw)]
-    if not answers:
+def parse_details(node: str, answers: list[Any]) -> NodeDetails:
+    """What ``node`` says about itself, from the answers to ``turtlectl/nodes/<node>`` (the
+    last JSON one); Failed if there is none or it does not read."""
+    raw = [a for a in answers if isinstance(a, Raw)]
+    if not raw:
         raise Failed(f"{node} did not say what it is")
     try:
-        return msgspec.json.decode(answers[-1].payload, type=NodeDetails)
+        return msgspec.json.decode(raw[-1].payload, type=NodeDetails)
     except msgspec.DecodeError as exc:
         raise Failed(f"{node} sent an unreadable answer: {exc}") from None
+
+
+def _details(connect: str, node: str) -> NodeDetails:
+    return parse_details(node, list(call_service(connect, node_key(node), b"", TIMEOUT)))
 
 
 def node_report(connect: str, node: str) -> NodeReport:

@@ -24,6 +24,7 @@ from turtlectl.messages import LaserScan, NavigateToFeedback, Pose, Turtles, Tur
 from turtlectl.messages.angles import heading_degrees
 from turtlectl.messages.keys import FEEDBACK, FIRST_TURTLE, OBSTACLES, POSE, STATUS, TURTLES
 from turtlectl.messages.world import World
+from turtlectl.sim.turtles import others as turtles_but
 
 FRAME = 0.05  # s between frames: 20 frames a second
 TRAIL = 400  # poses kept for the trail
@@ -107,10 +108,7 @@ def render(scene: Scene, cols: int, rows: int, unicode: bool = True) -> list[str
 
 def others(scene: Scene) -> list[tuple[str, float, float, float]]:
     """The turtles besides turtle1 (name, x m, y m, theta rad), from the latest ``turtles``."""
-    t = scene.turtles
-    if t is None:
-        return []
-    return [(n, x, y, th) for n, x, y, th in zip(t.names, t.x, t.y, t.theta, strict=False) if n != FIRST_TURTLE]
+    return [] if scene.turtles is None else turtles_but(scene.turtles, but=FIRST_TURTLE)
 
 
 def status_lines(scene: Scene) -> list[str]:

@@ -11,6 +11,7 @@ from collections.abc import Callable
 
 from turtlectl.cli.errors import TurtlectlError, Unreachable
 from turtlectl.cli.tools.api import Client
+from turtlectl.cli.tools.graph import Graph
 from turtlectl.cli.verify import running
 from turtlectl.cli.verify.goals import goals
 from turtlectl.cli.verify.report import Verdict
@@ -70,9 +71,15 @@ def _declared(
     return required, f"{got} {by} {', '.join(owners) or 'nobody'}", problems
 
 
-def interfaces(client: Client, spec: Spec) -> list[Verdict]:
-    """Each declared topic and service against the live graph (and a topic's period)."""
-    graph = client.graph()
+def require_nodes(client: Client, graph: Graph, doing: str = "") -> None:
+    """Unreachable (exit 3) when no node runs in ``graph``: a router alone is no system."""
+    if not graph.nodes:
+        hint = f" ({graph.hint})" if graph.hint else ""
+        raise Unreachable(f"no nodes are running at {client.connect}{': ' + doing if doing else ''}{hint}")
+
+
+def interfaces(client: Client, spec: Spec, graph: Graph) -> list[Verdict]:
+    """Each declared topic and service against the live ``graph`` (and a topic's period)."""
     topics = {t.key: (t.type, t.publishers) for t in graph.topics}
     services = {s.key: (s.type, s.servers) for s in graph.services}
     out = []
@@ -155,11 +162,10 @@ def verify(
 ) -> list[Verdict]:
     """Every interface and criterion of ``spec``, measured in the spec's order (``short``: s,
     the longest a long criterion may run, and its verdict says so; None: their full time)."""
-    nodes = client.nodes()
-    if not nodes:
-        raise Unreachable(f"no nodes are running at {client.connect}: nothing to verify")
+    graph = client.graph()
+    require_nodes(client, graph, "nothing to verify")
     progress("interfaces")
-    out = interfaces(client, spec)
+    out = interfaces(client, spec, graph)
     for c in spec.criterion:
         progress(label(c))
         out.append(criterion(client, c, short, progress))

@@ -12,7 +12,7 @@ from typing import Any
 
 import msgspec
 
-from turtlectl.cli.tools.graph import Graph
+from turtlectl.cli.tools.graph import Graph, under
 from turtlectl.cli.verify.spec import NodeSpec, Period, ServiceSpec, Spec, TopicSpec, label
 
 #: what a skeleton says where a person must write
@@ -179,7 +179,7 @@ def skeleton(graph: Graph, periods: dict[str, tuple[float, float]]) -> Spec:
     and puts out (keys it publishes), each published topic with its type, its publisher
     (when there is one) and its period, each service with its request type and server, a
     period criterion for each measured topic, no non-goals."""
-    used = [t for t in graph.topics if not t.key.startswith("turtlectl/")]  # not the runtime's own (parameter events)
+    used = [t for t in graph.topics if not under(t.key)]  # not the runtime's own (parameter events)
     topics = [t for t in used if t.publishers]
     nodes = [
         NodeSpec(

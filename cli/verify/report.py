@@ -60,9 +60,14 @@ def junit(suite: str, verdicts: list[Verdict]) -> str:
     return ET.tostring(root, encoding="unicode", xml_declaration=True)
 
 
+def write(path: Path, text: str, what: str) -> None:
+    """``text`` written to ``path``; BadInput (exit 2) saying ``what`` and why if it cannot be."""
+    try:
+        path.write_text(text)
+    except OSError as exc:
+        raise BadInput(f"{what}: {exc.strerror or exc}") from None
+
+
 def write_junit(path: Path, suite: str, verdicts: list[Verdict]) -> None:
     """``junit`` written to ``path`` (BadInput, exit 2, if it cannot be)."""
-    try:
-        path.write_text(junit(suite, verdicts) + "\n")
-    except OSError as exc:
-        raise BadInput(f"--junit {path}: cannot write: {exc.strerror or exc}") from None
+    write(path, junit(suite, verdicts) + "\n", f"--junit {path}: cannot write")

@@ -11,6 +11,7 @@ import msgspec
 
 from turtlectl.cli.errors import TurtlectlError
 from turtlectl.cli.tools.api import Client
+from turtlectl.cli.tools.graph import under
 from turtlectl.cli.verify.report import Verdict
 from turtlectl.cli.verify.spec import NoErrors, RoundTrip, label
 from turtlectl.messages import decode, encode
@@ -85,7 +86,7 @@ def no_errors(
 
 
 def _published(client: Client) -> list[str]:
-    return sorted(t.key for t in client.topics() if t.publishers and not t.key.startswith("turtlectl/"))
+    return sorted(t.key for t in client.topics() if t.publishers and not under(t.key))
 
 
 def round_trip(client: Client, c: RoundTrip) -> Verdict:

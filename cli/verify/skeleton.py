@@ -8,13 +8,11 @@ from __future__ import annotations
 import statistics
 import threading
 import time
-from pathlib import Path
 
-from turtlectl.cli.errors import BadInput, Unreachable
 from turtlectl.cli.tools.api import Client
 from turtlectl.cli.tools.graph import Graph, without_node_services
 from turtlectl.cli.verify import document
-from turtlectl.cli.verify.checks import periods_of, stamp_of
+from turtlectl.cli.verify.checks import periods_of, require_nodes, stamp_of
 from turtlectl.cli.verify.spec import Spec
 
 #: s of messages a period is measured over
@@ -45,8 +43,7 @@ def measure(client: Client, seconds: float = WINDOW) -> tuple[Graph, dict[str, t
     """The live graph (without each node's own services) and each published topic's period
     and tolerance (ms), measured over ``seconds`` s at once."""
     graph = without_node_services(client.graph())
-    if not graph.nodes:
-        raise Unreachable(f"no nodes are running at {client.connect}" + (f" ({graph.hint})" if graph.hint else ""))
+    require_nodes(client, graph)
     lock = threading.Lock()
     seen: dict[str, list[tuple[float, float | None]]] = {}
     subscriptions = []
@@ -76,11 +73,3 @@ def from_system(client: Client, seconds: float = WINDOW) -> Spec:
     """The skeleton of a specification of the system ``client`` talks to."""
     graph, periods = measure(client, seconds)
     return document.skeleton(graph, periods)
-
-
-def write(path: Path, text: str) -> None:
-    """Write the skeleton ``text`` to ``path``; BadInput (exit 2) if it cannot be written."""
-    try:
-        path.write_text(text)
-    except OSError as exc:
-        raise BadInput(f"cannot write {path}: {exc.strerror or exc}") from None

@@ -184,7 +184,7 @@ def _hint(what: str, where: str, data: dict[str, object]) -> str:
         return ""
     bad = what.split("`")[1]
     if not where:
-        allowed = [f for f in Spec.__struct_fields__]
+        allowed = list(Spec.__struct_fields__)
     elif table == "criterion":
         items = data.get("criterion")
         index = int(where[len("criterion[") :].split("]")[0])

@@ -75,7 +75,7 @@ def test_an_unknown_type_is_one_line_naming_the_known_ones_exit_2():
 def test_list_gives_each_type_its_whole_first_sentence():
     """Issue 22: `interface list` cut ParameterEvent's summary mid-sentence (its first line)."""
     from turtlectl.cli.tools.interface import listing
-    from turtlectl.messages.reference import doc
+    from turtlectl.messages.fieldtext import doc
 
     for row, t in zip(listing(), ALL_TYPES, strict=True):
         first = " ".join(doc(t).split("\n\n", 1)[0].split())
