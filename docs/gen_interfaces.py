@@ -147,11 +147,17 @@ def descriptions_section() -> list[str]:
         "Structs, lists, tuples, dicts with str keys, and `X | None`; defaults JSON can write.",
     ]
     for cls in (TypeDescription, FieldDescription):
-        out += ["", f"### {cls.__name__}", "", "```text", doc(cls), "```", ""]
-        out.append(_row("field", "type"))
-        out.append(_row(*["---"] * 2))
-        for f in struct_fields(cls):
-            out.append(_row(f"`{f.name}`", type_name(f.type)))
+        out += _struct_table(cls, defaults=False)
+    return out
+
+
+def _struct_table(cls: type, defaults: bool) -> list[str]:
+    """A Struct's heading, docstring and a row per field (its type, and its default)."""
+    out = ["", f"### {cls.__name__}", "", "```text", doc(cls), "```", ""]
+    out.append(_row("field", "type", *(["default"] if defaults else [])))
+    out.append(_row(*["---"] * (3 if defaults else 2)))
+    for f in struct_fields(cls):
+        out.append(_row(f"`{f.name}`", type_name(f.type), *([default_text(f)] if defaults else [])))
     return out
 
 
@@ -163,11 +169,7 @@ def world_section() -> list[str]:
         'launch file\'s `[world]` table: `{"size": 11.088889, "obstacles": [{"x": 2.0, "y": 9.0, "radius": 0.5}, ...]}`.',
     ]
     for cls in (World, Obstacle):
-        out += ["", f"### {cls.__name__}", "", "```text", doc(cls), "```", ""]
-        out.append(_row("field", "type", "default"))
-        out.append(_row(*["---"] * 3))
-        for f in struct_fields(cls):
-            out.append(_row(f"`{f.name}`", type_name(f.type), default_text(f)))
+        out += _struct_table(cls, defaults=True)
     limits = ", ".join(f"{f.name} {default_text(f)}" for f in struct_fields(Limits))
     out += [
         "",
