@@ -46,18 +46,31 @@ def domain(text: str) -> str:
 
 
 def node_name(text: str) -> tuple[str, str]:
-    """A node's name as ``turtlectl list`` shows it: (its domain, or "", the name).  A ROS-style
-    leading ``/`` is accepted (``/navigator``); ``lab1/navigator`` names navigator in domain
-    lab1.  Names are letters, digits, _ and - (as the launch file's): no wildcards."""
+    """A node's name as ``turtlectl list`` shows it: (its domain, or "", its full name).  A
+    ROS-style leading ``/`` is accepted (``/navigator``); ``turtle2/navigator`` is navigator in
+    namespace turtle2; ``lab1:navigator`` names navigator in domain lab1.  Names are letters,
+    digits, _ and - (as the launch file's), a namespace's joined by ``/``: no wildcards."""
     from turtlectl.cli.system.launchfile import NAME_RE
 
-    domain_part, _, name = text.strip().lstrip("/").rpartition("/")
-    if (domain_part and not DOMAIN_RE.match(domain_part)) or not NAME_RE.match(name):
+    domain_part, _, name = text.strip().rpartition(":")
+    chunks = name.lstrip("/").split("/")
+    if (domain_part and not DOMAIN_RE.match(domain_part)) or not all(NAME_RE.match(c) for c in chunks):
         raise BadInput(
             f"{text!r} is not a node name: letters, digits, _ and -, as the launch file names them "
-            "(`turtlectl list` shows the running ones)"
+            "(turtle2/navigator in namespace turtle2; `turtlectl list` shows the running ones)"
         )
-    return domain_part, name
+    return domain_part, "/".join(chunks)
+
+
+def turtle_name(text: str) -> str:
+    """``--turtle``: a turtle's name (its nodes' namespace), "" for turtle1 (whose nodes run
+    outside any namespace)."""
+    from turtlectl.messages.keys import turtle_namespace
+    from turtlectl.sim.turtles import NAME
+
+    if text and not NAME.match(text):
+        raise BadInput(f"--turtle {text!r}: a turtle's name, letters, digits, _ and - (like turtle2)")
+    return turtle_namespace(text)
 
 
 def endpoint(connect: str) -> str:

@@ -56,6 +56,54 @@ def teleport_key(turtle: str) -> str:
     return f"{turtle}/teleport_absolute"
 
 
+def resolve(key: str, namespace: str) -> str:
+    """The key a node in ``namespace`` uses for ``key`` as its code writes it (ROS's name
+    resolution, with turtle1 standing for the namespace's own turtle):
+
+    - a key starting with ``/`` is absolute: the slash dropped, never namespaced (``/turtles``);
+    - the runtime's own keys (``turtlectl/...``) and liveliness keys (``@...``) never are;
+    - with no namespace (``""``), every other key is as written (today's single-turtle system);
+    - in namespace ``NS``, the default turtle's keys ``turtle1/X`` are the namespace's turtle's,
+      ``NS/X`` (``turtle1/pose`` -> ``turtle2/pose`` in ``turtle2``), and any other key ``K`` is
+      ``NS/K`` (``navigate_to`` -> ``turtle2/navigate_to``, ``robot/status`` -> ``turtle2/robot/status``).
+    """
+    if key.startswith("/"):
+        return key[1:]
+    if not namespace or key.startswith(("@", "turtlectl/")):
+        return key
+    first, _, rest = key.partition("/")
+    if first == FIRST_TURTLE and rest:
+        return f"{namespace}/{rest}"
+    return f"{namespace}/{key}"
+
+
+def turtle_namespace(turtle: str) -> str:
+    """The namespace of turtle ``turtle``'s nodes, as the tools' ``--turtle`` names it: turtle1's
+    run outside any namespace (""), another's in the namespace of its name (``turtle2``)."""
+    return "" if turtle in ("", FIRST_TURTLE) else turtle
+
+
+def namespace_of(name: str) -> str:
+    """The namespace of a node's full name (``turtle2/navigator`` -> ``turtle2``; ``navigator`` -> "")."""
+    return name.rpartition("/")[0]
+
+
+def turtle_of(namespace: str) -> str:
+    """The turtle a namespace's nodes drive: the namespace's last chunk, or turtle1 outside one."""
+    return namespace.rpartition("/")[2] if namespace else FIRST_TURTLE
+
+
+def name_chunk(name: str) -> str:
+    """A node's full name as one key chunk (and file name): ``turtle2/navigator`` ->
+    ``turtle2.navigator`` (names have no '.'; ``node_name`` undoes it)."""
+    return name.replace("/", ".")
+
+
+def node_name(chunk: str) -> str:
+    """The full name written by ``name_chunk``: ``turtle2.navigator`` -> ``turtle2/navigator``."""
+    return chunk.replace(".", "/")
+
+
 CMD_VEL = cmd_vel_key(FIRST_TURTLE)
 POSE = pose_key(FIRST_TURTLE)
 STATUS = "robot/status"
@@ -139,7 +187,7 @@ def _chunk(text: str) -> str:
 
 def node_token(info: NodeInfo) -> str:
     """Liveliness key announcing a node: ``@turtlectl/node/<name>/<pid>/<host>/<start_ns>``."""
-    return f"{NODE_TOKEN_PREFIX}/{info.name}/{info.pid}/{_chunk(info.host)}/{info.start_ns}"
+    return f"{NODE_TOKEN_PREFIX}/{name_chunk(info.name)}/{info.pid}/{_chunk(info.host)}/{info.start_ns}"
 
 
 def parse_node_token(key: str) -> NodeInfo | None:
@@ -153,12 +201,12 @@ def parse_node_token(key: str) -> NodeInfo | None:
     if len(parts) == 4 and not parts[3].isdigit():
         return None
     host, start = (parts[2], int(parts[3])) if len(parts) == 4 else ("", 0)
-    return NodeInfo(name=parts[0], pid=int(parts[1]), host=host, start_ns=start)
+    return NodeInfo(name=node_name(parts[0]), pid=int(parts[1]), host=host, start_ns=start)
 
 
 def entity_token(entity: EntityInfo) -> str:
     """Liveliness key announcing an entity: ``@turtlectl/entity/<node>/<pid>/<role>/<Type>/<key...>``."""
-    return f"{ENTITY_TOKEN_PREFIX}/{entity.node}/{entity.pid}/{entity.role}/{entity.type_name}/{entity.key}"
+    return f"{ENTITY_TOKEN_PREFIX}/{name_chunk(entity.node)}/{entity.pid}/{entity.role}/{entity.type_name}/{entity.key}"
 
 
 def parse_entity_token(key: str) -> EntityInfo | None:
@@ -168,7 +216,7 @@ def parse_entity_token(key: str) -> EntityInfo | None:
     parts = key[len(prefix) :].split("/", 4)
     if len(parts) != 5 or not parts[1].isdigit() or parts[2] not in ("pub", "sub", "srv"):
         return None
-    return EntityInfo(node=parts[0], pid=int(parts[1]), role=parts[2], type_name=parts[3], key=parts[4])
+    return EntityInfo(node=node_name(parts[0]), pid=int(parts[1]), role=parts[2], type_name=parts[3], key=parts[4])
 
 
 def client_token(client_id: str) -> str:
@@ -194,7 +242,7 @@ WORLD_KEY = "turtlectl/world"  # the sim answers with the world (size, obstacles
 
 def params_key(name: str) -> str:
     """Queryable on which node ``name`` answers with its parameters (JSON)."""
-    return f"turtlectl/params/{name}"
+    return f"turtlectl/params/{name_chunk(name)}"
 
 
 def param_set_key(name: str) -> str:
@@ -211,7 +259,7 @@ def param_describe_key(name: str) -> str:
 def node_key(name: str) -> str:
     """Queryable on which node ``name`` answers what it is (JSON): its kind, pid, host, start,
     log level."""
-    return f"turtlectl/nodes/{name}"
+    return f"turtlectl/nodes/{name_chunk(name)}"
 
 
 TYPES = "turtlectl/types"  # every node: the description of each message type it uses (JSON)
@@ -221,7 +269,7 @@ def type_key(type_name: str, node: str) -> str:
     """Queryable on which ``node`` describes the message type ``type_name`` it uses (JSON
     TypeDescription, messages.described); ``turtlectl/types/<name>/*`` asks every node that
     uses it, ``turtlectl/types/*/*`` every type in use."""
-    return f"{TYPES}/{type_name}/{node}"
+    return f"{TYPES}/{type_name}/{name_chunk(node)}"
 
 
 def log_level_key(name: str) -> str:

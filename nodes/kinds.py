@@ -100,7 +100,7 @@ KINDS: dict[str, NodeKind] = {
             publishes=(pose_key("*"), TURTLES),
             subscribes=(cmd_vel_key("*"),),
             serves=(teleport_key("*"), RESET, SPAWN, KILL, WORLD_KEY),
-            calls=(CANCEL,),
+            calls=(CANCEL, f"**/{CANCEL}"),  # a moved turtle's navigator, in any namespace
         ),
     ),
     "navigator": _builtin(
@@ -118,12 +118,12 @@ KINDS: dict[str, NodeKind] = {
         "turtlectl.nodes.status_monitor:StatusMonitor",
         StatusMonitorParams,
         Claim("pub", STATUS),
-        Interface(publishes=(STATUS,), subscribes=(POSE,), serves=(RESET,)),
+        Interface(publishes=(STATUS,), subscribes=(POSE,), serves=(f"/{RESET}",)),
     ),
     "obstacle_detector": _builtin(
         "turtlectl.nodes.obstacle_detector:ObstacleDetector",
         ObstacleDetectorParams,
         Claim("pub", OBSTACLES),
-        Interface(publishes=(OBSTACLES,), subscribes=(POSE, TURTLES)),
+        Interface(publishes=(OBSTACLES,), subscribes=(POSE, f"/{TURTLES}")),
     ),
 }

@@ -1,6 +1,6 @@
 """The obstacle detector process: a mock laser scanner at 5 Hz.
 
-Casts rays from the turtle's pose (``turtle1/pose``, the newest one read at each
+Casts rays from the turtle's pose (``turtle1/pose``, in a namespace its turtle's: the newest one read at each
 tick: the 62.5 Hz poses in between never wake this process) against the world's
 circles and walls, the other turtles (``turtles``, the newest read at each tick: circles of
 the world's turtle radius), plus obstacles it is told the world does not declare and
@@ -16,7 +16,7 @@ import time
 import numpy as np
 
 from turtlectl.messages import LaserScan, Pose, Turtles
-from turtlectl.messages.keys import FIRST_TURTLE, OBSTACLES, POSE, TURTLES
+from turtlectl.messages.keys import OBSTACLES, POSE, TURTLES
 from turtlectl.messages.world import Obstacle, World
 from turtlectl.nodes.params import ObstacleDetectorParams
 from turtlectl.runtime import Node, run_main
@@ -30,7 +30,7 @@ class ObstacleDetector:
         p = node.params
         self.pose: Pose | None = None
         self.latest_pose = node.latest(POSE, Pose)
-        self.latest_turtles = node.latest(TURTLES, Turtles)  # the others are seen too
+        self.latest_turtles = node.latest(f"/{TURTLES}", Turtles)  # the others are seen too (in any namespace)
         self.rng = np.random.default_rng(p.phantom_seed)
         self.phantoms: list[tuple[float, Obstacle]] = []  # (expiry, monotonic s), obstacle
         self.pub = node.publisher(OBSTACLES, LaserScan)
@@ -64,7 +64,7 @@ class ObstacleDetector:
         turtles = self.latest_turtles.get()
         if turtles is not None:
             r = self.node.world.turtle_radius
-            extra += [Obstacle(x=x, y=y, radius=r) for _, x, y, _ in others(turtles, but=FIRST_TURTLE)]
+            extra += [Obstacle(x=x, y=y, radius=r) for _, x, y, _ in others(turtles, but=self.node.turtle)]
         return World(size=self.seen.size, obstacles=self.seen.obstacles + extra) if extra else self.seen
 
     def tick(self) -> None:

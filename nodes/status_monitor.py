@@ -29,7 +29,7 @@ class StatusMonitor:
         self.last_tick = time.monotonic()
         self.pub = node.publisher(STATUS, TurtleStatus)
         node.subscribe(POSE, Pose, self.on_pose)
-        node.serve(RESET, Reset, Ack, self.on_reset)
+        node.serve(f"/{RESET}", Reset, Ack, self.on_reset)  # the world's reset, in any namespace
         self.timer = node.timer(1.0 / node.params.rate, self.tick)
         node.on_params(lambda params: self.timer.retime(1.0 / params.rate))
 

@@ -52,7 +52,10 @@ from turtlectl.messages.keys import (
     ENTITY_TOKEN_PREFIX,
     EntityInfo,
     entity_token,
+    namespace_of,
     parse_entity_token,
+    resolve,
+    turtle_of,
 )
 from turtlectl.messages.world import Limits, World
 from turtlectl.runtime.config import Claim, Interface, NodeConfig
@@ -97,6 +100,10 @@ class Node(Generic[P]):
         clock: Callable[[], float] = time.monotonic,
     ):
         self.name = config.name
+        #: the node's namespace (its full name's first part: ``turtle2`` for ``turtle2/navigator``)
+        #: and the turtle it is about (the namespace's, or turtle1 outside one)
+        self.namespace = namespace_of(config.name)
+        self.turtle = turtle_of(self.namespace)
         self.clock = clock  # s: what timers run on (``runtime.fake`` gives a fake one)
         self.kind = config.kind
         self.started_ns = time.time_ns() if started_ns is None else started_ns
@@ -118,6 +125,12 @@ class Node(Generic[P]):
         self.interface = config.interface  # from here on, what the node declares is checked against it
 
     # -- declarations -------------------------------------------------------
+    def resolve(self, key: str) -> str:
+        """The key this node uses for ``key`` as written (messages.keys.resolve): as written
+        outside a namespace; in ``turtle2``, ``turtle1/pose`` is ``turtle2/pose`` and
+        ``robot/status`` is ``turtle2/robot/status``; ``/turtles`` is always ``turtles``."""
+        return resolve(key, self.namespace)
+
     def _announce(self, role: str, msg_type: type[Message] | str, key: str) -> zenoh.LivelinessToken:
         """A liveliness token for the graph (``turtlectl list``): this node's role on ``key``
         with a message type (or a type's name, such as "JSON")."""
@@ -127,6 +140,7 @@ class Node(Generic[P]):
 
     def publisher(self, key: str, msg_type: type[M]) -> Publisher[M]:
         """A publisher of ``msg_type`` on ``key`` (``publish``; ``undeclare`` withdraws it)."""
+        key = self.resolve(key)
         check(self.name, self.interface, "publish", key)
         self._own.uses(msg_type)
         declared = Declaration(self._entities, "publisher", key)
@@ -137,6 +151,7 @@ class Node(Generic[P]):
     def subscribe(self, key: str, msg_type: type[M], callback: Callable[[M], None]) -> Declaration:
         """Call ``callback(msg)`` on the node thread for each valid ``msg_type`` on ``key``,
         until the returned declaration is undeclared."""
+        key = self.resolve(key)
         check(self.name, self.interface, "subscribe", key)
         self._own.uses(msg_type)
         declared = Declaration(self._entities, "subscription", key)
@@ -147,6 +162,7 @@ class Node(Generic[P]):
     def latest(self, key: str, msg_type: type[M]) -> Latest[M]:
         """Keep the newest ``msg_type`` on ``key`` for the node to read at its own pace
         (``.get()``), without waking the node for each message (see ``Latest``)."""
+        key = self.resolve(key)
         check(self.name, self.interface, "subscribe", key)
         self._own.uses(msg_type)
         declared = Declaration(self._entities, "subscription", key)
@@ -163,6 +179,7 @@ class Node(Generic[P]):
     ) -> Declaration:
         """Serve a queryable; ``handler(request)`` runs on the node thread and responds when it
         likes, until the returned declaration is undeclared."""
+        key = self.resolve(key)
         check(self.name, self.interface, "serve", key)
         self._own.uses(request_type)
         self._own.uses(response_type)
@@ -210,6 +227,7 @@ class Node(Generic[P]):
         """Query ``key`` with ``request`` without waiting: ``on_done(replies)`` runs on the node
         thread once every server has answered (at once when nobody serves ``key``), with the
         replies that decoded; bounded by ``timeout`` s."""
+        key = self.resolve(key)
         check(self.name, self.interface, "call", key)
         self._own.uses(type(request))
         replies: list[Message] = []
@@ -235,6 +253,7 @@ class Node(Generic[P]):
         """Answer every query on ``key`` with a JSON ``document``, or what ``document()``
         returns then (read-only: answered right on the Zenoh thread; a callable must only
         read attributes the node thread swaps whole)."""
+        key = self.resolve(key)
         check(self.name, self.interface, "serve", key)
 
         def on_query(query: zenoh.Query) -> None:
@@ -249,6 +268,7 @@ class Node(Generic[P]):
     def watch_liveliness(self, key_expr: str, callback: Callable[[str, bool], None]) -> Declaration:
         """Call ``callback(key, alive)`` on the node thread when a matching token appears or
         vanishes, until the returned declaration is undeclared."""
+        key_expr = self.resolve(key_expr)
         check(self.name, self.interface, "watch", key_expr)
         declared = Declaration(self._entities, "liveliness watch", key_expr)
 

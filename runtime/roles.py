@@ -21,13 +21,15 @@ from turtlectl.messages.keys import (
     WORLD_KEY,
     cmd_vel_key,
     log_level_key,
+    namespace_of,
     node_key,
     param_describe_key,
     param_set_key,
     params_key,
+    resolve,
     teleport_key,
 )
-from turtlectl.runtime.config import Interface
+from turtlectl.runtime.config import Claim, Interface
 
 GRAPH_KEYS = ("@turtlectl/**", "*/@turtlectl/**")  # the graph, and (outside a domain) every domain's
 VIEWER: dict[str, tuple[str, ...]] = {
@@ -39,8 +41,10 @@ OPERATOR: dict[str, tuple[str, ...]] = {
     **VIEWER,
     "call": (
         *VIEWER["call"],
-        NAVIGATE_TO,
+        NAVIGATE_TO,  # the turtle outside any namespace, and every namespace's (goto --turtle)
+        f"**/{NAVIGATE_TO}",
         CANCEL,
+        f"**/{CANCEL}",
         teleport_key("*"),
         RESET,
         SPAWN,
@@ -72,6 +76,28 @@ def undeclared(name: str) -> Interface:
 
 
 def interface_of(name: str, declared: Interface | None) -> Interface:
-    """What node ``name`` may do beyond every node's share: the interface its kind declares,
-    or ``undeclared(name)``'s.  The one source for the router's rules and the node's runtime."""
-    return declared if declared is not None else undeclared(name)
+    """What node ``name`` (its full name: ``turtle2/navigator`` is in namespace ``turtle2``) may
+    do beyond every node's share: the interface its kind declares, its keys resolved in the
+    node's namespace (messages.keys.resolve), or ``undeclared(name)``'s.  The one source for
+    the router's rules and the node's runtime."""
+    if declared is None:
+        return undeclared(name)
+    namespace = namespace_of(name)
+
+    def keys(written: tuple[str, ...]) -> tuple[str, ...]:
+        return tuple(resolve(key, namespace) for key in written)
+
+    return Interface(
+        publishes=keys(declared.publishes),
+        subscribes=keys(declared.subscribes),
+        serves=keys(declared.serves),
+        calls=keys(declared.calls),
+        watches=keys(declared.watches),
+    )
+
+
+def claims_of(name: str, claims: tuple[Claim, ...] | list[Claim]) -> list[Claim]:
+    """What node ``name`` claims alone, its keys resolved in its namespace: one navigator per
+    namespace serves its ``navigate_to`` (``turtle2/navigate_to``)."""
+    namespace = namespace_of(name)
+    return [Claim(claim.role, resolve(claim.key, namespace)) for claim in claims]

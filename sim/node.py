@@ -101,7 +101,11 @@ class Simulator:
             node.log.warning("spawn (%.3f, %.3f) is outside the world; clamping to the walls", p.x, p.y)
         size = node.world.size
         self.spawn = TurtleState(x=min(max(p.x, 0.0), size), y=min(max(p.y, 0.0), size), theta=wrap_angle(p.theta))
-        self.turtles: dict[str, Turtle] = {FIRST_TURTLE: Turtle(self, FIRST_TURTLE, self.spawn)}
+        #: where each turtle of the launch file starts, and is put back by ``reset``
+        self.starts: dict[str, TurtleState] = {FIRST_TURTLE: self.spawn} | {
+            t.name: TurtleState(x=t.x, y=t.y, theta=wrap_angle(t.theta)) for t in p.turtles
+        }
+        self.turtles: dict[str, Turtle] = {name: Turtle(self, name, place) for name, place in self.starts.items()}
         self.acks: list[tuple[Request[Any], Message]] = []  # answered once the next pose is out
         self.ticks = 0
         self.turtles_pub = node.publisher(TURTLES, Turtles)
@@ -143,32 +147,44 @@ class Simulator:
             return
         place = TurtleState(x=body.x, y=body.y, theta=wrap_angle(body.theta))
         detail = f"teleported to ({body.x:g}, {body.y:g}, {heading_degrees(place.theta):g} deg)"
-        self.move(request, turtle.name, place, "teleported", detail)
+        self.move(request, {turtle.name: place}, "teleported", detail)
 
     def on_reset(self, request: Request[Reset]) -> None:
-        others = sorted(n for n in self.turtles if n != FIRST_TURTLE)
+        others = sorted(n for n in self.turtles if n not in self.starts)
         for name in others:
             self.turtles.pop(name).remove()
         removed = f"; removed {', '.join(others)}" if others else ""
-        self.move(request, FIRST_TURTLE, self.spawn, "reset", f"turtle back at its spawn pose{removed}")
+        back = "turtle back at its spawn pose" if len(self.starts) == 1 else "turtles back at their spawn poses"
+        self.move(request, self.starts, "reset", f"{back}{removed}", f"**/{CANCEL}")
 
-    def move(self, request: Request[Any], name: str, place: TurtleState, reason: str, detail: str) -> None:
-        """Put turtle ``name`` at ``place`` (made again if it is gone) once a running goal is
-        canceled (with ``reason``; the navigator drives turtle1); the Ack follows the first pose
-        published there."""
+    def move(
+        self, request: Request[Any], places: dict[str, TurtleState], reason: str, detail: str, cancel: str = ""
+    ) -> None:
+        """Put each turtle of ``places`` there (made again if it is gone) once the running goals
+        of their navigators are canceled with ``reason`` (on ``cancel``; by default the one
+        turtle's: ``navigate_to/cancel`` and ``turtle1/navigate_to/cancel`` for turtle1,
+        ``<name>/navigate_to/cancel`` for another); the Ack follows the first pose published there."""
 
         def apply(_: list[Message]) -> None:
-            turtle = self.turtles.get(name)
-            if turtle is None:
-                turtle = self.turtles[name] = Turtle(self, name, place)
-            turtle.state = place
-            turtle.cmd_time = None  # a moved turtle stands still until told otherwise
+            for name, place in places.items():
+                turtle = self.turtles.get(name)
+                if turtle is None:
+                    turtle = self.turtles[name] = Turtle(self, name, place)
+                turtle.state = place
+                turtle.cmd_time = None  # a moved turtle stands still until told otherwise
             self.acks.append((request, Ack(detail=detail)))
 
-        if name == FIRST_TURTLE:
-            self.node.call(CANCEL, Cancel(reason=reason), apply)
-        else:
-            apply([])
+        keys = [cancel] if cancel else [f"{name}/{CANCEL}" for name in places]
+        if not cancel and FIRST_TURTLE in places:
+            keys.append(CANCEL)  # turtle1's navigator outside any namespace
+
+        def cancel_next(_: list[Message]) -> None:
+            if keys:
+                self.node.call(keys.pop(), Cancel(reason=reason), cancel_next)
+            else:
+                apply([])
+
+        cancel_next([])
 
     def tick(self) -> None:
         limits, world = self.node.limits, self.node.world

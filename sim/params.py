@@ -10,6 +10,19 @@ from turtlectl.messages.units import Finite, ShortTimeout
 from turtlectl.messages.world import TURTLESIM_SIZE
 
 
+class TurtleSpawn(msgspec.Struct, frozen=True, forbid_unknown_fields=True, kw_only=True):
+    """A turtle the simulator makes at start, beside turtle1 (a ``[[group]]``'s turtle):
+    ``{ name = "turtle2", x = 2.0, y = 2.0, theta = 0.0 }``; ``reset`` puts it back here."""
+
+    name: str  # -: the turtle's name: its keys are under it (turtle2/pose), as a group's namespace
+    x: Finite  # m
+    y: Finite  # m
+    theta: Finite = 0.0  # rad
+
+
+Spawns = list[TurtleSpawn]
+
+
 class SimParams(msgspec.Struct, forbid_unknown_fields=True, kw_only=True):
     """The simulator: where the turtle spawns (inside the world and outside every obstacle:
     the launch file's validation checks both) and when it stops without commands
@@ -19,8 +32,9 @@ class SimParams(msgspec.Struct, forbid_unknown_fields=True, kw_only=True):
     y: Finite = TURTLESIM_SIZE / 2.0  # m: spawn position
     theta: Finite = 0.0  # rad: spawn heading
     cmd_timeout: ShortTimeout = 1.0  # s: after the last cmd_vel the turtle stops (turtlesim: 1 s)
+    turtles: Spawns = msgspec.field(default_factory=list)  # m, rad: more turtles at start, { name, x, y, theta }
 
     FIXED: ClassVar[dict[str, str]] = {
         name: "the spawn pose is read once, at start (`turtlectl teleport` moves the turtle)"
         for name in ("x", "y", "theta")
-    }
+    } | {"turtles": "the turtles are made once, at start (`turtlectl spawn` adds one)"}

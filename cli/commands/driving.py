@@ -10,7 +10,7 @@ import sys
 import typer
 
 from turtlectl.cli import args
-from turtlectl.cli.commands.options import ConnectOption, DomainOption, format, result
+from turtlectl.cli.commands.options import ConnectOption, DomainOption, TurtleOption, format, result
 from turtlectl.cli.errors import ExitCode, Failed, Interrupted
 
 
@@ -25,16 +25,18 @@ def goto(
         help="Stop waiting (and cancel the goal) after S seconds; default: the navigator's goal_timeout.",
     ),
     json: bool = typer.Option(False, "--json", help="Print the response as one JSON object."),
+    turtle: str = TurtleOption,
     connect: str = ConnectOption,
     domain: str = DomainOption,
 ) -> None:
-    """Send the turtle to (X, Y) facing THETA degrees and wait for the outcome.
+    """Send the turtle to (X, Y) facing THETA degrees and wait for the outcome (--turtle turtle2:
+    turtle2's navigator, turtle2/navigate_to).
 
     On a terminal a live progress line shows the goal's state; piped, only the
     outcome is printed.  Ctrl-C or --timeout cancels the goal (exit code 130 or 1), and
     exit code 5 says that nobody confirmed the cancel: the turtle may still be driving.
 
-    Example: turtlectl goto 8 5 90
+    Example: turtlectl goto 8 5 90   or   turtlectl goto 2 2 0 --turtle turtle2
     """
     from turtlectl.cli.tools.api import Client
     from turtlectl.messages import NavigateToFeedback
@@ -46,7 +48,7 @@ def goto(
         typer.echo("\r\033[K" + format.progress_line(fb, shutil.get_terminal_size().columns), nl=False)
 
     try:
-        with Client(connect) as client:
+        with Client(connect, turtle=turtle) as client:
             response = client.goto(*goal, timeout=timeout, on_feedback=show if live else None)
     except KeyboardInterrupt:  # before the goal was sent (one running is canceled and checked in navigate)
         raise Interrupted("interrupted") from None
@@ -57,8 +59,9 @@ def goto(
     raise typer.Exit(ExitCode.OK if response.success else ExitCode.FAILED)
 
 
-def cancel(connect: str = ConnectOption, domain: str = DomainOption) -> None:
-    """Cancel the running goal: the turtle brakes at once; its caller gets reason "canceled".
+def cancel(turtle: str = TurtleOption, connect: str = ConnectOption, domain: str = DomainOption) -> None:
+    """Cancel the running goal (of --turtle's navigator): the turtle brakes at once; its caller
+    gets reason "canceled".
 
     Exit code 1 if no goal was running.
 
@@ -66,7 +69,7 @@ def cancel(connect: str = ConnectOption, domain: str = DomainOption) -> None:
     """
     from turtlectl.cli.tools.api import Client
 
-    with Client(connect) as client:
+    with Client(connect, turtle=turtle) as client:
         ack = client.cancel()
     result(ack.detail)
     raise typer.Exit(ExitCode.OK if ack.ok else ExitCode.FAILED)
@@ -76,7 +79,7 @@ def teleport(
     x: str = typer.Argument(..., metavar="X", help="x, m."),
     y: str = typer.Argument(..., metavar="Y", help="y, m."),
     theta: str = typer.Argument(..., metavar="THETA", help="Heading, degrees (as for goto)."),
-    turtle: str = typer.Option("turtle1", "--turtle", help="Which turtle (one spawned: turtle2, ...)."),
+    turtle: str = TurtleOption,
     connect: str = ConnectOption,
     domain: str = DomainOption,
 ) -> None:
@@ -92,11 +95,11 @@ def teleport(
     request = TeleportAbsolute(
         x=args.finite_number(x, "x"), y=args.finite_number(y, "y"), theta=heading_radians(degrees)
     )
-    acks = services.simple_call(connect, keys.teleport_key(turtle), request)
+    acks = services.simple_call(connect, keys.resolve(keys.TELEPORT, turtle), request)
     if not all(a.ok for a in acks):  # the simulator's own words (they are in radians, as its request)
         raise Failed(format.ack_lines(acks))
     line = format.teleport_line(request.x, request.y, degrees)
-    result(line if turtle == "turtle1" else f"{turtle} {line}")
+    result(f"{turtle} {line}" if turtle else line)
 
 
 def reset(connect: str = ConnectOption, domain: str = DomainOption) -> None:
@@ -116,6 +119,7 @@ def reset(connect: str = ConnectOption, domain: str = DomainOption) -> None:
 def teleop(
     linear: float = typer.Option(2.0, "--linear", min=0.0, help="Speed of up/down (w/s), m/s."),
     angular: float = typer.Option(2.0, "--angular", min=0.0, help="Turn rate of left/right (a/d), rad/s."),
+    turtle: str = TurtleOption,
     connect: str = ConnectOption,
     domain: str = DomainOption,
 ) -> None:
@@ -135,7 +139,7 @@ def teleop(
     args.finite_option(angular, "--angular")
     fd = terminal_fd(sys.stdin)
     with client.client_session(connect) as session:
-        run_teleop(session, linear, angular, connect, fd, sys.stdout)
+        run_teleop(session, linear, angular, connect, fd, sys.stdout, turtle)
 
 
 def register(app: typer.Typer) -> None:

@@ -19,7 +19,7 @@ def list_graph(
     """The live graph: nodes (name, pid, host, uptime), topics with their publishers and
     subscribers, and services; read from liveliness tokens now, never from a cache.
     Without --domain, systems running in domains are listed too, their names and keys
-    prefixed with the domain (lab1/sim, lab1/robot/status).  The services every node has
+    prefixed with the domain (lab1:sim, lab1/robot/status).  The services every node has
     (turtlectl/params/<node>, turtlectl/nodes/<node>, ...) are counted, not listed, unless --all.
 
     Example: turtlectl list

@@ -40,6 +40,20 @@ DomainOption = typer.Option(
 JsonOption = typer.Option(False, "--json", help="One JSON object.")
 
 
+def use_turtle(text: str) -> str:
+    """``--turtle`` checked: a turtle's name (its nodes' namespace), or "" for turtle1."""
+    return args.turtle_name(text)
+
+
+TurtleOption = typer.Option(
+    "",
+    "--turtle",
+    callback=use_turtle,
+    metavar="NAME",
+    help="The turtle to act on (its nodes' namespace: turtle2 reaches turtle2/navigate_to, turtle2/robot/status); default turtle1.",
+)
+
+
 LogLevelOption = typer.Option(
     "INFO", "--log-level", help="Least severe log line the nodes write: DEBUG, INFO, WARNING or ERROR (any case)."
 )
@@ -53,7 +67,7 @@ def result(text: str) -> None:
 
 
 def use_node(text: str | None) -> str | None:
-    """NODE checked; ``lab1/navigator`` (as `list` shows a node of domain lab1 to a client without
+    """NODE checked; ``lab1:navigator`` (as `list` shows a node of domain lab1 to a client without
     --domain) makes lab1 the domain of this command."""
     if text is None:
         return None
@@ -70,5 +84,5 @@ NodeArgument = typer.Argument(
     ...,
     metavar="NODE",
     callback=use_node,
-    help="A node's name, as `turtlectl list` shows it (lab1/sim: in domain lab1).",
+    help="A node's name, as `turtlectl list` shows it (turtle2/navigator: in namespace turtle2; lab1:sim: in domain lab1).",
 )

@@ -10,7 +10,7 @@ from typing import Any
 import typer
 
 from turtlectl.cli import args
-from turtlectl.cli.commands.options import ConnectOption, DomainOption, JsonOption, format, result
+from turtlectl.cli.commands.options import ConnectOption, DomainOption, JsonOption, TurtleOption, format, result
 from turtlectl.cli.errors import Interrupted, Unreachable
 
 
@@ -27,10 +27,12 @@ def echo(
     ),
     full: bool = typer.Option(False, "--full", help="Print long arrays whole."),
     timeout: float | None = typer.Option(None, "--timeout", min=0.1, help="Exit after S seconds."),
+    turtle: str = TurtleOption,
     connect: str = ConnectOption,
     domain: str = DomainOption,
 ) -> None:
-    """Print the messages published on TOPIC, decoded whatever their type.
+    """Print the messages published on TOPIC, decoded whatever their type (with --turtle turtle2,
+    TOPIC as turtle2's nodes write it: robot/status is turtle2/robot/status).
 
     Keeps printing across a publisher's restart; runs until Ctrl-C (exit code 0), --count or
     --timeout.  When nothing arrives for 3 s (from the start, or after messages flowed) it says
@@ -38,9 +40,11 @@ def echo(
     message names its key.  Example: turtlectl echo robot/status --field battery
     """
     from turtlectl.cli.tools import topics
+    from turtlectl.messages.keys import resolve
 
     args.one_format(json, csv)
     limit = args.echo_limit(once, count)
+    topic = resolve(topic, turtle)
     wildcard = "*" in topic
     fields = list(dict.fromkeys(field))  # each once, in the order typed
     skipped: dict[str, int] = {}
@@ -102,10 +106,12 @@ def hz(
     window: int = typer.Option(100, "--window", min=2, help="At most N messages (of the last 5 s) per statistic."),
     duration: float | None = typer.Option(None, "--duration", min=0.5, help="Stop after S seconds."),
     json: bool = typer.Option(False, "--json", help="JSON lines."),
+    turtle: str = TurtleOption,
     connect: str = ConnectOption,
     domain: str = DomainOption,
 ) -> None:
-    """Rate of each TOPIC from arrival times (with jitter), and the publisher's own rate from stamps.
+    """Rate of each TOPIC from arrival times (with jitter), and the publisher's own rate from
+    stamps (with --turtle turtle2, each TOPIC as turtle2's nodes write it).
 
     Each second, a line for each TOPIC that had messages since the last one, over the messages
     of the last 5 s; a topic silent for 3 s (from the start, or after it stopped) is reported with
@@ -114,8 +120,10 @@ def hz(
     """
     from turtlectl.cli.tools import topics
     from turtlectl.cli.tools.rates import rate_line
+    from turtlectl.messages.keys import resolve
 
     printed = False
+    names = [resolve(name, turtle) for name in names]
     try:
         for stats in topics.measure_rates(connect, names, window, duration):
             if isinstance(stats, topics.Silence):

@@ -27,6 +27,7 @@ from turtlectl.messages.keys import (
     NODE_TOKEN_PREFIX,
     PARAMETER_EVENTS,
     log_level_key,
+    name_chunk,
     node_key,
     param_describe_key,
     param_set_key,
@@ -80,7 +81,11 @@ def node_rights(name: str, kind: NodeKind) -> dict[str, tuple[str, ...]]:
         # `param list`, `param set` and the tools learning a type ask every node at once
         "asked": (params_key("*"), node_key("*"), type_key("*", "*")),
         "call": i.calls,
-        "token": (f"{NODE_TOKEN_PREFIX}/{name}/**", f"{ENTITY_TOKEN_PREFIX}/{name}/**", *tokens),
+        "token": (
+            f"{NODE_TOKEN_PREFIX}/{name_chunk(name)}/**",
+            f"{ENTITY_TOKEN_PREFIX}/{name_chunk(name)}/**",
+            *tokens,
+        ),
         # the claim check asks which entities exist; the navigator follows its callers' tokens
         "watch": (f"{ENTITY_TOKEN_PREFIX}/**", *i.watches),
     }

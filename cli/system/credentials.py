@@ -19,6 +19,7 @@ from pathlib import Path
 import msgspec
 
 from turtlectl.cli.errors import BadInput
+from turtlectl.messages.keys import name_chunk
 from turtlectl.runtime.config import Credentials
 
 ENV = "TURTLECTL_CREDENTIALS"
@@ -62,7 +63,8 @@ def new_credentials(user: str) -> Credentials:
 
 
 def node_user(name: str) -> str:
-    return f"node-{name}"
+    """The login of node ``name`` (its full name as one chunk: ``node-turtle2.navigator``)."""
+    return f"node-{name_chunk(name)}"
 
 
 def _write_private(path: Path, text: str) -> None:

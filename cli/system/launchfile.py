@@ -33,10 +33,14 @@ import msgspec
 import msgspec.inspect as mi
 
 from turtlectl.cli.errors import BadInput
+from turtlectl.messages.keys import FIRST_TURTLE
 from turtlectl.messages.world import Limits, World
 from turtlectl.nodes.kinds import KindError, NodeKind, kind_of
 from turtlectl.runtime.loader import suggestion as suggestion  # also for cli.system.overrides, cli.tools
 from turtlectl.runtime.params import validation_parts as validation_parts  # also for cli.tools.build
+from turtlectl.runtime.roles import claims_of
+from turtlectl.sim.kinematics import TurtleState
+from turtlectl.sim.turtles import RESERVED, spawn_problem
 
 #: the launch file that comes with turtlectl: the whole system on one machine
 PACKAGED_LAUNCH = Path(__file__).resolve().parent / "launch.toml"
@@ -61,7 +65,8 @@ class NodeEntry(msgspec.Struct, forbid_unknown_fields=True, kw_only=True):
     cannot be used) or 4 (another process holds what it claims) is never respawned:
     respawning cannot help (see the exit codes)."""
 
-    name: str  # -: unique in the file: letters, digits, _ and -
+    name: str  # -: letters, digits, _ and -; unique in its namespace (its full name, namespace/name, in the system)
+    namespace: str = ""  # -: its keys' prefix, e.g. "turtle2": navigate_to is turtle2/navigate_to and turtle1/pose is turtle2/pose (within a [[group]]: below the group's)
     run: str = ""  # -: a built-in kind (sim, navigator, status_monitor, obstacle_detector) or a node class (pkg.mod:Class, ./file.py:Class); or cmd
     cmd: list[str] = msgspec.field(
         default_factory=list
@@ -83,8 +88,18 @@ class SupervisorSettings(msgspec.Struct, forbid_unknown_fields=True, kw_only=Tru
     keep_logs: Kept = 20  # -: run folders of logs kept, this run's included; older ones go at launch (0: all)
 
 
+class Group(msgspec.Struct, forbid_unknown_fields=True, kw_only=True):
+    """Nodes that share a namespace (ROS's ``PushRosNamespace``): ``[[group]]`` with
+    ``namespace = "turtle2"`` and its ``[[group.node]]`` tables, one navigator, status monitor
+    and obstacle detector per turtle."""
+
+    namespace: str  # -: the group's nodes' namespace, e.g. "turtle2" (the turtle they drive)
+    node: list[NodeEntry] = msgspec.field(default_factory=list)  # -: as [[node]]
+
+
 class LaunchFile(msgspec.Struct, forbid_unknown_fields=True, kw_only=True):
-    node: list[NodeEntry]
+    node: list[NodeEntry] = msgspec.field(default_factory=list)
+    group: list[Group] = msgspec.field(default_factory=list)
     world: World = msgspec.field(default_factory=World)
     limits: Limits = msgspec.field(default_factory=Limits)
     supervisor: SupervisorSettings = msgspec.field(default_factory=SupervisorSettings)
@@ -147,6 +162,7 @@ class Report:
         self.label = label  # the file, or the option (--set, --param)
         self.names = names
         self.override = override
+        self.origins: list[str] = []  # where each node of the flattened list is written (group[0].node[1])
 
     def where(self, parts: Parts) -> str:
         text = ""
@@ -156,7 +172,8 @@ class Report:
             if self.override and name and rest[:1] == ["params"]:
                 text, rest = name, rest[1:]
             else:
-                text = f"node[{i}]" + (f" ({name})" if name else "")
+                origin = self.origins[i] if i < len(self.origins) else f"node[{i}]"
+                text = origin + (f" ({name})" if name else "")
             parts = rest
         for part in parts:
             text += f"[{part}]" if isinstance(part, int) else f".{part}"
@@ -187,24 +204,21 @@ def validate(data: Any, source: str, report: Report, base: Path | None = None) -
     except msgspec.ValidationError as exc:
         raise report.error(*_problem(exc, LaunchFile)) from None
 
-    if not launch.node:
-        raise report.error(["node"], "the launch file lists no node")
+    entries, report.origins = _flattened(launch, report)
+    report.names = [e.name for e in entries]
+    if not entries:
+        raise report.error(["node"], "the launch file lists no node (no [[node]] and no [[group]] with one)")
+    launch = msgspec.structs.replace(launch, node=entries, group=[])
     seen: dict[str, int] = {}
-    kinds: dict[str, int] = {}  # built-in kind -> its node's index
-    claimed: dict[Any, int] = {}  # claim -> the index of the node that claims it
+    kinds: dict[tuple[str, str], int] = {}  # (namespace, built-in kind) -> its node's index
+    claimed: dict[Any, int] = {}  # claim (resolved in the node's namespace) -> the index of the node that claims it
     params: dict[str, dict[str, Any]] = {}
     resolved: dict[str, NodeKind] = {}
     commands: dict[str, list[str]] = {}
     for i, entry in enumerate(launch.node):
-        if not NAME_RE.match(entry.name):
-            raise report.error(["node", i, "name"], f"{entry.name!r} is not a valid name (letters, digits, _ and -)")
-        if entry.name in TABLES:
-            raise report.error(
-                ["node", i, "name"],
-                f"{entry.name!r} is reserved (--set {entry.name}.KEY=VALUE sets the [{entry.name}] table)",
-            )
         if entry.name in seen:
-            raise report.error(["node", i, "name"], f"duplicate node name {entry.name!r}")
+            j = seen[entry.name]
+            raise report.error(["node", i, "name"], f"duplicate node name {entry.name!r} ({report.origins[j]} has it)")
         seen[entry.name] = i
         if bool(entry.run) == bool(entry.cmd):
             which = "both run and cmd" if entry.run else "neither run nor cmd"
@@ -219,20 +233,32 @@ def validate(data: Any, source: str, report: Report, base: Path | None = None) -
             kind = kind_of(entry.run, base)
         except KindError as exc:
             raise report.error(["node", i, "run"], str(exc)) from None
-        for claim in kind.claims:  # "one of each kind" for the kinds that claim something
+        if entry.run == "sim" and entry.namespace:
+            raise report.error(
+                ["node", i, "namespace"],
+                "the simulator serves every turtle of the world: it runs outside any namespace "
+                "(its turtles go in its params.turtles, or come with turtlectl spawn)",
+            )
+        for claim in claims_of(
+            entry.name, kind.claims
+        ):  # "one of each kind" per namespace, for the kinds that claim something
             if claim in claimed:
                 j = claimed[claim]
                 other = launch.node[j]
+                where = f" in namespace {entry.namespace!r}" if entry.namespace else ""
                 if other.run == entry.run:
-                    why = f"a second {entry.run!r} node (node[{j}] ({other.name}) is one): both would {kind.owns()}; "
-                    raise report.error(["node", i, "run"], why + "a system runs one of each kind")
+                    why = f"a second {entry.run!r} node{where} ({report.origins[j]} ({other.name}) is one): both would {claim.phrase()}; "
+                    raise report.error(
+                        ["node", i, "run"],
+                        why + "a namespace runs one of each kind (give each turtle's nodes its own namespace)",
+                    )
                 raise report.error(
                     ["node", i, "run"],
-                    f"node[{j}] ({other.name}) already claims what it claims: both would {claim.phrase()}",
+                    f"{report.origins[j]} ({other.name}) already claims what it claims: both would {claim.phrase()}",
                 )
             claimed[claim] = i
         if kind.builtin:
-            kinds[entry.run] = i
+            kinds[(entry.namespace, entry.run)] = i
         resolved[entry.name] = kind
         try:
             typed = msgspec.convert(entry.params, kind.params, strict=True)
@@ -242,19 +268,78 @@ def validate(data: Any, source: str, report: Report, base: Path | None = None) -
         params[entry.name] = msgspec.to_builtins(typed)
 
     _check_world(launch.world, report)
-    if "sim" in kinds:
-        _check_spawn(launch.world, kinds["sim"], params[launch.node[kinds["sim"]].name], report)
-    if "navigator" in kinds and "obstacle_detector" in kinds:
-        navigator = params[launch.node[kinds["navigator"]].name]
-        detector = launch.node[kinds["obstacle_detector"]]
+    if ("", "sim") in kinds:
+        i = kinds[("", "sim")]
+        _check_spawn(launch.world, i, params[launch.node[i].name], report)
+        _check_turtles(launch.world, i, params[launch.node[i].name], report)
+    for (namespace, run), i in kinds.items():
+        if run != "navigator" or (namespace, "obstacle_detector") not in kinds:
+            continue
+        navigator = params[launch.node[i].name]
+        detector = launch.node[kinds[(namespace, "obstacle_detector")]]
         rate = params[detector.name]["rate"]
         if navigator["scan_timeout"] <= 1.0 / rate:
             raise report.error(
-                ["node", kinds["navigator"], "params", "scan_timeout"],
+                ["node", i, "params", "scan_timeout"],
                 f"{navigator['scan_timeout']:g} s is not longer than the scan period of {detector.name} "
                 f"({1.0 / rate:g} s at {rate:g} Hz): obstacles would be forgotten between scans",
             )
     return LaunchPlan(source=source, launch=launch, params=params, kinds=resolved, commands=commands, folder=str(base))
+
+
+def _flattened(launch: LaunchFile, report: Report) -> tuple[list[NodeEntry], list[str]]:
+    """Every node of the file, a group's nodes in its namespace, each named by its full name
+    (``turtle2/navigator``); and where each is written (``node[1]``, ``group[0].node[2]``)."""
+    entries: list[NodeEntry] = []
+    origins: list[str] = []
+    written = [(f"node[{i}]", "", entry) for i, entry in enumerate(launch.node)]
+    for g, group in enumerate(launch.group):
+        where = f"group[{g}]"
+        problem = _namespace_problem(group.namespace)
+        if problem:
+            raise LaunchFileError(f"{report.label}: {where}.namespace: {problem}")
+        written += [(f"{where}.node[{i}]", group.namespace, entry) for i, entry in enumerate(group.node)]
+    for origin, outer, entry in written:
+        label = f"{report.label}: {origin}" + (f" ({entry.name})" if entry.name else "")
+        problem = _namespace_problem(entry.namespace) if entry.namespace else None
+        if problem:
+            raise LaunchFileError(f"{label}.namespace: {problem}")
+        namespace = "/".join(part for part in (outer, entry.namespace) if part)
+        short = entry.name.removeprefix(f"{namespace}/") if namespace else entry.name  # written again: full
+        if not NAME_RE.match(short):
+            raise LaunchFileError(
+                f"{label}.name: {short!r} is not a valid name (letters, digits, _ and -; "
+                'a namespace goes in namespace = "...", or a [[group]])'
+            )
+        if short in TABLES and not namespace:
+            raise LaunchFileError(
+                f"{label}.name: {short!r} is reserved (--set {short}.KEY=VALUE sets the [{short}] table)"
+            )
+        full = f"{namespace}/{short}" if namespace else short
+        entries.append(msgspec.structs.replace(entry, name=full, namespace=namespace))
+        origins.append(origin)
+    return entries, origins
+
+
+def _namespace_problem(namespace: str) -> str | None:
+    """Why ``namespace`` cannot be one (None: it can): chunks of a name's letters, joined by /."""
+    chunks = namespace.split("/")
+    if not all(NAME_RE.match(chunk) for chunk in chunks):
+        return f"{namespace!r} is not a namespace (names of letters, digits, _ and -, joined by /, e.g. turtle2)"
+    if chunks[0] in RESERVED:
+        return f"{namespace!r} begins with {chunks[0]!r}, the first part of the system's own keys; choose another"
+    return None
+
+
+def _check_turtles(world: World, i: int, sim: dict[str, Any], report: Report) -> None:
+    """The simulator's other turtles at start: good names, none taken twice, each where a
+    spawn could put it (sim.turtles)."""
+    states = {FIRST_TURTLE: TurtleState(x=sim["x"], y=sim["y"], theta=sim["theta"])}
+    for j, turtle in enumerate(sim["turtles"]):
+        problem = spawn_problem(world, states, turtle["name"], turtle["x"], turtle["y"], turtle["theta"])
+        if problem is not None:
+            raise report.error(["node", i, "params", "turtles", j], problem)
+        states[turtle["name"]] = TurtleState(x=turtle["x"], y=turtle["y"], theta=turtle["theta"])
 
 
 def _program(cmd: list[str], base: Path, error: Any, i: int) -> str:

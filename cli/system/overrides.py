@@ -28,7 +28,7 @@ from turtlectl.messages.world import World
 from turtlectl.nodes.kinds import KINDS, KindError, kind_of
 from turtlectl.runtime.config import NodeConfig
 from turtlectl.runtime.params import lookup
-from turtlectl.runtime.roles import interface_of
+from turtlectl.runtime.roles import claims_of, interface_of
 
 
 class Assignment(msgspec.Struct, frozen=True):
@@ -210,7 +210,7 @@ def node_config(
         connect=connect,
         domain=domain,
         params=plan.params[name],
-        claims=list(plan.kinds[name].claims),
+        claims=claims_of(name, plan.kinds[name].claims),
         interface=interface_of(name, plan.kinds[name].interface),
         world=plan.launch.world,
         limits=plan.launch.limits,

@@ -20,7 +20,7 @@ from typing import Any
 
 import zenoh
 
-from turtlectl.cli.args import endpoint
+from turtlectl.cli.args import endpoint, turtle_name
 from turtlectl.cli.errors import BadInput, Failed
 from turtlectl.cli.tools import params as _params
 from turtlectl.cli.tools.client import check_key, client_session, require
@@ -45,6 +45,7 @@ from turtlectl.messages.keys import (
     node_key,
     param_set_key,
     params_key,
+    resolve,
     service_types,
 )
 from turtlectl.runtime.endpoint import CONNECT_ENV, DEFAULT_ENDPOINT, default_domain
@@ -122,12 +123,17 @@ class Client:
     """A client of a running system: ``with Client() as client: client.goto(8, 5, 90)``.
 
     ``connect``: the router's endpoint (default: ``TURTLECTL_CONNECT``, else
-    ``tcp/127.0.0.1:7447``); ``domain``: the system's domain (default: ``TURTLECTL_DOMAIN``).
+    ``tcp/127.0.0.1:7447``); ``domain``: the system's domain (default: ``TURTLECTL_DOMAIN``);
+    ``turtle``: the turtle whose nodes it talks to (default turtle1, whose nodes run outside any
+    namespace): with ``turtle="turtle2"``, ``goto`` calls ``turtle2/navigate_to`` and every key
+    it is given is read as a node of namespace turtle2 writes it (``robot/status`` is
+    ``turtle2/robot/status``, ``turtle1/pose`` is ``turtle2/pose``, ``/turtles`` is ``turtles``).
     Raises ``turtlectl.Error`` (``Unreachable``, exit code 3) if no router answers."""
 
-    def __init__(self, connect: str | None = None, domain: str | None = None) -> None:
+    def __init__(self, connect: str | None = None, domain: str | None = None, turtle: str = "") -> None:
         self.connect = endpoint(connect or os.environ.get(CONNECT_ENV, DEFAULT_ENDPOINT))
         self.domain = default_domain() if domain is None else domain
+        self.namespace = turtle_name(turtle)  # BadInput for a name that is none
         self._stack = contextlib.ExitStack()
         self._session: zenoh.Session = self._stack.enter_context(client_session(self.connect, self.domain))
         self._publishers: dict[str, zenoh.Publisher] = {}
@@ -169,20 +175,25 @@ class Client:
         ``Interrupted`` (130), or ``CancelUnconfirmed`` (5: the turtle may still drive)."""
         request = NavigateToRequest(x=float(x), y=float(y), theta=float(theta))
         with self._hinted():
-            return run_goal(self._session, NAVIGATE_TO, request, NO_LIMIT if timeout is None else timeout, on_feedback)
+            key = self._key(NAVIGATE_TO)
+            return run_goal(self._session, key, request, NO_LIMIT if timeout is None else timeout, on_feedback)
 
     def cancel(self) -> Ack:
         """Cancel the running goal; the navigator's Ack (``ok`` false: no goal was running)."""
         answer = self.call(CANCEL, Cancel())
         if not isinstance(answer, Ack):
-            raise Failed(f"{CANCEL} answered {type(answer).__name__}, not Ack")
+            raise Failed(f"{self._key(CANCEL)} answered {type(answer).__name__}, not Ack")
         return answer
+
+    def _key(self, key: str) -> str:
+        """``key`` as a node of this client's turtle writes it (messages.keys.resolve)."""
+        return resolve(key, self.namespace)
 
     # topics ------------------------------------------------------------------------------------
 
     def publish(self, topic: str, message: Message) -> None:
         """Publish ``message`` on ``topic`` (its publisher is kept until ``close``)."""
-        key = check_key(topic, publish=True)
+        key = check_key(self._key(topic), publish=True)
         require("publish", key)
         with self._lock:
             pub = self._publishers.get(key)
@@ -193,7 +204,7 @@ class Client:
 
     def subscribe(self, topic: str, callback: Callable[[Message], None] | None = None) -> Subscription:
         """Messages on ``topic`` (a key expression: ``robot/status``, ``turtle1/*``), decoded."""
-        key = check_key(topic)
+        key = check_key(self._key(topic))
         require("subscribe", key)
         if callback is not None:  # a callback runs on Zenoh's thread, which must not ask: learn the topic's types now
             for row in self.topics():
@@ -216,7 +227,7 @@ class Client:
     def call(self, service: str, request: Message, timeout: float = CALL_TIMEOUT) -> Message:
         """Call ``service`` and return its last reply (a goal service's response, after its
         feedback).  ``Unreachable`` if nothing serves it; ``BadInput`` if it refuses the request."""
-        key = check_key(service)
+        key = check_key(self._key(service))
         if not service_types(key):  # a service of the user's: its answer's type from the nodes' descriptions
             self._book.learn_all()
         with self._hinted():

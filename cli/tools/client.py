@@ -171,13 +171,17 @@ def base_key(key: str) -> str:
 def caller_token(session: zenoh.Session, service_key: str = NAVIGATE_TO) -> Iterator[str]:
     """Hold ``@turtlectl/client/<id>`` while the block runs and yield ``<id>``: the navigator
     cancels the goal of a caller whose token vanishes (Ctrl-C, kill -9, a timeout here).
-    The token lives in the service's domain (``lab1/@turtlectl/client/<id>`` for ``lab1/navigate_to``)."""
+    The token lives in the service's domain (``lab1/@turtlectl/client/<id>`` for ``lab1/navigate_to``);
+    ``turtle2/navigate_to`` may also be the navigator of namespace turtle2, which follows
+    ``@turtlectl/client/**`` as every navigator does: then both are held."""
     client_id = new_client_id()
-    token = session.liveliness().declare_token(domain_prefix(service_key) + client_token(client_id))
+    prefix = domain_prefix(service_key)
+    tokens = [session.liveliness().declare_token(p + client_token(client_id)) for p in dict.fromkeys([prefix, ""])]
     try:
         yield client_id
     finally:
-        token.undeclare()
+        for token in tokens:
+            token.undeclare()
 
 
 def domains_on_router(connect: str) -> tuple[list[str], bool]:

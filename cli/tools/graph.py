@@ -2,7 +2,7 @@
 
 A client without --domain also sees the systems that run in domains: their tokens are
 ``<domain>/@turtlectl/...``, and their nodes, topics and services are listed with the
-domain in front (``lab1/sim``, ``lab1/robot/status``: the keys such a client uses).
+domain in front (``lab1:sim`` for a node, ``lab1/robot/status`` for a key: the key such a client uses).
 """
 
 from __future__ import annotations
@@ -13,7 +13,7 @@ from turtlectl.messages.keys import EntityInfo, NodeInfo, parse_domain_token, pa
 
 
 class NodeRow(msgspec.Struct):
-    name: str  # with its domain in front (lab1/sim) when listed from outside the domain
+    name: str  # its full name (turtle2/navigator: in namespace turtle2), with its domain in front (lab1:sim) when listed from outside the domain
     pid: int
     host: str
     uptime: float  # s
@@ -61,6 +61,12 @@ def without_node_services(graph: Graph) -> Graph:
     return msgspec.structs.replace(graph, services=kept, hidden_services=len(graph.services) - len(kept))
 
 
+def _in_domain(prefix: str, name: str) -> str:
+    """A node's name seen from outside its domain: ``lab1:sim`` (``lab1:turtle2/navigator``:
+    a ``/`` in a name is its namespace's)."""
+    return f"{prefix[:-1]}:{name}" if prefix else name
+
+
 def _split_domain(key: str) -> tuple[str, str]:
     """(``lab1/``, ``@turtlectl/...``) for a token declared in domain lab1, ("", key) otherwise."""
     head, slash, rest = key.partition("/")
@@ -83,11 +89,13 @@ def build_graph(keys: list[str], now_ns: int) -> Graph:
             continue
         node = parse_node_token(key)
         if node is not None:
-            nodes.append((prefix, msgspec.structs.replace(node, name=prefix + node.name)))
+            nodes.append((prefix, msgspec.structs.replace(node, name=_in_domain(prefix, node.name))))
             continue
         entity = parse_entity_token(key)
         if entity is not None:
-            entities.append(msgspec.structs.replace(entity, node=prefix + entity.node, key=prefix + entity.key))
+            entities.append(
+                msgspec.structs.replace(entity, node=_in_domain(prefix, entity.node), key=prefix + entity.key)
+            )
     topics: dict[str, TopicRow] = {}
     services: dict[str, ServiceRow] = {}
     for e in sorted(entities, key=lambda e: (e.key, e.node)):

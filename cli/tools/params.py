@@ -17,7 +17,7 @@ import msgspec
 from turtlectl.cli.errors import BadInput, Failed
 from turtlectl.cli.tools.services import NobodyServes, Raw, Rejected, call_service, replies, service_session, world
 from turtlectl.messages import Ack, SetParameter
-from turtlectl.messages.keys import NodeDetails, node_key, param_describe_key, param_set_key, params_key
+from turtlectl.messages.keys import NodeDetails, node_key, node_name, param_describe_key, param_set_key, params_key
 from turtlectl.messages.params import ParamDescription, ParamInfo
 from turtlectl.messages.world import World
 from turtlectl.runtime.params import lookup
@@ -147,7 +147,7 @@ def _answers(session: Any, key: str) -> dict[str, bytes]:
     """Each node's JSON answer on ``key`` (ending in ``*``), by node name; none: {}."""
     try:
         found = replies(session, key, b"", TIMEOUT, everyone=True)
-        return {a.key.rsplit("/", 1)[-1]: a.payload for a in found if isinstance(a, Raw)}
+        return {node_name(a.key.rsplit("/", 1)[-1]): a.payload for a in found if isinstance(a, Raw)}
     except NobodyServes:
         return {}
 

@@ -208,9 +208,10 @@ CANCEL_WAIT = 2.0  # s for navigate_to/cancel to confirm the cancel of a goal gi
 
 
 def cancel_goal(session: zenoh.Session, key: str) -> Ack | str:
-    """Ask the ``navigate_to/cancel`` beside ``key`` (its domain) to stop the running goal: its
-    Ack, or why nobody confirmed within CANCEL_WAIT s (nothing serves it, an error, silence)."""
-    cancel_key = domain_prefix(key) + CANCEL
+    """Ask the ``navigate_to/cancel`` beside ``key`` (``lab1/navigate_to/cancel`` in domain lab1,
+    ``turtle2/navigate_to/cancel`` in namespace turtle2) to stop the running goal: its Ack, or
+    why nobody confirmed within CANCEL_WAIT s (nothing serves it, an error, silence)."""
+    cancel_key = f"{key}/cancel" if key.endswith(NAVIGATE_TO) else domain_prefix(key) + CANCEL
     try:
         for reply in replies(session, cancel_key, Cancel(), CANCEL_WAIT):
             if isinstance(reply, Ack):

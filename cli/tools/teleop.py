@@ -28,7 +28,7 @@ from turtlectl.cli.tools.client import ROUTER_CHECK, require, router_lost
 from turtlectl.cli.tools.keyboard import Driver, Shown, keys, status_line
 from turtlectl.messages import Cancel, Pose, Twist, decode, encode, encoding_for
 from turtlectl.messages.angles import heading_degrees
-from turtlectl.messages.keys import CANCEL, CMD_VEL, FEEDBACK, POSE
+from turtlectl.messages.keys import CANCEL, CMD_VEL, FEEDBACK, POSE, resolve
 
 POLL = 0.02  # s: the longest a key waits to be read
 LINE_PERIOD = 0.1  # s between redraws of the status line
@@ -40,11 +40,12 @@ HELP = "arrows or w/a/s/d drive (held: go, released: stop); space stops; q quits
 class _Goals:
     """Whether a goal is running (its feedback is recent), and a cancel of it, without waiting."""
 
-    def __init__(self, session: zenoh.Session):
+    def __init__(self, session: zenoh.Session, namespace: str = ""):
         self.session = session
         self.last_feedback = -math.inf  # monotonic s
         self.canceled_at = -math.inf
-        self._sub = session.declare_subscriber(FEEDBACK, self._on_feedback)
+        self.cancel_key = resolve(CANCEL, namespace)
+        self._sub = session.declare_subscriber(resolve(FEEDBACK, namespace), self._on_feedback)
 
     def _on_feedback(self, _sample: zenoh.Sample) -> None:  # Zenoh thread: a time only
         self.last_feedback = time.monotonic()
@@ -56,7 +57,7 @@ class _Goals:
         """Cancel the running goal (reason "teleop"); the Ack is not waited for."""
         self.canceled_at = now
         self.session.get(
-            CANCEL,
+            self.cancel_key,
             lambda _reply: None,
             payload=encode(Cancel(reason="teleop")),
             encoding=zenoh.Encoding(encoding_for(Cancel)),
@@ -70,15 +71,18 @@ class _Goals:
 class _Teleop:
     """One teleop run: the session's publisher and subscribers, the driver, the terminal."""
 
-    def __init__(self, session: zenoh.Session, driver: Driver, endpoint: str, fd: int, out: TextIO):
+    def __init__(
+        self, session: zenoh.Session, driver: Driver, endpoint: str, fd: int, out: TextIO, namespace: str = ""
+    ):
         self.session, self.driver, self.endpoint, self.fd, self.out = session, driver, endpoint, fd, out
         self.latest: Pose | None = None
         self.seq = 0
         self.hung_up = False
         self.note = ""
-        self.publisher = session.declare_publisher(CMD_VEL, encoding=zenoh.Encoding(encoding_for(Twist)))
-        self.pose_sub = session.declare_subscriber(POSE, self._on_pose)
-        self.goals = _Goals(session)
+        cmd_vel = resolve(CMD_VEL, namespace)
+        self.publisher = session.declare_publisher(cmd_vel, encoding=zenoh.Encoding(encoding_for(Twist)))
+        self.pose_sub = session.declare_subscriber(resolve(POSE, namespace), self._on_pose)
+        self.goals = _Goals(session, namespace)
 
     def _on_pose(self, sample: zenoh.Sample) -> None:  # Zenoh thread: keep the newest valid pose
         try:
@@ -180,13 +184,16 @@ def terminal_fd(stream: TextIO) -> int:
     return fd
 
 
-def run_teleop(session: zenoh.Session, linear: float, angular: float, endpoint: str, fd: int, out: TextIO) -> str:
+def run_teleop(
+    session: zenoh.Session, linear: float, angular: float, endpoint: str, fd: int, out: TextIO, namespace: str = ""
+) -> str:
     """Drive until q, Ctrl-C, SIGTERM or SIGHUP; returns why it ended.  Raises BadInput if
-    ``fd`` is not a terminal, Unreachable if the router goes away."""
+    ``fd`` is not a terminal, Unreachable if the router goes away.  ``namespace``: the turtle's
+    nodes' (``turtle2`` drives turtle2/cmd_vel; "" turtle1)."""
     if not os.isatty(fd):
         raise BadInput(NOT_A_TERMINAL)
-    require("publish", CMD_VEL)
-    teleop = _Teleop(session, Driver(linear, angular), endpoint, fd, out)
+    require("publish", resolve(CMD_VEL, namespace))
+    teleop = _Teleop(session, Driver(linear, angular), endpoint, fd, out, namespace)
     terminal = termios.tcgetattr(fd)
     try:
         tty.setcbreak(fd)  # keys as they are typed, no echo; Ctrl-C still a signal

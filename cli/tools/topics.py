@@ -328,7 +328,7 @@ def learn_type(connect: str, key: str, type_name: str | None) -> str | None:
 def live_graph(session: zenoh.Session, domain: str | None = None) -> Graph:
     """The live graph as this session (in ``domain``, default: the environment's) sees it.
     Outside any domain that includes every domain's graph, its names and keys prefixed with
-    the domain (``lab1/sim``): tokens declared in a namespace are ``lab1/@turtlectl/...``,
+    the domain (``lab1:sim``, ``lab1/robot/status``): tokens declared in a Zenoh namespace are ``lab1/@turtlectl/...``,
     which ``@turtlectl/**`` cannot match (Zenoh never matches a chunk starting with ``@`` by
     a wildcard), hence the second query."""
     selectors = [GRAPH] if (default_domain() if domain is None else domain) else [GRAPH, DOMAIN_GRAPHS]

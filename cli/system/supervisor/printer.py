@@ -9,6 +9,8 @@ import time
 from pathlib import Path
 from typing import TextIO
 
+from turtlectl.messages.keys import name_chunk
+
 _COLOURS = (36, 33, 32, 35, 34, 31, 96, 93, 92, 95)
 SYSTEM = "launch"
 
@@ -31,7 +33,7 @@ class Printer:
         folder.mkdir(parents=True, exist_ok=True)
         self.folder = folder
         for name in [SYSTEM, *names]:
-            self._logs[name] = open(folder / f"{name}.log", "a", encoding="utf-8", buffering=1)  # noqa: SIM115
+            self._logs[name] = open(folder / f"{name_chunk(name)}.log", "a", encoding="utf-8", buffering=1)  # noqa: SIM115
 
     def line(self, name: str, text: str) -> None:
         text = text.rstrip()

@@ -458,16 +458,21 @@ def test_a_node_name_is_a_name_not_a_key_expression(argv, name):
     assert bad_input(*argv).startswith(f"turtlectl: error: {name!r} is not a node name: letters, digits, _ and -")
 
 
-def test_a_node_name_may_have_ros_s_slash_or_the_domain_list_shows(monkeypatch):
-    """`/navigator` is navigator; `lab1/navigator` is navigator in domain lab1 (as `list` shows it)."""
+def test_a_node_name_may_have_ros_s_slash_a_namespace_or_the_domain_list_shows(monkeypatch):
+    """`/navigator` is navigator; `turtle2/navigator` navigator in namespace turtle2 (issue 27: a
+    namespace's nodes); `lab1:navigator` is navigator in domain lab1 (as `list` shows it; it was
+    `lab1/navigator` before namespaces)."""
     from turtlectl.cli import args
 
     assert args.node_name("/navigator") == ("", "navigator")
-    assert args.node_name("lab1/navigator") == ("lab1", "navigator")
-    code, text = invoke("--domain", "lab2", "param", "get", "lab1/navigator", "rate")
-    assert code == ExitCode.BAD_INPUT and "node 'lab1/navigator' is in domain 'lab1', not in --domain 'lab2'" in text
+    assert args.node_name("turtle2/navigator") == ("", "turtle2/navigator")
+    assert args.node_name("/turtle2/navigator") == ("", "turtle2/navigator")
+    assert args.node_name("lab1:navigator") == ("lab1", "navigator")
+    assert args.node_name("lab1:turtle2/navigator") == ("lab1", "turtle2/navigator")
+    code, text = invoke("--domain", "lab2", "param", "get", "lab1:navigator", "rate")
+    assert code == ExitCode.BAD_INPUT and "node 'lab1:navigator' is in domain 'lab1', not in --domain 'lab2'" in text
     monkeypatch.delenv(DOMAIN_ENV)  # the command set it for its sessions
-    code, text = invoke("param", "get", "lab1/navigator", "rate", "--connect", "tcp/127.0.0.1:1")
+    code, text = invoke("param", "get", "lab1:navigator", "rate", "--connect", "tcp/127.0.0.1:1")
     assert code == ExitCode.UNREACHABLE and os.environ.get(DOMAIN_ENV) == "lab1"
 
 

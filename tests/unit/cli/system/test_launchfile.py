@@ -53,7 +53,7 @@ def test_defaults_are_filled_in():
         ('[[node]]\nname = "a"\nrun = "turtle"\n', "f.toml: node[0] (a).run: unknown node kind 'turtle'"),
         (MINIMAL + MINIMAL, "f.toml: node[1] (sim).name: duplicate node name 'sim'"),
         ('[[node]]\nname = "a/b"\nrun = "sim"\n', "f.toml: node[0] (a/b).name: 'a/b' is not a valid name"),
-        ("", "f.toml: node: missing required key"),
+        ("", "f.toml: node: the launch file lists no node"),  # nor any [[group]]
         ("node = []\n", "f.toml: node: the launch file lists no node"),
         ("[[node]\n", "f.toml: not valid TOML"),
         (

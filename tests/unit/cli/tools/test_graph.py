@@ -44,12 +44,12 @@ def test_a_client_without_domain_sees_each_domain_prefixed():
         domain_token("lab2"),
     ]
     graph = build_graph(keys, now_ns=2)
-    assert [(n.name, n.domain) for n in graph.nodes] == [("lab1/sim", "lab1"), ("sim", "")]
-    assert [(t.key, t.publishers) for t in graph.topics] == [("lab1/turtle1/pose", ["lab1/sim"])]
-    assert [(s.key, s.servers) for s in graph.services] == [("lab1/navigate_to", ["lab1/navigator"])]
+    assert [(n.name, n.domain) for n in graph.nodes] == [("lab1:sim", "lab1"), ("sim", "")]
+    assert [(t.key, t.publishers) for t in graph.topics] == [("lab1/turtle1/pose", ["lab1:sim"])]
+    assert [(s.key, s.servers) for s in graph.services] == [("lab1/navigate_to", ["lab1:navigator"])]
     assert graph.domains == ["lab1", "lab2"]
     text = graph_text(graph)
-    assert "lab1/sim" in text and "DOMAINS" in text and "lab1, lab2" in text
+    assert "lab1:sim" in text and "DOMAINS" in text and "lab1, lab2" in text
 
 
 def test_an_empty_graph_says_what_to_do():
