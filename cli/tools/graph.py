@@ -9,7 +9,15 @@ from __future__ import annotations
 
 import msgspec
 
-from turtlectl.messages.keys import EntityInfo, NodeInfo, parse_domain_token, parse_entity_token, parse_node_token
+from turtlectl.messages.keys import (
+    FIRST_TURTLE,
+    EntityInfo,
+    NodeInfo,
+    namespace_of,
+    parse_domain_token,
+    parse_entity_token,
+    parse_node_token,
+)
 
 
 class NodeRow(msgspec.Struct):
@@ -18,6 +26,7 @@ class NodeRow(msgspec.Struct):
     host: str
     uptime: float  # s
     domain: str = ""
+    namespace: str = ""  # turtle2 for turtle2/navigator (lab1:turtle2/navigator too); "" outside any
 
 
 class TopicRow(msgspec.Struct):
@@ -113,6 +122,7 @@ def build_graph(keys: list[str], now_ns: int) -> Graph:
                 host=n.host,
                 uptime=max(0.0, (now_ns - n.start_ns) / 1e9) if n.start_ns else 0.0,
                 domain=prefix[:-1],
+                namespace=namespace_of(n.name.partition(":")[2] if prefix else n.name),
             )
             for prefix, n in sorted(nodes, key=lambda pn: pn[1].name)
         ],
@@ -122,22 +132,50 @@ def build_graph(keys: list[str], now_ns: int) -> Graph:
     )
 
 
+PUB_WIDTH = 40  # characters: the widest the TOPICS table's publishers column gets
+
+
 def _width(values: list[str], least: int) -> int:
     return max([least, *map(len, values)])
+
+
+def _namespace(node: NodeRow) -> str:
+    """``node``'s namespace, from its name (rows built elsewhere may leave ``namespace`` empty)."""
+    return node.namespace or namespace_of(node.name.partition(":")[2] if node.domain else node.name)
+
+
+def _node_lines(nodes: list[NodeRow]) -> list[str]:
+    """One line per node; grouped by turtle when any node runs in a namespace: a heading per
+    namespace (``turtle2``; ``lab1:turtle2`` in domain lab1), the nodes outside any under
+    ``turtle1 (no namespace)``, each group's nodes indented below its heading."""
+    name_w = _width([n.name for n in nodes], 20)
+    host_w = _width([n.host for n in nodes], 8)
+
+    def line(n: NodeRow, indent: str) -> str:
+        return f"{indent}{n.name:{name_w}s} pid {n.pid:<8d} host {n.host:{host_w}s} up {n.uptime:8.1f} s"
+
+    if not any(_namespace(n) for n in nodes):
+        return [line(n, "  ") for n in nodes]
+    groups: dict[tuple[str, str], list[NodeRow]] = {}
+    for n in nodes:
+        groups.setdefault((n.domain, _namespace(n)), []).append(n)
+    lines = []
+    for domain, namespace in sorted(groups, key=lambda g: (g[0], g[1] != "", g[1])):
+        heading = namespace or f"{FIRST_TURTLE} (no namespace)"
+        lines.append(f"  {domain}:{heading}" if domain else f"  {heading}")
+        lines += [line(n, "    ") for n in groups[domain, namespace]]
+    return lines
 
 
 def graph_text(graph: Graph) -> str:
     """The graph as aligned tables for people (columns as wide as their longest entry)."""
     lines = ["NODES"]
-    name_w = _width([n.name for n in graph.nodes], 20)
-    host_w = _width([n.host for n in graph.nodes], 8)
-    lines += [
-        f"  {n.name:{name_w}s} pid {n.pid:<8d} host {n.host:{host_w}s} up {n.uptime:8.1f} s" for n in graph.nodes
-    ] or [f"  (none{': ' + graph.hint if graph.hint else ''})"]
+    lines += _node_lines(graph.nodes) or [f"  (none{': ' + graph.hint if graph.hint else ''})"]
     lines.append("TOPICS")
     key_w = _width([t.key for t in graph.topics], 22)
     type_w = _width([t.type for t in graph.topics], 12)
-    pub_w = _width([", ".join(t.publishers) or "-" for t in graph.topics], 10)
+    # at most PUB_WIDTH wide: one long list (every node publishes parameter events) widens only its own line
+    pub_w = min(PUB_WIDTH, _width([", ".join(t.publishers) or "-" for t in graph.topics], 10))
     for t in graph.topics:
         pubs = ", ".join(t.publishers) or "-"
         lines.append(

@@ -78,3 +78,67 @@ def test_list_counts_the_services_every_node_has_instead_of_listing_them():
     kept = without_node_services(graph)
     assert [s.key for s in kept.services] == ["navigate_to", "turtlectl/world"] and kept.hidden_services == 5
     assert "(+ 5 services every node has: parameters, node info, log level; --all lists them)" in graph_text(kept)
+
+
+def _fleet_keys(prefix: str = "") -> list[str]:
+    names = ["sim", "navigator", "turtle2/navigator", "turtle2/status_monitor", "turtle3/navigator"]
+    return [prefix + node_token(NodeInfo(name=n, pid=i, host="h", start_ns=1)) for i, n in enumerate(names)]
+
+
+def test_list_groups_the_nodes_by_turtle_when_namespaces_run():
+    """Issue 27: a heading per namespace, turtle1's nodes (outside any) first, each group indented."""
+    graph = build_graph(_fleet_keys(), now_ns=1)
+    assert [(n.name, n.namespace) for n in graph.nodes] == [
+        ("navigator", ""),
+        ("sim", ""),
+        ("turtle2/navigator", "turtle2"),
+        ("turtle2/status_monitor", "turtle2"),
+        ("turtle3/navigator", "turtle3"),
+    ]
+    nodes = graph_text(graph).split("TOPICS")[0].splitlines()[1:]
+    assert [line.split()[0] for line in nodes] == [
+        "turtle1",
+        "navigator",
+        "sim",
+        "turtle2",
+        "turtle2/navigator",
+        "turtle2/status_monitor",
+        "turtle3",
+        "turtle3/navigator",
+    ]
+    assert nodes[0] == "  turtle1 (no namespace)" and nodes[3] == "  turtle2" and nodes[6] == "  turtle3"
+    assert nodes[1].startswith("    navigator ") and nodes[4].startswith("    turtle2/navigator ")
+
+
+def test_list_keeps_the_flat_layout_without_namespaces_and_groups_a_domains_turtles():
+    flat = build_graph(_fleet_keys()[:2], now_ns=1)
+    assert graph_text(flat).splitlines()[1:3] == [
+        "  navigator            pid 1        host h        up      0.0 s",
+        "  sim                  pid 0        host h        up      0.0 s",
+    ]
+    graph = build_graph(_fleet_keys("lab1/")[:3] + [node_token(NodeInfo(name="sim", pid=9, host="h", start_ns=1))], 1)
+    assert [(n.name, n.domain, n.namespace) for n in graph.nodes] == [
+        ("lab1:navigator", "lab1", ""),
+        ("lab1:sim", "lab1", ""),
+        ("lab1:turtle2/navigator", "lab1", "turtle2"),
+        ("sim", "", ""),
+    ]
+    nodes = graph_text(graph).split("TOPICS")[0].splitlines()[1:]
+    headings = [line.strip() for line in nodes if not line.startswith("    ")]
+    assert headings == ["turtle1 (no namespace)", "lab1:turtle1 (no namespace)", "lab1:turtle2"]
+
+
+def test_one_long_publisher_list_widens_only_its_own_line():
+    from turtlectl.cli.tools.graph import Graph, TopicRow
+
+    many = [f"turtle{i}/navigator" for i in range(2, 12)]
+    graph = Graph(
+        nodes=[],
+        services=[],
+        topics=[
+            TopicRow(key="turtle1/pose", type="Pose", publishers=["sim"], subscribers=["navigator"]),
+            TopicRow(key="turtlectl/parameter_events", type="ParameterEvent", publishers=many, subscribers=[]),
+        ],
+    )
+    pose_line = next(line for line in graph_text(graph).splitlines() if "turtle1/pose" in line)
+    assert len(pose_line) < 120 and pose_line.endswith("sub: navigator")
