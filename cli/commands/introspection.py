@@ -97,9 +97,9 @@ def interface_show(
 
 
 def view(connect: str = ConnectOption, domain: str = DomainOption) -> None:
-    """Draw the world live in this terminal: walls, obstacles, the turtle and its trail,
-    the goal, the laser hits, a legend and a status line.  c clears the trail; q or Ctrl-C
-    quits (exit code 0).
+    """Draw the world live in this terminal: walls, obstacles, every turtle with its trail
+    and its goal (the others named beside the legend), turtle1's laser hits, a legend and a
+    status line.  c clears the trails; q or Ctrl-C quits (exit code 0).
 
     Example: turtlectl view
     """

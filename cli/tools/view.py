@@ -3,7 +3,7 @@
 ``render`` is pure (text lines from the latest messages); ``run_view`` is the
 curses shell around it: it subscribes over Zenoh, queues what arrives, and
 redraws at 20 frames a second (curses sends only what changed: no flicker).
-Keys: c clears the trail, q quits.  Losing the router is shown on the status line.
+Keys: c clears the trails, q quits.  Losing the router is shown on the status line.
 """
 
 from __future__ import annotations
@@ -22,12 +22,15 @@ from turtlectl.cli.tools.client import ROUTER_CHECK, router_lost
 from turtlectl.cli.tools.format import heading_text
 from turtlectl.messages import LaserScan, NavigateToFeedback, Pose, Turtles, TurtleStatus, decode_any
 from turtlectl.messages.angles import heading_degrees
-from turtlectl.messages.keys import FEEDBACK, FIRST_TURTLE, OBSTACLES, POSE, STATUS, TURTLES
+from turtlectl.messages.keys import FEEDBACK, FIRST_TURTLE, OBSTACLES, POSE, STATUS, TURTLES, turtle_of
 from turtlectl.messages.world import World
 from turtlectl.sim.turtles import others as turtles_but
 
 FRAME = 0.05  # s between frames: 20 frames a second
-TRAIL = 400  # poses kept for the trail
+TRAIL = 400  # poses kept for each turtle's trail
+TRAIL_STEP = 0.05  # m between two trail positions
+GOAL_LIFETIME = 0.5  # s a goal stays drawn after its last feedback
+OTHERS_FEEDBACK = "*/" + FEEDBACK  # another turtle's navigator's: turtle2/navigate_to/feedback
 LEGEND = "o obstacle  * scan hit  . trail  + path  X goal  (c clears the trail)"
 ARROWS = "→↗↑↖←↙↓↘"
 ASCII_ARROWS = ">/^\\</v\\"
@@ -43,6 +46,8 @@ class Scene(msgspec.Struct, kw_only=True):
     feedback: NavigateToFeedback | None = None
     turtles: Turtles | None = None  # every turtle (the others are drawn too, and named)
     trail: list[tuple[float, float]] = msgspec.field(default_factory=list)
+    trails: dict[str, list[tuple[float, float]]] = msgspec.field(default_factory=dict)  # the others', by name
+    goals: dict[str, NavigateToFeedback] = msgspec.field(default_factory=dict)  # the others' running goals
     router: str = ""  # the endpoint, when the router is lost (shown instead of the pose)
 
 
@@ -50,7 +55,8 @@ def render(scene: Scene, cols: int, rows: int, unicode: bool = True) -> list[str
     """The screen as ``rows`` lines of at most ``cols`` characters: the world in a frame
     (walls), obstacles ``o``, trail ``.``, the goal's path ``+``, laser hits ``*``, goal
     ``X``, the turtle as an arrow along its heading, and at the bottom a legend and two
-    status lines."""
+    status lines.  The other turtles (from ``turtles``) are drawn as turtle1 is, with their
+    trails and their running goals (a goal's path and ``X``), and named beside the legend."""
     if cols < 20 or rows < 7:
         return ["terminal too small"][:rows]
     size = scene.world.size
@@ -71,12 +77,14 @@ def render(scene: Scene, cols: int, rows: int, unicode: bool = True) -> list[str
             wx = (c + 0.5) / scale_x
             if any(math.hypot(wx - o.x, wy - o.y) <= o.radius for o in scene.world.obstacles):
                 grid[r][c] = "o"
-    for x, y in scene.trail:
-        if (rc := cell(x, y)) is not None and grid[rc[0]][rc[1]] == " ":
-            grid[rc[0]][rc[1]] = "."
+    for trail in (scene.trail, *scene.trails.values()):
+        for x, y in trail:
+            if (rc := cell(x, y)) is not None and grid[rc[0]][rc[1]] == " ":
+                grid[rc[0]][rc[1]] = "."
     fb = scene.feedback
-    if fb is not None:
-        for (ax, ay), (bx, by) in zip(fb.path, fb.path[1:], strict=False):
+    goals = [g for g in (fb, *scene.goals.values()) if g is not None]
+    for goal in goals:
+        for (ax, ay), (bx, by) in zip(goal.path, goal.path[1:], strict=False):
             steps = max(1, int(math.hypot((bx - ax) * scale_x, (by - ay) * scale_y) * 2))
             for k in range(steps + 1):
                 rc = cell(ax + (bx - ax) * k / steps, ay + (by - ay) * k / steps)
@@ -89,8 +97,9 @@ def render(scene: Scene, cols: int, rows: int, unicode: bool = True) -> list[str
                 a = scan.origin_theta + scan.angle_min + i * scan.angle_increment
                 if (rc := cell(scan.origin_x + r * math.cos(a), scan.origin_y + r * math.sin(a))) is not None:
                     grid[rc[0]][rc[1]] = "*"
-    if fb is not None and (rc := cell(fb.goal_x, fb.goal_y)) is not None:
-        grid[rc[0]][rc[1]] = "X"
+    for goal in goals:
+        if (rc := cell(goal.goal_x, goal.goal_y)) is not None:
+            grid[rc[0]][rc[1]] = "X"
     arrows = ARROWS if unicode else ASCII_ARROWS
     for _, x, y, theta in others(scene):  # the other turtles, as turtle1: an arrow along the heading
         if (rc := cell(x, y)) is not None:
@@ -100,7 +109,10 @@ def render(scene: Scene, cols: int, rows: int, unicode: bool = True) -> list[str
 
     lines = ["+" + "-" * width + "+"] + ["|" + "".join(row) + "|" for row in grid] + ["+" + "-" * width + "+"]
     lines += [""] * (map_rows - len(lines))
-    named = ", ".join(f"{n} ({x:.1f}, {y:.1f})" for n, x, y, _ in others(scene))
+    named = ", ".join(
+        f"{n} ({x:.1f}, {y:.1f})" + (f" goal ({g.goal_x:.1f}, {g.goal_y:.1f})" if (g := scene.goals.get(n)) else "")
+        for n, x, y, _ in others(scene)
+    )
     lines.append(LEGEND + (f"  | also: {named}" if named else ""))
     lines += status_lines(scene)
     return [line[:cols] for line in lines[:rows]]
@@ -109,6 +121,18 @@ def render(scene: Scene, cols: int, rows: int, unicode: bool = True) -> list[str
 def others(scene: Scene) -> list[tuple[str, float, float, float]]:
     """The turtles besides turtle1 (name, x m, y m, theta rad), from the latest ``turtles``."""
     return [] if scene.turtles is None else turtles_but(scene.turtles, but=FIRST_TURTLE)
+
+
+def follow(trail: collections.deque[tuple[float, float]], x: float, y: float) -> None:
+    """Add (x, y) to ``trail`` if it is more than ``TRAIL_STEP`` m from the last position kept."""
+    if not trail or math.hypot(trail[-1][0] - x, trail[-1][1] - y) > TRAIL_STEP:
+        trail.append((x, y))
+
+
+def goal_owner(key: str) -> str:
+    """The turtle whose navigator publishes feedback on ``key``: turtle1 for
+    ``navigate_to/feedback``, turtle2 for ``turtle2/navigate_to/feedback``."""
+    return turtle_of(key.removesuffix(FEEDBACK).rstrip("/"))
 
 
 def status_lines(scene: Scene) -> list[str]:
@@ -138,14 +162,16 @@ def run_view(session: zenoh.Session, world: World, endpoint: str = "") -> None:
     """Draw until q or Ctrl-C; the terminal is restored whatever happens."""
     locale.setlocale(locale.LC_ALL, "")
     unicode = locale.getpreferredencoding(False).lower().replace("-", "") == "utf8"
-    inbox: queue.SimpleQueue[tuple[float, bytes]] = queue.SimpleQueue()
+    inbox: queue.SimpleQueue[tuple[float, str, bytes]] = queue.SimpleQueue()
     subs = [
-        session.declare_subscriber(key, lambda s: inbox.put((time.monotonic(), s.payload.to_bytes())))
-        for key in (POSE, STATUS, OBSTACLES, FEEDBACK, TURTLES)
+        session.declare_subscriber(key, lambda s: inbox.put((time.monotonic(), str(s.key_expr), s.payload.to_bytes())))
+        for key in (POSE, STATUS, OBSTACLES, FEEDBACK, TURTLES, OTHERS_FEEDBACK)
     ]
     scene = Scene(world=world)
     trail: collections.deque[tuple[float, float]] = collections.deque(maxlen=TRAIL)
+    trails: dict[str, collections.deque[tuple[float, float]]] = {}  # the other turtles', by name
     feedback_time = 0.0
+    goal_times: dict[str, float] = {}  # when each other turtle's last feedback arrived
 
     def loop(screen: curses.window) -> None:
         nonlocal feedback_time
@@ -157,26 +183,37 @@ def run_view(session: zenoh.Session, world: World, endpoint: str = "") -> None:
                 next_check = time.monotonic() + ROUTER_CHECK
                 scene.router = (endpoint or "the endpoint") if router_lost(session) else ""
             while not inbox.empty():
-                arrived, payload = inbox.get_nowait()
+                arrived, sample_key, payload = inbox.get_nowait()
                 try:
                     msg = decode_any(payload)
                 except ValueError:
                     continue
                 if isinstance(msg, Pose):
                     scene.pose = msg
-                    if not trail or math.hypot(trail[-1][0] - msg.x, trail[-1][1] - msg.y) > 0.05:
-                        trail.append((msg.x, msg.y))
+                    follow(trail, msg.x, msg.y)
                 elif isinstance(msg, TurtleStatus):
                     scene.status = msg
                 elif isinstance(msg, LaserScan):
                     scene.scan = msg
                 elif isinstance(msg, NavigateToFeedback):
-                    scene.feedback, feedback_time = msg, arrived
+                    if (owner := goal_owner(sample_key)) == FIRST_TURTLE:
+                        scene.feedback, feedback_time = msg, arrived
+                    elif owner in trails:  # a turtle of this system's (not another domain's)
+                        scene.goals[owner], goal_times[owner] = msg, arrived
                 elif isinstance(msg, Turtles):
                     scene.turtles = msg
-            if scene.feedback is not None and time.monotonic() - feedback_time > 0.5:
+                    others_now = others(scene)
+                    for gone in trails.keys() - {name for name, *_ in others_now}:  # killed
+                        del trails[gone]
+                    for name, x, y, _ in others_now:
+                        follow(trails.setdefault(name, collections.deque(maxlen=TRAIL)), x, y)
+            now = time.monotonic()
+            if scene.feedback is not None and now - feedback_time > GOAL_LIFETIME:
                 scene.feedback = None  # the goal ended
+            for owner in [o for o in scene.goals if now - goal_times[o] > GOAL_LIFETIME or o not in trails]:
+                del scene.goals[owner]
             scene.trail = list(trail)
+            scene.trails = {name: list(points) for name, points in trails.items()}
             rows, cols = screen.getmaxyx()
             screen.erase()
             for i, line in enumerate(render(scene, cols, rows, unicode)):
@@ -190,6 +227,8 @@ def run_view(session: zenoh.Session, world: World, endpoint: str = "") -> None:
                 return
             if key in (ord("c"), ord("C")):
                 trail.clear()
+                for points in trails.values():
+                    points.clear()
             if key == curses.KEY_RESIZE:
                 screen.clear()  # repaint the whole terminal on the next frame
 

@@ -112,3 +112,45 @@ def test_the_view_draws_every_turtle_and_names_the_others():
     assert lines[-3].endswith("| also: turtle2 (2.0, 2.0), alice (8.0, 8.0)"), lines[-3]
     alone = render(Scene(world=World(size=10.0), pose=Pose(x=5.0, y=5.0, theta=0.0)), 120, 30)
     assert "also:" not in alone[-3] and "\n".join(alone[1:-3]).count("→") == 1
+
+
+def test_the_view_draws_the_other_turtles_trails_and_goals():
+    """Issue 27: each other turtle's trail (as turtle1's) and its running goal (path and X), the
+    goal also said beside its name; a turtle without feedback has no goal drawn."""
+    from turtlectl.messages import Turtles
+
+    fb = NavigateToFeedback(
+        state="driving", distance_remaining=6, heading_remaining=0, eta=2, elapsed=0, x=2, y=2, theta=0,
+        goal_x=8, goal_y=2, path=[(2.0, 2.0), (8.0, 2.0)],
+    )  # fmt: skip
+    turtles = Turtles(names=["turtle1", "turtle2", "turtle3"], x=[5.0, 2.0, 8.0], y=[8.0, 2.0, 8.0], theta=[0.0] * 3)
+    scene = Scene(
+        world=World(size=10.0),
+        pose=Pose(x=5.0, y=8.0, theta=0.0),
+        turtles=turtles,
+        trails={"turtle3": [(8.0, y / 2) for y in range(6, 15)]},  # a column below turtle3
+        goals={"turtle2": fb},
+    )
+    lines = render(scene, 150, 30)
+    grid = lines[1:-4]
+    assert "\n".join(grid).count("X") == 1 and "\n".join(grid).count("+") >= 5  # turtle2's goal and path
+    (goal_row,) = [row for row in grid if "X" in row]
+    assert "+" in goal_row and goal_row.index("+") < goal_row.index("X")  # the path runs from turtle2 to it
+    (arrow_row,) = [i for i, row in enumerate(grid) if row.count("→") == 2]  # turtle1 and turtle3
+    column = grid[arrow_row].rindex("→")
+    assert sum(row[column] == "." for row in grid[arrow_row + 1 :]) >= 3  # turtle3's trail below it
+    assert lines[-3].endswith("| also: turtle2 (2.0, 2.0) goal (8.0, 2.0), turtle3 (8.0, 8.0)"), lines[-3]
+    assert "no goal" in lines[-1]  # turtle1's own status line is unchanged: it has none
+
+
+def test_the_view_tells_whose_feedback_a_key_is_and_keeps_a_trail_a_step_apart():
+    import collections
+
+    from turtlectl.cli.tools.view import follow, goal_owner
+
+    assert goal_owner("navigate_to/feedback") == "turtle1"
+    assert goal_owner("turtle2/navigate_to/feedback") == "turtle2"
+    trail = collections.deque(maxlen=3)
+    for x in (0.0, 0.01, 0.1, 0.2, 0.3):
+        follow(trail, x, 0.0)
+    assert list(trail) == [(0.1, 0.0), (0.2, 0.0), (0.3, 0.0)]
