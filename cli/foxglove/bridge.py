@@ -6,7 +6,7 @@ protocol (the foxglove-sdk's server).  Nothing here prints.
   every ``GRAPH_PERIOD`` s).  A user's own type is learnt from the nodes that use it
   (cli.tools.typebook) and served as a built-in is; a type no node describes is not served.
 * The ready-made scene (cli.foxglove.scene): ``scene`` and ``scene/scan`` in Foxglove's well-known (protobuf)
-  schemas, so the 3D panel shows the world, the turtle, its trail, the scan and the goal.
+  schemas, so the 3D panel shows the world, every turtle (named) with its trail and goal, and the scan.
 * ``navigate_to``, ``navigate_to/cancel``, ``reset`` and ``turtle1/teleport_absolute`` are
   Foxglove services (JSON requests as for ``turtlectl call``): a goal can be sent from the app.
 

@@ -4,9 +4,12 @@ Foxglove's well-known schemas (the foxglove-sdk's ``foxglove.messages``, protobu
 all in the frame ``world`` (m; the world's lower-left corner at the origin, z up):
 
 * ``scene`` (SceneUpdate): the world's square and its declared obstacles (entity ``world``),
-  the turtle as an arrow along its heading (``turtle``), its trail (``trail``, the last
-  ``TRAIL`` positions 5 cm apart or more), the current goal (``goal``: an arrow at the goal
-  pose and the path the navigator follows to it, gone one second after the last feedback);
+  the turtle as an arrow along its heading with its name above it (``turtle``), its trail
+  (``trail``, the last ``TRAIL`` positions 5 cm apart or more), the current goal (``goal``: an
+  arrow at the goal pose and the path the navigator follows to it, gone one second after the
+  last feedback).  Every other turtle of ``turtles`` likewise, its entities named after it
+  (``turtle/turtle2``, ``trail/turtle2``, ``goal/turtle2``: its goal from
+  ``turtle2/navigate_to/feedback``), and deleted when it leaves ``turtles`` (killed);
 * ``scene/scan`` (LaserScan): each scan placed at the pose it was taken from (its origin).
 
 The foxglove package is imported here, and this module only by the commands that draw.
@@ -30,16 +33,21 @@ from foxglove.messages import (
     Pose,
     Quaternion,
     SceneEntity,
+    SceneEntityDeletion,
+    SceneEntityDeletionType,
     SceneUpdate,
+    TextPrimitive,
     Timestamp,
     Vector3,
 )
 
 from turtlectl.messages import LaserScan as Scan
-from turtlectl.messages import NavigateToFeedback
+from turtlectl.messages import NavigateToFeedback, Turtles
 from turtlectl.messages import Pose as TurtlePose
 from turtlectl.messages.angles import heading_radians
+from turtlectl.messages.keys import FIRST_TURTLE
 from turtlectl.messages.world import World
+from turtlectl.sim.turtles import others
 
 FRAME = "world"
 SCENE = "scene"  # topic of the SceneUpdate channel
@@ -53,6 +61,8 @@ OBSTACLE = Color(r=0.85, g=0.3, b=0.25, a=0.9)
 TURTLE = Color(r=0.2, g=0.7, b=0.3, a=1.0)
 TRAIL_COLOUR = Color(r=0.3, g=0.6, b=1.0, a=0.8)
 GOAL = Color(r=1.0, g=0.8, b=0.1, a=0.9)
+LABEL = Color(r=1.0, g=1.0, b=1.0, a=1.0)
+LABEL_SIZE = 14.0  # px: a turtle's name, the same size however far the camera is
 OBSTACLE_HEIGHT = 0.3  # m: obstacles are drawn as cylinders this tall
 
 
@@ -100,12 +110,28 @@ def world_entity(world: World, ns: int) -> SceneEntity:
     )
 
 
-def turtle_entity(pose: TurtlePose, ns: int) -> SceneEntity:
-    """The turtle: an arrow 0.5 m long along its heading."""
+def entity_id(kind: str, turtle: str = FIRST_TURTLE) -> str:
+    """A turtle's entity of ``kind`` (turtle, trail, goal): turtle1's is ``kind`` alone, as
+    before there were others; another's ``kind/<name>``."""
+    return kind if turtle == FIRST_TURTLE else f"{kind}/{turtle}"
+
+
+def turtle_entity(pose: TurtlePose, ns: int, name: str = FIRST_TURTLE) -> SceneEntity:
+    """Turtle ``name``: an arrow 0.5 m long along its heading, its name above it."""
     return SceneEntity(
         timestamp=timestamp(ns),
         frame_id=FRAME,
-        id="turtle",
+        id=entity_id("turtle", name),
+        texts=[
+            TextPrimitive(
+                pose=planar(pose.x, pose.y + 0.45, 0.0, 0.1),
+                billboard=True,
+                font_size=LABEL_SIZE,
+                scale_invariant=True,
+                color=LABEL,
+                text=name,
+            )
+        ],
         arrows=[
             ArrowPrimitive(
                 pose=planar(pose.x, pose.y, pose.theta, 0.05),
@@ -119,13 +145,13 @@ def turtle_entity(pose: TurtlePose, ns: int) -> SceneEntity:
     )
 
 
-def goal_entity(feedback: NavigateToFeedback, ns: int) -> SceneEntity:
-    """The running goal: an arrow at its pose (theta in degrees on the wire), and the path
-    the navigator follows to it (a line, when there is one)."""
+def goal_entity(feedback: NavigateToFeedback, ns: int, turtle: str = FIRST_TURTLE) -> SceneEntity:
+    """``turtle``'s running goal: an arrow at its pose (theta in degrees on the wire), and the
+    path the navigator follows to it (a line, when there is one)."""
     return SceneEntity(
         timestamp=timestamp(ns),
         frame_id=FRAME,
-        id="goal",
+        id=entity_id("goal", turtle),
         lifetime=Duration(int(GOAL_LIFETIME), 0),
         arrows=[
             ArrowPrimitive(
@@ -142,9 +168,10 @@ def goal_entity(feedback: NavigateToFeedback, ns: int) -> SceneEntity:
 
 
 class Trail:
-    """The turtle's recent positions, a point every ``TRAIL_STEP`` m."""
+    """A turtle's recent positions, a point every ``TRAIL_STEP`` m."""
 
-    def __init__(self) -> None:
+    def __init__(self, turtle: str = FIRST_TURTLE) -> None:
+        self.turtle = turtle
         self.points: deque[tuple[float, float]] = deque(maxlen=TRAIL)
 
     def add(self, pose: TurtlePose) -> bool:
@@ -161,13 +188,17 @@ class Trail:
         return SceneEntity(
             timestamp=timestamp(ns),
             frame_id=FRAME,
-            id="trail",
+            id=entity_id("trail", self.turtle),
             lines=[strip(self.points, 0.03, 0.01, TRAIL_COLOUR)],
         )
 
 
-def update(*entities: SceneEntity) -> SceneUpdate:
-    return SceneUpdate(entities=list(entities))
+def update(*entities: SceneEntity, deleted: Iterable[str] = (), ns: int = 0) -> SceneUpdate:
+    """``entities`` drawn (each replaces the one of its id), those of ids ``deleted`` removed."""
+    deletions = [
+        SceneEntityDeletion(timestamp=timestamp(ns), type=SceneEntityDeletionType.MatchingId, id=i) for i in deleted
+    ]
+    return SceneUpdate(deletions=deletions, entities=list(entities))
 
 
 def scan(msg: Scan, ns: int) -> LaserScan | None:
@@ -195,10 +226,42 @@ class SceneMaker:
     def __init__(self, world: World):
         self.world = world
         self.trail = Trail()
+        self.others: dict[str, Trail] = {}  # the other turtles of the latest ``turtles``, by name
+        self._turtles_seen = False  # a ``turtles`` message arrived: whose feedback is whose is known
         self._last_turtle = 0
 
     def world_update(self, ns: int) -> tuple[str, SceneUpdate]:
-        return SCENE, update(world_entity(self.world, ns), self.trail.entity(ns))
+        trails = [t.entity(ns) for t in (self.trail, *self.others.values())]
+        return SCENE, update(world_entity(self.world, ns), *trails)
+
+    def goal_owner(self, key: str) -> str | None:
+        """Whose navigator publishes feedback on ``key``: another turtle's when the chunk before
+        ``navigate_to/feedback`` names one (``turtle2/...``, ``lab1/turtle2/...``), else turtle1's
+        (``navigate_to/feedback``, a domain's ``lab1/navigate_to/feedback``); None when that chunk
+        may name a turtle not known yet (no ``turtles`` message so far)."""
+        parts = key.split("/")
+        if len(parts) >= 3 and parts[-3] in self.others:
+            return parts[-3]
+        return FIRST_TURTLE if len(parts) < 3 or self._turtles_seen else None
+
+    def _turtles(self, msg: Turtles, ns: int) -> SceneUpdate | None:
+        """Every turtle but turtle1 (drawn from its pose) with its trail; those gone deleted
+        (None: turtle1 alone, as before)."""
+        self._turtles_seen = True
+        now = others(msg, but=FIRST_TURTLE)
+        gone = self.others.keys() - {name for name, *_ in now}
+        if not now and not gone:
+            return None
+        for name in gone:
+            del self.others[name]
+        drawn = []
+        for name, x, y, theta in now:
+            trail = self.others.setdefault(name, Trail(name))
+            pose = TurtlePose(x=x, y=y, theta=theta)
+            trail.add(pose)
+            drawn += [turtle_entity(pose, ns, name), trail.entity(ns)]
+        deleted = [entity_id(kind, name) for name in sorted(gone) for kind in ("turtle", "trail", "goal")]
+        return update(*drawn, deleted=deleted, ns=ns)
 
     def on_message(self, key: str, msg: object, ns: int) -> list[tuple[str, object]]:
         """``msg`` received on ``key`` at ``ns`` (ns since the epoch); keys are matched by their
@@ -213,5 +276,9 @@ class SceneMaker:
             placed = scan(msg, ns)
             return [] if placed is None else [(SCAN, placed)]
         if isinstance(msg, NavigateToFeedback):
-            return [(SCENE, update(goal_entity(msg, ns)))]
+            owner = self.goal_owner(key)
+            return [] if owner is None else [(SCENE, update(goal_entity(msg, ns, owner)))]
+        if isinstance(msg, Turtles):
+            drawn = self._turtles(msg, ns)
+            return [] if drawn is None else [(SCENE, drawn)]
         return []

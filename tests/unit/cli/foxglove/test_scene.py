@@ -23,3 +23,50 @@ def test_the_goal_is_drawn_with_the_path_the_navigator_follows():
 def test_without_a_path_only_the_goal_is_drawn():
     entity = decoded(goal_entity(_feedback([]), 0))
     assert len(entity.lines) == 0 and len(entity.arrows) == 1
+
+
+def _turtles(names):
+    from turtlectl.messages import Turtles
+
+    return Turtles(names=names, x=[2.0 + i for i in range(len(names))], y=[5.0] * len(names), theta=[0.0] * len(names))
+
+
+def test_every_turtle_is_drawn_named_with_its_trail_and_goal():
+    """Issue 27: each other turtle of ``turtles`` as turtle1 is (an arrow, its name above it, its
+    trail), its goal from its own navigator's feedback; one that leaves ``turtles`` is deleted."""
+    from turtlectl.cli.foxglove.scene import SCENE, SceneMaker
+    from turtlectl.messages import Pose
+    from turtlectl.messages.world import World
+
+    maker = SceneMaker(World(size=10.0))
+    ((topic, drawn),) = maker.on_message("turtle1/pose", Pose(x=5.0, y=5.0, theta=0.0), 1)
+    (turtle1, _trail1) = decoded(drawn).entities
+    assert topic == SCENE and turtle1.id == "turtle" and [t.text for t in turtle1.texts] == ["turtle1"]
+
+    assert maker.on_message("turtle2/navigate_to/feedback", _feedback([]), 2) == []  # whose? not known yet
+    maker.on_message("turtles", _turtles(["turtle1", "turtle2", "turtle3"]), 2)
+    moved = _turtles(["turtle1", "turtle2", "turtle3"])
+    moved.x[1] = 3.5  # turtle2 (at x 3) moved half a metre
+    ((_, drawn),) = maker.on_message("turtles", moved, 3)
+    entities = {e.id: e for e in decoded(drawn).entities}
+    assert sorted(entities) == ["trail/turtle2", "trail/turtle3", "turtle/turtle2", "turtle/turtle3"]
+    assert [t.text for t in entities["turtle/turtle2"].texts] == ["turtle2"]
+    assert entities["turtle/turtle2"].arrows[0].pose.position.x == 3.5
+    assert [(p.x, p.y) for p in entities["trail/turtle2"].lines[0].points] == [(3.0, 5.0), (3.5, 5.0)]
+
+    ((_, drawn),) = maker.on_message("turtle2/navigate_to/feedback", _feedback([]), 4)
+    assert [e.id for e in decoded(drawn).entities] == ["goal/turtle2"]
+    ((_, drawn),) = maker.on_message("navigate_to/feedback", _feedback([]), 4)
+    assert [e.id for e in decoded(drawn).entities] == ["goal"]
+    ((_, drawn),) = maker.on_message("lab1/navigate_to/feedback", _feedback([]), 4)  # a domain's turtle1
+    assert [e.id for e in decoded(drawn).entities] == ["goal"]
+
+    _, world = maker.world_update(5)  # a viewer connecting later sees every trail
+    assert {e.id for e in decoded(world).entities} == {"world", "trail", "trail/turtle2", "trail/turtle3"}
+
+    ((_, drawn),) = maker.on_message("turtles", _turtles(["turtle1", "turtle3"]), 6)  # turtle2 killed
+    update = decoded(drawn)
+    assert [d.id for d in update.deletions] == ["turtle/turtle2", "trail/turtle2", "goal/turtle2"]
+    assert sorted(e.id for e in update.entities) == ["trail/turtle3", "turtle/turtle3"]
+    assert maker.on_message("turtles", _turtles(["turtle1"]), 7) != []  # turtle3's deletions
+    assert maker.on_message("turtles", _turtles(["turtle1"]), 8) == []  # turtle1 alone: nothing to draw
