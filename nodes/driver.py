@@ -180,7 +180,7 @@ class Driver:
         if self.path is None or self.state is GoalState.BLOCKED:
             self._replan(pose, now, "")
         else:
-            seen = self.around.seen()
+            seen = self.around.seen(now)
             if self.track is not None:
                 in_way = self.track.blocked_by(seen, self.progress)
             else:  # on the final straight run
@@ -207,7 +207,7 @@ class Driver:
         """Plan the path from ``pose`` (``why``: the reason to log, empty for the first plan
         and for tries while there is no way)."""
         first = self.path is None and self.replans == 0 and self.blocked_since is None
-        seen = self.around.seen() if self.around.scans_fresh(now) else []
+        seen = self.around.seen(now) if self.around.scans_fresh(now) else []
         path = self.around.plan(pose, self.target.x, self.target.y, seen)
         if path is None:
             if self.path is not None or self.blocked_since is None:
@@ -311,10 +311,14 @@ class Driver:
         driving the safety distance that way would bring it nearer something than half the
         corridor width.  The declared obstacles count always (the path keeps clear of them:
         this is a safety net), the latest scan's hits that the world does not explain while
-        that scan is recent."""
+        that scan is recent, and the other turtles (nodes.traffic: where they are, and where
+        one it gives way to is about to be)."""
         p, obstacles = self.params, self.around.world.obstacles
         half_width = 0.5 * p.corridor_width
         points = self.around.unknown_points if self.around.scans_fresh(now) else np.zeros((0, 2))
+        others = self.around.traffic.points(now)
+        if len(others):
+            points = np.vstack([points.reshape(-1, 2), others])
         look = min(to_go, self.limits.max_linear_speed**2 / (2.0 * p.obstacle_decel) + p.safety_distance + 0.1)
         track = self.track
         if track is not None:

@@ -49,11 +49,12 @@ from turtlectl.messages import (
     NavigateToRequest,
     NavigateToResponse,
     Pose,
+    Turtles,
     TurtleStatus,
     Twist,
 )
 from turtlectl.messages.angles import degrees_0_360, heading_degrees, heading_difference_degrees, heading_radians
-from turtlectl.messages.keys import CLIENT_TOKEN_PREFIX, POSE
+from turtlectl.messages.keys import CLIENT_TOKEN_PREFIX, FIRST_TURTLE, POSE
 from turtlectl.messages.world import Limits, World
 from turtlectl.nodes.control import Pose2D
 from turtlectl.nodes.driver import Arrived, Blocked, Driver, Note
@@ -102,10 +103,10 @@ CANCEL_DETAILS = {"canceled": "", "teleop": "the keyboard took over (turtlectl t
 class GoalMachine(Generic[C]):
     """One navigator's goals, one at a time.  ``goal`` is the running one (None: idle)."""
 
-    def __init__(self, params: NavigatorParams, world: World, limits: Limits):
+    def __init__(self, params: NavigatorParams, world: World, limits: Limits, turtle: str = FIRST_TURTLE):
         self.world = world
         self.limits = limits
-        self.surroundings = Surroundings(params, world)
+        self.surroundings = Surroundings(params, world, turtle)  # ``turtle``: the one it drives
         self.goal: Goal[C] | None = None
         self.set_params(params)
         self.latest_pose: Pose | None = None
@@ -252,6 +253,10 @@ class GoalMachine(Generic[C]):
         return self._flush()
 
     # -- queries ------------------------------------------------------------
+    def turtles(self, msg: Turtles, now: float) -> None:
+        """Every turtle's pose (``turtles``): the others, in the way or about to be (nodes.traffic)."""
+        self.surroundings.traffic.update(msg, now)
+
     def scans_fresh(self, now: float) -> bool:
         """The latest scan is recent enough (``scan_timeout``) to avoid what it saw."""
         return self.surroundings.scans_fresh(now)

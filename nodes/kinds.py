@@ -109,7 +109,7 @@ KINDS: dict[str, NodeKind] = {
         Claim("srv", NAVIGATE_TO),
         Interface(
             publishes=(CMD_VEL, FEEDBACK),
-            subscribes=(POSE, STATUS, OBSTACLES),
+            subscribes=(POSE, STATUS, OBSTACLES, f"/{TURTLES}"),
             serves=(NAVIGATE_TO, CANCEL),
             watches=(f"{CLIENT_TOKEN_PREFIX}/**",),
         ),

@@ -29,10 +29,21 @@ from turtlectl.messages import (
     NavigateToRequest,
     NavigateToResponse,
     Pose,
+    Turtles,
     TurtleStatus,
     Twist,
 )
-from turtlectl.messages.keys import CANCEL, CLIENT_TOKEN_PREFIX, CMD_VEL, FEEDBACK, NAVIGATE_TO, OBSTACLES, POSE, STATUS
+from turtlectl.messages.keys import (
+    CANCEL,
+    CLIENT_TOKEN_PREFIX,
+    CMD_VEL,
+    FEEDBACK,
+    NAVIGATE_TO,
+    OBSTACLES,
+    POSE,
+    STATUS,
+    TURTLES,
+)
 from turtlectl.nodes.goal_machine import Action, GoalMachine, Reply
 from turtlectl.nodes.params import NavigatorParams
 from turtlectl.runtime import Node, Request, run_main
@@ -43,11 +54,15 @@ WATCHDOG_PERIOD = 0.05  # s
 class Navigator:
     def __init__(self, node: Node[NavigatorParams]):
         self.node = node
-        self.machine: GoalMachine[Request[NavigateToRequest]] = GoalMachine(node.params, node.world, node.limits)
+        self.machine: GoalMachine[Request[NavigateToRequest]] = GoalMachine(
+            node.params, node.world, node.limits, node.turtle
+        )
         self.cmd_pub = node.publisher(CMD_VEL, Twist)
         self.feedback_pub = node.publisher(FEEDBACK, NavigateToFeedback)
         self.pose = node.latest(POSE, Pose)  # every pose (self.on_pose) only while a goal runs
         self.status = node.latest(STATUS, TurtleStatus)
+        self.turtles = node.latest(f"/{TURTLES}", Turtles)  # the others (nodes.traffic), read at each control step
+        self.turtles_seen: Turtles | None = None
         node.subscribe(OBSTACLES, LaserScan, self.on_scan)
         node.serve(NAVIGATE_TO, NavigateToRequest, NavigateToResponse, self.on_goal)
         node.serve(CANCEL, Cancel, Ack, self.on_cancel)
@@ -85,7 +100,12 @@ class Navigator:
             self.carry_out(self.machine.caller_gone(key, time.monotonic()))
 
     def on_pose(self, pose: Pose) -> None:
-        self.carry_out(self.machine.pose(pose, time.monotonic()))
+        now = time.monotonic()
+        turtles = self.turtles.get()
+        if turtles is not None and turtles is not self.turtles_seen:
+            self.turtles_seen = turtles
+            self.machine.turtles(turtles, now)
+        self.carry_out(self.machine.pose(pose, now))
 
     def on_scan(self, scan: LaserScan) -> None:
         self.catch_up()

@@ -21,18 +21,21 @@ import math
 import numpy as np
 
 from turtlectl.messages import LaserScan, Pose
+from turtlectl.messages.keys import FIRST_TURTLE
 from turtlectl.messages.world import World
 from turtlectl.nodes.costmap import HIT_PAD, Costmap
 from turtlectl.nodes.params import NavigatorParams
 from turtlectl.nodes.planner import Circle, Path, containing, escape, inflate, shortest_path, wall_plugs
 from turtlectl.nodes.scan import hit_points, off_walls, unexplained
+from turtlectl.nodes.traffic import STANDING, Traffic
 
 
 class Surroundings:
     """The declared obstacles, the latest scan and the costmap, and planning through them."""
 
-    def __init__(self, params: NavigatorParams, world: World):
+    def __init__(self, params: NavigatorParams, world: World, turtle: str = FIRST_TURTLE):
         self.world = world
+        self.traffic = Traffic(turtle, world.turtle_radius)  # the other turtles (nodes.traffic)
         self.set_params(params)
         self.costmap = Costmap(world.size)  # what the scans have seen that the world does not declare
         self.unknown: list[Circle] = []  # the costmap's circles after the latest scan
@@ -61,7 +64,8 @@ class Surroundings:
         angles = scan.angle_min + scan.angle_increment * np.arange(len(scan.ranges))
         points = hit_points(*origin, np.asarray(scan.ranges, dtype=float), angles)
         self.scan_points = off_walls(points, self.world.size)
-        self.unknown_points = unexplained(self.scan_points, self.world.obstacles)
+        unknown = unexplained(self.scan_points, self.world.obstacles)
+        self.unknown_points = unknown[~self.traffic.explains(unknown, now)]  # the others: nodes.traffic
         ranges = np.asarray(scan.ranges, dtype=float)
         self.costmap.update(*origin, ranges, scan.angle_min, scan.angle_increment, scan.range_max, self.unknown_points)
         self.unknown = self.costmap.circles()
@@ -72,9 +76,13 @@ class Surroundings:
         """The latest scan is recent enough (``scan_timeout``) to avoid what it saw."""
         return now - self.scan_time <= self.params.scan_timeout
 
-    def seen(self) -> list[Circle]:
-        """What the scans have seen that the world does not declare, grown by what the turtle keeps."""
-        return [Circle(c.x, c.y, c.r + self.keep) for c in self.unknown]
+    def seen(self, now: float = -math.inf) -> list[Circle]:
+        """What the scans have seen that the world does not declare, and the other turtles that
+        stand still at ``now`` (nodes.traffic: a moving one is given way to, or gives way),
+        grown by what the turtle keeps."""
+        r = self.traffic.radius + self.keep
+        others = [Circle(x, y, r) for x, y, speed in self.traffic.centres(now) if speed <= STANDING]
+        return [Circle(c.x, c.y, c.r + self.keep) for c in self.unknown] + others
 
     def plan(self, pose: Pose, x: float, y: float, seen: list[Circle]) -> Path | None:
         """The shortest way from ``pose`` to (x, y) round the declared obstacles and ``seen``,
