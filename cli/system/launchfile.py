@@ -328,6 +328,11 @@ def _namespace_problem(namespace: str) -> str | None:
         return f"{namespace!r} is not a namespace (names of letters, digits, _ and -, joined by /, e.g. turtle2)"
     if chunks[0] in RESERVED:
         return f"{namespace!r} begins with {chunks[0]!r}, the first part of the system's own keys; choose another"
+    if chunks[0] == FIRST_TURTLE:
+        return (
+            f"{FIRST_TURTLE}'s nodes run outside any namespace (their keys are navigate_to, robot/status, "
+            f"{FIRST_TURTLE}/pose): leave namespace out for them"
+        )
     return None
 
 

@@ -365,3 +365,108 @@ def test_a_mistake_in_the_value_itself_is_named_as_such_not_as_a_broken_rule():
             _running(), World(), "obstacle_detector", "undeclared_obstacles", "[{x = 5, y = 5}]", "param set"
         )
     assert str(err.value) == "param set obstacle_detector.undeclared_obstacles[0].radius: missing required key"
+
+
+# -- issue 27: namespaces -------------------------------------------------------
+FLEET = """
+[[node]]
+name = "sim"
+run = "sim"
+[node.params]
+turtles = [{ name = "turtle2", x = 2.0, y = 2.0 }]
+
+[[node]]
+name = "navigator"
+run = "navigator"
+
+[[group]]
+namespace = "turtle2"
+[[group.node]]
+name = "navigator"
+run = "navigator"
+[group.node.params]
+goal_timeout = 60.0
+[[group.node]]
+name = "status_monitor"
+run = "status_monitor"
+"""
+
+
+def test_a_groups_nodes_are_named_and_keyed_in_its_namespace():
+    from turtlectl.cli.system.overrides import node_config
+
+    plan = parse_launch(FLEET, source="f.toml")
+    assert [e.name for e in plan.launch.node] == ["sim", "navigator", "turtle2/navigator", "turtle2/status_monitor"]
+    assert plan.params["turtle2/navigator"]["goal_timeout"] == 60.0 and plan.params["navigator"]["goal_timeout"] == 30.0
+    config = node_config(plan, "turtle2/navigator", "tcp/127.0.0.1:1")
+    assert [c.key for c in config.claims] == ["turtle2/navigate_to"]
+    assert config.interface is not None
+    assert set(config.interface.serves) == {"turtle2/navigate_to", "turtle2/navigate_to/cancel"}
+    assert "turtle2/pose" in config.interface.subscribes and "turtles" in config.interface.subscribes
+    assert config.interface.publishes[0] == "turtle2/cmd_vel"
+
+
+def test_a_node_may_name_its_own_namespace_and_it_nests_below_a_groups():
+    text = (
+        FLEET
+        + '\n[[group]]\nnamespace = "lab"\n[[group.node]]\nname = "nav"\nrun = "navigator"\nnamespace = "turtle3"\n'
+    )
+    assert parse_launch(text, source="f.toml").launch.node[-1].name == "lab/turtle3/nav"
+
+
+@pytest.mark.parametrize(
+    ("extra", "message"),
+    [
+        (
+            '[[group]]\nnamespace = "turtle2"\n[[group.node]]\nname = "nav2"\nrun = "navigator"\n',
+            "f.toml: group[1].node[0] (turtle2/nav2).run: a second 'navigator' node in namespace 'turtle2' "
+            "(group[0].node[0] (turtle2/navigator) is one): both would serve turtle2/navigate_to",
+        ),
+        (
+            '[[group]]\nnamespace = "turtle2"\n[[group.node]]\nname = "navigator"\nrun = "status_monitor"\n',
+            "f.toml: group[1].node[0] (turtle2/navigator).name: duplicate node name 'turtle2/navigator'",
+        ),
+        ('[[group]]\nnamespace = "a b"\n', "f.toml: group[1].namespace: 'a b' is not a namespace"),
+        ('[[group]]\nnamespace = "robot"\n', "f.toml: group[1].namespace: 'robot' begins with 'robot'"),
+        ('[[group]]\nnamespace = "turtle1"\n', "f.toml: group[1].namespace: turtle1's nodes run outside any namespace"),
+        (
+            '[[group]]\nnamespace = "t9"\n[[group.node]]\nname = "sim2"\nrun = "sim"\n',
+            "f.toml: group[1].node[0] (t9/sim2).namespace: the simulator serves every turtle of the world",
+        ),
+        (
+            '[[group]]\nnamespace = "t9"\n[[group.node]]\nname = "a/b"\nrun = "navigator"\n',
+            "f.toml: group[1].node[0] (a/b).name: 'a/b' is not a valid name",
+        ),
+    ],
+)
+def test_namespace_mistakes_name_the_group_and_node(extra, message):
+    with pytest.raises(LaunchFileError) as err:
+        parse_launch(FLEET + "\n" + extra, source="f.toml")
+    assert str(err.value).startswith(message), str(err.value)
+
+
+@pytest.mark.parametrize(
+    ("turtles", "message"),
+    [
+        ('[{ name = "turtle2", x = 5.5, y = 5.6 }]', "params.turtles[0]: (5.5, 5.6) is 0.10 m from turtle1"),
+        ('[{ name = "turtle1", x = 2.0, y = 2.0 }]', "params.turtles[0]: a turtle named turtle1 exists"),
+        (
+            '[{ name = "spawn", x = 2.0, y = 2.0 }]',
+            "params.turtles[0]: 'spawn' is the first part of the system's own keys",
+        ),
+        ('[{ name = "b", x = 20.0, y = 2.0 }]', "params.turtles[0]: (20, 2) is outside the world"),
+    ],
+)
+def test_the_simulators_turtles_at_start_are_placed_as_a_spawn_would_be(turtles, message):
+    text = f'[[node]]\nname = "sim"\nrun = "sim"\n[node.params]\ny = 5.6\nx = 5.5\nturtles = {turtles}\n'
+    text = text.replace("y = 5.6\n", "y = 5.5\n")
+    with pytest.raises(LaunchFileError) as err:
+        parse_launch(text, source="f.toml")
+    assert message in str(err.value), str(err.value)
+
+
+def test_the_fleet_example_validates():
+    from pathlib import Path
+
+    plan = parse_launch((Path(__file__).parents[4] / "examples" / "fleet" / "launch.toml").read_text(), source="fleet")
+    assert len(plan.launch.node) == 10

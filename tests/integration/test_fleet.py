@@ -1,0 +1,131 @@
+"""Issue 27: a fleet from one launch file (examples/fleet/launch.toml): three turtles, each with
+its navigator, status monitor and obstacle detector, turtle2's and turtle3's in namespaces
+(``[[group]]``).  Every tool reaches each turtle (``--turtle``), goals to all at once, two
+turtles sent across each other's way both arrive without touching, reset puts every turtle of
+the launch file back."""
+
+from __future__ import annotations
+
+import math
+import threading
+from pathlib import Path
+
+import pytest
+
+from tests.integration.harness import running_system
+from turtlectl.cli.tools.api import Client
+from turtlectl.messages import Turtles, TurtleStatus
+from turtlectl.messages.keys import TURTLES
+
+pytestmark = pytest.mark.integration
+
+FLEET = Path(__file__).resolve().parents[2] / "examples" / "fleet" / "launch.toml"
+KINDS = ("navigator", "status_monitor", "obstacle_detector")
+NODES = ("sim", *KINDS, *(f"{t}/{k}" for t in ("turtle2", "turtle3") for k in KINDS))
+STARTS = {"turtle1": (5.544445, 5.544445), "turtle2": (2.0, 5.5), "turtle3": (9.0, 5.5)}
+
+
+@pytest.fixture(scope="module")
+def fleet():
+    with running_system(FLEET, ready=NODES) as system:
+        for key in ("robot/status", "turtle2/robot/status", "turtle3/robot/status"):
+            system.collect(key, TurtleStatus, 1, timeout=10.0)  # every turtle's data path flows
+        yield system
+
+
+def positions(system) -> dict[str, tuple[float, float]]:
+    msg = system.collect(TURTLES, Turtles, 1, timeout=5.0)[0][1]
+    return {n: (x, y) for n, x, y in zip(msg.names, msg.x, msg.y, strict=True)}
+
+
+def test_every_tool_sees_each_turtles_nodes_under_its_namespace(fleet):
+    listed = fleet.run_cli("list")
+    assert listed.returncode == 0, listed.stderr
+    text = listed.stdout
+    for key in ("turtle2/navigate_to", "turtle3/robot/status", "turtle2/obstacles", "turtle3/cmd_vel"):
+        assert key in text, text
+    assert "turtle2/navigator" in text and "turtle3/obstacle_detector" in text
+    got = fleet.run_cli("param", "get", "turtle3/navigator", "goal_timeout")
+    assert got.returncode == 0 and got.stdout.strip() == "60.0", got.stdout + got.stderr  # its own parameters
+    assert fleet.run_cli("param", "get", "navigator", "goal_timeout").stdout.strip() == "30.0"
+    status = fleet.run_cli("echo", "robot/status", "--turtle", "turtle3", "--once", "--json")
+    assert status.returncode == 0 and '"x":9.0' in status.stdout.replace(" ", ""), status.stdout + status.stderr
+
+
+def test_goals_to_every_turtle_at_once_are_all_reached(fleet):
+    goals = {"turtle1": (5.5, 8.0, 90.0), "turtle2": (2.0, 3.0, -90.0), "turtle3": (9.0, 7.5, 90.0)}
+    done: dict[str, object] = {}
+
+    def go(turtle: str) -> None:
+        with Client(fleet.endpoint, turtle=turtle) as client:
+            done[turtle] = client.goto(*goals[turtle], timeout=30.0)
+
+    threads = [threading.Thread(target=go, args=(t,)) for t in goals]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join(60.0)
+    assert {t: getattr(r, "success", None) for t, r in done.items()} == dict.fromkeys(goals, True), done
+    where = positions(fleet)
+    for turtle, (x, y, _) in goals.items():
+        assert math.dist(where[turtle], (x, y)) < 0.02, (turtle, where[turtle])
+    back = fleet.run_cli("reset")
+    assert back.returncode == 0 and "turtles back at their spawn poses" in back.stdout, back.stdout + back.stderr
+    where = positions(fleet)
+    for turtle, start in STARTS.items():
+        assert math.dist(where[turtle], start) < 1e-6, (turtle, where[turtle])
+
+
+def test_two_turtles_sent_across_each_others_way_both_arrive_and_never_touch(fleet):
+    assert fleet.run_cli("teleport", "1", "1", "0").returncode == 0  # turtle1 out of the crossing
+    assert fleet.run_cli("teleport", "2", "5.5", "0", "--turtle", "turtle2").returncode == 0
+    assert fleet.run_cli("teleport", "5.5", "2", "90", "--turtle", "turtle3").returncode == 0
+    least = [math.inf]
+    sub = fleet.session.declare_subscriber(TURTLES, lambda s: least.__setitem__(0, min(least[0], _gap(s))))
+    goals = {"turtle2": (9.0, 5.5, 0.0), "turtle3": (5.5, 9.0, 90.0)}
+    done: dict[str, object] = {}
+
+    def go(turtle: str) -> None:
+        with Client(fleet.endpoint, turtle=turtle) as client:
+            done[turtle] = client.goto(*goals[turtle], timeout=30.0)
+
+    threads = [threading.Thread(target=go, args=(t,)) for t in goals]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join(60.0)
+    sub.undeclare()
+    assert {t: getattr(r, "success", None) for t, r in done.items()} == dict.fromkeys(goals, True), done
+    assert least[0] >= 2 * 0.3, least[0]  # centres apart by at least two turtle radii: never touched
+    assert "turtle2: contact" not in fleet.output() and "turtle3: contact" not in fleet.output()
+    fleet.run_cli("reset")
+
+
+def _gap(sample) -> float:
+    from turtlectl.messages import decode
+
+    msg = decode(sample.payload.to_bytes(), Turtles)
+    where = dict(zip(msg.names, zip(msg.x, msg.y, strict=True), strict=True))
+    return math.dist(where["turtle2"], where["turtle3"]) if {"turtle2", "turtle3"} <= where.keys() else math.inf
+
+
+def test_teleporting_a_turtle_cancels_its_own_navigators_goal(fleet):
+    result: dict[str, object] = {}
+
+    def go() -> None:
+        with Client(fleet.endpoint, turtle="turtle2") as client:
+            result["r"] = client.goto(2.0, 1.0, 0.0, timeout=30.0)
+
+    fleet.run_cli("teleport", "2", "9", "90", "--turtle", "turtle2")
+    thread = threading.Thread(target=go)
+    thread.start()
+    started = lambda: any(  # noqa: E731
+        line.startswith("turtle2/navigator ") and "goal (2.000, 1.000" in line for line in fleet.output().splitlines()
+    )
+    fleet.wait_until(started, 10.0, "turtle2's navigator to start the goal")
+    moved = fleet.run_cli("teleport", "4", "4", "0", "--turtle", "turtle2")
+    thread.join(30.0)
+    assert moved.returncode == 0 and moved.stdout.startswith("turtle2 "), moved.stdout + moved.stderr
+    response = result["r"]
+    assert not response.success and response.reason == "teleported", response
+    fleet.run_cli("reset")
