@@ -23,8 +23,14 @@ def launch(
     port: int = typer.Option(DEFAULT_PORT, "--port", min=1, max=65535, help="Router port."),
     listen: str = typer.Option("127.0.0.1", "--listen", help="Address the router listens on (other hosts: theirs)."),
     join: str | None = typer.Option(None, "--connect", help="Run no router: join the one at this endpoint."),
-    only: list[str] = typer.Option([], "--only", help="Run only this node (repeatable)."),
-    exclude: list[str] = typer.Option([], "--exclude", help="Do not run this node (repeatable)."),
+    only: list[str] = typer.Option(
+        [],
+        "--only",
+        help="Run only this node, or the nodes of this namespace (turtle2), e.g. on another host (repeatable).",
+    ),
+    exclude: list[str] = typer.Option(
+        [], "--exclude", help="Do not run this node, or the nodes of this namespace (repeatable)."
+    ),
     set_: list[str] = typer.Option(
         [],
         "--set",

@@ -62,6 +62,10 @@ def new_credentials(user: str) -> Credentials:
     return Credentials(user=user, password=secrets.token_urlsafe(24))
 
 
+#: how a node's login is keyed in a system's entry of the credentials file (beside the roles)
+NODE_ENTRY = "node {}"
+
+
 def node_user(name: str) -> str:
     """The login of node ``name`` (its full name as one chunk: ``node-turtle2.navigator``)."""
     return f"node-{name_chunk(name)}"
@@ -121,6 +125,12 @@ def withdraw(endpoint: str, path: Path | None = None) -> None:
     entries = _entries(path)
     if entries.pop(endpoint, None) is not None:
         _write_private(path, msgspec.json.encode(entries).decode())
+
+
+def node_login(endpoint: str, name: str, path: Path | None = None) -> Credentials | None:
+    """The login a ``launch --secure`` system at ``endpoint`` made for its node ``name`` that
+    runs on another host (``launch --exclude``), if the credentials file has it."""
+    return _entries(path or store_path()).get(endpoint, {}).get(NODE_ENTRY.format(name))
 
 
 def for_endpoint(endpoint: str, path: Path | None = None, as_role: str | None = None) -> Credentials | None:

@@ -114,6 +114,8 @@ class LaunchPlan(msgspec.Struct, kw_only=True):
     kinds: dict[str, NodeKind] = msgspec.field(default_factory=dict)  # node name -> what its run names
     commands: dict[str, list[str]] = msgspec.field(default_factory=dict)  # cmd node -> its argv, program resolved
     folder: str = ""  # the launch file's folder: where user nodes and programs run, and module:Class is found first
+    #: the file's nodes that --only/--exclude leave to another host (a --secure system makes their logins)
+    elsewhere: dict[str, NodeKind] = msgspec.field(default_factory=dict)
 
 
 # -- messages ----------------------------------------------------------------
@@ -433,12 +435,22 @@ def no_node(name: str, names: list[str], where: str) -> LaunchFileError:
 
 
 def select_nodes(plan: LaunchPlan, only: list[str], exclude: list[str]) -> LaunchPlan:
-    """The plan with just the ``only`` nodes (all if empty), less the ``exclude`` ones."""
+    """The plan with just the ``only`` nodes (all if empty), less the ``exclude`` ones; a
+    namespace names all its nodes (``--only turtle2``: turtle2/navigator, turtle2/...)."""
     names = [e.name for e in plan.launch.node]
+    namespaces = {e.namespace for e in plan.launch.node if e.namespace}
+    picked: dict[str, list[str]] = {}
     for option, asked in (("--only", only), ("--exclude", exclude)):
+        picked[option] = []
         for name in asked:
-            if name not in names:
+            name = name.strip("/")
+            if name in names:
+                picked[option].append(name)
+            elif name in namespaces:
+                picked[option] += [n for n in names if n.startswith(f"{name}/")]
+            else:
                 raise no_node(name, names, f"{option} {name}")
+    only, exclude = picked["--only"], picked["--exclude"]
     kept = [e for e in plan.launch.node if (not only or e.name in only) and e.name not in exclude]
     if not kept:
         raise LaunchFileError("--only/--exclude leave no node to run")
@@ -450,4 +462,5 @@ def select_nodes(plan: LaunchPlan, only: list[str], exclude: list[str]) -> Launc
         kinds={e.name: plan.kinds[e.name] for e in kept if e.name in plan.kinds},
         commands={e.name: plan.commands[e.name] for e in kept if e.name in plan.commands},
         folder=plan.folder,
+        elsewhere={n: k for n, k in plan.kinds.items() if n not in {e.name for e in kept}},
     )

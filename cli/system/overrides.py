@@ -159,7 +159,8 @@ def launch_plan(path: Path, only: list[str], exclude: list[str], settings: list[
     """What ``turtlectl launch`` runs: the file at ``path``, its ``--only``/``--exclude``
     selection, then its ``--set`` overrides (``settings``), all validated as the file is."""
     plan = select_nodes(load_launch(path), only, exclude)
-    return with_overrides(plan, [parse_assignment(item, "--set", SET_FORM) for item in settings], "--set")
+    changed = with_overrides(plan, [parse_assignment(item, "--set", SET_FORM) for item in settings], "--set")
+    return msgspec.structs.replace(changed, elsewhere=plan.elsewhere)
 
 
 def class_plan(target: str, overrides: list[str], base: Path, name: str | None = None) -> tuple[LaunchPlan, str]:

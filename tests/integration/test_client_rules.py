@@ -319,12 +319,12 @@ def test_a_client_without_domain_sees_every_domain_and_is_told_which_to_use(rout
     ):
         graph = json.loads(plain("list", "--json", endpoint=router.endpoint).stdout)
         names = {n["name"] for n in graph["nodes"]}
-        assert {f"alpha/{n}" for n in alpha.alive} | {"beta/sim"} == names
+        assert {f"alpha:{n}" for n in alpha.alive} | {"beta:sim"} == names
         assert graph["domains"] == ["alpha", "beta"]
         topics = {t["key"]: t for t in graph["topics"]}
-        assert topics["alpha/robot/status"]["publishers"] == ["alpha/status_monitor"]
+        assert topics["alpha/robot/status"]["publishers"] == ["alpha:status_monitor"]
         text = plain("list", endpoint=router.endpoint).stdout
-        assert "alpha/navigator" in text and "DOMAINS" in text
+        assert "alpha:navigator" in text and "DOMAINS" in text
 
         lost = plain("goto", "3", "3", "0", endpoint=router.endpoint)
         assert lost.returncode == 3

@@ -7,6 +7,7 @@ address; host B runs only the navigator, joining A's router, and sends a goal.
 
 from __future__ import annotations
 
+import json
 import math
 import os
 import re
@@ -15,6 +16,7 @@ import signal
 import subprocess
 import threading
 import time
+from pathlib import Path
 
 import pytest
 
@@ -148,4 +150,81 @@ def test_a_client_on_another_host_drives_a_secure_system_over_mutual_tls(hosts, 
         foreign = sh("ip", "netns", "exec", b, *turtlectl(), "list", "--connect", endpoint)
         assert foreign.returncode == 3 and "is not one its authority signed" in foreign.stderr, foreign.stderr
     finally:
+        host_a.stop()
+
+
+FLEET = str(Path(__file__).resolve().parents[2] / "examples" / "fleet" / "launch.toml")
+
+
+def test_a_turtles_nodes_on_another_host_join_the_fleet(hosts):
+    """Issue 27: host A runs the world and turtle1's and turtle3's nodes, host B turtle2's
+    (``--only turtle2``, a namespace's nodes), joining A's router; B drives turtle2."""
+    a, b = hosts
+    port = free_port()
+    endpoint = f"tcp/10.231.7.1:{port}"
+    host_a = Launch(a, FLEET, "--exclude", "turtle2", "--listen", "10.231.7.1", "--insecure", "--port", str(port))
+    host_b = None
+    try:
+        host_a.wait_for(r"all 7 nodes ready", 60)
+        host_b = Launch(b, FLEET, "--only", "turtle2", "--connect", endpoint)
+        host_b.wait_for(r"all 3 nodes ready", 60)
+        goal = sh(
+            "ip", "netns", "exec", b, *turtlectl(), "goto", "3", "3", "45", "--turtle", "turtle2", "--connect", endpoint
+        )
+        assert goal.returncode == 0, goal.stdout + goal.stderr
+        assert_reached_3_3(goal.stdout)
+        listed = sh("ip", "netns", "exec", a, *turtlectl(), "list", "--connect", endpoint).stdout
+        assert "turtle2/navigator" in listed and "turtle3/navigator" in listed, listed
+    finally:
+        if host_b is not None:
+            host_b.stop()
+        host_a.stop()
+
+
+def test_a_turtles_nodes_on_another_host_join_a_secure_fleet_with_their_own_logins(hosts, tmp_path, monkeypatch):
+    """Issue 27: under --secure --tls, the nodes A leaves to another host (--exclude turtle2) get
+    their logins in A's entry of the credentials file (copied to B with the clients'); B's
+    nodes log in with them over mutual TLS, each allowed its interface, and drive turtle2."""
+    a, b = hosts
+    port = free_port()
+    certs = tmp_path / "tls"
+    assert sh(*turtlectl(), "certs", str(certs), "--host", "10.231.7.1").returncode == 0
+    store = tmp_path / "credentials.json"
+    monkeypatch.setenv("TURTLECTL_CREDENTIALS", str(store))
+    monkeypatch.setenv("TURTLECTL_TLS", str(certs))
+    endpoint = f"tls/10.231.7.1:{port}"
+    host_a = Launch(
+        a, FLEET, "--exclude", "turtle2", "--secure", "--tls", str(certs), "--listen", "10.231.7.1", "--port", str(port)
+    )
+    host_b = None
+    try:
+        host_a.wait_for(r"all 7 nodes ready", 60)
+        entry = json.loads(store.read_text())[endpoint]
+        assert {"node turtle2/navigator", "node turtle2/status_monitor", "node turtle2/obstacle_detector"} <= set(entry)
+        assert "node turtle3/navigator" not in entry  # A runs it: its login stays with A
+        host_b = Launch(b, FLEET, "--only", "turtle2", "--connect", endpoint)
+        host_b.wait_for(r"all 3 nodes ready", 60)
+        goal = sh(
+            "ip", "netns", "exec", b, *turtlectl(), "goto", "3", "3", "45", "--turtle", "turtle2", "--connect", endpoint
+        )
+        assert goal.returncode == 0, goal.stdout + goal.stderr + "\n".join(host_b.lines)
+        assert_reached_3_3(goal.stdout)
+        status = sh(
+            "ip",
+            "netns",
+            "exec",
+            b,
+            *turtlectl(),
+            "echo",
+            "robot/status",
+            "--turtle",
+            "turtle2",
+            "--once",
+            "--connect",
+            endpoint,
+        )
+        assert status.returncode == 0 and "TurtleStatus" in status.stdout, status.stdout + status.stderr
+    finally:
+        if host_b is not None:
+            host_b.stop()
         host_a.stop()

@@ -68,8 +68,12 @@ class Supervisor:
             name = next(iter(plan.commands))
             raise BadInput(f"{name} runs a program (cmd), which has no login: a --secure system runs only nodes")
         if secure:
-            self.logins = {e.name: credentials.new_credentials(credentials.node_user(e.name)) for e in plan.launch.node}
+            names = [e.name for e in plan.launch.node] + list(plan.elsewhere)  # nodes of other hosts log in too
+            self.logins = {name: credentials.new_credentials(credentials.node_user(name)) for name in names}
             self.client_logins = {role: credentials.new_credentials(role) for role in access.ROLES}
+        elif connect:  # joining a --secure system: the logins it made for these nodes (on another host)
+            found = {e.name: credentials.node_login(connect, e.name) for e in plan.launch.node}
+            self.logins = {name: login for name, login in found.items() if login is not None}
         self.private: Path | None = None  # the folder of the router's list of users
         self.published = False  # this launch's logins are in the credentials file
         self.log_parent = log_parent
@@ -84,13 +88,13 @@ class Supervisor:
 
     # -- lifecycle ----------------------------------------------------------
     def _open(self) -> zenoh.Session:
-        if self.port is None:
-            return join_router(self.endpoint)
+        if self.port is None:  # a --secure system's router: its viewer login (watching its nodes come)
+            return join_router(self.endpoint, credentials.for_endpoint(self.endpoint, as_role="viewer"))
         if not self.client_logins:
             return open_router(self.port, self.host, "launch")
         self.private = Path(tempfile.mkdtemp(prefix="turtlectl-secure-"))  # 0700
         users = credentials.write_users(self.private, [*self.logins.values(), *self.client_logins.values()])
-        kinds = self.plan.kinds
+        kinds = self.plan.kinds | self.plan.elsewhere
         rights = {login.user: access.node_rights(name, kinds[name]) for name, login in self.logins.items()}
         rights |= {login.user: access.ROLES[role] for role, login in self.client_logins.items()}
         tls = None
@@ -99,7 +103,10 @@ class Supervisor:
             os.environ[TLS_ENV] = tls  # the nodes (started from now on) show its client certificate
         rules = access.access_control(rights, self.domain)
         session = open_router(self.port, self.host, "launch", str(users), rules, tls)
-        where = credentials.publish(self.endpoint, self.client_logins)
+        remote = {
+            credentials.NODE_ENTRY.format(name): self.logins[name] for name in self.plan.elsewhere
+        }  # for the host that runs them: copied with the clients' entry
+        where = credentials.publish(self.endpoint, self.client_logins | remote)
         self.published = True
         self.printer.system(
             f"secure: only logged-in sessions join, each allowed what its node or role needs; clients log in with {where}"

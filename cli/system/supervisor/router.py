@@ -16,6 +16,7 @@ from typing import Any
 import zenoh
 
 from turtlectl.cli.errors import CannotStart, Unreachable
+from turtlectl.runtime.config import Credentials
 from turtlectl.runtime.session import client_config, close_session, router_config, zenoh_reason
 
 JOIN_TIMEOUT = 3.0  # s to reach the router that ``launch --connect`` joins
@@ -62,10 +63,11 @@ def open_router(
         raise CannotStart(f"cannot listen on {'tls' if tls else 'tcp'}/{host}:{port}: {reason}") from None
 
 
-def join_router(endpoint: str, timeout: float = JOIN_TIMEOUT) -> zenoh.Session:
-    """A client session of the router at ``endpoint``, or Unreachable after ``timeout`` s."""
+def join_router(endpoint: str, login: Credentials | None = None, timeout: float = JOIN_TIMEOUT) -> zenoh.Session:
+    """A client session of the router at ``endpoint`` (logged in with ``login``, if given), or
+    Unreachable after ``timeout`` s."""
     try:
-        return zenoh.open(client_config(endpoint, timeout))
+        return zenoh.open(client_config(endpoint, timeout, credentials=login))
     except zenoh.ZError:
         raise Unreachable(f"no router at {endpoint} to join") from None
 
