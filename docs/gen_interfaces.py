@@ -220,6 +220,15 @@ def conventions_section() -> list[str]:
         "written here, or use the full keys. Zenoh never matches a chunk that starts with `@` by `*` or `**`, so "
         f"`**` sees no token: find the domains with `{keys.DOMAIN_TOKEN_PREFIX}/*` (declared outside the namespace "
         f"by each supervisor run with `--domain`) or with the selector `{keys.DOMAIN_GRAPHS}`.",
+        "- **A fleet's namespaces**: a launch file may run a turtle's navigator, status monitor and obstacle "
+        "detector in a namespace named after that turtle (`[[group]]`, how-to *Several turtles*). Their keys are "
+        "this document's resolved in it: in namespace `turtle2`, turtle1's keys are turtle2's (`turtle2/pose`, "
+        "`turtle2/cmd_vel`) and every other key gets the prefix (`turtle2/navigate_to`, "
+        "`turtle2/navigate_to/cancel`, `turtle2/navigate_to/feedback`, `turtle2/robot/status`, "
+        "`turtle2/obstacles`); `turtles`, `reset`, `spawn`, `kill`, `turtlectl/...` and the liveliness tokens "
+        "stay as written. A namespaced node's name is `turtle2/navigator`, written `turtle2.navigator` where it is "
+        f"one key chunk (`{keys.node_key('turtle2/navigator')}`, `{keys.NODE_TOKEN_PREFIX}/turtle2.navigator/...`). "
+        "A goal's caller token is the same `@turtlectl/client/<id>` for every navigator.",
     ]
 
 

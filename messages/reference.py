@@ -282,7 +282,7 @@ KEYS: dict[str, tuple[str, str, str, str, str]] = {
     keys.RESET: (
         "service",
         "Reset -> Ack from each server",
-        "client -> sim (pose; turtle1 back at its spawn, every other turtle removed), status_monitor (battery)",
+        "client -> sim (pose; turtle1 and the turtles of its params back at their spawns, every other turtle removed), every status_monitor (battery)",
         "on request",
         "get with QueryTarget.ALL and ConsolidationMode.NONE for both Acks (the default consolidation returns one)",
     ),
