@@ -20,6 +20,8 @@ if TYPE_CHECKING:
 M = TypeVar("M", bound=Message)
 
 _ENCODINGS: dict[type[Message], zenoh.Encoding] = {}
+#: samples a ``Latest`` keeps in Zenoh between two reads (a 62.5 Hz pose for 1 s)
+RING = 64
 
 
 def sample_encoding(msg_type: type[Message]) -> zenoh.Encoding:
@@ -58,12 +60,16 @@ class Publisher(Generic[M]):
 class Latest(Generic[M]):
     """The newest valid message of one type on one key, read when the node wants it.
 
-    Each sample is decoded where Zenoh delivers it and only kept (no queue, no wake-up of
-    the node thread), so a node that needs a 62.5 Hz pose only at its own 10 Hz tick is not
-    woken 62.5 times a second.  Every malformed payload still reaches the node thread, to be
-    counted and logged as ``Node.subscribe`` does: a newer valid sample never hides one (a
-    ring channel of one in Zenoh would have dropped it unseen), and the previous valid
-    message is kept.  ``get()`` returns the newest valid message, or None before the first."""
+    Zenoh keeps the samples in Rust (a ring channel of ``RING``): Python is not woken for them,
+    so a node that needs a 62.5 Hz pose only at its own 10 Hz tick is woken 10 times a second,
+    not 62.5.  ``get()`` takes what came since the last read, oldest first: each malformed
+    payload is counted and logged there, as ``Node.subscribe`` does (a newer valid sample
+    hides none), and the newest valid message is kept (only a reader slower than RING samples
+    loses the oldest unread, to the ring).  ``get()`` returns the newest valid message, or
+    None before the first.
+
+    ``each(callback)`` also calls ``callback`` on the node thread for every valid message (a
+    callback subscriber beside the ring, while it is set)."""
 
     def __init__(self, node: Node[Any], key: str, msg_type: type[M], declared: Declaration):
         self.key = key
@@ -72,11 +78,12 @@ class Latest(Generic[M]):
         self._value: M | None = None
         self._callback: Callable[[M], None] | None = None
         self._generation = 0  # which callback a queued message was received for
-        self._sub = node.session.declare_subscriber(key, self._on_sample)
+        self._ring = node.session.declare_subscriber(key, zenoh.handlers.RingChannel(RING))
+        self._each: zenoh.Subscriber | None = None  # while a callback is set
         self._declaration = declared  # the subscriber and its graph token
-        declared.add(self._sub)
+        declared.add(self._ring)
 
-    def _on_sample(self, sample: zenoh.Sample) -> None:  # Zenoh thread: decode and keep, or queue the garbage
+    def _on_sample(self, sample: zenoh.Sample) -> None:  # Zenoh thread, while each(): decode and queue
         try:
             msg = decode(sample.payload.to_bytes(), self._type)
         except ValueError as exc:
@@ -89,6 +96,13 @@ class Latest(Generic[M]):
 
     def get(self) -> M | None:
         """The newest valid message received so far (None: none yet)."""
+        if not self._declaration.active:
+            return self._value
+        while (sample := self._ring.try_recv()) is not None:
+            try:
+                self._value = decode(sample.payload.to_bytes(), self._type)
+            except ValueError as exc:
+                self._node._rejected(self.key, str(exc))
         return self._value
 
     def each(self, callback: Callable[[M], None] | None) -> None:
@@ -98,6 +112,11 @@ class Latest(Generic[M]):
         it.  ``get()`` works either way."""
         self._generation += 1
         self._callback = callback
+        if callback is not None and self._each is None and self._declaration.active:
+            self._each = self._node.session.declare_subscriber(self.key, self._on_sample)
+        elif callback is None and self._each is not None:
+            self._each.undeclare()
+            self._each = None
 
     def _dispatch(self, msg: M, generation: int) -> None:
         if self._callback is not None and generation == self._generation:
@@ -105,7 +124,7 @@ class Latest(Generic[M]):
 
     def undeclare(self) -> None:
         """Stop receiving (and leave the graph); ``get()`` keeps the last message.  Idempotent."""
-        self._callback = None
+        self.each(None)
         self._generation += 1  # what is queued reaches no callback
         self._declaration.undeclare()
 

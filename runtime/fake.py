@@ -16,6 +16,7 @@ exception raised by node code reaches the test.
 
 from __future__ import annotations
 
+import collections
 from collections.abc import Callable
 from types import SimpleNamespace
 from typing import Any, Generic
@@ -27,7 +28,7 @@ from turtlectl.messages import Message, SetParameter, decode_any, encode
 from turtlectl.messages.keys import param_set_key
 from turtlectl.messages.world import Limits, World
 from turtlectl.runtime.config import Interface, NodeConfig
-from turtlectl.runtime.entities import sample_encoding
+from turtlectl.runtime.entities import RING, sample_encoding
 from turtlectl.runtime.node import Node, P
 from turtlectl.runtime.roles import interface_of
 
@@ -79,6 +80,21 @@ class _Entity:
             self._registry.remove(self)
 
 
+class _Ring(_Entity):
+    """A subscriber with a ring channel (``zenoh.handlers.RingChannel(n)``): it keeps the newest
+    ``n`` samples for ``try_recv``, oldest first."""
+
+    def __init__(self, registry: list[Any], key: str, capacity: int):
+        super().__init__(registry, key, self._keep)
+        self._kept: collections.deque[Any] = collections.deque(maxlen=capacity)
+
+    def _keep(self, sample: Any) -> None:
+        self._kept.append(sample)
+
+    def try_recv(self) -> Any:
+        return self._kept.popleft() if self._kept else None
+
+
 class _Publisher(_Entity):
     def __init__(self, session: FakeSession, key: str, encoding: Any):
         super().__init__(session.publishers, key)
@@ -108,7 +124,9 @@ class FakeSession:
     def declare_publisher(self, key: str, encoding: Any = None) -> _Publisher:
         return _Publisher(self, key, encoding)
 
-    def declare_subscriber(self, key: str, callback: Callable[[Any], None]) -> _Entity:
+    def declare_subscriber(self, key: str, callback: Callable[[Any], None] | zenoh.handlers.RingChannel) -> _Entity:
+        if isinstance(callback, zenoh.handlers.RingChannel):
+            return _Ring(self.subscribers, key, RING)
         return _Entity(self.subscribers, key, callback)
 
     def declare_queryable(self, key: str, callback: Callable[[Any], None]) -> _Entity:

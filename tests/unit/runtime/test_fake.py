@@ -117,12 +117,30 @@ def test_garbage_is_logged_and_dropped_and_the_node_keeps_running(caplog):
     with caplog.at_level(logging.WARNING):
         fake.deliver("demo/cmd", b"\x01garbage")
         fake.deliver("demo/pose", Twist())  # the wrong type: garbage for a Pose
+        assert fake.instance.pose.get() is None  # a latest value is decoded (and garbage logged) when read
     assert "dropped malformed payload #1 on demo/cmd" in caplog.text
     assert "dropped malformed payload #1 on demo/pose" in caplog.text
-    assert fake.instance.heard == [] and fake.instance.pose.get() is None
+    assert fake.instance.heard == []
     fake.deliver("demo/cmd", Twist(linear=1.0))
     fake.advance(0.1)
     assert len(fake.instance.heard) == 1 and fake.instance.ticks == 1
+
+
+def test_a_latest_value_is_read_newest_first_its_garbage_logged_when_read(caplog):
+    """Issue 27: a latest value's samples wait in a ring channel (Zenoh keeps them, Python is not
+    woken for each): read, every one that came is decoded oldest first, garbage counted and
+    logged even when a valid sample followed it, the newest valid one kept."""
+    fake = FakeNode(Counter)
+    with caplog.at_level(logging.WARNING):
+        fake.deliver("demo/pose", b"\x01garbage")
+        fake.deliver("demo/pose", Pose(x=1.0, y=2.0, theta=0.0))
+        assert "malformed" not in caplog.text  # nothing is decoded before it is read
+        assert fake.instance.pose.get() == Pose(x=1.0, y=2.0, theta=0.0)
+        assert "dropped malformed payload #1 on demo/pose" in caplog.text
+        fake.deliver("demo/pose", b"\x01garbage")
+        assert fake.instance.pose.get() == Pose(x=1.0, y=2.0, theta=0.0)
+    assert "dropped malformed payload #2 on demo/pose" not in caplog.text  # counted, logged 1st and every 100th
+    assert fake.node._bad_payloads["demo/pose"] == 2
 
 
 def test_a_request_gets_its_reply_and_garbage_an_error_reply():
