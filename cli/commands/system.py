@@ -148,6 +148,11 @@ def run(
     name: str | None = typer.Option(
         None, "--name", help="A node class's name in the system (default: its class's, Patrol: patrol)."
     ),
+    namespace: str = typer.Option(
+        "",
+        "--namespace",
+        help="A node class's namespace: its keys are that turtle's (turtle2: turtle2/pose, turtle2/robot/status).",
+    ),
     log_level: str = LogLevelOption,
     connect: str = ConnectOption,
     domain: str = DomainOption,
@@ -172,11 +177,13 @@ def run(
     if name is not None and not NAME_RE.match(name):
         raise BadInput(f"--name {name!r}: use letters, digits, _ and - (like patrol2)")
     if is_target(node):  # a node's name has no ':'
-        plan, named = class_plan(node, param, Path.cwd(), name)
+        plan, named = class_plan(node, param, Path.cwd(), name, namespace)
         exec_node(node_config(plan, named, endpoint, None, default_domain(), level), plan.kinds[named])
-    if name is not None:
+    if name is not None or namespace:
+        which = "--name renames" if name is not None else "--namespace places"
         raise BadInput(
-            f"--name renames a node class (module:Class, ./file.py:Class); {node} is named by its launch file"
+            f"{which} a node class (module:Class, ./file.py:Class); {node} is named by its launch file "
+            "(a namespaced node of it: turtle2/navigator)"
         )
     plan = load_launch(file or default_launch_file())
     exec_node(node_config(plan, node, endpoint, param, default_domain(), level), plan.kinds[node])

@@ -163,9 +163,11 @@ def launch_plan(path: Path, only: list[str], exclude: list[str], settings: list[
     return msgspec.structs.replace(changed, elsewhere=plan.elsewhere)
 
 
-def class_plan(target: str, overrides: list[str], base: Path, name: str | None = None) -> tuple[LaunchPlan, str]:
+def class_plan(
+    target: str, overrides: list[str], base: Path, name: str | None = None, namespace: str = ""
+) -> tuple[LaunchPlan, str]:
     """``turtlectl run module:Class`` (or ``./file.py:Class``, relative to ``base``): a plan of
-    that one node, named ``name`` or after its class (``Patrol`` -> ``patrol``), with its
+    that one node, named ``name`` or after its class (``Patrol`` -> ``patrol``), in ``namespace``, with its
     parameters' defaults and ``overrides`` (``KEY=VALUE``), validated as a launch file is
     (LaunchFileError naming ``--param``, or the target when it names no node class); and the
     node's name."""
@@ -174,11 +176,12 @@ def class_plan(target: str, overrides: list[str], base: Path, name: str | None =
     except KindError as exc:
         raise LaunchFileError(f"{target}: {exc}") from None
     name = name or _snake(kind.target.rpartition(":")[2])
-    data: dict[str, Any] = {"node": [{"name": name, "run": target, "params": {}}]}
+    data: dict[str, Any] = {"node": [{"name": name, "run": target, "params": {}, "namespace": namespace}]}
     for text in overrides:
         item = parse_assignment(text, "--param", "KEY=VALUE")
         _put(data["node"][0]["params"], name, list(item.keys), item.value, "--param")
-    return validate(data, target, Report("--param", [name], override=True), base), name
+    plan = validate(data, target, Report("--param", [name], override=True), base)
+    return plan, plan.launch.node[0].name
 
 
 def _snake(name: str) -> str:

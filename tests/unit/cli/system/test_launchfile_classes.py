@@ -122,3 +122,16 @@ def test_run_takes_a_node_class_with_its_defaults_and_overrides(tmp_path):
         class_plan("./patrol.py:Patrol", ["sid=4"], tmp_path)
     with pytest.raises(LaunchFileError, match=r"^./patrol.py:Patrl: patrol.py has no Patrl"):
         class_plan("./patrol.py:Patrl", [], tmp_path)
+
+
+def test_run_puts_a_node_class_in_a_namespace(tmp_path):
+    """Issue 27: `turtlectl run ./patrol.py:Patrol --namespace turtle2` is turtle2/patrol, its keys turtle2's."""
+    from turtlectl.cli.system.overrides import node_config
+
+    (tmp_path / "patrol.py").write_text(PATROL)
+    plan, name = class_plan("./patrol.py:Patrol", ["side=4"], tmp_path, namespace="turtle2")
+    assert name == "turtle2/patrol" and plan.params[name]["side"] == 4
+    config = node_config(plan, name, "tcp/127.0.0.1:1")
+    assert config.name == "turtle2/patrol"
+    with pytest.raises(LaunchFileError, match="is not a namespace"):
+        class_plan("./patrol.py:Patrol", [], tmp_path, namespace="a b")
