@@ -71,14 +71,14 @@ class Latest(Generic[M]):
     ``each(callback)`` also calls ``callback`` on the node thread for every valid message (a
     callback subscriber beside the ring, while it is set)."""
 
-    def __init__(self, node: Node[Any], key: str, msg_type: type[M], declared: Declaration):
+    def __init__(self, node: Node[Any], key: str, msg_type: type[M], declared: Declaration, keep: int = RING):
         self.key = key
         self._node = node
         self._type = msg_type
         self._value: M | None = None
         self._callback: Callable[[M], None] | None = None
         self._generation = 0  # which callback a queued message was received for
-        self._ring = node.session.declare_subscriber(key, zenoh.handlers.RingChannel(RING))
+        self._ring = node.session.declare_subscriber(key, zenoh.handlers.RingChannel(keep))
         self._each: zenoh.Subscriber | None = None  # while a callback is set
         self._declaration = declared  # the subscriber and its graph token
         declared.add(self._ring)
@@ -96,14 +96,24 @@ class Latest(Generic[M]):
 
     def get(self) -> M | None:
         """The newest valid message received so far (None: none yet)."""
+        self.received()
+        return self._value
+
+    def received(self) -> list[M]:
+        """Every valid message that came since the last read (``get`` or this), oldest first
+        (at most the ring's ``keep``): a node that needs each one, but only at its own pace (the
+        status monitor sums the distance between poses at its tick)."""
         if not self._declaration.active:
-            return self._value
+            return []
+        got: list[M] = []
         while (sample := self._ring.try_recv()) is not None:
             try:
-                self._value = decode(sample.payload.to_bytes(), self._type)
+                got.append(decode(sample.payload.to_bytes(), self._type))
             except ValueError as exc:
                 self._node._rejected(self.key, str(exc))
-        return self._value
+        if got:
+            self._value = got[-1]
+        return got
 
     def each(self, callback: Callable[[M], None] | None) -> None:
         """While ``callback`` is set, also call it on the node thread for every valid message,

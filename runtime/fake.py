@@ -28,7 +28,7 @@ from turtlectl.messages import Message, SetParameter, decode_any, encode
 from turtlectl.messages.keys import param_set_key
 from turtlectl.messages.world import Limits, World
 from turtlectl.runtime.config import Interface, NodeConfig
-from turtlectl.runtime.entities import RING, sample_encoding
+from turtlectl.runtime.entities import sample_encoding
 from turtlectl.runtime.node import Node, P
 from turtlectl.runtime.roles import interface_of
 
@@ -81,12 +81,12 @@ class _Entity:
 
 
 class _Ring(_Entity):
-    """A subscriber with a ring channel (``zenoh.handlers.RingChannel(n)``): it keeps the newest
-    ``n`` samples for ``try_recv``, oldest first."""
+    """A subscriber with a ring channel (``zenoh.handlers.RingChannel(n)``): it keeps the samples
+    for ``try_recv``, oldest first (all of them: a fake clock's test reads when it likes)."""
 
-    def __init__(self, registry: list[Any], key: str, capacity: int):
+    def __init__(self, registry: list[Any], key: str):
         super().__init__(registry, key, self._keep)
-        self._kept: collections.deque[Any] = collections.deque(maxlen=capacity)
+        self._kept: collections.deque[Any] = collections.deque()
 
     def _keep(self, sample: Any) -> None:
         self._kept.append(sample)
@@ -126,7 +126,7 @@ class FakeSession:
 
     def declare_subscriber(self, key: str, callback: Callable[[Any], None] | zenoh.handlers.RingChannel) -> _Entity:
         if isinstance(callback, zenoh.handlers.RingChannel):
-            return _Ring(self.subscribers, key, RING)
+            return _Ring(self.subscribers, key)
         return _Entity(self.subscribers, key, callback)
 
     def declare_queryable(self, key: str, callback: Callable[[Any], None]) -> _Entity:

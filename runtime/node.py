@@ -59,7 +59,7 @@ from turtlectl.messages.keys import (
 )
 from turtlectl.messages.world import Limits, World
 from turtlectl.runtime.config import Claim, Interface, NodeConfig
-from turtlectl.runtime.entities import Latest, Publisher, Request, Timer, sample_encoding
+from turtlectl.runtime.entities import RING, Latest, Publisher, Request, Timer, sample_encoding
 from turtlectl.runtime.handles import Declaration
 from turtlectl.runtime.interface import check
 from turtlectl.runtime.own_services import OwnServices
@@ -159,14 +159,15 @@ class Node(Generic[P]):
         declared.add(self._announce("sub", msg_type, key))
         return declared
 
-    def latest(self, key: str, msg_type: type[M]) -> Latest[M]:
+    def latest(self, key: str, msg_type: type[M], keep: int = RING) -> Latest[M]:
         """Keep the newest ``msg_type`` on ``key`` for the node to read at its own pace
-        (``.get()``), without waking the node for each message (see ``Latest``)."""
+        (``.get()``; every one since the last read: ``.received()``, up to ``keep``), without
+        waking the node for each message (see ``Latest``)."""
         key = self.resolve(key)
         check(self.name, self.interface, "subscribe", key)
         self._own.uses(msg_type)
         declared = Declaration(self._entities, "subscription", key)
-        latest = Latest(self, key, msg_type, declared)
+        latest = Latest(self, key, msg_type, declared, keep)
         declared.add(self._announce("sub", msg_type, key))
         return latest
 
