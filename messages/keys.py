@@ -60,8 +60,9 @@ def resolve(key: str, namespace: str) -> str:
     """The key a node in ``namespace`` uses for ``key`` as its code writes it (ROS's name
     resolution, with turtle1 standing for the namespace's own turtle):
 
-    - a key starting with ``/`` is absolute: the slash dropped, never namespaced (``/turtles``);
-    - the runtime's own keys (``turtlectl/...``) and liveliness keys (``@...``) never are;
+    - a key starting with ``/`` is absolute: the slash dropped, never namespaced (``/chatter``);
+    - the runtime's own keys (``turtlectl/...``), liveliness keys (``@...``) and the world's
+      (``turtles``, ``spawn``, ``kill``, ``reset``: the simulator's, one for every turtle) never are;
     - with no namespace (``""``), every other key is as written (today's single-turtle system);
     - in namespace ``NS``, the default turtle's keys ``turtle1/X`` are the namespace's turtle's,
       ``NS/X`` (``turtle1/pose`` -> ``turtle2/pose`` in ``turtle2``), and any other key ``K`` is
@@ -69,7 +70,7 @@ def resolve(key: str, namespace: str) -> str:
     """
     if key.startswith("/"):
         return key[1:]
-    if not namespace or key.startswith(("@", "turtlectl/")):
+    if not namespace or key.startswith(("@", "turtlectl/")) or key.partition("/")[0] in WORLD_KEYS:
         return key
     first, _, rest = key.partition("/")
     if first == FIRST_TURTLE and rest:
@@ -117,6 +118,8 @@ SPAWN = "spawn"
 KILL = "kill"
 TURTLES = "turtles"  # the simulator: every turtle's name and pose
 PARAMETER_EVENTS = "turtlectl/parameter_events"  # every node: a ParameterEvent per change at run time
+#: the simulator's keys for the whole world: the same in every namespace (messages.keys.resolve)
+WORLD_KEYS = frozenset({TURTLES, SPAWN, KILL, RESET})
 
 TOPICS: dict[str, type[Message]] = {
     CMD_VEL: Twist,

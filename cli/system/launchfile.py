@@ -21,7 +21,6 @@ Overrides (``launch --set``, ``run -p``, ``param set``) are in cli.system.overri
 
 from __future__ import annotations
 
-import math
 import os
 import re
 import shutil
@@ -33,14 +32,12 @@ import msgspec
 import msgspec.inspect as mi
 
 from turtlectl.cli.errors import BadInput
-from turtlectl.messages.keys import FIRST_TURTLE
+from turtlectl.cli.system.placement import check_spawn, check_turtles, check_world, namespace_problem
 from turtlectl.messages.world import Limits, World
 from turtlectl.nodes.kinds import KindError, NodeKind, kind_of
 from turtlectl.runtime.loader import suggestion as suggestion  # also for cli.system.overrides, cli.tools
 from turtlectl.runtime.params import validation_parts as validation_parts  # also for cli.tools.build
 from turtlectl.runtime.roles import claims_of
-from turtlectl.sim.kinematics import TurtleState
-from turtlectl.sim.turtles import RESERVED, spawn_problem
 
 #: the launch file that comes with turtlectl: the whole system on one machine
 PACKAGED_LAUNCH = Path(__file__).resolve().parent / "launch.toml"
@@ -66,7 +63,7 @@ class NodeEntry(msgspec.Struct, forbid_unknown_fields=True, kw_only=True):
     respawning cannot help (see the exit codes)."""
 
     name: str  # -: letters, digits, _ and -; unique in its namespace (its full name, namespace/name, in the system)
-    namespace: str = ""  # -: its keys' prefix, e.g. "turtle2": navigate_to is turtle2/navigate_to and turtle1/pose is turtle2/pose (within a [[group]]: below the group's)
+    namespace: str = ""  # -: the turtle it drives, its keys' prefix, e.g. "turtle2": navigate_to is turtle2/navigate_to and turtle1/pose is turtle2/pose (in a [[group]]: the group's)
     run: str = ""  # -: a built-in kind (sim, navigator, status_monitor, obstacle_detector) or a node class (pkg.mod:Class, ./file.py:Class); or cmd
     cmd: list[str] = msgspec.field(
         default_factory=list
@@ -269,11 +266,11 @@ def validate(data: Any, source: str, report: Report, base: Path | None = None) -
             raise report.error(["node", i, "params", *parts], what) from None
         params[entry.name] = msgspec.to_builtins(typed)
 
-    _check_world(launch.world, report)
+    check_world(launch.world, report)
     if ("", "sim") in kinds:
         i = kinds[("", "sim")]
-        _check_spawn(launch.world, i, params[launch.node[i].name], report)
-        _check_turtles(launch.world, i, params[launch.node[i].name], report)
+        check_spawn(launch.world, i, params[launch.node[i].name], report)
+        check_turtles(launch.world, i, params[launch.node[i].name], report)
     for (namespace, run), i in kinds.items():
         if run != "navigator" or (namespace, "obstacle_detector") not in kinds:
             continue
@@ -297,16 +294,18 @@ def _flattened(launch: LaunchFile, report: Report) -> tuple[list[NodeEntry], lis
     written = [(f"node[{i}]", "", entry) for i, entry in enumerate(launch.node)]
     for g, group in enumerate(launch.group):
         where = f"group[{g}]"
-        problem = _namespace_problem(group.namespace)
+        problem = namespace_problem(group.namespace)
         if problem:
             raise LaunchFileError(f"{report.label}: {where}.namespace: {problem}")
         written += [(f"{where}.node[{i}]", group.namespace, entry) for i, entry in enumerate(group.node)]
     for origin, outer, entry in written:
         label = f"{report.label}: {origin}" + (f" ({entry.name})" if entry.name else "")
-        problem = _namespace_problem(entry.namespace) if entry.namespace else None
+        problem = namespace_problem(entry.namespace) if entry.namespace else None
+        if not problem and outer and entry.namespace not in ("", outer):
+            problem = f"the node is in its group's namespace {outer!r} (a namespace is one turtle's)"
         if problem:
             raise LaunchFileError(f"{label}.namespace: {problem}")
-        namespace = "/".join(part for part in (outer, entry.namespace) if part)
+        namespace = outer or entry.namespace
         short = entry.name.removeprefix(f"{namespace}/") if namespace else entry.name  # written again: full
         if not NAME_RE.match(short):
             raise LaunchFileError(
@@ -321,32 +320,6 @@ def _flattened(launch: LaunchFile, report: Report) -> tuple[list[NodeEntry], lis
         entries.append(msgspec.structs.replace(entry, name=full, namespace=namespace))
         origins.append(origin)
     return entries, origins
-
-
-def _namespace_problem(namespace: str) -> str | None:
-    """Why ``namespace`` cannot be one (None: it can): chunks of a name's letters, joined by /."""
-    chunks = namespace.split("/")
-    if not all(NAME_RE.match(chunk) for chunk in chunks):
-        return f"{namespace!r} is not a namespace (names of letters, digits, _ and -, joined by /, e.g. turtle2)"
-    if chunks[0] in RESERVED:
-        return f"{namespace!r} begins with {chunks[0]!r}, the first part of the system's own keys; choose another"
-    if chunks[0] == FIRST_TURTLE:
-        return (
-            f"{FIRST_TURTLE}'s nodes run outside any namespace (their keys are navigate_to, robot/status, "
-            f"{FIRST_TURTLE}/pose): leave namespace out for them"
-        )
-    return None
-
-
-def _check_turtles(world: World, i: int, sim: dict[str, Any], report: Report) -> None:
-    """The simulator's other turtles at start: good names, none taken twice, each where a
-    spawn could put it (sim.turtles)."""
-    states = {FIRST_TURTLE: TurtleState(x=sim["x"], y=sim["y"], theta=sim["theta"])}
-    for j, turtle in enumerate(sim["turtles"]):
-        problem = spawn_problem(world, states, turtle["name"], turtle["x"], turtle["y"], turtle["theta"])
-        if problem is not None:
-            raise report.error(["node", i, "params", "turtles", j], problem)
-        states[turtle["name"]] = TurtleState(x=turtle["x"], y=turtle["y"], theta=turtle["theta"])
 
 
 def _program(cmd: list[str], base: Path, error: Any, i: int) -> str:
@@ -367,41 +340,6 @@ def _program(cmd: list[str], base: Path, error: Any, i: int) -> str:
     if path.is_dir() or not os.access(path, os.X_OK):
         raise error(["node", i, "cmd"], f"{program} is not executable")
     return str(path)
-
-
-def _check_world(world: World, report: Report) -> None:
-    """Obstacles that make no sense in this world: covering all of it, or entirely outside it."""
-    size = world.size
-    for j, o in enumerate(world.obstacles):
-        corners = ((0.0, 0.0), (size, 0.0), (0.0, size), (size, size))
-        if all(math.hypot(cx - o.x, cy - o.y) <= o.radius for cx, cy in corners):
-            raise report.error(
-                ["world", "obstacles", j],
-                f"covers the whole world (centre ({o.x:g}, {o.y:g}), radius {o.radius:g} m; the world is {size:g} m square)",
-            )
-        nearest_x, nearest_y = min(max(o.x, 0.0), size), min(max(o.y, 0.0), size)
-        if math.hypot(o.x - nearest_x, o.y - nearest_y) >= o.radius:
-            raise report.error(
-                ["world", "obstacles", j],
-                f"centre ({o.x:g}, {o.y:g}), radius {o.radius:g} m lies entirely outside the world (0 to {size:g} m)",
-            )
-
-
-def _check_spawn(world: World, i: int, sim: dict[str, Any], report: Report) -> None:
-    """The simulator's spawn: inside the world and outside every obstacle (the node itself
-    would only clamp it to the walls, or leave the turtle stuck in an obstacle)."""
-    x, y = sim["x"], sim["y"]
-    for key, value in (("x", x), ("y", y)):
-        if not 0.0 <= value <= world.size:
-            raise report.error(
-                ["node", i, "params", key], f"spawn {key} = {value:g} m is outside the world (0 to {world.size:g} m)"
-            )
-    for j, o in enumerate(world.obstacles):
-        if math.hypot(x - o.x, y - o.y) <= o.radius:
-            raise report.error(
-                ["node", i, "params"],
-                f"spawn ({x:g}, {y:g}) is inside world.obstacles[{j}] (centre ({o.x:g}, {o.y:g}), radius {o.radius:g} m)",
-            )
 
 
 def parse_launch(text: str, source: str = "launch.toml") -> LaunchPlan:

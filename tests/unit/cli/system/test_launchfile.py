@@ -406,12 +406,13 @@ def test_a_groups_nodes_are_named_and_keyed_in_its_namespace():
     assert config.interface.publishes[0] == "turtle2/cmd_vel"
 
 
-def test_a_node_may_name_its_own_namespace_and_it_nests_below_a_groups():
-    text = (
-        FLEET
-        + '\n[[group]]\nnamespace = "lab"\n[[group.node]]\nname = "nav"\nrun = "navigator"\nnamespace = "turtle3"\n'
-    )
-    assert parse_launch(text, source="f.toml").launch.node[-1].name == "lab/turtle3/nav"
+def test_a_node_may_name_its_own_namespace_which_is_one_turtles():
+    text = FLEET + '\n[[node]]\nname = "nav"\nrun = "navigator"\nnamespace = "turtle3"\n'
+    assert "turtle3/nav" in [e.name for e in parse_launch(text, source="f.toml").launch.node]
+    nested = FLEET + '\n[[group]]\nnamespace = "lab"\n[[group.node]]\nname = "nav"\nrun = "navigator"\n'
+    nested += 'namespace = "turtle3"\n'
+    with pytest.raises(LaunchFileError, match=r"group\[1\]\.node\[0\] \(nav\)\.namespace: the node is in its group's"):
+        parse_launch(nested, source="f.toml")
 
 
 @pytest.mark.parametrize(
@@ -427,7 +428,14 @@ def test_a_node_may_name_its_own_namespace_and_it_nests_below_a_groups():
             "f.toml: group[1].node[0] (turtle2/navigator).name: duplicate node name 'turtle2/navigator'",
         ),
         ('[[group]]\nnamespace = "a b"\n', "f.toml: group[1].namespace: 'a b' is not a namespace"),
-        ('[[group]]\nnamespace = "robot"\n', "f.toml: group[1].namespace: 'robot' begins with 'robot'"),
+        (
+            '[[group]]\nnamespace = "robot"\n',
+            "f.toml: group[1].namespace: 'robot' is the first part of the system's own keys",
+        ),
+        (
+            '[[group]]\nnamespace = "a/b"\n',
+            "f.toml: group[1].namespace: 'a/b' is not a namespace: the name of the turtle",
+        ),
         ('[[group]]\nnamespace = "turtle1"\n', "f.toml: group[1].namespace: turtle1's nodes run outside any namespace"),
         (
             '[[group]]\nnamespace = "t9"\n[[group.node]]\nname = "sim2"\nrun = "sim"\n',
