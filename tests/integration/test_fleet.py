@@ -38,6 +38,22 @@ def positions(system) -> dict[str, tuple[float, float]]:
     return {n: (x, y) for n, x, y in zip(msg.names, msg.x, msg.y, strict=True)}
 
 
+def goals_at_once(system, goals: dict[str, tuple[float, float, float]]) -> dict[str, object]:
+    """Send each turtle its goal at once (a Client per turtle, in threads); each one's response."""
+    done: dict[str, object] = {}
+
+    def go(turtle: str) -> None:
+        with Client(system.endpoint, turtle=turtle) as client:
+            done[turtle] = client.goto(*goals[turtle], timeout=30.0)
+
+    threads = [threading.Thread(target=go, args=(t,)) for t in goals]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join(60.0)
+    return done
+
+
 def test_every_tool_sees_each_turtles_nodes_under_its_namespace(fleet):
     listed = fleet.run_cli("list")
     assert listed.returncode == 0, listed.stderr
@@ -54,17 +70,7 @@ def test_every_tool_sees_each_turtles_nodes_under_its_namespace(fleet):
 
 def test_goals_to_every_turtle_at_once_are_all_reached(fleet):
     goals = {"turtle1": (5.5, 8.0, 90.0), "turtle2": (2.0, 3.0, -90.0), "turtle3": (9.0, 7.5, 90.0)}
-    done: dict[str, object] = {}
-
-    def go(turtle: str) -> None:
-        with Client(fleet.endpoint, turtle=turtle) as client:
-            done[turtle] = client.goto(*goals[turtle], timeout=30.0)
-
-    threads = [threading.Thread(target=go, args=(t,)) for t in goals]
-    for t in threads:
-        t.start()
-    for t in threads:
-        t.join(60.0)
+    done = goals_at_once(fleet, goals)
     assert {t: getattr(r, "success", None) for t, r in done.items()} == dict.fromkeys(goals, True), done
     where = positions(fleet)
     for turtle, (x, y, _) in goals.items():
@@ -83,17 +89,7 @@ def test_two_turtles_sent_across_each_others_way_both_arrive_and_never_touch(fle
     least = [math.inf]
     sub = fleet.session.declare_subscriber(TURTLES, lambda s: least.__setitem__(0, min(least[0], _gap(s))))
     goals = {"turtle2": (9.0, 5.5, 0.0), "turtle3": (5.5, 9.0, 90.0)}
-    done: dict[str, object] = {}
-
-    def go(turtle: str) -> None:
-        with Client(fleet.endpoint, turtle=turtle) as client:
-            done[turtle] = client.goto(*goals[turtle], timeout=30.0)
-
-    threads = [threading.Thread(target=go, args=(t,)) for t in goals]
-    for t in threads:
-        t.start()
-    for t in threads:
-        t.join(60.0)
+    done = goals_at_once(fleet, goals)
     sub.undeclare()
     assert {t: getattr(r, "success", None) for t, r in done.items()} == dict.fromkeys(goals, True), done
     assert least[0] >= 2 * 0.3, least[0]  # centres apart by at least two turtle radii: never touched
