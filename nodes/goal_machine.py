@@ -186,6 +186,11 @@ class GoalMachine(Generic[C]):
         self._step(now)
         return self._flush()
 
+    def pose_heard(self, now: float) -> None:
+        """A pose arrived at ``now`` whose control step is still to come (the navigator's
+        thread is behind, on a loaded machine): the simulator is not silent, so no "no pose"."""
+        self.pose_time = max(self.pose_time, now)
+
     def status(self, status: TurtleStatus) -> None:
         """The robot's status: its battery decides whether goals are accepted."""
         self.battery = status.battery

@@ -404,6 +404,18 @@ def test_poses_that_stop_arriving_end_the_goal():
     assert only_reply(m.tick(1.71)).response.reason == "no pose"
 
 
+def test_a_pose_heard_but_not_yet_stepped_keeps_the_goal_alive():
+    """bench/fleet.py at N=10 (issue 27): a navigator stalled on saturated cores ran its watchdog
+    before the poses queued meanwhile and failed a goal "no pose"; the shell now tells the
+    machine a newer pose came (Navigator.watchdog, from Node.latest's ring)."""
+    m = machine()
+    running(m)
+    m.pose(pose(), 0.4)
+    m.pose_heard(0.85)  # a pose came at 0.85, its control step still queued behind the watchdog
+    assert m.tick(1.3) == [] and m.goal is not None
+    assert only_reply(m.tick(1.36)).response.reason == "no pose"  # 0.5 s after it, nothing more: silent
+
+
 def test_goal_timeout():
     m = machine(goal_timeout=2.0)
     running(m)
