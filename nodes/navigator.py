@@ -59,7 +59,7 @@ class Navigator:
         )
         self.cmd_pub = node.publisher(CMD_VEL, Twist)
         self.feedback_pub = node.publisher(FEEDBACK, NavigateToFeedback)
-        self.pose = node.latest(POSE, Pose)  # every pose (self.on_pose) only while a goal runs
+        self.pose = node.latest(POSE, Pose, follow=True)  # every pose (self.on_pose) only while a goal runs
         self.status = node.latest(STATUS, TurtleStatus)
         self.turtles = node.latest(f"/{TURTLES}", Turtles)  # the others (nodes.traffic), read at each control step
         self.turtles_seen: Turtles | None = None

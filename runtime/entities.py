@@ -69,9 +69,20 @@ class Latest(Generic[M]):
     None before the first.
 
     ``each(callback)`` also calls ``callback`` on the node thread for every valid message (a
-    callback subscriber beside the ring, while it is set)."""
+    callback subscriber beside the ring).  With ``follow`` that subscriber is declared at once,
+    so a node that will call ``each`` gets its first message without waiting for a new
+    subscriber to reach the publisher (the navigator's first control step of a goal); it then
+    wakes Python per sample, doing nothing while no callback is set."""
 
-    def __init__(self, node: Node[Any], key: str, msg_type: type[M], declared: Declaration, keep: int = RING):
+    def __init__(
+        self,
+        node: Node[Any],
+        key: str,
+        msg_type: type[M],
+        declared: Declaration,
+        keep: int = RING,
+        follow: bool = False,
+    ):
         self.key = key
         self._node = node
         self._type = msg_type
@@ -79,11 +90,16 @@ class Latest(Generic[M]):
         self._callback: Callable[[M], None] | None = None
         self._generation = 0  # which callback a queued message was received for
         self._ring = node.session.declare_subscriber(key, zenoh.handlers.RingChannel(keep))
-        self._each: zenoh.Subscriber | None = None  # while a callback is set
-        self._declaration = declared  # the subscriber and its graph token
+        self._each: zenoh.Subscriber | None = None  # the callback subscriber, once needed
+        self._declaration = declared  # the subscribers and its graph token
         declared.add(self._ring)
+        if follow:
+            self._each = node.session.declare_subscriber(key, self._on_sample)
+            declared.add(self._each)
 
-    def _on_sample(self, sample: zenoh.Sample) -> None:  # Zenoh thread, while each(): decode and queue
+    def _on_sample(self, sample: zenoh.Sample) -> None:  # Zenoh thread: decode and queue, while each() is set
+        if self._callback is None:
+            return
         try:
             msg = decode(sample.payload.to_bytes(), self._type)
         except ValueError as exc:
@@ -124,9 +140,7 @@ class Latest(Generic[M]):
         self._callback = callback
         if callback is not None and self._each is None and self._declaration.active:
             self._each = self._node.session.declare_subscriber(self.key, self._on_sample)
-        elif callback is None and self._each is not None:
-            self._each.undeclare()
-            self._each = None
+            self._declaration.add(self._each)
 
     def _dispatch(self, msg: M, generation: int) -> None:
         if self._callback is not None and generation == self._generation:
@@ -134,7 +148,7 @@ class Latest(Generic[M]):
 
     def undeclare(self) -> None:
         """Stop receiving (and leave the graph); ``get()`` keeps the last message.  Idempotent."""
-        self.each(None)
+        self._callback = None
         self._generation += 1  # what is queued reaches no callback
         self._declaration.undeclare()
 

@@ -159,15 +159,16 @@ class Node(Generic[P]):
         declared.add(self._announce("sub", msg_type, key))
         return declared
 
-    def latest(self, key: str, msg_type: type[M], keep: int = RING) -> Latest[M]:
+    def latest(self, key: str, msg_type: type[M], keep: int = RING, follow: bool = False) -> Latest[M]:
         """Keep the newest ``msg_type`` on ``key`` for the node to read at its own pace
         (``.get()``; every one since the last read: ``.received()``, up to ``keep``), without
-        waking the node for each message (see ``Latest``)."""
+        waking the node for each message (see ``Latest``); ``follow``: it will also take every
+        message at times (``.each(callback)``), ready from now on."""
         key = self.resolve(key)
         check(self.name, self.interface, "subscribe", key)
         self._own.uses(msg_type)
         declared = Declaration(self._entities, "subscription", key)
-        latest = Latest(self, key, msg_type, declared, keep)
+        latest = Latest(self, key, msg_type, declared, keep, follow)
         declared.add(self._announce("sub", msg_type, key))
         return latest
 

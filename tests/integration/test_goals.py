@@ -239,7 +239,7 @@ def test_goto_shows_live_progress_on_a_terminal_only(lifecycle):
     )
     os.close(slave)
     out = read_until_closed(master)
-    assert goto.wait(10) == 0
+    assert goto.wait(10) == 0, out.decode(errors="replace")
     text = out.decode()
     assert "\r\x1b[K" in text and "driving" in text and "reached at (9.0" in text
     piped = lifecycle.run_cli("goto", "2", "2", "0")
