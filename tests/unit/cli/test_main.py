@@ -543,3 +543,22 @@ def test_usage_shows_an_argument_that_takes_several_as_name_dots():
             if param.param_type_name == "argument" and param.nargs == -1:
                 name = (param.metavar or param.name.upper()).strip("[]{}.")
                 assert re.search(rf"\b{name}\]?\.\.\.", usage), usage
+
+
+@pytest.mark.parametrize("command", [("goto", "1", "1", "0"), ("cancel",), ("echo", "robot/status"), ("hz", "pose")])
+def test_turtle_is_a_turtles_name(command):
+    """Issue 27: --turtle names the turtle whose nodes a command reaches (their namespace)."""
+    assert bad_input(*command, "--turtle", "a b") == (
+        "turtlectl: error: --turtle 'a b': a turtle's name, letters, digits, _ and - (like turtle2)"
+    )
+
+
+def test_turtle1_is_outside_any_namespace_and_another_turtle_its_own():
+    from turtlectl.cli import args
+    from turtlectl.messages.keys import resolve
+
+    assert args.turtle_name("turtle1") == "" and args.turtle_name("") == ""
+    assert resolve("navigate_to", args.turtle_name("turtle2")) == "turtle2/navigate_to"
+    assert resolve("turtle1/pose", args.turtle_name("turtle2")) == "turtle2/pose"
+    assert resolve("reset", "turtle2") == "reset" and resolve("/chatter", "turtle2") == "chatter"
+    assert resolve("turtlectl/world", "turtle2") == "turtlectl/world"
