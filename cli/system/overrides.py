@@ -24,6 +24,7 @@ from turtlectl.cli.system.launchfile import (
     suggestion,
     validate,
 )
+from turtlectl.messages.keys import namespace_of
 from turtlectl.messages.world import World
 from turtlectl.nodes.kinds import KINDS, KindError, kind_of
 from turtlectl.runtime.config import NodeConfig
@@ -122,7 +123,10 @@ def running_change(
     nodes = {n: (kind, p) for n, (kind, p) in nodes.items() if launches(kind)}
     data: dict[str, Any] = {
         "world": msgspec.to_builtins(world),
-        "node": [{"name": n, "run": kind, "params": copy.deepcopy(p)} for n, (kind, p) in nodes.items()],
+        "node": [
+            {"name": n, "namespace": namespace_of(n), "run": kind, "params": copy.deepcopy(p)}
+            for n, (kind, p) in nodes.items()
+        ],
     }
     names = list(nodes)
     report = Report(label, list(names), override=True)

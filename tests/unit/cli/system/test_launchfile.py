@@ -478,3 +478,20 @@ def test_the_fleet_example_validates():
 
     plan = parse_launch((Path(__file__).parents[4] / "examples" / "fleet" / "launch.toml").read_text(), source="fleet")
     assert len(plan.launch.node) == 10
+
+
+def test_a_change_to_a_namespaced_node_is_validated_against_its_own_namespace():
+    """Issue 27: `param set turtle2/obstacle_detector rate 0.5` broke turtle2's navigator's scan_timeout
+    unnoticed: the running system's data named turtle2's nodes without their namespace, every
+    check failed the same before and after, so none counted."""
+    from turtlectl.cli.system.overrides import running_change
+    from turtlectl.messages.world import World
+
+    fleet = _running() | {f"turtle2/{name}": kind_params for name, kind_params in _running().items()}
+    with pytest.raises(LaunchFileError) as broke:
+        running_change(fleet, World(), "turtle2/obstacle_detector", "rate", "0.5", "param set")
+    assert str(broke.value).startswith(
+        "param set turtle2/obstacle_detector.rate = 0.5: it would break a rule of the running system: "
+        "turtle2/navigator.scan_timeout: 1 s is not longer than the scan period of turtle2/obstacle_detector"
+    ), str(broke.value)
+    assert running_change(fleet, World(), "turtle2/navigator", "goal_timeout", "50", "param set") == 50.0
