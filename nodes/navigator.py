@@ -101,11 +101,15 @@ class Navigator:
 
     def on_pose(self, pose: Pose) -> None:
         now = time.monotonic()
+        self.others(now)
+        self.carry_out(self.machine.pose(pose, now))
+
+    def others(self, now: float) -> None:
+        """Hand the machine the newest ``turtles`` (the other turtles: nodes.traffic)."""
         turtles = self.turtles.get()
         if turtles is not None and turtles is not self.turtles_seen:
             self.turtles_seen = turtles
             self.machine.turtles(turtles, now)
-        self.carry_out(self.machine.pose(pose, now))
 
     def on_scan(self, scan: LaserScan) -> None:
         self.catch_up()
@@ -132,6 +136,7 @@ class Navigator:
         status = self.status.get()
         if status is not None:
             self.machine.status(status)
+        self.others(time.monotonic())  # also while idle: a scan's hits on another turtle are not remembered
         if self.machine.goal is None:
             pose = self.pose.get()
             if pose is not None and pose is not self.machine.latest_pose:

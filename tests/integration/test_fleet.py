@@ -14,7 +14,7 @@ import pytest
 
 from tests.integration.harness import running_system
 from turtlectl.cli.tools.api import Client
-from turtlectl.messages import Turtles, TurtleStatus
+from turtlectl.messages import LaserScan, Turtles, TurtleStatus
 from turtlectl.messages.keys import TURTLES
 
 pytestmark = pytest.mark.integration
@@ -103,6 +103,24 @@ def _gap(sample) -> float:
     msg = decode(sample.payload.to_bytes(), Turtles)
     where = dict(zip(msg.names, zip(msg.x, msg.y, strict=True), strict=True))
     return math.dist(where["turtle2"], where["turtle3"]) if {"turtle2", "turtle3"} <= where.keys() else math.inf
+
+
+def test_two_turtles_swapping_places_head_on_both_arrive(fleet):
+    """Review of issue 27: sent to each other's places after standing in each other's scans,
+    both goals failed "blocked": an idle navigator took the other turtle's scan hits into its
+    costmap (it read `turtles` only while driving), so each goal lay in a remembered obstacle."""
+    assert fleet.run_cli("reset").returncode == 0
+    assert fleet.run_cli("teleport", "1", "1", "0").returncode == 0
+    assert fleet.run_cli("teleport", "3", "5.5", "0", "--turtle", "turtle2").returncode == 0
+    assert fleet.run_cli("teleport", "8", "5.5", "180", "--turtle", "turtle3").returncode == 0
+    for key in ("turtle2/obstacles", "turtle3/obstacles"):  # idle, each scans the other a few times
+        fleet.collect(key, LaserScan, 3, timeout=5.0)
+    done = goals_at_once(fleet, {"turtle2": (8.0, 5.5, 0.0), "turtle3": (3.0, 5.5, 180.0)})
+    assert {t: (getattr(r, "success", None), getattr(r, "reason", "")) for t, r in done.items()} == {
+        "turtle2": (True, ""),
+        "turtle3": (True, ""),
+    }, done
+    fleet.run_cli("reset")
 
 
 def test_teleporting_a_turtle_cancels_its_own_navigators_goal(fleet):
