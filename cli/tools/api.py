@@ -9,6 +9,7 @@ cancels the goal and checks the cancel), and raises what the command would exit 
 
 from __future__ import annotations
 
+import atexit
 import contextlib
 import os
 import queue
@@ -82,7 +83,9 @@ class Subscription(Declaration):
             elif got.message is None:
                 self._skip(got)
 
-        self.add(session.declare_subscriber(key, on_sample))
+        # on Zenoh's own thread (indirect=False): a Python thread per subscription (zenoh-python's
+        # default) is not a daemon, and kept a script that never undeclared it from ending
+        self.add(session.declare_subscriber(key, zenoh.handlers.Callback(on_sample, indirect=False)))
 
     def undeclare(self) -> None:
         """End it: no more messages; an iteration over it ends."""
@@ -140,9 +143,14 @@ class Client:
         self._declared: list[Declaration] = []  # its subscriptions, undeclared by close
         self._book = TypeBook(self._session)  # the message types it has learnt from the nodes
         self._lock = threading.Lock()
+        # a script that ends without close(): closed while the interpreter can still run Zenoh's
+        # callbacks (after, a subscription's callback waited for Python forever and the script hung)
+        atexit.register(self.close)
 
     def close(self) -> None:
-        """Undeclare what this client declared and close its session (bounded); idempotent."""
+        """Undeclare what this client declared and close its session (bounded); idempotent.
+        A client left open is closed when the script ends."""
+        atexit.unregister(self.close)
         with self._lock:
             for pub in self._publishers.values():
                 pub.undeclare()

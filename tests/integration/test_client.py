@@ -96,3 +96,20 @@ def test_no_system_is_unreachable_exit_3_and_close_is_idempotent(system):
     client.close()
     client.close()
     assert not sub.active and list(sub) == []
+
+
+def test_a_script_that_ends_without_closing_its_client_ends(system):  # a hang: the subprocess timeout ends it
+    """Review of issue 27: a script that subscribed with a callback and never closed its client
+    printed its last line and then hung (zenoh-python runs each callback subscriber on a Python
+    thread of its own, not a daemon, which the interpreter waited for at exit)."""
+    import subprocess
+    import sys
+
+    script = (
+        "import turtlectl\n"
+        f"c = turtlectl.Client({system.endpoint!r})\n"
+        "s = c.subscribe('turtles', callback=lambda m: None)\n"
+        "print('end of script', flush=True)\n"
+    )
+    done = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, timeout=60)
+    assert done.returncode == 0 and done.stdout == "end of script\n", done.stdout + done.stderr
