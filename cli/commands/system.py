@@ -178,6 +178,7 @@ def run(
         raise BadInput(f"--name {name!r}: use letters, digits, _ and - (like patrol2)")
     if is_target(node):  # a node's name has no ':'
         plan, named = class_plan(node, param, Path.cwd(), name, namespace)
+        typer.echo(f"running {node} as node {named} (turtlectl list shows it so; --name changes it)", err=True)
         exec_node(node_config(plan, named, endpoint, None, default_domain(), level), plan.kinds[named])
     if name is not None or namespace:
         which = "--name renames" if name is not None else "--namespace places"

@@ -56,7 +56,8 @@ def render(scene: Scene, cols: int, rows: int, unicode: bool = True) -> list[str
     (walls), obstacles ``o``, trail ``.``, the goal's path ``+``, laser hits ``*``, goal
     ``X``, the turtle as an arrow along its heading, and at the bottom a legend and two
     status lines.  The other turtles (from ``turtles``) are drawn as turtle1 is, with their
-    trails and their running goals (a goal's path and ``X``), and named beside the legend."""
+    trails and their running goals (a goal's path and ``X``), each named beside its arrow
+    (where the map is open) and beside the legend."""
     if cols < 20 or rows < 7:
         return ["terminal too small"][:rows]
     size = scene.world.size
@@ -106,6 +107,13 @@ def render(scene: Scene, cols: int, rows: int, unicode: bool = True) -> list[str
             grid[rc[0]][rc[1]] = arrows[int(round(theta / (math.pi / 4))) % 8]
     if scene.pose is not None and (rc := cell(scene.pose.x, scene.pose.y)) is not None:
         grid[rc[0]][rc[1]] = arrows[int(round(scene.pose.theta / (math.pi / 4))) % 8]
+    for name, x, y, _ in others(scene):  # each other turtle's name beside its arrow, where the map is open
+        if (rc := cell(x, y)) is not None:
+            row, col = grid[rc[0]], rc[1] + 1
+            for i, char in enumerate(name[: width - col]):
+                if row[col + i] not in " .+":
+                    break
+                row[col + i] = char
 
     lines = ["+" + "-" * width + "+"] + ["|" + "".join(row) + "|" for row in grid] + ["+" + "-" * width + "+"]
     lines += [""] * (map_rows - len(lines))

@@ -7,12 +7,14 @@ the launch file back."""
 from __future__ import annotations
 
 import math
+import signal
+import subprocess
 import threading
 from pathlib import Path
 
 import pytest
 
-from tests.integration.harness import running_system
+from tests.integration.harness import running_system, turtlectl
 from turtlectl.cli.tools.api import Client
 from turtlectl.messages import LaserScan, Turtles, TurtleStatus
 from turtlectl.messages.keys import TURTLES
@@ -120,6 +122,33 @@ def test_two_turtles_swapping_places_head_on_both_arrive(fleet):
         "turtle2": (True, ""),
         "turtle3": (True, ""),
     }, done
+    fleet.run_cli("reset")
+
+
+def test_a_users_node_class_run_in_a_turtles_namespace_drives_that_turtle(fleet):
+    """`turtlectl run ./patrol.py:Patrol --namespace turtle2`: the example's patrol, written for
+    turtle1 (it calls navigate_to), is turtle2/patrol and calls turtle2/navigate_to."""
+    patrol = FLEET.parent.parent / "patrol" / "patrol.py"
+    run = subprocess.Popen(
+        [*turtlectl(), "run", f"{patrol}:Patrol", "--namespace", "turtle2", "-p", "cx=2.5", "-p", "cy=3.5"]
+        + ["-p", "side=1.0", "--connect", fleet.endpoint],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.STDOUT,
+        stdin=subprocess.DEVNULL,
+        text=True,
+    )
+    lines: list[str] = []
+    threading.Thread(target=lambda: lines.extend(run.stdout), daemon=True).start()  # type: ignore[arg-type]
+    try:
+        reached = lambda: any("corner 0 reached" in line for line in lines)  # noqa: E731
+        fleet.wait_until(lambda: reached() or run.poll() is not None, 60.0, "the patrol to reach its first corner")
+        assert reached(), "".join(lines)
+        assert "turtle2/patrol" in fleet.run_cli("list").stdout
+    finally:
+        run.send_signal(signal.SIGINT)
+        run.wait(15)
+    assert any("as node turtle2/patrol" in line for line in lines), "".join(lines)
+    assert any(line.startswith("turtle2/navigator ") and "goal reached" in line for line in fleet.output().splitlines())
     fleet.run_cli("reset")
 
 

@@ -162,6 +162,7 @@ def test_a_user_node_class_runs_beside_the_builtins_supervised_as_they_are(proje
             out, _ = run.communicate(timeout=10)
             assert run.returncode == 0, out
             assert "patrolling a 1.5 m square" in out
+            assert "running ./patrol.py:Patrol as node scout" in out
         finally:
             if run.poll() is None:
                 run.kill()

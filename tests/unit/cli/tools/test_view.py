@@ -110,6 +110,9 @@ def test_the_view_draws_every_turtle_and_names_the_others():
     grid = "\n".join(lines[1:-3])
     assert grid.count("→") == 1 and grid.count("↑") == 1 and grid.count("←") == 1
     assert lines[-3].endswith("| also: turtle2 (2.0, 2.0), alice (8.0, 8.0)"), lines[-3]
+    # review of issue 27: the legend is cut at the terminal's width, so each is also named on the map
+    assert next(line for line in lines if "↑turtle2" in line) and next(line for line in lines if "←alice" in line)
+    assert any("↑turtle2" in line for line in render(scene, 80, 24))
     alone = render(Scene(world=World(size=10.0), pose=Pose(x=5.0, y=5.0, theta=0.0)), 120, 30)
     assert "also:" not in alone[-3] and "\n".join(alone[1:-3]).count("→") == 1
 
