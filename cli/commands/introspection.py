@@ -36,6 +36,18 @@ def list_graph(
 node_app = typer.Typer(help="Running nodes in detail (as `ros2 node`).\n\nExample: turtlectl node info navigator")
 
 
+@node_app.command("list")
+def node_list(connect: str = ConnectOption, domain: str = DomainOption) -> None:
+    """The running nodes' names, one per line (as `ros2 node list`; `turtlectl list` shows
+    the whole graph).
+
+    Example: turtlectl node list
+    """
+    from turtlectl.cli.tools import topics
+
+    result("\n".join(n.name for n in topics.graph(connect).nodes))
+
+
 @node_app.command("info")
 def node_info(
     node: str = NodeArgument,

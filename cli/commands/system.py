@@ -80,6 +80,8 @@ def launch(
         return
     connect = args.endpoint(join) if join is not None else ""
     printer = Printer([e.name for e in plan.launch.node])
+    for note in format.plan_notes(plan):
+        printer.system(f"note: {note}")
     supervisor = Supervisor(
         plan,
         printer,

@@ -294,11 +294,13 @@ def _flattened(launch: LaunchFile, report: Report) -> tuple[list[NodeEntry], lis
     written = [(f"node[{i}]", "", entry) for i, entry in enumerate(launch.node)]
     for g, group in enumerate(launch.group):
         where = f"group[{g}]"
+        group = msgspec.structs.replace(group, namespace=group.namespace.strip("/"))  # ROS writes /turtle2
         problem = namespace_problem(group.namespace)
         if problem:
             raise LaunchFileError(f"{report.label}: {where}.namespace: {problem}")
         written += [(f"{where}.node[{i}]", group.namespace, entry) for i, entry in enumerate(group.node)]
     for origin, outer, entry in written:
+        entry = msgspec.structs.replace(entry, namespace=entry.namespace.strip("/"))
         label = f"{report.label}: {origin}" + (f" ({entry.name})" if entry.name else "")
         problem = namespace_problem(entry.namespace) if entry.namespace else None
         if not problem and outer and entry.namespace not in ("", outer):

@@ -14,6 +14,7 @@ from turtlectl.cli.errors import BadInput
 from turtlectl.messages import Ack, Message, NavigateToFeedback, NavigateToResponse, to_builtins
 from turtlectl.messages.angles import degrees_0_360
 from turtlectl.messages.jsonform import spelled, to_json
+from turtlectl.messages.keys import FIRST_TURTLE
 
 if TYPE_CHECKING:  # launch files (nodes' parameters) are loaded by launch and run only
     from turtlectl.cli.system.launchfile import LaunchPlan
@@ -220,7 +221,21 @@ def plan_text(plan: LaunchPlan) -> str:
             lines.append(f"  {e.name} (cmd {shlex.join(e.cmd)}; {'; '.join(how)})")
         else:
             lines.append(f"  {e.name} (run {e.run}; {'; '.join(how)}): {json_value(plan.params[e.name])}")
-    return "\n".join(lines)
+    return "\n".join(lines + [f"note: {note}" for note in plan_notes(plan)])
+
+
+def plan_notes(plan: LaunchPlan) -> list[str]:
+    """What is valid in a launch file but likely not meant: a namespace whose turtle the
+    simulator does not make at start (its nodes wait for a pose until one is spawned)."""
+    sim = next((e for e in plan.launch.node if e.run == "sim"), None)
+    if sim is None:
+        return []
+    made = {FIRST_TURTLE, *(t["name"] for t in plan.params[sim.name].get("turtles", []))}
+    return [
+        f"no turtle {namespace} at start for the nodes of namespace {namespace}: add it to {sim.name}'s "
+        f"params.turtles, or spawn it (turtlectl spawn X Y THETA --name {namespace})"
+        for namespace in sorted({e.namespace for e in plan.launch.node if e.namespace} - made)
+    ]
 
 
 def size_text(size: int) -> str:

@@ -144,6 +144,7 @@ def test_a_users_node_class_run_in_a_turtles_namespace_drives_that_turtle(fleet)
         fleet.wait_until(lambda: reached() or run.poll() is not None, 60.0, "the patrol to reach its first corner")
         assert reached(), "".join(lines)
         assert "turtle2/patrol" in fleet.run_cli("list").stdout
+        assert "turtle2/patrol" in fleet.run_cli("node", "list").stdout.splitlines()
     finally:
         run.send_signal(signal.SIGINT)
         run.wait(15)

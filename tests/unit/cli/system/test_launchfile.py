@@ -495,3 +495,18 @@ def test_a_change_to_a_namespaced_node_is_validated_against_its_own_namespace():
         "turtle2/navigator.scan_timeout: 1 s is not longer than the scan period of turtle2/obstacle_detector"
     ), str(broke.value)
     assert running_change(fleet, World(), "turtle2/navigator", "goal_timeout", "50", "param set") == 50.0
+
+
+def test_a_ros_namespace_may_be_written_with_its_slash_and_a_turtle_missing_at_start_is_noted():
+    """Review of issue 27: `namespace = "/turtle2"` (as PushRosNamespace is written) was refused;
+    a namespace whose turtle the simulator does not make passed --check without a word."""
+    from turtlectl.cli.tools.format import plan_notes, plan_text
+
+    plan = parse_launch(FLEET.replace('namespace = "turtle2"', 'namespace = "/turtle2"'), source="f.toml")
+    assert "turtle2/navigator" in [e.name for e in plan.launch.node] and plan_notes(plan) == []
+    lonely = parse_launch(FLEET.replace('namespace = "turtle2"', 'namespace = "turtle9"'), source="f.toml")
+    assert plan_notes(lonely) == [
+        "no turtle turtle9 at start for the nodes of namespace turtle9: add it to sim's params.turtles, "
+        "or spawn it (turtlectl spawn X Y THETA --name turtle9)"
+    ]
+    assert plan_text(lonely).endswith("note: " + plan_notes(lonely)[0])
