@@ -23,7 +23,7 @@ for folder in (ROOT, ROOT / "docs"):
 import generated  # noqa: E402
 from gen_interfaces import doc, param_table  # noqa: E402
 
-from turtlectl.cli.system.launchfile import NodeEntry, SupervisorSettings  # noqa: E402
+from turtlectl.cli.system.launchfile import Group, NodeEntry, SupervisorSettings  # noqa: E402
 from turtlectl.messages.world import Limits, Obstacle, World  # noqa: E402
 from turtlectl.nodes.kinds import KINDS  # noqa: E402
 
@@ -34,6 +34,12 @@ TABLES = (
         "[[node]]",
         NodeEntry,
         "One per process; `run` names its kind, `params` its parameters (below, by kind); or `cmd` runs any program.",
+    ),
+    (
+        "[[group]]",
+        Group,
+        "Nodes in one turtle's namespace (ROS's `PushRosNamespace`): `namespace` and its `[[group.node]]` tables, each "
+        "a `[[node]]` (see [Several turtles and fleets](../how-to/turtles.md) for how their keys resolve).",
     ),
     ("[world]", World, "The world every node shares; `obstacles` is a list of `{ x, y, radius }` tables."),
     ("[[world.obstacles]]", Obstacle, "One circular obstacle."),
