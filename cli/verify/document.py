@@ -164,7 +164,7 @@ def _two_figures(value: float) -> float:
 
 
 def rounded_period(mean_ms: float) -> float:
-    """A measured mean period (ms) as a specification states it: the period or the rate
+    """A measured period (ms) as a specification states it: the period or the rate
     rounded to two significant figures, whichever is nearer (99.7 ms -> 100.0, 16.02 ms ->
     16.0, 33.4 ms -> 33.3 from 30 Hz), to 0.1 ms."""
     by_period = round(_two_figures(mean_ms), 1)

@@ -191,9 +191,10 @@ EVERY_KIND = textwrap.dedent(
     key = "robot/status"
     period_ms = 100
     tolerance_ms = 10
-    samples = 20
+    samples = 50
     """
-)
+)  # 50 periods, as the capstone's criterion 2: over 20, one late tick on a loaded CI machine (two periods
+# of 116 and 84 ms) made 90 % within, below the 95 % share, and the control of this test failed
 
 
 def test_each_kind_of_criterion_fails_with_its_reason_on_a_system_made_to_miss_it(tmp_path):

@@ -123,3 +123,13 @@ def test_a_measured_period_gets_a_tolerance_of_10_percent_at_least_5_ms():
     assert period_of([(i * 0.1, i * 0.1) for i in range(10)]) == (100.0, 10.0)
     assert period_of([(i * 0.016, i * 0.016) for i in range(10)]) == (16.0, 5.0)
     assert period_of([(0.0, 0.0), (0.1, 0.1)]) is None  # too few to say
+
+
+def test_a_stall_in_the_measuring_window_does_not_make_the_skeletons_period():
+    """CI run of issue 27: the skeleton wrote `turtles every 71 ± 7.1 ms` for a 64 ms topic (its
+    publisher stalled once in the 2 s window, the mean of the gaps went up) and then failed its
+    own system (74 % within): the typical gap is the period."""
+    from turtlectl.cli.verify.skeleton import period_of
+
+    stamps = [i * 0.064 for i in range(25)] + [25 * 0.064 + 0.25 + i * 0.064 for i in range(6)]
+    assert period_of([(s, s) for s in stamps]) == (64.0, 6.4)
