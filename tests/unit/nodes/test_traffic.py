@@ -10,6 +10,7 @@ import math
 import numpy as np
 import pytest
 
+from tests.unit.nodes.test_goal_machine import scan  # a full-circle scan, taken where it says
 from turtlectl.messages import GoalState, LaserScan, NavigateToRequest, Pose, Turtles, Twist
 from turtlectl.messages.world import Limits, Obstacle, World
 from turtlectl.nodes.goal_machine import GoalMachine, Reply
@@ -88,23 +89,6 @@ def test_scan_hits_on_another_turtle_are_not_remembered_as_obstacles():
     assert [(c.x, c.y) for c in m.surroundings.seen(0.0)] == [(4.0, 5.0)]
 
 
-def empty_scan(x: float, y: float, theta: float) -> LaserScan:
-    """A scan at (x, y, theta) that hits nothing (the other turtle reaches the navigator through
-    ``turtles``; its hits would be left out of the costmap anyway)."""
-    n = 72
-    return LaserScan(
-        angle_min=-math.pi,
-        angle_max=math.pi - 2 * math.pi / n,
-        angle_increment=2 * math.pi / n,
-        range_min=0.0,
-        range_max=10.0,
-        ranges=[math.inf] * n,
-        origin_x=x,
-        origin_y=y,
-        origin_theta=theta,
-    )
-
-
 def drive_two(starts, goals, max_time=20.0):
     """Two navigators on the kinematics, each pose a control step, each command a step late,
     ``turtles`` every 4th step (as the simulator publishes it): each one's outcome, the least
@@ -129,7 +113,7 @@ def drive_two(starts, goals, max_time=20.0):
         if ticks % 12 == 0:  # a scan every 12 steps (5 Hz), of nothing but the other turtle: seen through traffic
             for n, m in machines.items():
                 s = states[n]
-                m.scan(empty_scan(s.x, s.y, s.theta), now)
+                m.scan(scan(blocking=False, at=Pose(x=s.x, y=s.y, theta=s.theta)), now)
         for n in names:
             s, m = states[n], machines[n]
             actions = m.pose(Pose(x=s.x, y=s.y, theta=s.theta, linear_velocity=s.v, angular_velocity=s.w), now)
