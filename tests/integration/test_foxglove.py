@@ -58,7 +58,7 @@ class Client:
         await asyncio.wait_for(wait(), timeout)
 
     async def messages(
-        self, topics: tuple[str, ...], per_topic: int, until=lambda got: True, timeout: float = 10.0
+        self, topics: tuple[str, ...], per_topic: int, until=lambda got: True, timeout: float = 30.0
     ) -> dict[str, list[bytes]]:
         ids = {i: t for i, t in enumerate(topics, 1)}
         await self.ws.send(
