@@ -90,8 +90,9 @@ def namespace_of(name: str) -> str:
 
 
 def turtle_of(namespace: str) -> str:
-    """The turtle a namespace's nodes drive: the namespace's last chunk, or turtle1 outside one."""
-    return namespace.rpartition("/")[2] if namespace else FIRST_TURTLE
+    """The turtle a namespace's nodes drive (a namespace is a turtle's name; ``turtle_namespace``
+    the other way round): the namespace's, or turtle1 outside one."""
+    return namespace or FIRST_TURTLE
 
 
 def name_chunk(name: str) -> str:

@@ -49,28 +49,24 @@ from turtlectl.messages import (
 )
 from turtlectl.messages.codec import type_name
 from turtlectl.messages.keys import (
-    ENTITY_TOKEN_PREFIX,
     EntityInfo,
     entity_token,
     namespace_of,
-    parse_entity_token,
     resolve,
     turtle_of,
 )
 from turtlectl.messages.world import Limits, World
+from turtlectl.runtime.claims import entities_on_router
 from turtlectl.runtime.config import Claim, Interface, NodeConfig
 from turtlectl.runtime.entities import RING, Latest, Publisher, Request, Timer, sample_encoding
 from turtlectl.runtime.handles import Declaration
 from turtlectl.runtime.interface import check
 from turtlectl.runtime.own_services import OwnServices
-from turtlectl.runtime.session import client_config, close_session
 
 P = TypeVar("P", bound=msgspec.Struct)
 M = TypeVar("M", bound=Message)
 
 __all__ = ["Latest", "Node", "NodeConflict", "Publisher", "Request", "Timer"]  # the entities are runtime.entities'
-
-_CLAIM_TIMEOUT = 1.0  # s to hear from the router which tokens it knows
 
 
 class NodeConflict(Exception):
@@ -199,27 +195,12 @@ class Node(Generic[P]):
         two navigators would both drive the turtle, two simulators both publish its pose.
         Raises NodeConflict naming the other node.  The runtime calls it for each claim of the
         node's kind, before the node declares anything."""
-        # Asked through a short client session: the router knows every token and answers a client
-        # at once, while a peer's own liveliness get, just after opening, often answers only part
-        # of them (zenoh 1.10).  No router yet: nothing to ask, nothing known to conflict with
-        # (and a router that went away, with the supervisor, would only make the node wait).
+        # No router yet: nothing to ask, nothing known to conflict with (and a router that went
+        # away, with the supervisor, would only make the node wait).
         if not self.session.info.routers_zid():
             return
-        try:
-            asker = zenoh.open(client_config(self._connect, _CLAIM_TIMEOUT, self._domain, self._credentials))
-        except zenoh.ZError:
-            return
-        try:
-            tokens = [
-                str(reply.ok.key_expr)
-                for reply in asker.liveliness().get(f"{ENTITY_TOKEN_PREFIX}/**", timeout=_CLAIM_TIMEOUT)
-                if reply.ok is not None
-            ]
-        finally:
-            close_session(asker)
-        for token in tokens:
-            other = parse_entity_token(token)
-            if other is not None and (other.role, other.key) == (claim.role, claim.key) and other.pid != os.getpid():
+        for other in entities_on_router(self._connect, self._domain, self._credentials):
+            if (other.role, other.key) == (claim.role, claim.key) and other.pid != os.getpid():
                 raise NodeConflict(
                     f"{other.node} (pid {other.pid}) already {claim.phrase(third_person=True)}; not starting a second one "
                     f"(stop it first, or run this one in another --domain)"

@@ -48,7 +48,9 @@ from turtlectl.messages.keys import (
     WORLD_KEY,
     cmd_vel_key,
     pose_key,
+    resolve,
     teleport_key,
+    turtle_namespace,
 )
 from turtlectl.messages.world import Obstacle
 from turtlectl.runtime import Node, Request, run_main
@@ -161,9 +163,9 @@ class Simulator:
         self, request: Request[Any], places: dict[str, TurtleState], reason: str, detail: str, cancel: str = ""
     ) -> None:
         """Put each turtle of ``places`` there (made again if it is gone) once the running goals
-        of their navigators are canceled with ``reason`` (on ``cancel``; by default the one
-        turtle's: ``navigate_to/cancel`` and ``turtle1/navigate_to/cancel`` for turtle1,
-        ``<name>/navigate_to/cancel`` for another); the Ack follows the first pose published there."""
+        of their navigators are canceled with ``reason`` (on ``cancel``; by default each turtle's
+        own: turtle1's ``navigate_to/cancel``, another's in its namespace,
+        ``<name>/navigate_to/cancel``); the Ack follows the first pose published there."""
 
         def apply(_: list[Message]) -> None:
             for name, place in places.items():
@@ -174,9 +176,7 @@ class Simulator:
                 turtle.cmd_time = None  # a moved turtle stands still until told otherwise
             self.acks.append((request, Ack(detail=detail)))
 
-        keys = [cancel] if cancel else [f"{name}/{CANCEL}" for name in places]
-        if not cancel and FIRST_TURTLE in places:
-            keys.append(CANCEL)  # turtle1's navigator outside any namespace
+        keys = [cancel] if cancel else [resolve(CANCEL, turtle_namespace(name)) for name in places]
 
         def cancel_next(_: list[Message]) -> None:
             if keys:

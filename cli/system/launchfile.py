@@ -16,7 +16,7 @@ outlasts the scan period.
 A ``run`` is a built-in kind or a user's node class (``module:Class``, ``./file.py:Class``
 relative to the launch file), imported here to validate its parameters (nodes.kinds.kind_of).
 
-Overrides (``launch --set``, ``run -p``, ``param set``) are in cli.system.overrides.
+Overrides (``launch --set``, ``run -p``, ``param set``) and the ``--only``/``--exclude`` selection are in cli.system.overrides.
 """
 
 from __future__ import annotations
@@ -368,39 +368,3 @@ def default_launch_file() -> Path:
     """./launch.toml if there is one, else the packaged default."""
     local = Path("launch.toml")
     return local if local.is_file() else PACKAGED_LAUNCH
-
-
-def no_node(name: str, names: list[str], where: str) -> LaunchFileError:
-    return LaunchFileError(f"{where}: no node named {name!r}{suggestion(name, names)} (nodes: {', '.join(names)})")
-
-
-def select_nodes(plan: LaunchPlan, only: list[str], exclude: list[str]) -> LaunchPlan:
-    """The plan with just the ``only`` nodes (all if empty), less the ``exclude`` ones; a
-    namespace names all its nodes (``--only turtle2``: turtle2/navigator, turtle2/...)."""
-    names = [e.name for e in plan.launch.node]
-    namespaces = {e.namespace for e in plan.launch.node if e.namespace}
-    picked: dict[str, list[str]] = {}
-    for option, asked in (("--only", only), ("--exclude", exclude)):
-        picked[option] = []
-        for name in asked:
-            name = name.strip("/")
-            if name in names:
-                picked[option].append(name)
-            elif name in namespaces:
-                picked[option] += [n for n in names if n.startswith(f"{name}/")]
-            else:
-                raise no_node(name, names, f"{option} {name}")
-    only, exclude = picked["--only"], picked["--exclude"]
-    kept = [e for e in plan.launch.node if (not only or e.name in only) and e.name not in exclude]
-    if not kept:
-        raise LaunchFileError("--only/--exclude leave no node to run")
-    launch = msgspec.structs.replace(plan.launch, node=kept)
-    return LaunchPlan(
-        source=plan.source,
-        launch=launch,
-        params={e.name: plan.params[e.name] for e in kept},
-        kinds={e.name: plan.kinds[e.name] for e in kept if e.name in plan.kinds},
-        commands={e.name: plan.commands[e.name] for e in kept if e.name in plan.commands},
-        folder=plan.folder,
-        elsewhere={n: k for n, k in plan.kinds.items() if n not in {e.name for e in kept}},
-    )

@@ -1,7 +1,8 @@
 """Overrides of a launch plan (pure: no zenoh): ``launch --set NODE.PARAM=VALUE`` or ``--set
 world.size=20``, ``run NODE -p PARAM=VALUE``, and ``param set`` against what runs now, each
 applied to the plan's data and validated again as a launch file is (cli.system.launchfile);
-what ``launch`` runs (``launch_plan``) and what a node is started with (``node_config``).
+what ``launch`` runs (``launch_plan``: the file, its ``--only``/``--exclude`` selection,
+``select_nodes``, then its ``--set``) and what a node is started with (``node_config``).
 """
 
 from __future__ import annotations
@@ -19,8 +20,6 @@ from turtlectl.cli.system.launchfile import (
     LaunchPlan,
     Report,
     load_launch,
-    no_node,
-    select_nodes,
     suggestion,
     validate,
 )
@@ -223,4 +222,40 @@ def node_config(
         world=plan.launch.world,
         limits=plan.launch.limits,
         log_level=log_level,
+    )
+
+
+def no_node(name: str, names: list[str], where: str) -> LaunchFileError:
+    return LaunchFileError(f"{where}: no node named {name!r}{suggestion(name, names)} (nodes: {', '.join(names)})")
+
+
+def select_nodes(plan: LaunchPlan, only: list[str], exclude: list[str]) -> LaunchPlan:
+    """The plan with just the ``only`` nodes (all if empty), less the ``exclude`` ones; a
+    namespace names all its nodes (``--only turtle2``: turtle2/navigator, turtle2/...)."""
+    names = [e.name for e in plan.launch.node]
+    namespaces = {e.namespace for e in plan.launch.node if e.namespace}
+    picked: dict[str, list[str]] = {}
+    for option, asked in (("--only", only), ("--exclude", exclude)):
+        picked[option] = []
+        for name in asked:
+            name = name.strip("/")
+            if name in names:
+                picked[option].append(name)
+            elif name in namespaces:
+                picked[option] += [n for n in names if n.startswith(f"{name}/")]
+            else:
+                raise no_node(name, names, f"{option} {name}")
+    only, exclude = picked["--only"], picked["--exclude"]
+    kept = [e for e in plan.launch.node if (not only or e.name in only) and e.name not in exclude]
+    if not kept:
+        raise LaunchFileError("--only/--exclude leave no node to run")
+    launch = msgspec.structs.replace(plan.launch, node=kept)
+    return LaunchPlan(
+        source=plan.source,
+        launch=launch,
+        params={e.name: plan.params[e.name] for e in kept},
+        kinds={e.name: plan.kinds[e.name] for e in kept if e.name in plan.kinds},
+        commands={e.name: plan.commands[e.name] for e in kept if e.name in plan.commands},
+        folder=plan.folder,
+        elsewhere={n: k for n, k in plan.kinds.items() if n not in {e.name for e in kept}},
     )

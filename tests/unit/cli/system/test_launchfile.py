@@ -10,9 +10,8 @@ from turtlectl.cli.system.launchfile import (
     LaunchFileError,
     load_launch,
     parse_launch,
-    select_nodes,
 )
-from turtlectl.cli.system.overrides import node_config, parse_assignment, with_overrides
+from turtlectl.cli.system.overrides import node_config, parse_assignment, select_nodes, with_overrides
 
 ROOT = Path(__file__).resolve().parents[4]
 

@@ -9,8 +9,8 @@ from pathlib import Path
 
 import pytest
 
-from turtlectl.cli.system.launchfile import LaunchFileError, load_launch, select_nodes
-from turtlectl.cli.system.overrides import node_config, parse_assignment, with_overrides
+from turtlectl.cli.system.launchfile import LaunchFileError, load_launch
+from turtlectl.cli.system.overrides import node_config, parse_assignment, select_nodes, with_overrides
 from turtlectl.cli.tools.format import plan_text
 
 SIM = '[[node]]\nname = "sim"\nrun = "sim"\n'
