@@ -135,7 +135,10 @@ class Latest(Generic[M]):
         """While ``callback`` is set, also call it on the node thread for every valid message,
         as ``Node.subscribe`` does (the navigator needs every pose only while a goal runs);
         None stops it; messages received before a call (still queued) reach no callback set by
-        it.  ``get()`` works either way."""
+        it (setting the same callback again changes nothing: what is queued still reaches it).
+        ``get()`` works either way."""
+        if callback == self._callback:  # a bound method is a new object each time: equal, not same
+            return
         self._generation += 1
         self._callback = callback
         if callback is not None and self._each is None and self._declaration.active:

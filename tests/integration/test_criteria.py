@@ -23,8 +23,8 @@ import zenoh
 from tests.integration.harness import DEFAULT_LAUNCH, NODES, obstacles_in_view, running_system, turtlectl
 from tests.integration.launches import CUSTOM
 from turtlectl.cli.system.launchfile import load_launch, parse_launch
-from turtlectl.messages import ErrorReply, LaserScan, NavigateToResponse, Pose, Reset, TurtleStatus, decode
-from turtlectl.messages.keys import NAVIGATE_TO, OBSTACLES, POSE, RESET, STATUS
+from turtlectl.messages import ErrorReply, LaserScan, NavigateToResponse, Pose, Reset, TurtleStatus, Twist, decode
+from turtlectl.messages.keys import CMD_VEL, NAVIGATE_TO, OBSTACLES, POSE, RESET, STATUS
 
 pytestmark = pytest.mark.integration
 
@@ -44,17 +44,56 @@ def navigate(system, x: float, y: float, theta: float) -> tuple[NavigateToRespon
 
 
 # -- the capstone's criteria, by its numbers -----------------------------------------------
+#: tries of criterion 1's goal when the machine stalled the system during one (see below)
+TRIES = 5
+#: s: a gap between two poses (the simulator's 16 ms steps) or two commands (the navigator's
+#: answer to each pose) longer than this is the machine stalling the process, not the system
+STALL = 0.048
+
+
+def _stamps(session: zenoh.Session, key: str, msg_type: type) -> tuple[list[int], zenoh.Subscriber]:
+    stamps: list[int] = []
+    return stamps, session.declare_subscriber(
+        key, lambda s: stamps.append(decode(s.payload.to_bytes(), msg_type).stamp)
+    )
+
+
+def _stall(stamps: list[int]) -> float:
+    """The longest gap (s) between consecutive stamps."""
+    return max((b - a for a, b in zip(stamps, stamps[1:], strict=False)), default=0) / 1e9
+
+
 def test_criterion_1_the_turtle_reaches_the_goal_within_2_s_of_the_service_call(system):
-    start = latest_pose(system)
-    # 3 m towards the world's centre-ish, and face the opposite way at the end
-    bearing = math.atan2(5.5 - start.y, 5.5 - start.x) if math.hypot(5.5 - start.x, 5.5 - start.y) > 1 else 0.3
-    goal = (start.x + 3.0 * math.cos(bearing), start.y + 3.0 * math.sin(bearing))
-    heading = (math.degrees(start.theta) + 180.0) % 360.0
-    response, elapsed = navigate(system, goal[0], goal[1], heading)
-    assert response.success, response
-    assert elapsed <= 2.0, f"3 m goal took {elapsed:.3f} s"
-    pose = system.wait_stopped()
-    assert math.hypot(pose.x - goal[0], pose.y - goal[1]) <= CAPSTONE_REACH
+    """A goal 3 m away with its heading reversed, within 2 s of the client's clock (1.6-1.8 s
+    here; rotate-drive-rotate at the limits takes 1.81 s).  The simulator steps on the wall clock
+    and the navigator answers each step: when the shared machine stalls one of them (a gap in
+    their streams over STALL, which a CI machine showed as a 2.08 s goal) the goal says nothing
+    about the system and is tried again, up to TRIES times.  Every undisturbed try must hold."""
+    tries = []
+    for _ in range(TRIES):
+        start = latest_pose(system)
+        # 3 m towards the world's centre-ish, and face the opposite way at the end
+        near = math.hypot(5.5 - start.x, 5.5 - start.y) > 1
+        bearing = math.atan2(5.5 - start.y, 5.5 - start.x) if near else 0.3
+        goal = (start.x + 3.0 * math.cos(bearing), start.y + 3.0 * math.sin(bearing))
+        heading = (math.degrees(start.theta) + 180.0) % 360.0
+        poses, pose_sub = _stamps(system.session, POSE, Pose)
+        commands, cmd_sub = _stamps(system.session, CMD_VEL, Twist)
+        try:
+            response, elapsed = navigate(system, goal[0], goal[1], heading)
+        finally:
+            pose_sub.undeclare()
+            cmd_sub.undeclare()
+        assert response.success, response
+        pose = system.wait_stopped()
+        assert math.hypot(pose.x - goal[0], pose.y - goal[1]) <= CAPSTONE_REACH
+        stall = max(_stall(poses), _stall(commands))
+        tries.append(f"{elapsed:.3f} s (longest gap {1000 * stall:.0f} ms)")
+        if stall <= STALL:
+            assert elapsed <= 2.0, f"3 m goal took {elapsed:.3f} s; tries: {tries}"
+            return
+        system.teleport(start.x, start.y, start.theta)  # the same goal again
+    pytest.fail(f"the machine stalled the system in every try of the goal: {tries}")
 
 
 def test_criterion_2_status_messages_every_100_ms_within_10_ms(system):
