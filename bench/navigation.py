@@ -23,7 +23,12 @@ robot_radius), mean and p95 time, and the ratio of each goal's time to a careful
 on the shortest path (rotate-drive-rotate generalised to the path, nodes.control.path_time):
 target 100 % and mean ratio <= 1.0.
 
-Usage: python bench/navigation.py [--set free|world|both] [--goals N] [--world-goals M] [--seed S]
+Simulated time (``--time-scale F``): the free set twice in one run, at 1x and with
+``launch --time-scale F`` (the simulator F times as fast, every node on its clock), goal by
+goal: the same success, errors within the tolerances, time_taken (simulated s at F) against
+1x's, and the wall-clock time each run of the set took.
+
+Usage: python bench/navigation.py [--set free|world|both] [--goals N] [--world-goals M] [--seed S] [--time-scale F]
 """
 
 from __future__ import annotations
@@ -106,7 +111,9 @@ def pct(values: list[float], q: float) -> float:
     return ordered[min(len(ordered) - 1, int(round(q / 100 * (len(ordered) - 1))))]
 
 
-def free_set(goals: int, seed: int) -> None:
+def free_set(goals: int, seed: int, time_scale: float | None = None) -> tuple[list, list, float]:
+    """Run the free set (at ``time_scale`` with ``launch --time-scale``), print its table;
+    (rows of (response, client s, baseline s), errors at rest, wall-clock s of the set)."""
     plan = load_launch(FREE)
     size, limits = plan.launch.world.size, plan.launch.limits
     rng = random.Random(seed)
@@ -118,8 +125,10 @@ def free_set(goals: int, seed: int) -> None:
         for _ in range(goals)
     ]
     rows, rest, to_rest = [], [], []
-    with running_system(FREE, NODES) as system:
+    extra = ("--time-scale", str(time_scale)) if time_scale else ()
+    with running_system(FREE, NODES, extra_args=extra) as system:
         poses = Poses(system)
+        set_started = time.monotonic()
         for start, goal in cases:
             system.teleport(*start)
             response, elapsed, _, errors, resting, _ = drive(system, poses, goal, 30.0)
@@ -127,12 +136,14 @@ def free_set(goals: int, seed: int) -> None:
             rows.append((response, elapsed, baseline))
             rest.append(errors)
             to_rest.append(resting)
+        wall = time.monotonic() - set_started
         poses.sub.undeclare()
 
     ok = [r for r, _, _ in rows if r.success]
     times = [r.time_taken for r, _, _ in rows]
     ratios = [r.time_taken / b for r, _, b in rows if b > 0]
-    print(f"## set free: {FREE.relative_to(ROOT)}, no obstacles, {len(rows)} goals, seed {seed}")
+    scale = f", --time-scale {time_scale:g} (time_taken in simulated s; client times wall)" if time_scale else ""
+    print(f"## set free: {FREE.relative_to(ROOT)}, no obstacles, {len(rows)} goals, seed {seed}{scale}")
     print(f"limits: {limits}")
     print(
         "| goals | success | max position error at rest | max heading error at rest | mean time | p95 time |"
@@ -156,6 +167,27 @@ def free_set(goals: int, seed: int) -> None:
     print(rest_line(to_rest, [b for _, _, b in rows]))
     client_gap = [e - r.time_taken for r, e, _ in rows]
     print(f"client time - time_taken: p50 {pct(client_gap, 50) * 1000:.2f} ms, max {max(client_gap) * 1000:.2f} ms")
+    print(f"the set took {wall:.1f} s of wall clock")
+    return rows, rest, wall
+
+
+def compare_time_scales(goals: int, seed: int, factor: float) -> None:
+    """The free set at 1x and at ``factor``, goal by goal, in one run."""
+    real, real_rest, real_wall = free_set(goals, seed)
+    fast, fast_rest, fast_wall = free_set(goals, seed, factor)
+    tolerance = NavigatorParams()
+    same = sum(1 for (a, _, _), (b, _, _) in zip(real, fast, strict=True) if a.success == b.success)
+    within = sum(1 for p, h, _ in fast_rest if p <= tolerance.position_tolerance and h <= tolerance.heading_tolerance)
+    ratios = [b.time_taken / a.time_taken for (a, _, _), (b, _, _) in zip(real, fast, strict=True) if a.time_taken > 0]
+    print(f"## --time-scale {factor:g} against 1x, free set, {len(real)} goals, seed {seed}")
+    print(
+        "| same outcome | at rest within tolerances at F | time_taken F / 1x: median | p5 | p95 | wall clock 1x | wall clock F | speed-up |"
+    )
+    print("|---|---|---|---|---|---|---|---|")
+    print(
+        f"| {same}/{len(real)} | {within}/{len(fast)} | {statistics.median(ratios):.3f} | {pct(ratios, 5):.3f} | "
+        f"{pct(ratios, 95):.3f} | {real_wall:.1f} s | {fast_wall:.1f} s | {real_wall / fast_wall:.2f}x |"
+    )
 
 
 def world_set(goals: int, seed: int) -> None:
@@ -262,8 +294,11 @@ def main() -> None:
     ap.add_argument("--goals", type=int, default=60, help="goals of the free set")
     ap.add_argument("--world-goals", type=int, default=60, help="goals of the world set (at least 50 for the README)")
     ap.add_argument("--seed", type=int, default=2026)
+    ap.add_argument("--time-scale", type=float, default=None, help="also run the free set at this factor, and compare")
     args = ap.parse_args()
-    if args.set in ("free", "both"):
+    if args.time_scale:
+        compare_time_scales(args.goals, args.seed, args.time_scale)
+    elif args.set in ("free", "both"):
         free_set(args.goals, args.seed)
     if args.set in ("world", "both"):
         world_set(args.world_goals, args.seed)

@@ -28,6 +28,7 @@ from turtlectl.cli.commands import (
     driving,
     introspection,
     parameters,
+    plotting,
     recording,
     services,
     specification,
@@ -57,10 +58,10 @@ commands).
 COMMAND_GROUPS: dict[str, tuple[str, ...]] = {
     "System": ("launch", "router", "run", "new", "verify", "spec", "log-level", "certs"),
     "Goals and driving": ("goto", "cancel", "teleport", "reset", "teleop", "spawn", "kill"),
-    "Topics": ("echo", "hz", "pub", "topic"),
+    "Topics": ("echo", "hz", "pub", "topic", "plot"),
     "Services": ("call",),
     "Parameters": ("param",),
-    "Introspection": ("list", "node", "interface", "view"),
+    "Introspection": ("list", "node", "log", "interface", "view"),
     "Recording and Foxglove": ("record", "info", "play", "recover", "foxglove"),
 }
 
@@ -134,7 +135,19 @@ def root(
 
 
 #: the modules of the groups of commands, in COMMAND_GROUPS' order
-GROUPS = (system, driving, turtles, topics, services, parameters, introspection, recording, verify, specification)
+GROUPS = (
+    system,
+    driving,
+    turtles,
+    topics,
+    plotting,
+    services,
+    parameters,
+    introspection,
+    recording,
+    verify,
+    specification,
+)
 for group in GROUPS:
     group.register(app)
 

@@ -23,6 +23,7 @@ for folder in (ROOT, ROOT / "docs"):
 import generated  # noqa: E402
 from gen_interfaces import doc, param_table  # noqa: E402
 
+from turtlectl.cli.system.compose import Argument, Include  # noqa: E402
 from turtlectl.cli.system.launchfile import Group, NodeEntry, SupervisorSettings  # noqa: E402
 from turtlectl.messages.world import Limits, Obstacle, World  # noqa: E402
 from turtlectl.nodes.kinds import KINDS  # noqa: E402
@@ -40,6 +41,22 @@ TABLES = (
         Group,
         "Nodes in one turtle's namespace (ROS's `PushRosNamespace`): `namespace` and its `[[group.node]]` tables, each "
         "a `[[node]]` (see [Several turtles and fleets](../how-to/turtles.md) for how their keys resolve).",
+    ),
+    (
+        "[arg.NAME]",
+        Argument,
+        "An argument of the file (ROS's `DeclareLaunchArgument`): `\"$(arg NAME)\"` in any value of the file is its "
+        "value, typed as given (a value that is only the substitution), or written out inside a longer text. Given "
+        "by `turtlectl launch FILE --arg NAME=VALUE` for the file launched, by an `[[include]]`'s `args` for an "
+        "included one; `launch --check` lists every file's (see [Compose launch files](../how-to/compose.md)).",
+    ),
+    (
+        "[[include]]",
+        Include,
+        "Another launch file's nodes in this system (ROS's `IncludeLaunchDescription`), with values for its "
+        "arguments and, optionally, the namespace its nodes run in. `[world]`, `[limits]` and `[supervisor]` may be "
+        "written in any one file of a launch, never in two; a file may not include itself, through others neither "
+        "(see [Compose launch files](../how-to/compose.md)).",
     ),
     ("[world]", World, "The world every node shares; `obstacles` is a list of `{ x, y, radius }` tables."),
     ("[[world.obstacles]]", Obstacle, "One circular obstacle."),

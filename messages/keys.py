@@ -12,12 +12,14 @@ tokens included, is ``D/<key>`` on the router (``D/@turtlectl/node/...``).
 from __future__ import annotations
 
 import re
+from collections.abc import Mapping
 
 import msgspec
 
 from turtlectl.messages.types import (
     Ack,
     Cancel,
+    Clock,
     Kill,
     LaserScan,
     Message,
@@ -56,7 +58,7 @@ def teleport_key(turtle: str) -> str:
     return f"{turtle}/teleport_absolute"
 
 
-def resolve(key: str, namespace: str) -> str:
+def resolve(key: str, namespace: str, remaps: Mapping[str, str] | None = None) -> str:
     """The key a node in ``namespace`` uses for ``key`` as its code writes it (ROS's name
     resolution, with turtle1 standing for the namespace's own turtle):
 
@@ -66,8 +68,23 @@ def resolve(key: str, namespace: str) -> str:
     - with no namespace (``""``), every other key is as written (today's single-turtle system);
     - in namespace ``NS``, the default turtle's keys ``turtle1/X`` are the namespace's turtle's,
       ``NS/X`` (``turtle1/pose`` -> ``turtle2/pose`` in ``turtle2``), and any other key ``K`` is
-      ``NS/K`` (``navigate_to`` -> ``turtle2/navigate_to``, ``robot/status`` -> ``turtle2/robot/status``).
+      ``NS/K`` (``navigate_to`` -> ``turtle2/navigate_to``, ``robot/status`` -> ``turtle2/robot/status``);
+    - ``remaps`` (the launch file's ``remap = { FROM = TO }`` of the node, ROS's remappings): a key
+      that resolves as ``FROM`` does is ``TO``, resolved the same way.  So ``FROM`` is written as the
+      node's code writes the key (``turtle1/cmd_vel``) or absolute (``/turtle2/cmd_vel``); in
+      ``turtle2``, ``{ "turtle1/cmd_vel" = "safety/cmd_vel" }`` makes ``turtle2/safety/cmd_vel``.
+      A remap names one key: a key expression with wildcards (an interface's ``*/cmd_vel``) is
+      never remapped itself (runtime.roles adds the remapped keys it includes).
     """
+    resolved = _expand(key, namespace)
+    for written, replacement in (remaps or {}).items():
+        if _expand(written, namespace) == resolved:
+            return _expand(replacement, namespace)
+    return resolved
+
+
+def _expand(key: str, namespace: str) -> str:
+    """``resolve`` without remaps: the namespace's part of ROS's name resolution."""
     if key.startswith("/"):
         return key[1:]
     if not namespace or key.startswith(("@", "turtlectl/")) or key.partition("/")[0] in WORLD_KEYS:
@@ -76,6 +93,32 @@ def resolve(key: str, namespace: str) -> str:
     if first == FIRST_TURTLE and rest:
         return f"{namespace}/{rest}"
     return f"{namespace}/{key}"
+
+
+def includes(expression: str, key: str) -> bool:
+    """Whether key expression ``expression`` (``*``: one chunk, ``**``: any number of them, as
+    Zenoh's) matches every key ``key`` names (itself a key or an expression: it must lie inside).
+    Plain string work, for the pure modules (runtime.interface asks Zenoh itself)."""
+
+    def inside(outer: list[str], inner: list[str]) -> bool:
+        if not outer:
+            return not inner
+        if outer[0] == "**":
+            return any(inside(outer[1:], inner[i:]) for i in range(len(inner) + 1))
+        if not inner or inner[0] == "**":
+            return False
+        return (outer[0] == inner[0] or (outer[0] == "*" and inner[0] != "")) and inside(outer[1:], inner[1:])
+
+    return inside(expression.split("/"), key.split("/"))
+
+
+def key_problem(key: str) -> str | None:
+    """Why ``key`` cannot be one topic's or service's key as a node writes it (None: it can):
+    chunks of letters, digits, ``_``, ``-`` and ``.`` between single ``/`` (one ``/`` first:
+    absolute), no wildcard."""
+    if not re.fullmatch(r"/?[A-Za-z0-9_.\-]+(/[A-Za-z0-9_.\-]+)*", key):
+        return f"{key!r} is not a key: chunks of letters, digits, _, - and . between single /, no wildcard"
+    return None
 
 
 def turtle_namespace(turtle: str) -> str:
@@ -118,9 +161,10 @@ RESET = "reset"
 SPAWN = "spawn"
 KILL = "kill"
 TURTLES = "turtles"  # the simulator: every turtle's name and pose
+CLOCK = "clock"  # the simulator: its simulated time after every step (ROS's /clock)
 PARAMETER_EVENTS = "turtlectl/parameter_events"  # every node: a ParameterEvent per change at run time
 #: the simulator's keys for the whole world: the same in every namespace (messages.keys.resolve)
-WORLD_KEYS = frozenset({TURTLES, SPAWN, KILL, RESET})
+WORLD_KEYS = frozenset({TURTLES, SPAWN, KILL, RESET, CLOCK})
 
 TOPICS: dict[str, type[Message]] = {
     CMD_VEL: Twist,
@@ -130,6 +174,7 @@ TOPICS: dict[str, type[Message]] = {
     FEEDBACK: NavigateToFeedback,
     PARAMETER_EVENTS: ParameterEvent,
     TURTLES: Turtles,
+    CLOCK: Clock,
 }
 
 SERVICES: dict[str, tuple[type[Message], type[Message]]] = {
@@ -279,6 +324,18 @@ def type_key(type_name: str, node: str) -> str:
 def log_level_key(name: str) -> str:
     """Service on which node ``name`` changes its log level (SetLogLevel -> Ack)."""
     return f"{node_key(name)}/log_level"
+
+
+LOG = "turtlectl/log"  # every node: each record of its log (Log), on a key of its own below
+#: every node's log key: subscribe to it for the records as they come, get it for each node's recent ones
+LOG_KEYS = f"{LOG}/*"
+
+
+def log_key(name: str) -> str:
+    """Topic on which node ``name`` publishes each record of its log (Log), and queryable on
+    which it answers with its recent records (one Log reply each, oldest first):
+    ``turtlectl/log/turtle2.navigator`` for ``turtle2/navigator``."""
+    return f"{LOG}/{name_chunk(name)}"
 
 
 def service_types(key: str) -> tuple[type[Message], type[Message]] | None:

@@ -189,7 +189,7 @@ FIELDS: dict[str, dict[str, tuple[str, str, str]]] = {
         ),
         "name": (
             "-",
-            "empty, or a letter or _ then letters, digits, _ or - (at most 63), not taken, not a first chunk of the system's keys (turtlectl, robot, navigate_to, obstacles, reset, spawn, kill, turtles)",
+            "empty, or a letter or _ then letters, digits, _ or - (at most 63), not taken, not a first chunk of the system's keys (turtlectl, robot, navigate_to, obstacles, reset, spawn, kill, turtles, clock)",
             "the new turtle's name and its keys' first chunk (empty: the first free turtleN)",
         ),
     },
@@ -201,6 +201,18 @@ FIELDS: dict[str, dict[str, tuple[str, str, str]]] = {
         "theta": ("rad", "[-pi, pi) each", "their headings, in the order of names"),
         "stamp": STAMP,
         "seq": SEQ,
+    },
+    "Clock": {
+        "clock": (
+            "ns",
+            ">= 0",
+            "the simulated time since the Unix epoch: the wall clock's when the simulator started, then one step (16 ms) per step",
+        ),
+        "real_time_factor": (
+            "-",
+            "> 0",
+            "simulated seconds per wall-clock second the simulator aims at (its real_time_factor parameter)",
+        ),
     },
     "Kill": {"name": ("-", "a turtle's name", "the turtle to remove")},
     "Ack": {
@@ -236,6 +248,20 @@ FIELDS: dict[str, dict[str, tuple[str, str, str]]] = {
             "DEBUG, INFO, WARNING, ERROR (any case)",
             "the least severe log line the node writes from now on",
         ),
+    },
+    "Log": {
+        "level": (
+            "-",
+            "10 DEBUG, 20 INFO, 30 WARNING, 40 ERROR, 50 CRITICAL (Python's and ROS's numbers; another number between them is a level of its own)",
+            "how severe the record is; a node publishes the records at its log level and above",
+        ),
+        "node": ("-", "a node's full name (turtle2/navigator)", "the node that logged it"),
+        "message": ("-", "any text, may span lines", "what was logged, with its traceback when it has one"),
+        "file": ("-", "a path, or empty", "the source file that logged it"),
+        "function": ("-", "a name, or empty", "the function that logged it"),
+        "line": ("-", ">= 0 (0: unknown)", "the line in that file"),
+        "stamp": ("ns", ">= 0", "when it was logged: wall-clock time, ns since the Unix epoch"),
+        "seq": SEQ,
     },
 }
 
@@ -301,6 +327,13 @@ KEYS: dict[str, tuple[str, str, str, str, str]] = {
         "get; an ErrorReply (reply.err) naming the turtles for an unknown name; the turtle's keys go with it",
     ),
     keys.TURTLES: ("topic", "Turtles", "sim -> anyone (obstacle_detector)", "15.6 Hz (every 4th step)", "subscribe"),
+    keys.CLOCK: (
+        "topic",
+        "Clock",
+        "sim -> nodes with use_sim_time",
+        "62.5 Hz x real_time_factor (every step)",
+        "subscribe; a node started with use_sim_time runs its timers, timeouts and stamps on it",
+    ),
     keys.pose_key("<turtle>"): (
         "topic",
         "Pose",
@@ -370,6 +403,14 @@ KEYS: dict[str, tuple[str, str, str, str, str]] = {
         "client -> each node",
         "on request",
         "get; an ErrorReply for an unknown level",
+    ),
+    keys.log_key("<node>"): (
+        "topic, queryable",
+        "Log",
+        "each node -> anyone (turtlectl log, record)",
+        "each record the node logs at its log level, once its session is open; a get: its last 200 records",
+        f"subscribe on `{keys.LOG_KEYS}` for every node's (`<node>`: its name, `/` written `.`: turtle2.navigator); "
+        f"get `{keys.LOG_KEYS}` (QueryTarget.ALL, ConsolidationMode.NONE) for each node's recent ones, a Log reply each, oldest first",
     ),
     f"{keys.NODE_TOKEN_PREFIX}/<name>/<pid>/<host>/<start_ns>": (
         "liveliness token",

@@ -249,6 +249,17 @@ class Turtles(Message, tag="Turtles"):
     seq: int = 0
 
 
+class Clock(Message, tag="Clock"):
+    """The simulated time, as the simulator publishes it on ``clock`` after every step (ROS's
+    ``/clock``).  ``clock``: ns since the Unix epoch, starting at the wall-clock time the simulator
+    started and running ``real_time_factor`` times as fast as the wall clock (exactly one step,
+    16 ms, per step).  A node started with ``use_sim_time`` runs its timers, timeouts and stamps
+    on it."""
+
+    clock: int
+    real_time_factor: float = 1.0
+
+
 class Kill(Message, tag="Kill"):
     """Request to ``kill``, as turtlesim's: remove the turtle ``name`` (its keys go with it)."""
 
@@ -301,6 +312,26 @@ class SetLogLevel(Message, tag="SetLogLevel"):
     level: str
 
 
+class Log(Message, tag="Log"):
+    """One record of a node's log, as every node publishes each on ``turtlectl/log/<node>``
+    (ROS's ``/rosout`` and ``rcl_interfaces/Log``); ``turtlectl log`` reads them.
+
+    level: Python's: 10 DEBUG, 20 INFO, 30 WARNING, 40 ERROR, 50 CRITICAL (ROS's DEBUG 10 ..
+    FATAL 50).  node: the node's full name (``turtle2/navigator``).  message: the text, with its
+    traceback if it has one.  file, function, line: where in the source it was logged.
+    stamp: when it was logged (wall clock, ns).  seq: per node, from 0.
+    """
+
+    level: int
+    node: str
+    message: str
+    file: str = ""
+    function: str = ""
+    line: int = 0
+    stamp: int = 0
+    seq: int = 0
+
+
 ALL_TYPES: tuple[type[Message], ...] = (
     Twist,
     Pose,
@@ -315,10 +346,12 @@ ALL_TYPES: tuple[type[Message], ...] = (
     SpawnRequest,
     SpawnResponse,
     Turtles,
+    Clock,
     Kill,
     Ack,
     ErrorReply,
     SetParameter,
     ParameterEvent,
     SetLogLevel,
+    Log,
 )

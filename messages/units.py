@@ -21,5 +21,7 @@ Percent = Annotated[float, msgspec.Meta(ge=0.0, le=100.0)]
 Rate = Annotated[float, msgspec.Meta(ge=0.1, le=100.0)]
 #: s of a watchdog on a fast stream (poses and commands every 16 ms, scans every 200 ms): 0.05 to 60.
 ShortTimeout = Annotated[float, msgspec.Meta(ge=0.05, le=60.0)]
+#: simulated seconds per wall second (the simulator's real_time_factor)
+TimeFactor = Annotated[float, msgspec.Meta(ge=0.1, le=20.0)]
 #: s of a goal-level limit (blocked, whole goal): 0.1 s to an hour.
 LongTimeout = Annotated[float, msgspec.Meta(ge=0.1, le=3600.0)]

@@ -20,6 +20,7 @@ import msgspec
 from turtlectl.messages.keys import (
     CANCEL,
     CLIENT_TOKEN_PREFIX,
+    CLOCK,
     CMD_VEL,
     FEEDBACK,
     KILL,
@@ -97,7 +98,7 @@ KINDS: dict[str, NodeKind] = {
         SimParams,
         Claim("pub", POSE),
         Interface(
-            publishes=(pose_key("*"), TURTLES),
+            publishes=(pose_key("*"), TURTLES, CLOCK),
             subscribes=(cmd_vel_key("*"),),
             serves=(teleport_key("*"), RESET, SPAWN, KILL, WORLD_KEY),
             calls=(CANCEL, f"**/{CANCEL}"),  # a moved turtle's navigator, in any namespace

@@ -5,7 +5,7 @@ gone, no pose, timeout, blocked, teleported, reset) is nodes.goal_machine, and t
 driving of a goal (path, control law, obstacles, arriving at rest) nodes.driver, both pure
 and tested with a fake clock; this module is their wiring to Zenoh.  Each input (a goal, a
 cancel, a pose, a scan, a status, a caller's liveliness token going away, the watchdog
-and feedback timers, shutdown) becomes an event of the machine with ``time.monotonic()``,
+and feedback timers, shutdown) becomes an event of the machine with ``self.node.clock()``,
 and what the machine returns is carried out: ``turtle1/cmd_vel`` published, callers
 answered, lines logged.  It publishes ``turtle1/cmd_vel`` only while a goal runs, and
 refuses to start while another navigator serves ``navigate_to``.
@@ -18,8 +18,6 @@ needs them: before a goal starts (where from, battery) and before a scan (its or
 """
 
 from __future__ import annotations
-
-import time
 
 from turtlectl.messages import (
     Ack,
@@ -72,13 +70,13 @@ class Navigator:
             node.timer(1.0 / node.params.feedback_rate, self.feedback),
         ]
         node.on_params(self.on_params)
-        node.on_shutdown(lambda: self.carry_out(self.machine.shutdown(time.monotonic())))
+        node.on_shutdown(lambda: self.carry_out(self.machine.shutdown(self.node.clock())))
         self.follow_goal()
 
     # -- inputs -------------------------------------------------------------
     def on_goal(self, request: Request[NavigateToRequest]) -> None:
         self.catch_up()
-        self.carry_out(self.machine.start(request.body, request, time.monotonic()))
+        self.carry_out(self.machine.start(request.body, request, self.node.clock()))
         goal = self.machine.goal
         path = goal.driver.path if goal is not None else None
         if goal is not None and path is not None:
@@ -86,7 +84,7 @@ class Navigator:
             self.node.log.debug("planned %.2f m %s", path.length, how)
 
     def on_cancel(self, request: Request[Cancel]) -> None:
-        ack, actions = self.machine.cancel(request.body.reason, time.monotonic())
+        ack, actions = self.machine.cancel(request.body.reason, self.node.clock())
         self.carry_out(actions)
         request.respond(ack)
 
@@ -97,10 +95,10 @@ class Navigator:
 
     def on_client(self, key: str, alive: bool) -> None:
         if not alive:
-            self.carry_out(self.machine.caller_gone(key, time.monotonic()))
+            self.carry_out(self.machine.caller_gone(key, self.node.clock()))
 
     def on_pose(self, pose: Pose) -> None:
-        now = time.monotonic()
+        now = self.node.clock()
         self.others(now)
         self.carry_out(self.machine.pose(pose, now))
 
@@ -113,17 +111,17 @@ class Navigator:
 
     def on_scan(self, scan: LaserScan) -> None:
         self.catch_up()
-        self.carry_out(self.machine.scan(scan, time.monotonic()))
+        self.carry_out(self.machine.scan(scan, self.node.clock()))
 
     def watchdog(self) -> None:
-        now = time.monotonic()
+        now = self.node.clock()
         newest, stepped = self.pose.get(), self.machine.latest_pose  # the ring has every pose that came
         if newest is not None and stepped is not None and newest.stamp > stepped.stamp:
             self.machine.pose_heard(now)  # its control step is still queued: behind, not without poses
         self.carry_out(self.machine.tick(now))
 
     def feedback(self) -> None:
-        progress = self.machine.feedback(time.monotonic())
+        progress = self.machine.feedback(self.node.clock())
         if progress is not None:
             caller, fb = progress
             stamped = self.feedback_pub.publish(fb)  # for observers
@@ -136,11 +134,11 @@ class Navigator:
         status = self.status.get()
         if status is not None:
             self.machine.status(status)
-        self.others(time.monotonic())  # also while idle: a scan's hits on another turtle are not remembered
+        self.others(self.node.clock())  # also while idle: a scan's hits on another turtle are not remembered
         if self.machine.goal is None:
             pose = self.pose.get()
             if pose is not None and pose is not self.machine.latest_pose:
-                self.carry_out(self.machine.pose(pose, time.monotonic()))
+                self.carry_out(self.machine.pose(pose, self.node.clock()))
 
     # -- outputs ------------------------------------------------------------
     def carry_out(self, actions: list[Action]) -> None:

@@ -11,7 +11,6 @@ short-lived phantom detections if asked for
 from __future__ import annotations
 
 import math
-import time
 
 import numpy as np
 
@@ -53,7 +52,7 @@ class ObstacleDetector:
         p = self.node.params
         extra: list[Obstacle] = []
         if p.phantom_rate > 0 and self.pose is not None:
-            now = time.monotonic()
+            now = self.node.clock()
             born = new_phantoms(
                 self.rng, self.pose.x, self.pose.y, p.phantom_rate, 1.0 / p.rate, p.phantom_distance, p.phantom_radius
             )

@@ -11,8 +11,6 @@ the 62.5 Hz poses wake this process only at its own rate.
 
 from __future__ import annotations
 
-import time
-
 from turtlectl.messages import Ack, Pose, Reset, TurtleStatus
 from turtlectl.messages.keys import POSE, RESET, STATUS
 from turtlectl.nodes.battery import drain, make_status, travelled
@@ -30,7 +28,7 @@ class StatusMonitor:
         self.pose: Pose | None = None
         self.battery = node.params.battery
         self.travelled = 0.0  # m since the last status
-        self.last_tick = time.monotonic()
+        self.last_tick: float | None = None  # s, the node's clock (none yet: with use_sim_time, 0 before the clock)
         self.pub = node.publisher(STATUS, TurtleStatus)
         self.poses = node.latest(POSE, Pose, keep=POSES_KEPT)  # every one, read at each tick
         node.serve(f"/{RESET}", Reset, Ack, self.on_reset)  # the world's reset, in any namespace
@@ -49,9 +47,10 @@ class StatusMonitor:
     def tick(self) -> None:
         for pose in self.poses.received():
             self.on_pose(pose)
-        now = time.monotonic()
+        now = self.node.clock()
         p = self.node.params
-        self.battery = drain(self.battery, now - self.last_tick, self.travelled, p.drain_per_second, p.drain_per_metre)
+        since = 0.0 if self.last_tick is None else now - self.last_tick
+        self.battery = drain(self.battery, since, self.travelled, p.drain_per_second, p.drain_per_metre)
         self.last_tick, self.travelled = now, 0.0
         if self.pose is None:
             return  # nothing to report until the simulator speaks

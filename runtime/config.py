@@ -66,9 +66,14 @@ class NodeConfig(msgspec.Struct, forbid_unknown_fields=True, kw_only=True):
     #: undeclared user kind may do); the runtime refuses anything else.  None: no check
     interface: Interface | None = None
     claims: list[Claim] = msgspec.field(default_factory=list)  # checked before the node starts
+    #: the launch file's ``remap`` of the node (ROS's remappings): a key its code writes as FROM is
+    #: TO, both resolved in its namespace (messages.keys.resolve); interface and claims already say so
+    remaps: dict[str, str] = msgspec.field(default_factory=dict)
     world: World = msgspec.field(default_factory=World)
     limits: Limits = msgspec.field(default_factory=Limits)
     log_level: Literal["DEBUG", "INFO", "WARNING", "ERROR"] = "INFO"
+    #: timers, clock() and stamps on the simulator's ``clock`` key (runtime.simtime), not the machine's
+    use_sim_time: bool = False
     # a --secure system: the node's own credentials; it is then a client of the router, never a
     # peer others could reach directly (the router authenticates every session)
     credentials: Credentials | None = None

@@ -36,8 +36,16 @@ class Publisher(Generic[M]):
     """Publishes messages of one type on one key, filling in ``stamp`` and ``seq`` (a type that
     has them: a user's type need not)."""
 
-    def __init__(self, session: zenoh.Session, key: str, msg_type: type[M], declared: Declaration):
+    def __init__(
+        self,
+        session: zenoh.Session,
+        key: str,
+        msg_type: type[M],
+        declared: Declaration,
+        now_ns: Callable[[], int] = time.time_ns,
+    ):
         self.key = key
+        self._now_ns = now_ns  # the node's time (ns): the wall clock, or the simulated one
         self._pub = session.declare_publisher(key, encoding=sample_encoding(msg_type))
         self._seq = 0
         fields = msg_type.__struct_fields__
@@ -46,8 +54,9 @@ class Publisher(Generic[M]):
         declared.add(self._pub)
 
     def publish(self, msg: M) -> M:
-        """Stamp ``msg`` (wall clock, ns) and the next sequence number, then send it."""
-        stamped = msgspec.structs.replace(msg, stamp=time.time_ns(), seq=self._seq) if self._stamped else msg
+        """Stamp ``msg`` with the node's time (ns: the wall clock, or the simulated one with
+        ``use_sim_time``) and the next sequence number, then send it."""
+        stamped = msgspec.structs.replace(msg, stamp=self._now_ns(), seq=self._seq) if self._stamped else msg
         self._seq += 1
         self._pub.put(encode(stamped))
         return stamped

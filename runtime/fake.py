@@ -203,7 +203,8 @@ class FakeNode(Generic[P]):
 
     ``params``: None (the defaults), a dict (validated as a launch file's, ValueError if it is
     not valid) or the ``node_class.Params`` Struct itself.  ``name``: the node's, by default
-    the class's in snake case.  ``.node`` is the ``Node``, ``.instance`` the node class's
+    the class's in snake case (a full name, ``turtle2/patrol``, puts it in a namespace); ``remaps``:
+    its launch file's ``remap``.  ``.node`` is the ``Node``, ``.instance`` the node class's
     object, ``.now`` the fake time in s (0.0 at the start).  A context manager: ``shutdown``
     on exit."""
 
@@ -215,6 +216,7 @@ class FakeNode(Generic[P]):
         name: str | None = None,
         world: World | None = None,
         limits: Limits | None = None,
+        remaps: dict[str, str] | None = None,
     ):
         params_type = getattr(node_class, "Params", None)
         struct = _params(node_class, params_type, params)
@@ -229,7 +231,8 @@ class FakeNode(Generic[P]):
             connect="fake",
             params=msgspec.to_builtins(struct),
             # what it may declare, as in a launched system: a declaration outside it raises here too
-            interface=interface_of(name, declared if isinstance(declared, Interface) else None),
+            interface=interface_of(name, declared if isinstance(declared, Interface) else None, remaps),
+            remaps=remaps or {},
             world=world or World(),
             limits=limits or Limits(),
         )

@@ -32,6 +32,7 @@ import msgspec
 import zenoh
 
 from turtlectl.messages.keys import NodeInfo, node_token
+from turtlectl.runtime import log_stream
 from turtlectl.runtime.config import ENV_VAR, SUPERVISOR_PID_VAR, decode_config
 from turtlectl.runtime.exitcodes import ExitCode
 from turtlectl.runtime.interface import OutsideInterface, where
@@ -126,10 +127,12 @@ def run(node_class: Callable[[Node[P]], Any], params_type: type[P]) -> int:
         return ExitCode.UNREACHABLE
 
     _await_router(session, _ROUTER_WAIT)
+    stream: log_stream.LogStream | None = None
     try:
         if early_stop or parent_gone():  # stopped while starting (the supervisor died): build nothing
             return ExitCode.OK
         node = Node(config, params, session, started)
+        stream = log_stream.start(node)  # every record from here on also on turtlectl/log/<node> (runtime.log_stream)
         signal.signal(signal.SIGINT, node.stop)
         node.timer(_PARENT_CHECK_PERIOD, lambda: parent_gone() and node.stop())
         node.timer(_ROUTER_CHECK_PERIOD, _router_watch(node, config.connect))
@@ -164,6 +167,8 @@ def run(node_class: Callable[[Node[P]], Any], params_type: type[P]) -> int:
         node.log.info("stopped" if ok else "stopped after an error")
         return ExitCode.OK if ok else ExitCode.FAILED
     finally:
+        if stream is not None:
+            stream.close()
         if not close_session(session):
             log.warning("Zenoh session did not close within 2 s; exiting anyway")
             _Closed.clean = False

@@ -42,6 +42,7 @@ import msgspec
 import zenoh
 
 from turtlectl.messages import (
+    Clock,
     Message,
     decode,
     decode_any,
@@ -49,6 +50,7 @@ from turtlectl.messages import (
 )
 from turtlectl.messages.codec import type_name
 from turtlectl.messages.keys import (
+    CLOCK,
     EntityInfo,
     entity_token,
     namespace_of,
@@ -62,11 +64,16 @@ from turtlectl.runtime.entities import RING, Latest, Publisher, Request, Timer, 
 from turtlectl.runtime.handles import Declaration
 from turtlectl.runtime.interface import check
 from turtlectl.runtime.own_services import OwnServices
+from turtlectl.runtime.simtime import SimClock
 
 P = TypeVar("P", bound=msgspec.Struct)
 M = TypeVar("M", bound=Message)
 
 __all__ = ["Latest", "Node", "NodeConflict", "Publisher", "Request", "Timer"]  # the entities are runtime.entities'
+
+
+#: a queue item that does nothing: it only wakes the node's thread
+_NOTHING: tuple[Callable[..., None], tuple[Any, ...]] = (lambda: None, ())
 
 
 class NodeConflict(Exception):
@@ -80,7 +87,9 @@ class Node(Generic[P]):
     What a node reads: ``name``, ``params`` (its ``Params`` Struct: the launch file's values,
     swapped whole when ``param set`` changes one; read it where it is used), ``world`` and
     ``limits`` (the launch file's), ``log`` (its logger: its lines are prefixed with its name
-    and kept in its log file), ``clock`` (monotonic s; a fake one under ``FakeNode``) and
+    and kept in its log file), ``clock()`` (s: monotonic; the simulated time with
+    ``use_sim_time``, runtime.simtime; a fake one under ``FakeNode``), ``now_ns()`` (ns since the
+    epoch, what its messages are stamped with: the wall clock, or the simulated one) and
     ``interface`` (what it may declare).  What it declares: ``publisher``, ``subscribe``,
     ``latest``, ``serve``, ``call``, ``timer``, ``watch_liveliness`` (each returns a handle
     with ``undeclare()``), and the hooks ``on_params`` and ``on_shutdown``.  Every callback
@@ -100,7 +109,12 @@ class Node(Generic[P]):
         #: and the turtle it is about (the namespace's, or turtle1 outside one)
         self.namespace = namespace_of(config.name)
         self.turtle = turtle_of(self.namespace)
+        self.remaps: dict[str, str] = dict(config.remaps)  # key as written -> key used (its launch file's remap)
         self.clock = clock  # s: what timers run on (``runtime.fake`` gives a fake one)
+        self._machine_clock = clock
+        self._use_sim_time = config.use_sim_time
+        self._time_ns: Callable[[], int] = time.time_ns  # what messages are stamped with
+        self._sim: SimClock | None = None  # with use_sim_time: the simulator's clock
         self.kind = config.kind
         self.started_ns = time.time_ns() if started_ns is None else started_ns
         self._connect, self._domain, self._credentials = config.connect, config.domain, config.credentials
@@ -118,14 +132,48 @@ class Node(Generic[P]):
         self._on_shutdown: list[Callable[[], None]] = []
         self._on_params: list[Callable[[P], None]] = []
         self._own = OwnServices(self)  # every node's: its parameters, what it is, its log level, its types
+        if config.use_sim_time:
+            self._follow_sim_time()
         self.interface = config.interface  # from here on, what the node declares is checked against it
+
+    def now_ns(self) -> int:
+        """The node's time in ns since the Unix epoch, what its messages are stamped with: the
+        wall clock, or with ``use_sim_time`` the simulated one (0 before the simulator's first
+        ``Clock``)."""
+        return self._time_ns()
+
+    @property
+    def uses_sim_time(self) -> bool:
+        """Whether the node was started with ``use_sim_time`` (its launch file entry, or
+        ``launch --time-scale``)."""
+        return self._use_sim_time
+
+    def use_time(self, now_ns: Callable[[], int]) -> None:
+        """Stamp this node's messages with ``now_ns()`` (ns since the epoch) from now on: for a
+        node that makes the time itself, as the simulator does (its poses carry its simulated
+        time).  Its timers and ``clock()`` are the machine's (they pace it), even with
+        ``use_sim_time``: call it before declaring a timer."""
+        if self._sim is not None:  # it makes the time: it does not follow it
+            self._sim_declared.undeclare()
+            self._sim, self.clock = None, self._machine_clock
+        self._time_ns = now_ns
+
+    def _follow_sim_time(self) -> None:
+        """``use_sim_time``: timers, ``clock()`` and stamps on the simulator's ``clock`` key."""
+        wake = self._queue.put
+        sim = self._sim = SimClock(lambda: wake(_NOTHING), lambda why: wake((self._rejected, (CLOCK, why))))
+        self.clock, self._time_ns = sim.now, sim.now_ns
+        declared = self._sim_declared = Declaration(self._entities, "subscription", CLOCK)
+        declared.add(self.session.declare_subscriber(CLOCK, lambda sample: sim.heard(sample.payload.to_bytes())))
+        declared.add(self._announce("sub", Clock, CLOCK))
 
     # -- declarations -------------------------------------------------------
     def resolve(self, key: str) -> str:
         """The key this node uses for ``key`` as written (messages.keys.resolve): as written
         outside a namespace; in ``turtle2``, ``turtle1/pose`` is ``turtle2/pose`` and
-        ``robot/status`` is ``turtle2/robot/status``; ``/turtles`` is always ``turtles``."""
-        return resolve(key, self.namespace)
+        ``robot/status`` is ``turtle2/robot/status``; ``/turtles`` is always ``turtles``; then
+        the launch file's ``remap`` of the node (``remaps``)."""
+        return resolve(key, self.namespace, self.remaps)
 
     def _announce(self, role: str, msg_type: type[Message] | str, key: str) -> zenoh.LivelinessToken:
         """A liveliness token for the graph (``turtlectl list``): this node's role on ``key``
@@ -140,7 +188,7 @@ class Node(Generic[P]):
         check(self.name, self.interface, "publish", key)
         self._own.uses(msg_type)
         declared = Declaration(self._entities, "publisher", key)
-        pub = Publisher(self.session, key, msg_type, declared)
+        pub = Publisher(self.session, key, msg_type, declared, self.now_ns)
         declared.add(self._announce("pub", msg_type, key))
         return pub
 
@@ -353,6 +401,7 @@ class Node(Generic[P]):
         # this loop runs at the fastest timer's rate (the simulator's 62.5 Hz): names bound once,
         # no generator per turn
         timers, get, clock, empty, fire_due = self._timers, self._queue.get, self.clock, queue.Empty, self._fire_due
+        sim = self._sim
         try:
             while self._running:
                 now = clock()
@@ -361,8 +410,10 @@ class Node(Generic[P]):
                 for t in timers:  # after every callback: one may have paused or resumed a timer
                     if t.active and t.deadline < wake:
                         wake = t.deadline
+                if sim is not None:  # simulated time: the next Clock past ``wake`` wakes the thread
+                    sim.wake_at = wake
                 try:
-                    func, args = get(timeout=max(0.0, wake - clock()))
+                    func, args = get(timeout=sim.timeout(wake) if sim is not None else max(0.0, wake - clock()))
                 except empty:
                     continue
                 func(*args)

@@ -2,24 +2,28 @@
 no ``Interface`` may do (pure data: cli.system.access turns them into the router's rules, the
 supervisor hands a node its interface, the node's runtime (and runtime.fake) refuses anything else).
 
-* ``viewer``: echo, hz, list, view, record, node/topic info, param get (subscribe to
-  everything, read the JSON answers, follow the graph);
+* ``viewer``: echo, hz, list, view, record, log, node/topic info, param get (subscribe to
+  everything, read the JSON answers and the nodes' recent log records, follow the graph);
 * ``operator``: also goto, cancel, teleport (any turtle), reset, spawn, kill, call, param set, log-level;
 * ``teleop``: also publishes every turtle's ``<turtle>/cmd_vel`` (teleop, pub).
 """
 
 from __future__ import annotations
 
+from collections.abc import Mapping
+
 from turtlectl.messages.keys import (
     CANCEL,
     CLIENT_TOKEN_PREFIX,
     KILL,
+    LOG_KEYS,
     NAVIGATE_TO,
     RESET,
     SPAWN,
     TYPES,
     WORLD_KEY,
     cmd_vel_key,
+    includes,
     log_level_key,
     namespace_of,
     node_key,
@@ -34,7 +38,7 @@ from turtlectl.runtime.config import Claim, Interface
 GRAPH_KEYS = ("@turtlectl/**", "*/@turtlectl/**")  # the graph, and (outside a domain) every domain's
 VIEWER: dict[str, tuple[str, ...]] = {
     "subscribe": ("**",),
-    "call": (params_key("*"), param_describe_key("*"), node_key("*"), WORLD_KEY, f"{TYPES}/**"),
+    "call": (params_key("*"), param_describe_key("*"), node_key("*"), WORLD_KEY, f"{TYPES}/**", LOG_KEYS),
     "watch": GRAPH_KEYS,
 }
 OPERATOR: dict[str, tuple[str, ...]] = {
@@ -75,29 +79,37 @@ def undeclared(name: str) -> Interface:
     )
 
 
-def interface_of(name: str, declared: Interface | None) -> Interface:
+def interface_of(name: str, declared: Interface | None, remaps: Mapping[str, str] | None = None) -> Interface:
     """What node ``name`` (its full name: ``turtle2/navigator`` is in namespace ``turtle2``) may
     do beyond every node's share: the interface its kind declares, its keys resolved in the
-    node's namespace (messages.keys.resolve), or ``undeclared(name)``'s.  The one source for
-    the router's rules and the node's runtime."""
-    if declared is None:
-        return undeclared(name)
+    node's namespace with its ``remaps`` (messages.keys.resolve), or ``undeclared(name)``'s.  The
+    one source for the router's rules and the node's runtime.  A remapped key takes the place of
+    the key the interface names; one that a wider expression names (the simulator's
+    ``*/cmd_vel``) is added beside it, which still names the node's other keys."""
     namespace = namespace_of(name)
+    # each remapped key as the node would use it -> the key it uses instead
+    remapped = {resolve(source, namespace): resolve(source, namespace, remaps) for source in remaps or {}}
+    interface = undeclared(name) if declared is None else declared
 
     def keys(written: tuple[str, ...]) -> tuple[str, ...]:
-        return tuple(resolve(key, namespace) for key in written)
+        # undeclared's keys are as they are; a declared interface's are written as the node's code writes them
+        used = list(written) if declared is None else [resolve(key, namespace) for key in written]
+        wider = [to for key, to in remapped.items() if any(u != key and includes(u, key) for u in used)]
+        return tuple(dict.fromkeys([remapped.get(u, u) for u in used] + wider))
 
     return Interface(
-        publishes=keys(declared.publishes),
-        subscribes=keys(declared.subscribes),
-        serves=keys(declared.serves),
-        calls=keys(declared.calls),
-        watches=keys(declared.watches),
+        publishes=keys(interface.publishes),
+        subscribes=keys(interface.subscribes),
+        serves=keys(interface.serves),
+        calls=keys(interface.calls),
+        watches=keys(interface.watches),
     )
 
 
-def claims_of(name: str, claims: tuple[Claim, ...] | list[Claim]) -> list[Claim]:
-    """What node ``name`` claims alone, its keys resolved in its namespace: one navigator per
-    namespace serves its ``navigate_to`` (``turtle2/navigate_to``)."""
+def claims_of(
+    name: str, claims: tuple[Claim, ...] | list[Claim], remaps: Mapping[str, str] | None = None
+) -> list[Claim]:
+    """What node ``name`` claims alone, its keys resolved in its namespace with its ``remaps``:
+    one navigator per namespace serves its ``navigate_to`` (``turtle2/navigate_to``)."""
     namespace = namespace_of(name)
-    return [Claim(claim.role, resolve(claim.key, namespace)) for claim in claims]
+    return [Claim(claim.role, resolve(claim.key, namespace, remaps)) for claim in claims]

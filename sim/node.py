@@ -14,6 +14,14 @@ and its pose says ``contact``.  A teleport or reset of turtle1 first cancels a r
 (reason "teleported" / "reset", so the navigator stops driving from a pose that no longer
 holds), then moves the turtle; an Ack (for spawn: its name) is sent once the new pose has
 been published, so a goal sent after it starts from there.
+
+The simulator makes the time (runtime.simtime): after every step it publishes ``clock``, its
+simulated time (ns since the epoch, from the wall-clock time it started, 16 ms more per step).
+``real_time_factor`` sets how fast the steps come: 5 makes a step every 3.2 ms, 5 simulated
+seconds per wall second (as fast as the machine allows: a late step is skipped, and the
+simulated time with it).  Its own timeouts (``cmd_timeout``) run on the simulated time; its
+messages are stamped with it when the system uses it (its ``use_sim_time``, or a factor other
+than 1), else with the wall clock as every node's are.
 """
 
 from __future__ import annotations
@@ -27,6 +35,7 @@ import msgspec
 from turtlectl.messages import (
     Ack,
     Cancel,
+    Clock,
     Kill,
     Message,
     Pose,
@@ -40,6 +49,7 @@ from turtlectl.messages import (
 from turtlectl.messages.angles import heading_degrees
 from turtlectl.messages.keys import (
     CANCEL,
+    CLOCK,
     FIRST_TURTLE,
     KILL,
     RESET,
@@ -62,6 +72,8 @@ from turtlectl.sim.turtles import bodies, free_name, placement_problem, spawn_pr
 
 #: steps between two ``turtles`` messages
 TURTLES_EVERY = 4
+#: ns: one step of simulated time
+STEP_NS = round(STEP * 1e9)
 
 
 def touches(s: TurtleState, obstacles: list[Obstacle]) -> bool:
@@ -75,6 +87,7 @@ class Turtle:
 
     def __init__(self, sim: Simulator, name: str, state: TurtleState):
         self.name, self.state = name, state
+        self.sim = sim
         self.cmd = Twist()
         self.cmd_time: float | None = None
         self.contact = False
@@ -88,7 +101,7 @@ class Turtle:
 
     def on_cmd_vel(self, msg: Twist) -> None:
         self.cmd = msg
-        self.cmd_time = time.monotonic()
+        self.cmd_time = self.sim.now()
 
     def remove(self) -> None:
         for declared in self.declared:
@@ -99,6 +112,9 @@ class Simulator:
     def __init__(self, node: Node[SimParams]):
         self.node = node
         p = node.params
+        self.time_ns = time.time_ns()  # the simulated time: the wall clock's now, 16 ms more per step
+        if node.uses_sim_time or p.real_time_factor != 1.0:  # the system runs on it: stamp with it
+            node.use_time(lambda: self.time_ns)
         if not node.world.contains(p.x, p.y):
             node.log.warning("spawn (%.3f, %.3f) is outside the world; clamping to the walls", p.x, p.y)
         size = node.world.size
@@ -115,7 +131,13 @@ class Simulator:
         node.serve(SPAWN, SpawnRequest, SpawnResponse, self.on_spawn)
         node.serve(KILL, Kill, Ack, self.on_kill)
         node.answer_json(WORLD_KEY, msgspec.json.encode(node.world))
-        node.timer(STEP, self.tick)
+        self.clock_pub = node.publisher(CLOCK, Clock)
+        self.stepper = node.timer(STEP / p.real_time_factor, self.tick)
+        node.on_params(lambda params: self.stepper.retime(STEP / params.real_time_factor))
+
+    def now(self) -> float:
+        """The simulated time, s since the epoch."""
+        return self.time_ns / 1e9
 
     def states(self, but: str = "") -> dict[str, TurtleState]:
         return {name: t.state for name, t in self.turtles.items() if name != but}
@@ -188,7 +210,9 @@ class Simulator:
 
     def tick(self) -> None:
         limits, world = self.node.limits, self.node.world
-        now = time.monotonic()
+        self.time_ns += STEP_NS
+        self.clock_pub.publish(Clock(clock=self.time_ns, real_time_factor=self.node.params.real_time_factor))
+        now = self.time_ns / 1e9
         for turtle in self.turtles.values():
             age = None if turtle.cmd_time is None else now - turtle.cmd_time
             cmd = turtle.cmd

@@ -6,7 +6,7 @@ from typing import ClassVar
 
 import msgspec
 
-from turtlectl.messages.units import Finite, ShortTimeout
+from turtlectl.messages.units import Finite, ShortTimeout, TimeFactor
 from turtlectl.messages.world import TURTLESIM_SIZE
 
 
@@ -33,6 +33,7 @@ class SimParams(msgspec.Struct, forbid_unknown_fields=True, kw_only=True):
     theta: Finite = 0.0  # rad: spawn heading
     cmd_timeout: ShortTimeout = 1.0  # s: after the last cmd_vel the turtle stops (turtlesim: 1 s)
     turtles: Spawns = msgspec.field(default_factory=list)  # m, rad: more turtles at start, { name, x, y, theta }
+    real_time_factor: TimeFactor = 1.0  # s/s: simulated seconds per wall second (5: five times as fast)
 
     FIXED: ClassVar[dict[str, str]] = {
         name: "the spawn pose is read once, at start (`turtlectl teleport` moves the turtle)"

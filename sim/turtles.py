@@ -18,7 +18,7 @@ from turtlectl.sim.kinematics import TurtleState
 #: a turtle's name: one key chunk, as a launch file's node names (no '/', '*', '$', '@' start)
 NAME = re.compile(r"^[A-Za-z_][A-Za-z0-9_\-]{0,62}$")
 #: first chunks of the system's own keys: no turtle is called so (its keys would mix with them)
-RESERVED = frozenset({"turtlectl", "robot", "navigate_to", "obstacles", "reset", "spawn", "kill", "turtles"})
+RESERVED = frozenset({"turtlectl", "robot", "navigate_to", "obstacles", "reset", "spawn", "kill", "turtles", "clock"})
 
 
 def free_name(turtles: Mapping[str, object]) -> str:

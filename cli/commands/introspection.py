@@ -1,4 +1,4 @@
-"""turtlectl's Introspection commands: list, node info, interface list and show, view.
+"""turtlectl's Introspection commands: list, node info, log (cli.commands.logs), interface list and show, view.
 
 The graph, node reports, message types and the curses view (cli.tools) are imported inside
 each command."""
@@ -7,20 +7,24 @@ from __future__ import annotations
 
 import typer
 
+from turtlectl.cli.commands import logs
 from turtlectl.cli.commands.options import ConnectOption, DomainOption, JsonOption, NodeArgument, format, result
 
 
 def list_graph(
     json: bool = typer.Option(False, "--json", help="The graph as one JSON object."),
-    all_: bool = typer.Option(False, "--all", help="Also each node's own services (parameters, node info, log level)."),
+    all_: bool = typer.Option(
+        False, "--all", help="Also each node's own services (parameters, node info, log level) and log topic."
+    ),
     connect: str = ConnectOption,
     domain: str = DomainOption,
 ) -> None:
     """The live graph: nodes (name, pid, host, uptime), topics with their publishers and
     subscribers, and services; read from liveliness tokens now, never from a cache.
     Without --domain, systems running in domains are listed too, their names and keys
-    prefixed with the domain (lab1:sim, lab1/robot/status).  The services every node has
-    (turtlectl/params/<node>, turtlectl/nodes/<node>, ...) are counted, not listed, unless --all.
+    prefixed with the domain (lab1:sim, lab1/robot/status).  The services and log topic every
+    node has (turtlectl/params/<node>, turtlectl/nodes/<node>, turtlectl/log/<node>, ...) are
+    counted, not listed, unless --all.
 
     Example: turtlectl list
     """
@@ -130,4 +134,5 @@ def register(app: typer.Typer) -> None:
     app.command("list")(list_graph)
     app.command()(view)
     app.add_typer(node_app, name="node")
+    logs.register(app)
     app.add_typer(interface_app, name="interface")

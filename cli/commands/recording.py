@@ -29,7 +29,9 @@ def record(
         [], "--exclude", metavar="KEY_EXPR", help="Leave out keys matching this (repeatable)."
     ),
     scene: bool = typer.Option(
-        False, "--scene", help="Also record the Foxglove 3D scene (as `turtlectl foxglove` draws it)."
+        False,
+        "--scene",
+        help="Also record the Foxglove 3D scene, and the log records for its Log panel (as `turtlectl foxglove` serves them).",
     ),
     connect: str = ConnectOption,
     domain: str = DomainOption,
@@ -93,6 +95,14 @@ def play(
     keep_stamps: bool = typer.Option(
         False, "--keep-stamps", help="Keep the recorded stamps (default: stamp when sent)."
     ),
+    clock: float | None = typer.Option(
+        None,
+        "--clock",
+        min=1.0,
+        max=1000.0,
+        metavar="HZ",
+        help="Also publish the recording's time on `clock` HZ times a second (ros2 bag play --clock), for nodes run with --use-sim-time; messages stamped as recorded.",
+    ),
     connect: str = ConnectOption,
     domain: str = DomainOption,
 ) -> None:
@@ -122,7 +132,7 @@ def play(
         shown = ""
         with player.space_toggles(live) as paused:
             for item in player.play(
-                connect, recording, rate, start_offset, keys, remaps, keep_stamps, loop, paused, stop.is_set
+                connect, recording, rate, start_offset, keys, remaps, keep_stamps, loop, paused, stop.is_set, clock
             ):
                 played += not item.paused
                 state = "paused" if item.paused else "playing"
@@ -167,7 +177,8 @@ def foxglove(
 ) -> None:
     """Serve the running system to the Foxglove app (open the printed URL, or connect the app
     to ws://HOST:PORT): every topic, a ready-made 3D scene (world, obstacles, turtle, trail,
-    scan, goal), and navigate_to, cancel, reset and teleport as services.
+    scan, goal), every node's log on `log` for the Log panel, and navigate_to, cancel, reset and
+    teleport as services.
 
     Example: turtlectl foxglove   (then in Foxglove: Open connection, ws://127.0.0.1:8765)
     """

@@ -36,7 +36,22 @@ def launch(
         "--set",
         help="NODE.PARAM=VALUE or world/limits/supervisor.KEY=VALUE override (repeatable), validated like the file.",
     ),
-    check: bool = typer.Option(False, "--check", help="Validate the file (and overrides), print the plan, and exit."),
+    arg: list[str] = typer.Option(
+        [],
+        "--arg",
+        help="NAME=VALUE for an argument the file declares ([arg.NAME]; repeatable); --check lists them.",
+    ),
+    check: bool = typer.Option(
+        False, "--check", help="Validate the file (and overrides), print the plan and its arguments, and exit."
+    ),
+    time_scale: float | None = typer.Option(
+        None,
+        "--time-scale",
+        min=0.1,
+        max=20.0,
+        metavar="F",
+        help="Simulated time, F times as fast as the wall clock: the simulator's real_time_factor, and every node on its clock (use_sim_time).",
+    ),
     persist: bool = typer.Option(
         False, "--persist", help="A node started again (respawn) keeps parameters changed by `param set`."
     ),
@@ -74,7 +89,7 @@ def launch(
     args.exposure(host, secure, insecure, joins=join is not None, tls=tls is not None)
     if tls is not None:
         args.tls_folder(tls)
-    plan = launch_plan(file or default_launch_file(), only, exclude, set_)
+    plan = launch_plan(file or default_launch_file(), only, exclude, set_, time_scale, arguments=arg)
     if check:
         typer.echo(format.plan_text(plan))
         return
@@ -147,6 +162,7 @@ def run(
     ),
     param: list[str] = typer.Option([], "--param", "-p", help="KEY=VALUE override (repeatable; a.b=1 for tables)."),
     file: Path | None = typer.Option(None, "--file", help="Launch file (default as for launch)."),
+    arg: list[str] = typer.Option([], "--arg", help="NAME=VALUE for an argument of the launch file (repeatable)."),
     name: str | None = typer.Option(
         None, "--name", help="A node class's name in the system (default: its class's, Patrol: patrol)."
     ),
@@ -154,6 +170,11 @@ def run(
         "",
         "--namespace",
         help="A node class's namespace: its keys are that turtle's (turtle2: turtle2/pose, turtle2/robot/status).",
+    ),
+    use_sim_time: bool = typer.Option(
+        False,
+        "--use-sim-time",
+        help="Timers, timeouts and stamps on the simulator's clock (ROS's use_sim_time), e.g. beside launch --time-scale.",
     ),
     log_level: str = LogLevelOption,
     connect: str = ConnectOption,
@@ -167,10 +188,16 @@ def run(
 
     Example: turtlectl run navigator -p goal_timeout=60 --log-level DEBUG
     """
+    import msgspec
+
     from turtlectl.cli.system.launchfile import NAME_RE, default_launch_file, load_launch
     from turtlectl.cli.system.overrides import class_plan, node_config
     from turtlectl.cli.system.supervisor.process import exec_node
+    from turtlectl.runtime.config import NodeConfig
     from turtlectl.runtime.loader import is_file, is_target
+
+    def on_sim_time(config: NodeConfig) -> NodeConfig:
+        return msgspec.structs.replace(config, use_sim_time=True) if use_sim_time else config
 
     if not is_target(node) and is_file(node):
         raise BadInput(f"{node} names a file: add its node class, as {node}:ClassName")
@@ -178,18 +205,20 @@ def run(
     endpoint = args.endpoint(connect)
     if name is not None and not NAME_RE.match(name):
         raise BadInput(f"--name {name!r}: use letters, digits, _ and - (like patrol2)")
+    if is_target(node) and arg:
+        raise BadInput(f"--arg gives a launch file's arguments; {node} is a node class (its parameters: -p KEY=VALUE)")
     if is_target(node):  # a node's name has no ':'
         plan, named = class_plan(node, param, Path.cwd(), name, namespace)
         typer.echo(f"running {node} as node {named} (turtlectl list shows it so; --name changes it)", err=True)
-        exec_node(node_config(plan, named, endpoint, None, default_domain(), level), plan.kinds[named])
+        exec_node(on_sim_time(node_config(plan, named, endpoint, None, default_domain(), level)), plan.kinds[named])
     if name is not None or namespace:
         which = "--name renames" if name is not None else "--namespace places"
         raise BadInput(
             f"{which} a node class (module:Class, ./file.py:Class); {node} is named by its launch file "
             "(a namespaced node of it: turtle2/navigator)"
         )
-    plan = load_launch(file or default_launch_file())
-    exec_node(node_config(plan, node, endpoint, param, default_domain(), level), plan.kinds[node])
+    plan = load_launch(file or default_launch_file(), arg)
+    exec_node(on_sim_time(node_config(plan, node, endpoint, param, default_domain(), level)), plan.kinds[node])
 
 
 def log_level_command(

@@ -8,7 +8,7 @@ from pathlib import Path
 import typer
 
 from turtlectl.cli.commands.options import ConnectOption, DomainOption, JsonOption, result
-from turtlectl.cli.errors import ExitCode
+from turtlectl.cli.errors import BadInput, ExitCode
 
 
 def verify(
@@ -23,6 +23,17 @@ def verify(
         min=1.0,
         help="Run each long criterion (no_errors) for at most SECONDS, not its full time; the table says so.",
     ),
+    time_scale: float | None = typer.Option(
+        None,
+        "--time-scale",
+        metavar="F",
+        min=0.1,
+        max=20.0,
+        help="With --launch: run it F times as fast (launch --time-scale) and measure in its simulated time.",
+    ),
+    use_sim_time: bool = typer.Option(
+        False, "--use-sim-time", help="Measure in the simulated time of the system's clock (one run with --time-scale)."
+    ),
     junit: Path | None = typer.Option(
         None, "--junit", metavar="FILE", help="Also write the verdicts as a JUnit XML report to FILE (for CI)."
     ),
@@ -34,26 +45,40 @@ def verify(
     (present, its type, its publisher, its period) and each success criterion, measured; one
     table of what was required, what was measured and the verdict, the reason beside each
     failure.  Exit code 0 when all hold, 1 when one does not, 2 for a bad spec, 3 for no system.
-    Long criteria run their full time unless --short says otherwise.
+    Long criteria run their full time unless --short says otherwise; --time-scale 5 runs them
+    in simulated time, five times as fast.
 
-    Example: turtlectl verify docs/capstone.toml --launch launch.toml
+    Example: turtlectl verify docs/capstone.toml --launch launch.toml --time-scale 5
     """
     from turtlectl.cli.system.launched import LaunchedSystem
     from turtlectl.cli.tools.api import Client
     from turtlectl.cli.verify import checks, report
+    from turtlectl.cli.verify.report import Verdict
     from turtlectl.cli.verify.spec import load_spec
+    from turtlectl.cli.verify.timebase import SimulatedTime, Timebase
 
     loaded = load_spec(spec)
 
     def progress(what: str) -> None:
         typer.echo(f"measuring: {what}", err=True)
 
+    if time_scale is not None and launch is None:
+        raise BadInput("--time-scale starts the system it checks faster: give --launch FILE (or --use-sim-time)")
+
+    def measured(client: Client) -> list[Verdict]:
+        clock = SimulatedTime(client) if use_sim_time or time_scale is not None else Timebase()
+        try:
+            return checks.verify(client, loaded, progress, short, clock)
+        finally:
+            clock.close()
+
     if launch is not None:
-        with LaunchedSystem(launch) as system, system.client() as client:
-            verdicts = checks.verify(client, loaded, progress, short)
+        scale = ("--time-scale", f"{time_scale:g}") if time_scale is not None else ()
+        with LaunchedSystem(launch, scale) as system, system.client() as client:
+            verdicts = measured(client)
     else:
         with Client(connect) as client:
-            verdicts = checks.verify(client, loaded, progress, short)
+            verdicts = measured(client)
     if junit is not None:
         report.write_junit(junit, str(spec), verdicts)
     result(report.as_json(verdicts) if json else report.table(verdicts))

@@ -6,7 +6,8 @@ protocol (the foxglove-sdk's server).  Nothing here prints.
   every ``GRAPH_PERIOD`` s).  A user's own type is learnt from the nodes that use it
   (cli.tools.typebook) and served as a built-in is; a type no node describes is not served.
 * The ready-made scene (cli.foxglove.scene): ``scene`` and ``scene/scan`` in Foxglove's well-known (protobuf)
-  schemas, so the 3D panel shows the world, every turtle (named) with its trail and goal, and the scan.
+  schemas, so the 3D panel shows the world, every turtle (named) with its trail and goal, and the scan;
+  and ``log``, every node's log records (``turtlectl/log/<node>``) as Foxglove's Log, for its Log panel.
 * ``navigate_to``, ``navigate_to/cancel``, ``reset`` and ``turtle1/teleport_absolute`` are
   Foxglove services (JSON requests as for ``turtlectl call``): a goal can be sent from the app.
 
@@ -25,10 +26,10 @@ from typing import Any
 import foxglove
 import zenoh
 from foxglove import Channel, Schema
-from foxglove.channels import LaserScanChannel, SceneUpdateChannel
+from foxglove.channels import LaserScanChannel, LogChannel, SceneUpdateChannel
 from foxglove.websocket import Capability, MessageSchema, ServerListener, Service, ServiceRequest, ServiceSchema
 
-from turtlectl.cli.foxglove.scene import SCAN, SCENE, SceneMaker
+from turtlectl.cli.foxglove.scene import LOG, SCAN, SCENE, SceneMaker
 from turtlectl.cli.tools.client import NotPermitted, client_session, logged_in_as
 from turtlectl.cli.tools.services import world as world_of
 from turtlectl.cli.tools.topics import live_graph
@@ -147,6 +148,8 @@ class Bridge(ServerListener):
         self.channels: dict[str, Channel] = {}  # key -> its JSON channel
         self.scene = SceneUpdateChannel(SCENE)
         self.scan = LaserScanChannel(SCAN)
+        self.log = LogChannel(LOG)
+        self.drawn = {SCENE: self.scene, SCAN: self.scan, LOG: self.log}  # SceneMaker's topics -> their channels
         self.maker = SceneMaker(world_of(session))
         self.inbox: queue.SimpleQueue[tuple[str, str, bytes, int]] = queue.SimpleQueue()
         self.world_wanted = threading.Event()  # a viewer subscribed to the scene: draw the world now
@@ -185,7 +188,7 @@ class Bridge(ServerListener):
         if channel is not None and channel.has_sinks():  # JSON only for a viewer subscribed to it
             channel.log(to_json(message), log_time=received)
         for topic, drawn in self.maker.on_message(key, message, received):
-            (self.scene if topic == SCENE else self.scan).log(drawn, log_time=received)
+            self.drawn[topic].log(drawn, log_time=received)
 
     def send_world(self) -> None:
         now = time.time_ns()
@@ -193,7 +196,7 @@ class Bridge(ServerListener):
         self.scene.log(drawn, log_time=now)
 
     def close(self) -> None:
-        for channel in [*self.channels.values(), self.scene, self.scan]:
+        for channel in [*self.channels.values(), *self.drawn.values()]:
             channel.close()
         self.channels.clear()
 

@@ -10,7 +10,8 @@ all in the frame ``world`` (m; the world's lower-left corner at the origin, z up
   last feedback).  Every other turtle of ``turtles`` likewise, its entities named after it
   (``turtle/turtle2``, ``trail/turtle2``, ``goal/turtle2``: its goal from
   ``turtle2/navigate_to/feedback``), and deleted when it leaves ``turtles`` (killed);
-* ``scene/scan`` (LaserScan): each scan placed at the pose it was taken from (its origin).
+* ``scene/scan`` (LaserScan): each scan placed at the pose it was taken from (its origin);
+* ``log`` (Log): every node's log records (``turtlectl/log/<node>``), for Foxglove's Log panel.
 
 The foxglove package is imported here, and this module only by the commands that draw.
 """
@@ -29,6 +30,7 @@ from foxglove.messages import (
     LaserScan,
     LinePrimitive,
     LinePrimitiveLineType,
+    LogLevel,
     Point3,
     Pose,
     Quaternion,
@@ -40,9 +42,10 @@ from foxglove.messages import (
     Timestamp,
     Vector3,
 )
+from foxglove.messages import Log as LogEntry
 
 from turtlectl.messages import LaserScan as Scan
-from turtlectl.messages import NavigateToFeedback, Turtles
+from turtlectl.messages import Log, NavigateToFeedback, Turtles
 from turtlectl.messages import Pose as TurtlePose
 from turtlectl.messages.angles import heading_radians
 from turtlectl.messages.keys import FIRST_TURTLE
@@ -52,6 +55,7 @@ from turtlectl.sim.turtles import others
 FRAME = "world"
 SCENE = "scene"  # topic of the SceneUpdate channel
 SCAN = "scene/scan"  # topic of the LaserScan channel
+LOG = "log"  # topic of the Log channel: every node's log records (Foxglove's Log panel)
 TRAIL = 2000  # positions kept in the trail
 TRAIL_STEP = 0.05  # m between two trail positions
 GOAL_LIFETIME = 1.0  # s the goal stays drawn after its last feedback
@@ -216,9 +220,33 @@ def scan(msg: Scan, ns: int) -> LaserScan | None:
     )
 
 
+#: Python's (and ROS's) log levels, the least severe each starts at, as Foxglove numbers them
+_LOG_LEVELS = (
+    (50, LogLevel.Fatal),
+    (40, LogLevel.Error),
+    (30, LogLevel.Warning),
+    (20, LogLevel.Info),
+    (1, LogLevel.Debug),
+)
+
+
+def log_entry(record: Log) -> LogEntry:
+    """A node's log record as Foxglove's Log: its level (DEBUG .. CRITICAL as Debug .. Fatal),
+    the node as its name, its text, file and line, stamped when it was logged."""
+    level = next((foxglove for least, foxglove in _LOG_LEVELS if record.level >= least), LogLevel.Unknown)
+    return LogEntry(
+        timestamp=timestamp(record.stamp),
+        level=level,
+        message=record.message,
+        name=record.node,
+        file=record.file,
+        line=max(0, record.line),
+    )
+
+
 class SceneMaker:
     """What to draw for each message received: ``on_message`` returns (topic, Foxglove message)
-    pairs for ``SCENE`` and ``SCAN``; the world entity is ``world_update`` (send it again now
+    pairs for ``SCENE``, ``SCAN`` and ``LOG``; the world entity is ``world_update`` (send it again now
     and then: a viewer that connects later needs it, and the server keeps nothing)."""
 
     TURTLE_PERIOD = 0.05  # s: the turtle is redrawn at 20 Hz at most (poses come at 62.5 Hz)
@@ -281,4 +309,6 @@ class SceneMaker:
         if isinstance(msg, Turtles):
             drawn = self._turtles(msg, ns)
             return [] if drawn is None else [(SCENE, drawn)]
+        if isinstance(msg, Log):
+            return [(LOG, log_entry(msg))]
         return []

@@ -11,7 +11,7 @@ raw publisher, garbage) is kept as it came: a channel without schema whose messa
 is the sample's Zenoh encoding, the bytes unchanged.  The world the run happened in (the
 simulator's ``turtlectl/world`` answer) is attached as ``turtlectl/world`` (JSON), so that a
 replay can draw it.  With ``record --scene`` the file also holds the Foxglove scene
-(cli.foxglove.scene: channels ``scene`` and ``scene/scan``, Foxglove's well-known protobuf schemas),
+(cli.foxglove.scene: channels ``scene``, ``scene/scan`` and ``log``, Foxglove's well-known protobuf schemas),
 which ``play`` leaves out (it is drawn from the other messages).
 
 Crash safety.  A chunk is closed (and on disk) once its first message is ``CHUNK_SPAN`` old, by

@@ -3,7 +3,10 @@
 Nothing here prints.  ``plan`` (pure) picks and remaps what is played; ``play`` publishes it
 on an absolute schedule: message i is due at ``start + (log_time_i - first) / rate`` on the
 monotonic clock (time spent paused moves the start), so delays never add up; messages get a
-fresh ``stamp`` unless ``keep_stamps``.  It yields each message's lateness (actual − scheduled)
+fresh ``stamp`` unless ``keep_stamps``.  With ``clock_hz`` it also publishes ``clock`` (as
+``ros2 bag play --clock``): the recording's time at the point played, that many times a wall
+second, so nodes started with ``use_sim_time`` run on the recording's time (at ``rate``); the
+messages are then stamped with the time they were recorded at, which that clock shows.  It yields each message's lateness (actual − scheduled)
 for the progress line and the benchmark.  While it plays, it describes each user type it
 publishes on ``turtlectl/types/<TypeName>/play``, as a node does, so the tools understand it
 with no node of that type running.
@@ -26,10 +29,10 @@ from turtlectl.cli.errors import BadInput
 from turtlectl.cli.recording.bag import Record
 from turtlectl.cli.recording.reading import Recording
 from turtlectl.cli.tools.client import check_key, client_session, require
-from turtlectl.messages import ALL_TYPES, Message, encode, encoding_for
+from turtlectl.messages import ALL_TYPES, Clock, Message, encode, encoding_for
 from turtlectl.messages.codec import TYPES_BY_NAME, type_name
 from turtlectl.messages.described import describable, describe
-from turtlectl.messages.keys import WORLD_KEY, type_key
+from turtlectl.messages.keys import CLOCK, WORLD_KEY, type_key
 
 SPIN = 0.0015  # s before a message is due when sleeping stops and the wait spins (timer slack)
 DESCRIBER = "play"  # the 'node' in turtlectl/types/<TypeName>/play
@@ -71,13 +74,14 @@ def plan(records: Iterable[Record], start_offset: float) -> list[Record]:
     return [r for r in chosen if (r.log_time - first) / 1e9 >= start_offset]
 
 
-def _payload(record: Record, message: Message | None, keep_stamps: bool) -> tuple[bytes, str]:
+def _payload(record: Record, message: Message | None, keep_stamps: bool, recorded: bool = False) -> tuple[bytes, str]:
     """What to publish for ``record`` (whose ``message()`` is ``message``): msgpack of the
-    message (freshly stamped unless ``keep_stamps``), or its raw bytes; and their encoding."""
+    message (freshly stamped unless ``keep_stamps``; with ``recorded``, stamped with the time it
+    was recorded at, as a played clock shows it), or its raw bytes; and their encoding."""
     if message is None:
         return record.data, record.encoding
     if not keep_stamps and "stamp" in type(message).__struct_fields__:
-        message = msgspec.structs.replace(message, stamp=time.time_ns())
+        message = msgspec.structs.replace(message, stamp=record.log_time if recorded else time.time_ns())
     return encode(message), encoding_for(type(message))
 
 
@@ -132,15 +136,19 @@ def play(
     loop: bool,
     paused: Callable[[], bool],
     stopped: Callable[[], bool],
+    clock_hz: float | None = None,
 ) -> Iterator[Played]:
     """Publish the recording (``keys`` only if given, renamed by ``remap``) at ``rate`` times its
     speed, from ``start_offset`` s; again and again with ``loop``.  ``paused()`` holds the
-    schedule; ``stopped()`` ends it."""
+    schedule; ``stopped()`` ends it.  ``clock_hz``: also publish the recording's time on ``clock``
+    that many times a second (the module's docstring)."""
     if rate <= 0:
         raise BadInput("--rate must be above 0")
     # channels are keys as recorded; a ROS 2 bag's start with '/', dropped as everywhere in turtlectl
     wanted = None if keys is None else set(keys)
     selected = [r for r in recording.records() if wanted is None or _plain(r.key) in wanted]
+    if clock_hz:  # the clock played is the recording's time: a recorded one would be a second clock
+        selected = [r for r in selected if _plain(r.key) != CLOCK]
     records = plan(selected, start_offset)
     if not records and start_offset > 0.0 and plan(selected, 0.0):
         length = recording.info().duration
@@ -158,6 +166,7 @@ def play(
         world = serve_world(session, recording.world())  # kept: a queryable lives while referenced
         described = serve_types(session, user_types(records))
         publishers: dict[tuple[str, str], zenoh.Publisher] = {}
+        clock = Clocked(session, first, rate, clock_hz) if clock_hz else None
         round_ = 0
         try:
             while True:
@@ -168,6 +177,8 @@ def play(
                     while True:
                         if stopped():
                             return
+                        if clock is not None:
+                            clock.tick(start)
                         if paused():
                             yield Played(record.key, offset, 0.0, index, len(records), round_, paused=True)
                             held = time.monotonic()
@@ -180,8 +191,9 @@ def play(
                         if wait <= 0:
                             break
                         if wait > SPIN:
-                            time.sleep(min(wait - SPIN, 0.05))  # pacing: the schedule (short, to see pause/stop)
-                    payload, encoding = _payload(record, message, keep_stamps)
+                            nap = min(wait - SPIN, 0.05, clock.wait() if clock is not None else 0.05)
+                            time.sleep(max(nap, 0.0))  # pacing: the schedule (short, to see pause/stop)
+                    payload, encoding = _payload(record, message, keep_stamps, recorded=clock is not None)
                     key = targets[record.key]
                     pub = publishers.get((key, encoding))
                     if pub is None:
@@ -195,12 +207,37 @@ def play(
                     return
                 round_ += 1
         finally:
+            if clock is not None:
+                clock.pub.undeclare()
             for pub in publishers.values():
                 pub.undeclare()
             if world is not None:
                 world.undeclare()
             for queryable in described:
                 queryable.undeclare()
+
+
+class Clocked:
+    """``play --clock``: the recording's time on ``clock``, ``hz`` times a wall second."""
+
+    def __init__(self, session: zenoh.Session, first: int, rate: float, hz: float):
+        require("publish", CLOCK)
+        self.pub = session.declare_publisher(CLOCK, encoding=zenoh.Encoding(encoding_for(Clock)))
+        self.first, self.rate, self.period = first, rate, 1.0 / hz
+        self.next = 0.0  # monotonic s: when the next one is due
+
+    def tick(self, start: float) -> None:
+        """Publish the time played now (``start``: when the recording's first message was due),
+        if one is due."""
+        now = time.monotonic()
+        if now >= self.next:
+            played = self.first + round(max(0.0, now - start) * self.rate * 1e9)
+            self.pub.put(encode(Clock(clock=played, real_time_factor=self.rate)))
+            self.next = now + self.period
+
+    def wait(self) -> float:
+        """s until the next one is due."""
+        return self.next - time.monotonic()
 
 
 @contextlib.contextmanager

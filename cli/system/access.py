@@ -3,7 +3,7 @@
 
 Each node logs in as ``node-<name>`` and may do what its kind declares (nodes.kinds.Interface)
 and what the runtime does for every node (its parameters, node info, log level, parameter
-events, liveliness tokens).  A user's node class that declares no ``Interface`` may do what
+events, log records, liveliness tokens).  A user's node class that declares no ``Interface`` may do what
 the ``teleop`` role may (a local client of the system may do as much) and publish and serve
 under its own name (``<name>/**``); nothing else (``UNDECLARED``).  Clients log in with a role:
 
@@ -23,9 +23,12 @@ from typing import TYPE_CHECKING, Any
 import zenoh
 
 from turtlectl.messages.keys import (
+    CLOCK,
     ENTITY_TOKEN_PREFIX,
+    LOG_KEYS,
     NODE_TOKEN_PREFIX,
     PARAMETER_EVENTS,
+    log_key,
     log_level_key,
     name_chunk,
     node_key,
@@ -51,6 +54,9 @@ VERBS: dict[str, tuple[tuple[str, str], ...]] = {
     "call": (("query", "ingress"), ("reply", "egress"), ("declare_queryable", "egress")),
     # a query for every node at once (turtlectl/nodes/*) reaches a node only through a rule as wide
     "asked": (("query", "egress"),),
+    # likewise a subscriber on a wildcard (turtlectl/log/*, record's **): a publisher hears of it,
+    # and sends to it, only through a rule that includes the wildcard (what it may put is "publish")
+    "heard": (("declare_subscriber", "egress"),),
     "token": (("liveliness_token", "ingress"),),
     "watch": (
         ("declare_liveliness_subscriber", "ingress"),
@@ -61,14 +67,14 @@ VERBS: dict[str, tuple[tuple[str, str], ...]] = {
 }
 
 
-def node_rights(name: str, kind: NodeKind) -> dict[str, tuple[str, ...]]:
+def node_rights(name: str, kind: NodeKind, remaps: dict[str, str] | None = None) -> dict[str, tuple[str, ...]]:
     """What node ``name`` of ``kind`` may do: its kind's interface (``_undeclared``'s when it
-    declares none) and every node's share."""
-    i = interface_of(name, kind.interface)
+    declares none) with its launch file's ``remaps``, and every node's share."""
+    i = interface_of(name, kind.interface, remaps)
     tokens = ROLES["teleop"]["token"] if kind.interface is None else ()
     return {
-        "publish": (*i.publishes, PARAMETER_EVENTS),
-        "subscribe": i.subscribes,
+        "publish": (*i.publishes, PARAMETER_EVENTS, log_key(name)),  # its log records (runtime.log_stream)
+        "subscribe": (*i.subscribes, CLOCK),  # a node started with use_sim_time follows the clock
         "serve": (
             *i.serves,
             params_key(name),
@@ -77,9 +83,13 @@ def node_rights(name: str, kind: NodeKind) -> dict[str, tuple[str, ...]]:
             node_key(name),
             log_level_key(name),
             type_key("*", name),  # the description of each message type it uses
+            log_key(name),  # its recent log records
         ),
         # `param list`, `param set` and the tools learning a type ask every node at once
-        "asked": (params_key("*"), node_key("*"), type_key("*", "*")),
+        "asked": (params_key("*"), node_key("*"), type_key("*", "*"), LOG_KEYS),
+        # `turtlectl log` (turtlectl/log/*), `record -a` and `foxglove` (**) subscribe on wildcards;
+        # who subscribes to what the graph shows every node anyway (its entity tokens)
+        "heard": ("**",),
         "call": i.calls,
         "token": (
             f"{NODE_TOKEN_PREFIX}/{name_chunk(name)}/**",

@@ -15,6 +15,12 @@ outlasts the scan period.
 
 A ``run`` is a built-in kind or a user's node class (``module:Class``, ``./file.py:Class``
 relative to the launch file), imported here to validate its parameters (nodes.kinds.kind_of).
+A node's ``remap`` (ROS's remappings) is checked here against the keys its kind uses.
+
+A launch file may declare arguments and include other launch files (``[arg.NAME]``,
+``$(arg NAME)``, ``[[include]]``: cli.system.compose, which reads them into pieces, one per
+file, that ``validate`` checks as one system; errors name the chain of files,
+``launch.toml -> robots/turtle.toml: node[0] (navigator).params.goal_timeout: ...``).
 
 Overrides (``launch --set``, ``run -p``, ``param set``) and the ``--only``/``--exclude`` selection are in cli.system.overrides.
 """
@@ -24,36 +30,34 @@ from __future__ import annotations
 import os
 import re
 import shutil
-import tomllib
+from collections.abc import Sequence
 from pathlib import Path
 from typing import Annotated, Any
 
 import msgspec
-import msgspec.inspect as mi
 
-from turtlectl.cli.errors import BadInput
-from turtlectl.cli.system.placement import check_spawn, check_turtles, check_world, namespace_problem
+from turtlectl.cli.system.compose import TABLES as TABLES  # also for cli.system.overrides
+from turtlectl.cli.system.compose import Argument, ArgValue, Include, Piece, compose, parse_args
+from turtlectl.cli.system.placement import check_spawn, check_turtles, check_world, namespace_problem, remap_problem
+from turtlectl.cli.system.report import LaunchFileError as LaunchFileError  # also for the other modules
+from turtlectl.cli.system.report import Report as Report  # also for cli.system.overrides
+from turtlectl.cli.system.report import problem, raw_names
 from turtlectl.messages.world import Limits, World
 from turtlectl.nodes.kinds import KindError, NodeKind, kind_of
 from turtlectl.runtime.loader import suggestion as suggestion  # also for cli.system.overrides, cli.tools
 from turtlectl.runtime.params import validation_parts as validation_parts  # also for cli.tools.build
-from turtlectl.runtime.roles import claims_of
+from turtlectl.runtime.roles import claims_of, interface_of
 
 #: the launch file that comes with turtlectl: the whole system on one machine
 PACKAGED_LAUNCH = Path(__file__).resolve().parent / "launch.toml"
 NAME_RE = re.compile(r"^[A-Za-z_][A-Za-z0-9_\-]*$")
-#: tables that ``--set TABLE.KEY=VALUE`` reaches; no node may be named like them
-TABLES = ("world", "limits", "supervisor")
 
 Delay = Annotated[float, msgspec.Meta(ge=0.0, le=3600.0)]
 StopWait = Annotated[float, msgspec.Meta(gt=0.0, le=60.0)]
 Respawns = Annotated[int, msgspec.Meta(ge=0, le=1_000_000)]
 Kept = Annotated[int, msgspec.Meta(ge=0, le=10_000)]
-
-
-class LaunchFileError(BadInput, ValueError):
-    """A launch file (or an override) that cannot be used: bad input; str() is the one-line
-    message for the user."""
+Argv = list[str]
+Remaps = dict[str, str]  # a key as the node's code writes it -> the key it uses instead
 
 
 class NodeEntry(msgspec.Struct, forbid_unknown_fields=True, kw_only=True):
@@ -65,10 +69,10 @@ class NodeEntry(msgspec.Struct, forbid_unknown_fields=True, kw_only=True):
     name: str  # -: letters, digits, _ and -; unique in its namespace (its full name, namespace/name, in the system)
     namespace: str = ""  # -: the turtle it drives, its keys' prefix, e.g. "turtle2": navigate_to is turtle2/navigate_to and turtle1/pose is turtle2/pose (in a [[group]]: the group's)
     run: str = ""  # -: a built-in kind (sim, navigator, status_monitor, obstacle_detector) or a node class (pkg.mod:Class, ./file.py:Class); or cmd
-    cmd: list[str] = msgspec.field(
-        default_factory=list
-    )  # -: instead of run, any program and its arguments, e.g. ["./driver", "--port", "/dev/ttyUSB0"] (./ relative to the launch file; a bare name from PATH); ready once started; no params
+    cmd: Argv = []  # -: instead of run, any program and its arguments, e.g. ["./driver", "--port", "/dev/ttyUSB0"] (./ relative to the launch file; a bare name from PATH); ready once started; no params
     params: dict[str, Any] = msgspec.field(default_factory=dict)  # -: the kind's parameters (below), a class's Params
+    remap: Remaps = {}  # -: ROS's remappings, { "turtle1/cmd_vel" = "safety/cmd_vel" }: a key as the node's code writes it (or absolute: /turtle2/cmd_vel) -> the key it uses instead, both resolved in its namespace
+    use_sim_time: bool = False  # -: its timers, timeouts and stamps follow the simulator's clock key, not the machine's (ROS's use_sim_time; launch --time-scale sets it on every node)
     required: bool = False  # -: when it exits for good the whole system stops, exit code 1
     respawn: bool = False  # -: start it again when it exits
     respawn_delay: Delay = 1.0  # s: before the first respawn; twice as long after each crash in a row
@@ -97,6 +101,8 @@ class Group(msgspec.Struct, forbid_unknown_fields=True, kw_only=True):
 class LaunchFile(msgspec.Struct, forbid_unknown_fields=True, kw_only=True):
     node: list[NodeEntry] = msgspec.field(default_factory=list)
     group: list[Group] = msgspec.field(default_factory=list)
+    arg: dict[str, Argument] = msgspec.field(default_factory=dict)  # (cli.system.compose takes them out)
+    include: list[Include] = msgspec.field(default_factory=list)
     world: World = msgspec.field(default_factory=World)
     limits: Limits = msgspec.field(default_factory=Limits)
     supervisor: SupervisorSettings = msgspec.field(default_factory=SupervisorSettings)
@@ -113,101 +119,52 @@ class LaunchPlan(msgspec.Struct, kw_only=True):
     folder: str = ""  # the launch file's folder: where user nodes and programs run, and module:Class is found first
     #: the file's nodes that --only/--exclude leave to another host (a --secure system makes their logins)
     elsewhere: dict[str, NodeKind] = msgspec.field(default_factory=dict)
-
-
-# -- messages ----------------------------------------------------------------
-_FIELD = re.compile(r"^Object (?P<problem>contains unknown|missing required) field `(?P<key>[^`]*)`$")
-_PART = re.compile(r"\.([^.\[\]]+)|\[(\d+)\]")
-
-Parts = list[str | int]
-
-
-def _keys_at(root: type, parts: Parts) -> list[str]:
-    """The keys allowed in the table at ``parts`` below ``root`` (empty if unknown)."""
-    info: Any = mi.type_info(root)
-    for part in parts:
-        while isinstance(info, mi.Metadata):
-            info = info.type
-        if isinstance(part, int) and isinstance(info, mi.ListType):
-            info = info.item_type
-        elif isinstance(part, str) and isinstance(info, mi.StructType):
-            info = next((f.type for f in info.fields if f.encode_name == part), None)
-        else:
-            return []
-    while isinstance(info, mi.Metadata):
-        info = info.type
-    return [f.encode_name for f in info.fields] if isinstance(info, mi.StructType) else []
-
-
-def _problem(exc: msgspec.ValidationError, root: type) -> tuple[Parts, str]:
-    """Key path (below ``root``) and what is wrong, from msgspec's message."""
-    what, path = validation_parts(exc)
-    parts: Parts = [m[1] if m[1] else int(m[2]) for m in _PART.finditer(path)]
-    field = _FIELD.match(what)
-    if field:
-        if field["problem"].startswith("contains"):
-            what = "unknown key" + suggestion(field["key"], _keys_at(root, parts))
-        else:
-            what = "missing required key"
-        parts.append(field["key"])
-    return parts, what
-
-
-class Report:
-    """Turns a key path into the text users read: ``node[1] (navigator).params.rate`` in a
-    file, ``navigator.rate`` for an override of a node's parameter."""
-
-    def __init__(self, label: str, names: list[str | None], override: bool):
-        self.label = label  # the file, or the option (--set, --param)
-        self.names = names
-        self.override = override
-        self.origins: list[str] = []  # where each node of the flattened list is written (group[0].node[1])
-
-    def where(self, parts: Parts) -> str:
-        text = ""
-        if len(parts) >= 2 and parts[0] == "node" and isinstance(parts[1], int):
-            i, rest = parts[1], parts[2:]
-            name = self.names[i] if i < len(self.names) else None
-            if self.override and name and rest[:1] == ["params"]:
-                text, rest = name, rest[1:]
-            else:
-                origin = self.origins[i] if i < len(self.origins) else f"node[{i}]"
-                text = origin + (f" ({name})" if name else "")
-            parts = rest
-        for part in parts:
-            text += f"[{part}]" if isinstance(part, int) else f".{part}"
-        return text.lstrip(".")
-
-    def error(self, parts: Parts, what: str) -> LaunchFileError:
-        where = self.where(parts)
-        if self.override:
-            return LaunchFileError(f"{self.label} {where}: {what}" if where else f"{self.label}: {what}")
-        return LaunchFileError(f"{self.label}: {where}: {what}" if where else f"{self.label}: {what}")
+    #: node name -> its remap, for every node of the file that has one (those left elsewhere too)
+    remaps: dict[str, dict[str, str]] = msgspec.field(default_factory=dict)
+    args: list[ArgValue] = msgspec.field(default_factory=list)  # each file's arguments, with their values
 
 
 # -- validation ----------------------------------------------------------------
-def _raw_names(data: Any) -> list[str | None]:
-    """Each [[node]]'s name as written, to name nodes in errors before the file is valid."""
-    nodes = data.get("node") if isinstance(data, dict) else None
-    if not isinstance(nodes, list):
-        return []
-    return [n["name"] if isinstance(n, dict) and isinstance(n.get("name"), str) else None for n in nodes]
-
-
-def validate(data: Any, source: str, report: Report, base: Path | None = None) -> LaunchPlan:
+def validate(
+    data: Any, source: str, report: Report, base: Path | None = None, included: Sequence[Piece] = ()
+) -> LaunchPlan:
     """The whole launch file, each value and then the file as a whole; a ``./file.py:Class``
-    run is relative to ``base`` (default: the folder of ``source``)."""
+    run is relative to ``base`` (default: the folder of ``source``).  ``included``: the files
+    its ``[[include]]``s bring (cli.system.compose), checked as one system with it: each file's
+    own errors name it (its chain), [world], [limits] and [supervisor] are the one file's that
+    writes them."""
     base = base if base is not None else Path(source).resolve().parent
-    try:
-        launch = msgspec.convert(data, LaunchFile, strict=True)
-    except msgspec.ValidationError as exc:
-        raise report.error(*_problem(exc, LaunchFile)) from None
-
-    entries, report.origins = _flattened(launch, report)
-    report.names = [e.name for e in entries]
+    entries: list[NodeEntry] = []
+    origins: list[str] = []
+    labels: list[str] = []  # the file (chain) of each node written in an included file
+    files: list[tuple[Piece, LaunchFile, Report]] = []
+    for piece in (Piece(report.label, data), *included):
+        own = report if not files else Report(piece.label, raw_names(piece.data), override=False)
+        try:
+            launch = msgspec.convert(piece.data, LaunchFile, strict=True)
+        except msgspec.ValidationError as exc:
+            raise own.error(*problem(exc, LaunchFile)) from None
+        more, written = _flattened(launch, own, piece.namespace)
+        entries, origins = entries + more, origins + written
+        labels += [piece.label if files else ""] * len(more)
+        files.append((piece, launch, own))
+    report.names, report.origins, report.files = [e.name for e in entries], origins, labels
     if not entries:
         raise report.error(["node"], "the launch file lists no node (no [[node]] and no [[group]] with one)")
-    launch = msgspec.structs.replace(launch, node=entries, group=[])
+
+    def owner(table: str) -> tuple[LaunchFile, Report]:
+        """The file that writes ``table`` (compose lets one only), else the top file (its defaults)."""
+        return next(((f, r) for p, f, r in files if isinstance(p.data, dict) and table in p.data), files[0][1:])
+
+    (world, world_report), limits, supervisor = owner("world"), owner("limits")[0], owner("supervisor")[0]
+    launch = msgspec.structs.replace(
+        files[0][1],
+        node=entries,
+        group=[],
+        world=world.world,
+        limits=limits.limits,
+        supervisor=supervisor.supervisor,
+    )
     seen: dict[str, int] = {}
     kinds: dict[tuple[str, str], int] = {}  # (namespace, built-in kind) -> its node's index
     claimed: dict[Any, int] = {}  # claim (resolved in the node's namespace) -> the index of the node that claims it
@@ -217,7 +174,10 @@ def validate(data: Any, source: str, report: Report, base: Path | None = None) -
     for i, entry in enumerate(launch.node):
         if entry.name in seen:
             j = seen[entry.name]
-            raise report.error(["node", i, "name"], f"duplicate node name {entry.name!r} ({report.origins[j]} has it)")
+            twice = report.files[j] and (report.files[j], report.origins[j]) == (report.files[i], report.origins[i])
+            why = f"{report.place(j, i)} has it"
+            why = "its file is included twice: give each [[include]] a namespace" if twice else why
+            raise report.error(["node", i, "name"], f"duplicate node name {entry.name!r} ({why})")
         seen[entry.name] = i
         if bool(entry.run) == bool(entry.cmd):
             which = "both run and cmd" if entry.run else "neither run nor cmd"
@@ -225,6 +185,8 @@ def validate(data: Any, source: str, report: Report, base: Path | None = None) -
         if entry.cmd:
             if entry.params:
                 raise report.error(["node", i, "params"], "a cmd node has no parameters (pass them in its cmd)")
+            if entry.remap:
+                raise report.error(["node", i, "remap"], "a cmd node has no keys of a turtlectl node to remap")
             commands[entry.name] = [_program(entry.cmd, base, report.error, i), *entry.cmd[1:]]
             params[entry.name] = {}
             continue
@@ -238,22 +200,25 @@ def validate(data: Any, source: str, report: Report, base: Path | None = None) -
                 "the simulator serves every turtle of the world: it runs outside any namespace "
                 "(its turtles go in its params.turtles, or come with turtlectl spawn)",
             )
-        for claim in claims_of(
-            entry.name, kind.claims
-        ):  # "one of each kind" per namespace, for the kinds that claim something
+        declared = interface_of(entry.name, kind.interface) if kind.interface is not None else None
+        wrong = remap_problem(entry.remap, entry.namespace, declared)
+        if wrong:
+            raise report.error(["node", i, "remap", f'"{wrong[0]}"'], wrong[1])
+        # "one of each kind" per namespace, for the kinds that claim something (unless remapped apart)
+        for claim in claims_of(entry.name, kind.claims, entry.remap):
             if claim in claimed:
                 j = claimed[claim]
                 other = launch.node[j]
                 where = f" in namespace {entry.namespace!r}" if entry.namespace else ""
                 if other.run == entry.run:
-                    why = f"a second {entry.run!r} node{where} ({report.origins[j]} ({other.name}) is one): both would {claim.phrase()}; "
+                    why = f"a second {entry.run!r} node{where} ({report.place(j, i)} ({other.name}) is one): both would {claim.phrase()}; "
                     raise report.error(
                         ["node", i, "run"],
                         why + "a namespace runs one of each kind (give each turtle's nodes its own namespace)",
                     )
                 raise report.error(
                     ["node", i, "run"],
-                    f"{report.origins[j]} ({other.name}) already claims what it claims: both would {claim.phrase()}",
+                    f"{report.place(j, i)} ({other.name}) already claims what it claims: both would {claim.phrase()}",
                 )
             claimed[claim] = i
         if kind.builtin:
@@ -262,11 +227,11 @@ def validate(data: Any, source: str, report: Report, base: Path | None = None) -
         try:
             typed = msgspec.convert(entry.params, kind.params, strict=True)
         except msgspec.ValidationError as exc:
-            parts, what = _problem(exc, kind.params)
+            parts, what = problem(exc, kind.params)
             raise report.error(["node", i, "params", *parts], what) from None
         params[entry.name] = msgspec.to_builtins(typed)
 
-    check_world(launch.world, report)
+    check_world(launch.world, world_report)
     if ("", "sim") in kinds:
         i = kinds[("", "sim")]
         check_spawn(launch.world, i, params[launch.node[i].name], report)
@@ -283,30 +248,43 @@ def validate(data: Any, source: str, report: Report, base: Path | None = None) -
                 f"{navigator['scan_timeout']:g} s is not longer than the scan period of {detector.name} "
                 f"({1.0 / rate:g} s at {rate:g} Hz): obstacles would be forgotten between scans",
             )
-    return LaunchPlan(source=source, launch=launch, params=params, kinds=resolved, commands=commands, folder=str(base))
+    remaps = {e.name: e.remap for e in launch.node if e.remap}
+    return LaunchPlan(
+        source=source,
+        launch=launch,
+        params=params,
+        kinds=resolved,
+        commands=commands,
+        folder=str(base),
+        remaps=remaps,
+    )
 
 
-def _flattened(launch: LaunchFile, report: Report) -> tuple[list[NodeEntry], list[str]]:
-    """Every node of the file, a group's nodes in its namespace, each named by its full name
-    (``turtle2/navigator``); and where each is written (``node[1]``, ``group[0].node[2]``)."""
+def _flattened(launch: LaunchFile, report: Report, pushed: str = "") -> tuple[list[NodeEntry], list[str]]:
+    """Every node of the file, a group's nodes in its namespace (the file's nodes in ``pushed``,
+    the namespace its include puts it in), each named by its full name (``turtle2/navigator``);
+    and where each is written (``node[1]``, ``group[0].node[2]``)."""
     entries: list[NodeEntry] = []
     origins: list[str] = []
-    written = [(f"node[{i}]", "", entry) for i, entry in enumerate(launch.node)]
+    written = [(f"node[{i}]", pushed, entry) for i, entry in enumerate(launch.node)]
     for g, group in enumerate(launch.group):
         where = f"group[{g}]"
         group = msgspec.structs.replace(group, namespace=group.namespace.strip("/"))  # ROS writes /turtle2
-        problem = namespace_problem(group.namespace)
-        if problem:
-            raise LaunchFileError(f"{report.label}: {where}.namespace: {problem}")
+        why = namespace_problem(group.namespace)
+        if not why and pushed and group.namespace != pushed:
+            why = f"the file is included in namespace {pushed!r}: namespaces do not nest (a namespace is one turtle's)"
+        if why:
+            raise LaunchFileError(f"{report.label}: {where}.namespace: {why}")
         written += [(f"{where}.node[{i}]", group.namespace, entry) for i, entry in enumerate(group.node)]
     for origin, outer, entry in written:
         entry = msgspec.structs.replace(entry, namespace=entry.namespace.strip("/"))
         label = f"{report.label}: {origin}" + (f" ({entry.name})" if entry.name else "")
-        problem = namespace_problem(entry.namespace) if entry.namespace else None
-        if not problem and outer and entry.namespace not in ("", outer):
-            problem = f"the node is in its group's namespace {outer!r} (a namespace is one turtle's)"
-        if problem:
-            raise LaunchFileError(f"{label}.namespace: {problem}")
+        why = namespace_problem(entry.namespace) if entry.namespace else None
+        if not why and outer and entry.namespace not in ("", outer):
+            whose = "its [[include]]'s namespace" if origin.startswith("node") else "its group's namespace"
+            why = f"the node is in {whose} {outer!r} (a namespace is one turtle's)"
+        if why:
+            raise LaunchFileError(f"{label}.namespace: {why}")
         namespace = outer or entry.namespace
         short = entry.name.removeprefix(f"{namespace}/") if namespace else entry.name  # written again: full
         if not NAME_RE.match(short):
@@ -344,24 +322,24 @@ def _program(cmd: list[str], base: Path, error: Any, i: int) -> str:
     return str(path)
 
 
-def parse_launch(text: str, source: str = "launch.toml") -> LaunchPlan:
-    """Parse and validate launch-file text; ``source`` names it in error messages."""
-    try:
-        data = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as exc:
-        raise LaunchFileError(f"{source}: not valid TOML: {exc}") from None
-    return validate(data, source, Report(source, _raw_names(data), override=False))
+def parse_launch(text: str, source: str = "launch.toml", args: list[str] | None = None) -> LaunchPlan:
+    """Parse and validate launch-file text and the files it includes (relative to ``source``'s
+    folder); ``source`` names it in error messages; ``args``: ``--arg NAME=VALUE`` items."""
+    pieces, values = compose(text, source, parse_args(args or []))
+    top = pieces[0]
+    plan = validate(top.data, source, Report(source, raw_names(top.data), override=False), included=pieces[1:])
+    return msgspec.structs.replace(plan, args=values)
 
 
-def load_launch(path: Path) -> LaunchPlan:
-    """Read and validate a launch file from disk."""
+def load_launch(path: Path, args: list[str] | None = None) -> LaunchPlan:
+    """Read and validate a launch file from disk (``args``: ``--arg NAME=VALUE`` items)."""
     try:
         text = path.read_text(encoding="utf-8")
     except OSError as exc:
         raise LaunchFileError(f"{path}: cannot read: {exc.strerror or exc}") from None
     except UnicodeDecodeError:
         raise LaunchFileError(f"{path}: not UTF-8 text") from None
-    return parse_launch(text, source=str(path))
+    return parse_launch(text, source=str(path), args=args)
 
 
 def default_launch_file() -> Path:

@@ -90,7 +90,8 @@ def with_overrides(plan: LaunchPlan, assignments: list[Assignment], option: str)
         if not keys:
             raise LaunchFileError(f"{option} {item.text!r}: name a key of {target}, as {target}.KEY=VALUE")
         _put(table, target, keys, item.value, option)
-    return validate(data, plan.source, Report(option, list(names), override=True))
+    changed = validate(data, plan.source, Report(option, list(names), override=True))
+    return msgspec.structs.replace(changed, remaps=plan.remaps, args=plan.args)  # what overrides cannot change
 
 
 def _put(table: dict[str, Any], target: str, keys: list[str], value: Any, option: str) -> None:
@@ -158,12 +159,36 @@ def _problem_text(data: dict[str, Any], report: Report) -> str | None:
 SET_FORM = "NODE.PARAM=VALUE or TABLE.KEY=VALUE (world, limits, supervisor)"
 
 
-def launch_plan(path: Path, only: list[str], exclude: list[str], settings: list[str]) -> LaunchPlan:
-    """What ``turtlectl launch`` runs: the file at ``path``, its ``--only``/``--exclude``
-    selection, then its ``--set`` overrides (``settings``), all validated as the file is."""
-    plan = select_nodes(load_launch(path), only, exclude)
+def launch_plan(
+    path: Path,
+    only: list[str],
+    exclude: list[str],
+    settings: list[str],
+    time_scale: float | None = None,
+    arguments: list[str] | None = None,
+) -> LaunchPlan:
+    """What ``turtlectl launch`` runs: the file at ``path`` with its ``--arg`` values
+    (``arguments``), its ``--only``/``--exclude`` selection, then its ``--set`` overrides
+    (``settings``) and ``--time-scale`` (with_time_scale), all validated as the file is."""
+    plan = select_nodes(load_launch(path, arguments), only, exclude)
     changed = with_overrides(plan, [parse_assignment(item, "--set", SET_FORM) for item in settings], "--set")
+    if time_scale is not None:
+        changed = with_time_scale(changed, time_scale)
     return msgspec.structs.replace(changed, elsewhere=plan.elsewhere)
+
+
+def with_time_scale(plan: LaunchPlan, factor: float) -> LaunchPlan:
+    """``launch --time-scale F``: the simulator runs ``factor`` times as fast as the wall clock
+    (its ``real_time_factor``) and every node of the plan follows its clock (``use_sim_time``;
+    a ``cmd`` program is not a turtlectl node and keeps its own time).  Validated as ``--set``."""
+    sims = [e.name for e in plan.launch.node if e.run == "sim"]
+    plan = with_overrides(
+        plan,
+        [parse_assignment(f"{name}.real_time_factor={factor!r}", "--time-scale", SET_FORM) for name in sims],
+        "--time-scale",
+    )
+    nodes = [msgspec.structs.replace(e, use_sim_time=not e.cmd) for e in plan.launch.node]
+    return msgspec.structs.replace(plan, launch=msgspec.structs.replace(plan.launch, node=nodes))
 
 
 def class_plan(
@@ -217,11 +242,13 @@ def node_config(
         connect=connect,
         domain=domain,
         params=plan.params[name],
-        claims=claims_of(name, plan.kinds[name].claims),
-        interface=interface_of(name, plan.kinds[name].interface),
+        claims=claims_of(name, plan.kinds[name].claims, entry.remap),
+        interface=interface_of(name, plan.kinds[name].interface, entry.remap),
+        remaps=entry.remap,
         world=plan.launch.world,
         limits=plan.launch.limits,
         log_level=log_level,
+        use_sim_time=entry.use_sim_time,
     )
 
 
@@ -258,4 +285,6 @@ def select_nodes(plan: LaunchPlan, only: list[str], exclude: list[str]) -> Launc
         commands={e.name: plan.commands[e.name] for e in kept if e.name in plan.commands},
         folder=plan.folder,
         elsewhere={n: k for n, k in plan.kinds.items() if n not in {e.name for e in kept}},
+        remaps=plan.remaps,
+        args=plan.args,
     )

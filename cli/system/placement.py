@@ -10,8 +10,9 @@ from __future__ import annotations
 import math
 from typing import Any
 
-from turtlectl.messages.keys import FIRST_TURTLE
+from turtlectl.messages.keys import FIRST_TURTLE, includes, key_problem, resolve
 from turtlectl.messages.world import World
+from turtlectl.runtime.config import Interface
 from turtlectl.sim.kinematics import TurtleState
 from turtlectl.sim.turtles import NAME as TURTLE_NAME
 from turtlectl.sim.turtles import RESERVED, spawn_problem
@@ -32,6 +33,36 @@ def namespace_problem(namespace: str) -> str | None:
             f"{FIRST_TURTLE}'s nodes run outside any namespace (their keys are navigate_to, robot/status, "
             f"{FIRST_TURTLE}/pose): leave namespace out for them"
         )
+    return None
+
+
+def remap_problem(remap: dict[str, str], namespace: str, interface: Interface | None) -> tuple[str, str] | None:
+    """The first ``remap = { FROM = TO }`` entry of a node in ``namespace`` that cannot be, and
+    why (None: all can): FROM and TO must be keys (no wildcard), never the runtime's own
+    (``turtlectl/...``: every tool finds each node there), no two FROMs the same key; and with
+    the node's ``interface`` (its kind's, resolved; None: a user's kind that declares none), FROM
+    must be a key the node uses (ROS would ignore it silently: a typo here is an error)."""
+    seen: dict[str, str] = {}
+    for source, target in remap.items():
+        for key in (source, target):
+            why = key_problem(key)
+            if why is None and resolve(key, namespace).startswith("turtlectl/"):
+                why = f"{key} is one of the runtime's own keys (turtlectl/...): they are not remapped"
+            if why:
+                return source, why
+        key = resolve(source, namespace)
+        if key in seen:
+            return source, f"{seen[key]} remaps the same key ({key})"
+        seen[key] = source
+        used = [] if interface is None else [k for f in interface.__struct_fields__ for k in getattr(interface, f)]
+        if interface is not None and not any(includes(k, key) for k in used):
+            hint = (
+                f"; write a key as the node's code does ({FIRST_TURTLE}/cmd_vel, robot/status: resolved in its "
+                f"namespace, {namespace}) or absolute (/{namespace}/cmd_vel)"
+                if namespace
+                else ""
+            )
+            return source, f"the node uses no key {key} (its keys: {', '.join(dict.fromkeys(used))}){hint}"
     return None
 
 

@@ -14,7 +14,7 @@ from turtlectl.cli.errors import BadInput
 from turtlectl.messages import Ack, Message, NavigateToFeedback, NavigateToResponse, to_builtins
 from turtlectl.messages.angles import degrees_0_360
 from turtlectl.messages.jsonform import spelled, to_json
-from turtlectl.messages.keys import FIRST_TURTLE
+from turtlectl.messages.keys import FIRST_TURTLE, resolve
 
 if TYPE_CHECKING:  # launch files (nodes' parameters) are loaded by launch and run only
     from turtlectl.cli.system.launchfile import LaunchPlan
@@ -210,13 +210,25 @@ def plan_text(plan: LaunchPlan) -> str:
         f"limits: {lim.max_linear_speed:g} m/s, {lim.max_linear_accel:g} m/s^2, "
         f"{lim.max_angular_speed:g} rad/s, {lim.max_angular_accel:g} rad/s^2",
         f"shutdown: SIGINT, {sup.sigint_timeout:g} s, SIGTERM, {sup.sigterm_timeout:g} s, SIGKILL",
-        "nodes:",
     ]
+    if plan.args:
+        lines.append("arguments:")
+    for a in plan.args:
+        default = "no default" if a.default is None else f"default {json_value(a.default)}"
+        about = f": {a.description}" if a.description else ""
+        given = "default" if a.given == "default" else f"{a.given}; {default}"
+        lines.append(f"  {a.file}: {a.name} = {json_value(a.value)} ({given}){about}")
+    lines.append("nodes:")
     for e in launch.node:
         how = ["required" if e.required else "optional"]
         if e.respawn:
             limit = "no limit" if e.respawn_max == 0 else f"at most {e.respawn_max} in a row"
             how.append(f"respawn after {e.respawn_delay:g} s doubling to {e.respawn_delay_max:g} s, {limit}")
+        if e.use_sim_time:
+            how.append("use_sim_time")
+        if e.remap:
+            keys = (f"{resolve(k, e.namespace)} -> {resolve(k, e.namespace, e.remap)}" for k in e.remap)
+            how.append(f"remap {', '.join(keys)}")
         if e.cmd:
             lines.append(f"  {e.name} (cmd {shlex.join(e.cmd)}; {'; '.join(how)})")
         else:

@@ -11,6 +11,7 @@ import msgspec
 
 from turtlectl.messages.keys import (
     FIRST_TURTLE,
+    LOG,
     EntityInfo,
     NodeInfo,
     namespace_of,
@@ -49,11 +50,14 @@ class Graph(msgspec.Struct):
     domains: list[str] = msgspec.field(default_factory=list)  # with a system on this router (seen from outside)
     hint: str = ""  # what to do when there are no nodes (e.g. "add --domain lab1")
     hidden_services: int = 0  # each node's own services left out (``list`` without --all)
+    hidden_topics: int = 0  # each node's own log topic left out (``list`` without --all)
     conflicts: list[str] = msgspec.field(default_factory=list)  # a type name two nodes describe differently
 
 
 #: where the services every node has live (parameters, node info, log level)
 NODE_SERVICE_ROOTS = ("turtlectl/params/", "turtlectl/nodes/")
+#: where the topics every node has live (its log: ``turtlectl/log/<node>``)
+NODE_TOPIC_ROOTS = (f"{LOG}/",)
 
 
 def under(key: str, roots: tuple[str, ...] = ("turtlectl/",)) -> bool:
@@ -65,9 +69,17 @@ def under(key: str, roots: tuple[str, ...] = ("turtlectl/",)) -> bool:
 
 def without_node_services(graph: Graph) -> Graph:
     """``graph`` without the services every node has (``turtlectl/params/<node>``,
-    ``turtlectl/nodes/<node>`` and below, in any domain), counted in ``hidden_services``."""
+    ``turtlectl/nodes/<node>`` and below, in any domain), counted in ``hidden_services``, nor
+    the log topic every node has (``turtlectl/log/<node>``), counted in ``hidden_topics``."""
     kept = [s for s in graph.services if not under(s.key, NODE_SERVICE_ROOTS)]
-    return msgspec.structs.replace(graph, services=kept, hidden_services=len(graph.services) - len(kept))
+    topics = [t for t in graph.topics if not under(t.key, NODE_TOPIC_ROOTS)]
+    return msgspec.structs.replace(
+        graph,
+        services=kept,
+        hidden_services=len(graph.services) - len(kept),
+        topics=topics,
+        hidden_topics=len(graph.topics) - len(topics),
+    )
 
 
 def _in_domain(prefix: str, name: str) -> str:
@@ -183,6 +195,10 @@ def graph_text(graph: Graph) -> str:
         )
     if not graph.topics:
         lines.append("  (none)")
+    if graph.hidden_topics:
+        lines.append(
+            f"  (+ {graph.hidden_topics} log topics, one per node: `turtlectl log` reads them; --all lists them)"
+        )
     lines.append("SERVICES")
     key_w = _width([s.key for s in graph.services], 28)
     type_w = _width([s.type for s in graph.services], 12)

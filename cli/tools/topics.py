@@ -30,7 +30,7 @@ from turtlectl.cli.tools.services import RouterLost
 from turtlectl.cli.tools.typebook import TypeBook, conflicts, generic
 from turtlectl.messages import DecodeError, Message, decode, decode_any, encode, encoding_for, type_from_encoding
 from turtlectl.messages.codec import MEDIA_TYPE, TYPES_BY_NAME
-from turtlectl.messages.keys import CMD_VEL, DOMAIN_GRAPHS, FEEDBACK, GRAPH, PARAMETER_EVENTS, SERVICES, TOPICS
+from turtlectl.messages.keys import CMD_VEL, DOMAIN_GRAPHS, FEEDBACK, GRAPH, LOG, PARAMETER_EVENTS, SERVICES, TOPICS
 from turtlectl.runtime.endpoint import default_domain
 
 WHILE_A_GOAL_RUNS = (FEEDBACK, CMD_VEL)  # published by the navigator only while a goal runs
@@ -149,6 +149,8 @@ def silence_text(key: str, current: Graph, hint: Callable[[], str], domain: str 
                 f"nothing published on {key} {yet}: {who} only when a parameter changes "
                 "(`turtlectl param set NODE NAME VALUE`)"
             )
+        if all(base_key(t.key).startswith(f"{LOG}/") for t in published):
+            return f"nothing published on {key} {yet}: {who} only when {'it logs' if len(publishers) == 1 else 'they log'} a record (`turtlectl log` shows the recent ones)"
         return f"nothing published on {key} for {SILENCE:g} s although {who}: it may be stalled (see its log)"
     if elsewhere:
         which = ", ".join(elsewhere)

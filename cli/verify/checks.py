@@ -6,7 +6,6 @@ what is being measured)."""
 from __future__ import annotations
 
 import statistics
-import time
 from collections.abc import Callable
 
 from turtlectl.cli.errors import TurtlectlError, Unreachable
@@ -16,21 +15,22 @@ from turtlectl.cli.verify import running
 from turtlectl.cli.verify.goals import goals
 from turtlectl.cli.verify.report import Verdict
 from turtlectl.cli.verify.spec import Criterion, Messages, NoErrors, Period, RoundTrip, Spec, label
+from turtlectl.cli.verify.timebase import Timebase
 
 
-def _arrivals(client: Client, key: str, count: int, within: float) -> list[tuple[float, float | None]]:
-    """``count`` messages on ``key``, or as many as came within ``within`` s: each one's arrival
-    time (monotonic s) and the publisher's ``stamp`` (s; None when its type has none)."""
+def _arrivals(client: Client, key: str, count: int, within: float, clock: Timebase) -> list[tuple[float, float | None]]:
+    """``count`` messages on ``key``, or as many as came within ``within`` s of ``clock``: each
+    one's arrival time (``clock``'s s) and the publisher's ``stamp`` (s; None when its type has none)."""
     sub = client.subscribe(key)
-    deadline = time.monotonic() + within
+    deadline = clock.now() + within
     times: list[tuple[float, float | None]] = []
     try:
-        while len(times) < count and time.monotonic() < deadline:
+        while len(times) < count and clock.now() < deadline:
             try:
-                msg = sub.next(timeout=max(0.01, deadline - time.monotonic()))
+                msg = sub.next(timeout=max(0.01, (deadline - clock.now()) / clock.factor))
             except TurtlectlError:
                 break
-            times.append((time.monotonic(), stamp_of(msg)))
+            times.append((clock.now(), stamp_of(msg)))
     finally:
         sub.undeclare()
     return times
@@ -78,7 +78,7 @@ def require_nodes(client: Client, graph: Graph, doing: str = "") -> None:
         raise Unreachable(f"no nodes are running at {client.connect}{': ' + doing if doing else ''}{hint}")
 
 
-def interfaces(client: Client, spec: Spec, graph: Graph) -> list[Verdict]:
+def interfaces(client: Client, spec: Spec, graph: Graph, clock: Timebase) -> list[Verdict]:
     """Each declared topic and service against the live ``graph`` (and a topic's period)."""
     topics = {t.key: (t.type, t.publishers) for t in graph.topics}
     services = {s.key: (s.type, s.servers) for s in graph.services}
@@ -90,7 +90,7 @@ def interfaces(client: Client, spec: Spec, graph: Graph) -> list[Verdict]:
             t.type, t.publisher, found, roles, "nothing publishes or subscribes to it"
         )
         if found is not None and t.period_ms is not None and not problems:
-            periods, how = periods_of(_arrivals(client, t.key, 21, 20 * t.period_ms / 1000 + 5), "publisher")
+            periods, how = periods_of(_arrivals(client, t.key, 21, 20 * t.period_ms / 1000 + 5, clock), "publisher")
             if not periods:
                 problems.append("no messages to measure its period")
             else:
@@ -107,8 +107,8 @@ def interfaces(client: Client, spec: Spec, graph: Graph) -> list[Verdict]:
     return out
 
 
-def _period(client: Client, c: Period) -> Verdict:
-    times = _arrivals(client, c.key, c.samples + 1, (c.samples + 1) * c.period_ms / 1000 * 2 + 5)
+def _period(client: Client, c: Period, clock: Timebase) -> Verdict:
+    times = _arrivals(client, c.key, c.samples + 1, (c.samples + 1) * c.period_ms / 1000 * 2 + 5, clock)
     required = f"{c.share:.0%} of {c.samples} periods within {c.period_ms:g} ± {c.tolerance_ms:g} ms ({c.at})"
     periods, how = periods_of(times, c.at)
     if len(periods) < c.samples:
@@ -120,9 +120,9 @@ def _period(client: Client, c: Period) -> Verdict:
     return Verdict(label(c), required, measured, within >= c.share, why)
 
 
-def _messages(client: Client, c: Messages) -> Verdict:
+def _messages(client: Client, c: Messages, clock: Timebase) -> Verdict:
     before = {n.name: n.pid for n in client.nodes()}
-    times = _arrivals(client, c.key, c.count, c.within_s)
+    times = _arrivals(client, c.key, c.count, c.within_s, clock)
     after = {n.name: n.pid for n in client.nodes()}
     lost = sorted(n for n in before if after.get(n) != before[n])
     problems = []
@@ -143,30 +143,42 @@ def _messages(client: Client, c: Messages) -> Verdict:
 
 
 def criterion(
-    client: Client, c: Criterion, short: float | None = None, progress: Callable[[str], None] = lambda _: None
+    client: Client,
+    c: Criterion,
+    short: float | None = None,
+    progress: Callable[[str], None] = lambda _: None,
+    clock: Timebase | None = None,
 ) -> Verdict:
-    """One criterion measured (``short``: s, the longest a long one may run; None: its full time)."""
+    """One criterion measured (``short``: s, the longest a long one may run; None: its full time)
+    on ``clock`` (the machine's by default; a system's simulated time: timebase.SimulatedTime)."""
+    clock = clock or Timebase()
     if isinstance(c, Period):
-        return _period(client, c)
+        return _period(client, c, clock)
     if isinstance(c, Messages):
-        return _messages(client, c)
+        return _messages(client, c, clock)
     if isinstance(c, NoErrors):
-        return running.no_errors(client, c, short, progress)
+        return running.no_errors(client, c, short, progress, clock)
     if isinstance(c, RoundTrip):
         return running.round_trip(client, c)
-    return goals(client, c)
+    return goals(client, c, clock)
 
 
 def verify(
-    client: Client, spec: Spec, progress: Callable[[str], None] = lambda _: None, short: float | None = None
+    client: Client,
+    spec: Spec,
+    progress: Callable[[str], None] = lambda _: None,
+    short: float | None = None,
+    clock: Timebase | None = None,
 ) -> list[Verdict]:
     """Every interface and criterion of ``spec``, measured in the spec's order (``short``: s,
-    the longest a long criterion may run, and its verdict says so; None: their full time)."""
+    the longest a long criterion may run, and its verdict says so; None: their full time) on
+    ``clock`` (the machine's by default)."""
+    clock = clock or Timebase()
     graph = client.graph()
     require_nodes(client, graph, "nothing to verify")
     progress("interfaces")
-    out = interfaces(client, spec, graph)
+    out = interfaces(client, spec, graph, clock)
     for c in spec.criterion:
         progress(label(c))
-        out.append(criterion(client, c, short, progress))
+        out.append(criterion(client, c, short, progress, clock))
     return out

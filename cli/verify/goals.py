@@ -6,12 +6,12 @@ from __future__ import annotations
 
 import math
 import random
-import time
 
 from turtlectl.cli.errors import TurtlectlError
 from turtlectl.cli.tools.api import Client
 from turtlectl.cli.verify.report import Verdict
 from turtlectl.cli.verify.spec import Goals, Pose, ReportedTime, label
+from turtlectl.cli.verify.timebase import Timebase
 from turtlectl.messages import TeleportAbsolute
 from turtlectl.messages.angles import heading_difference_degrees, heading_radians
 from turtlectl.messages.keys import TELEPORT
@@ -36,7 +36,10 @@ def heading_error(a: float, b: float) -> float:
     return heading_difference_degrees(heading_radians(a), heading_radians(b))
 
 
-def goals(client: Client, c: Goals | ReportedTime) -> Verdict:
+def goals(client: Client, c: Goals | ReportedTime, clock: Timebase | None = None) -> Verdict:
+    """Each goal of ``c`` through the client, timed on ``clock`` (the machine's by default; a
+    system's simulated time, in which its time_taken is, with ``verify --time-scale``)."""
+    clock = clock or Timebase()
     worst_time, worst_distance, worst_heading, worst_gap, problems = 0.0, 0.0, 0.0, 0.0, []
     answered = 0
     for x, y, theta in goal_list(c):
@@ -44,12 +47,12 @@ def goals(client: Client, c: Goals | ReportedTime) -> Verdict:
             if isinstance(c, Goals) and c.start is not None:
                 sx, sy, stheta = c.start
                 client.call(TELEPORT, TeleportAbsolute(x=sx, y=sy, theta=heading_radians(stheta)))
-            started = time.monotonic()
+            started = clock.now()
             response = client.goto(x, y, theta, timeout=max(c.within_s * 5, 30.0))
         except TurtlectlError as exc:
             problems.append(f"({x:g}, {y:g}): {exc.message}")
             continue
-        elapsed = time.monotonic() - started
+        elapsed = clock.now() - started
         answered += 1
         worst_time = max(worst_time, elapsed)
         worst_gap = max(worst_gap, abs(elapsed - response.time_taken))

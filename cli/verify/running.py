@@ -4,7 +4,6 @@ process, no log record at ERROR or worse) and message types round-tripping (``ro
 
 from __future__ import annotations
 
-import time
 from collections.abc import Callable
 
 import msgspec
@@ -14,6 +13,7 @@ from turtlectl.cli.tools.api import Client
 from turtlectl.cli.tools.graph import under
 from turtlectl.cli.verify.report import Verdict
 from turtlectl.cli.verify.spec import NoErrors, RoundTrip, label
+from turtlectl.cli.verify.timebase import Timebase
 from turtlectl.messages import decode, encode
 from turtlectl.messages.keys import NodeDetails
 
@@ -42,8 +42,13 @@ def _details(client: Client, names: list[str]) -> dict[str, NodeDetails]:
 
 
 def no_errors(
-    client: Client, c: NoErrors, short: float | None, progress: Callable[[str], None] = lambda _: None
+    client: Client,
+    c: NoErrors,
+    short: float | None,
+    progress: Callable[[str], None] = lambda _: None,
+    clock: Timebase | None = None,
 ) -> Verdict:
+    clock = clock or Timebase()
     duration, cut = _duration(c, short)
     required = f"{c.minutes:g} min alive, same process, no ERROR records{cut}"
     alive = {n.name: n.pid for n in client.nodes()}
@@ -53,12 +58,12 @@ def no_errors(
     names = [c.node] if c.node else sorted(alive)
     before = _details(client, names)
     events: dict[str, str] = {}  # node -> what happened to it first (stopped, restarted)
-    started = time.monotonic()
+    started = clock.now()
     told = started
-    while (now := time.monotonic()) - started < duration:
-        time.sleep(min(LOOK_EVERY, duration - (now - started)))
+    while (now := clock.now()) - started < duration:
+        clock.sleep(min(LOOK_EVERY, duration - (now - started)))
         seen = {n.name: n.pid for n in client.nodes()}
-        at = time.monotonic() - started
+        at = clock.now() - started
         for name in names:
             if name in events or name not in before:
                 continue
@@ -66,8 +71,8 @@ def no_errors(
                 events[name] = f"{name} stopped at {at:.0f} s"
             elif seen[name] != before[name].pid:
                 events[name] = f"{name} restarted at {at:.0f} s (pid {before[name].pid} -> {seen[name]})"
-        if time.monotonic() - told >= TELL_EVERY:
-            told = time.monotonic()
+        if clock.now() - told >= TELL_EVERY:
+            told = clock.now()
             progress(f"{label(c)}: {told - started:.0f} of {duration:g} s")
     after = _details(client, [n for n in names if n not in events])
     problems = [events[n] for n in names if n in events]
@@ -80,7 +85,7 @@ def no_errors(
         errors += max(0, new)
         if new > 0:
             problems.append(f"{name} logged {new} error{'s' * (new > 1)} (the last: {now_details.last_error})")
-    measured = f"{time.monotonic() - started:.0f} s, {len(names)} node{'s' * (len(names) != 1)}, {errors} errors"
+    measured = f"{clock.now() - started:.0f} s, {len(names)} node{'s' * (len(names) != 1)}, {errors} errors"
     measured += f", {len(events)} stopped or restarted"
     return Verdict(label(c), required, measured, not problems, "; ".join(problems))
 

@@ -96,10 +96,32 @@ class Client:
                     _sid, call, length = struct.unpack_from("<III", message, 1)
                     if call == 7:
                         return json.loads(message[13 + length :])
+                elif isinstance(message, bytes) and message[0] == 0x01:
+                    self.pending.append(message)  # a subscription's message meanwhile: kept for ``received``
                 elif isinstance(message, str) and json.loads(message)["op"] == "serviceCallFailure":
                     raise AssertionError(message)
 
         return await asyncio.wait_for(wait(), timeout)
+
+    async def received(self, subscription: int, until, timeout: float = 30.0) -> list[bytes]:
+        """The messages of ``subscription`` (kept meanwhile, then as they come) until ``until(got)``."""
+        got: list[bytes] = []
+
+        def take(message: bytes) -> None:
+            if message[0] == 0x01 and struct.unpack_from("<I", message, 1)[0] == subscription:
+                got.append(message[13:])
+
+        for message in self.pending:
+            take(message)
+
+        async def wait() -> None:
+            while not until(got):
+                message = await self.ws.recv()
+                if isinstance(message, bytes):
+                    take(message)
+
+        await asyncio.wait_for(wait(), timeout)
+        return got
 
 
 def _bridge(endpoint: str, port: int) -> subprocess.Popen[str]:
@@ -124,12 +146,12 @@ def test_foxglove_sees_the_topics_the_scene_and_sends_a_goal():
         bridge = _bridge(system.endpoint, port)
         try:
 
-            async def session() -> tuple[Client, dict[str, list[bytes]], dict]:
+            async def session() -> tuple[Client, dict[str, list[bytes]], dict, list[bytes]]:
                 async with connect(f"ws://127.0.0.1:{port}", subprotocols=[SUBPROTOCOL], max_size=None) as ws:
                     info = json.loads(await ws.recv())
                     assert info["op"] == "serverInfo" and "services" in info["capabilities"]
                     client = Client(ws)
-                    await client.advertised(TOPICS)
+                    await client.advertised((*TOPICS, "log"))
                     scene = _protobuf_class(client.channels["scene"])
                     got = await client.messages(  # until the world is drawn (sent when the scene is subscribed)
                         TOPICS,
@@ -139,10 +161,17 @@ def test_foxglove_sees_the_topics_the_scene_and_sends_a_goal():
                     # review of issue 11: each unsubscribe printed "Callback failed: AttributeError: 'Bridge'
                     # object has no attribute 'on_unsubscribe'"; the call after it is handled after it
                     await ws.send(json.dumps({"op": "unsubscribe", "subscriptionIds": [1]}))
+                    # issue 28: the navigator's log records of the goal, on `log` for Foxglove's Log panel
+                    log = {"id": 9, "channelId": client.channels["log"]["id"]}
+                    await ws.send(json.dumps({"op": "subscribe", "subscriptions": [log]}))
                     response = await client.call("navigate_to", {"x": 8.0, "y": 5.0, "theta": 90.0})
-                    return client, got, response
+                    entry = _protobuf_class(client.channels["log"])
+                    logged = await client.received(
+                        9, lambda got: any("goal reached" in entry.FromString(p).message for p in got)
+                    )
+                    return client, got, response, logged
 
-            client, got, response = asyncio.run(session())
+            client, got, response, logged = asyncio.run(session())
         finally:
             bridge.terminate()
             out, err = bridge.communicate(timeout=10)
@@ -172,6 +201,12 @@ def test_foxglove_sees_the_topics_the_scene_and_sends_a_goal():
 
     assert response["type"] == "NavigateToResponse" and response["success"] is True, response
     assert abs(response["x"] - 8.0) < 0.05 and abs(response["y"] - 5.0) < 0.05
+
+    assert client.channels["log"]["schemaName"] == "foxglove.Log"
+    entries = [_protobuf_class(client.channels["log"]).FromString(p) for p in logged]
+    reached = next(e for e in entries if "goal reached" in e.message)
+    assert reached.name == "navigator" and reached.level == 2 and reached.file.endswith("navigator.py")  # 2: INFO
+    assert reached.line > 0 and reached.timestamp.seconds > 0
 
 
 def test_the_layout_file_names_the_scene_and_the_goal_service(tmp_path):

@@ -102,10 +102,12 @@ def test_a_recorded_goal_holds_every_message_sent_meanwhile(goal_recording):
     counts = {t.key: t.count for t in recording.info().topics if t.encoding == "json"}
     assert counts == {k: len(v) for k, v in recorded.items()}
 
-    # --scene: Foxglove's 3D scene is in the file too, the world with the launch file's obstacles
-    assert {r.key for r in scene} == {"scene", "scene/scan"}
+    # --scene: Foxglove's 3D scene is in the file too, the world with the launch file's obstacles;
+    # and the goal's log records for Foxglove's Log panel (issue 28), beside turtlectl/log/navigator
+    assert {r.key for r in scene} == {"scene", "scene/scan", "log"}
     types = {t.key: t.type_name for t in recording.info().topics}
     assert types["scene"] == "foxglove.SceneUpdate" and types["scene/scan"] == "foxglove.LaserScan"
+    assert types["log"] == "foxglove.Log" and types["turtlectl/log/navigator"] == "Log"
     from mcap.reader import make_reader
 
     from tests.protobuf_schemas import protobuf_class
@@ -124,7 +126,12 @@ def test_info_says_what_the_file_holds(goal_recording):
     result = subprocess.run([*turtlectl(), "info", str(path)], capture_output=True, text=True, timeout=30)
     assert result.returncode == 0, result.stderr
     assert "Closed:    yes" in result.stdout
-    for key, type_name in (("turtle1/pose", "Pose"), ("robot/status", "TurtleStatus"), ("obstacles", "LaserScan")):
+    for key, type_name in (
+        ("turtle1/pose", "Pose"),
+        ("robot/status", "TurtleStatus"),
+        ("obstacles", "LaserScan"),
+        ("turtlectl/log/navigator", "Log"),  # the goal's log records, kept like any topic (issue 28)
+    ):
         assert any(line.split()[:2] == [key, type_name] for line in result.stdout.splitlines()), result.stdout
     data = msgspec.json.decode(
         subprocess.run([*turtlectl(), "info", str(path), "--json"], capture_output=True, timeout=30).stdout
@@ -372,3 +379,44 @@ def test_a_ros2_bag_plays_its_topics_without_the_leading_slash(tmp_path):
         close_session(session)
     finally:
         router.kill()
+
+
+def test_play_clock_publishes_the_recordings_time_and_stamps_messages_as_recorded(goal_recording):
+    """``play --clock HZ`` (ros2 bag play --clock): the recording's time on ``clock`` while it
+    plays, for nodes run with --use-sim-time; each message stamped with its recorded time."""
+    from turtlectl.messages import Clock, TurtleStatus, decode
+
+    path = goal_recording[0]
+    recorded = [r for r in Recording(path).records() if r.key == "robot/status"]
+    router = Router()
+    router.start()
+    try:
+        session = zenoh.open(client_config(router.endpoint, 3.0))
+        clocks: list[Clock] = []
+        stamps: list[int] = []
+        subs = [
+            session.declare_subscriber("clock", lambda s: clocks.append(decode(s.payload.to_bytes(), Clock))),
+            session.declare_subscriber(
+                "robot/status", lambda s: stamps.append(decode(s.payload.to_bytes(), TurtleStatus).stamp)
+            ),
+        ]
+        player = subprocess.run(
+            [*turtlectl(), "play", str(path), "--topics", "robot/status", "--clock", "50", "--rate", "2"]
+            + ["--connect", router.endpoint],
+            capture_output=True,
+            text=True,
+            timeout=60,
+        )
+        assert player.returncode == 0, player.stderr
+        _wait(lambda: len(stamps) == len(recorded), "every status played")
+        for sub in subs:
+            sub.undeclare()
+        close_session(session)
+    finally:
+        router.kill()
+    assert stamps == [r.log_time for r in recorded]
+    times = [c.clock for c in clocks]
+    span = (recorded[-1].log_time - recorded[0].log_time) / 1e9
+    assert len(clocks) >= 0.5 * 50 * span / 2, len(clocks)  # 50 a second over the half span played at --rate 2
+    assert times == sorted(times) and {c.real_time_factor for c in clocks} == {2.0}
+    assert recorded[0].log_time <= times[0] and times[-1] <= recorded[-1].log_time + 100_000_000

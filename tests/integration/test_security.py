@@ -16,6 +16,7 @@ import pytest
 import zenoh
 
 from tests.integration.harness import running_system, turtlectl
+from tests.integration.test_log import Lines
 from turtlectl.cli.errors import ExitCode
 from turtlectl.cli.system import credentials
 from turtlectl.messages import Pose, Twist, encode, encoding_for
@@ -181,6 +182,33 @@ def test_only_the_navigator_may_serve_navigate_to(secure):
         assert queries == []  # the impostor never got the goal
     finally:
         impostor.close()
+
+
+def test_every_nodes_log_reaches_a_viewer_through_the_routers_rules(secure):
+    """Issue 28: each node may publish its own log key and answer a get on it for its recent
+    records, and a viewer may read both (the router drops what it does not allow without a word)."""
+    viewer = {"TURTLECTL_ROLE": "viewer"}
+    recent, _ = run_as(secure, viewer, "log", "--json")
+    assert recent.returncode == 0, recent.stderr
+    ready = {r["node"] for r in map(json.loads, recent.stdout.splitlines()) if r["message"].startswith("ready (pid")}
+    assert ready == {"sim", "navigator", "status_monitor", "obstacle_detector"}
+    follow = subprocess.Popen(
+        [*turtlectl(), "log", "-f", "--node", "navigator", "--json", "--connect", secure.endpoint],
+        env={**os.environ, **viewer},
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        stdin=subprocess.DEVNULL,
+        text=True,
+    )
+    try:
+        lines = Lines(follow)
+        lines.until(lambda r: r["message"].startswith("ready (pid"))
+        changed, _ = run(secure, "param", "set", "navigator", "goal_timeout", "40")  # as operator
+        assert changed.returncode == 0, changed.stderr
+        lines.until(lambda r: r["message"].endswith("-> 40.0"))  # published live, through the router
+    finally:
+        follow.kill()
+        follow.wait()
 
 
 def run_as(system, env: dict[str, str], *args: str) -> tuple[subprocess.CompletedProcess[str], float]:

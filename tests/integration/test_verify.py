@@ -239,3 +239,53 @@ def test_each_kind_of_criterion_fails_with_its_reason_on_a_system_made_to_miss_i
     assert out.splitlines()[-1] == "1 of 6 hold; 5 fail", out
     suite = ET.parse(junit).getroot().find("testsuite")
     assert suite is not None and suite.get("failures") == "5" and suite.get("tests") == "6"
+
+
+SIMULATED = """intent = "a goal and half a minute without errors, in simulated time"
+[[criterion]]
+check = "goal"
+name = "goal"
+goals = [[8.5, 5.5, 180.0]]
+within_s = 2.5
+distance_m = 0.01
+[[criterion]]
+check = "no_errors"
+name = "quiet"
+minutes = 0.5
+[[criterion]]
+check = "reported_time"
+name = "reported"
+goals = [[5.5, 5.5, 0.0]]
+within_s = 0.1
+"""
+
+
+def test_verify_at_5x_measures_in_simulated_time_and_finishes_sooner(tmp_path):
+    """Issue 28: `verify --launch FILE --time-scale 5` runs the system five times as fast and
+    measures in its simulated time: half a minute without errors is 30 simulated seconds, a
+    goal's time and its time_taken are in simulated seconds (they agree), all sooner."""
+    import subprocess
+    import time
+
+    spec = tmp_path / "spec.toml"
+    spec.write_text(SIMULATED)
+    started = time.monotonic()
+    done = subprocess.run(
+        [*turtlectl(), "verify", str(spec), "--launch", str(ROOT / "launch.toml"), "--time-scale", "5", "--json"],
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
+    wall = time.monotonic() - started
+    assert done.returncode == 0, done.stdout + done.stderr
+    rows = {row["what"]: row for row in json.loads(done.stdout)["verdicts"]}
+    assert rows["quiet"]["measured"].startswith("30 s,"), rows["quiet"]
+    assert rows["reported"]["ok"], rows["reported"]
+    assert wall < 30.0, f"30 simulated seconds took {wall:.0f} s of wall clock"
+    time_scale_alone = subprocess.run(
+        [*turtlectl(), "verify", str(spec), "--time-scale", "5", "--connect", f"tcp/127.0.0.1:{free_port()}"],
+        capture_output=True,
+        text=True,
+        timeout=60,
+    )
+    assert time_scale_alone.returncode == 2 and "--launch" in time_scale_alone.stderr

@@ -52,6 +52,7 @@ PURE = [
     "cli.tools.format",
     "cli.tools.graph",
     "cli.tools.rates",
+    "cli.tools.plot",  # plot's model: KEY.FIELD, the numbers in a message, the sliding window
     "cli.tools.keyboard",
     "cli.tools.interface_live",
     "cli.recording.bag",  # recordings: MCAP files, read and written without a session

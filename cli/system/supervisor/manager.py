@@ -95,7 +95,10 @@ class Supervisor:
         self.private = Path(tempfile.mkdtemp(prefix="turtlectl-secure-"))  # 0700
         users = credentials.write_users(self.private, [*self.logins.values(), *self.client_logins.values()])
         kinds = self.plan.kinds | self.plan.elsewhere
-        rights = {login.user: access.node_rights(name, kinds[name]) for name, login in self.logins.items()}
+        rights = {
+            login.user: access.node_rights(name, kinds[name], self.plan.remaps.get(name))
+            for name, login in self.logins.items()
+        }
         rights |= {login.user: access.ROLES[role] for role, login in self.client_logins.items()}
         tls = None
         if self.tls is not None:

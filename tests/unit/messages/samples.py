@@ -5,9 +5,11 @@ import math
 from turtlectl.messages import (
     Ack,
     Cancel,
+    Clock,
     ErrorReply,
     Kill,
     LaserScan,
+    Log,
     NavigateToFeedback,
     NavigateToRequest,
     NavigateToResponse,
@@ -63,6 +65,7 @@ SAMPLES = [
     SpawnRequest(x=1.0, y=2.0, theta=0.5, name="turtle2"),
     SpawnResponse(name="turtle2"),
     Turtles(names=["turtle1", "turtle2"], x=[1.0, 2.0], y=[3.0, 4.0], theta=[0.0, 1.0], stamp=5, seq=1),
+    Clock(clock=1_764_100_000_000_000_000, real_time_factor=5.0),
     Kill(name="turtle2"),
     Ack(ok=False, detail="no goal is running"),
     NavigateToResponse(success=True, time_taken=1.25, position_error=0.004, heading_error=0.3, x=1, y=2, theta=90),
@@ -70,6 +73,16 @@ SAMPLES = [
     SetParameter(name="gains.lookahead", value=0.7),
     ParameterEvent(node="navigator", name="goal_timeout", old_value=30.0, new_value=60.0),
     SetLogLevel(level="DEBUG"),
+    Log(
+        level=30,
+        node="turtle2/navigator",
+        message="goal refused: battery low",
+        file="/opt/turtlectl/nodes/navigator.py",
+        function="on_goal",
+        line=155,
+        stamp=11,
+        seq=12,
+    ),
 ]
 
 

@@ -28,6 +28,7 @@ def test_every_key_has_a_message_type():
         "navigate_to/feedback",
         "turtlectl/parameter_events",
         "turtles",
+        "clock",
     }
     assert SERVICES["navigate_to"] == (NavigateToRequest, NavigateToResponse)
 

@@ -70,3 +70,24 @@ def test_every_turtle_is_drawn_named_with_its_trail_and_goal():
     assert sorted(e.id for e in update.entities) == ["trail/turtle3", "turtle/turtle3"]
     assert maker.on_message("turtles", _turtles(["turtle1"]), 7) != []  # turtle3's deletions
     assert maker.on_message("turtles", _turtles(["turtle1"]), 8) == []  # turtle1 alone: nothing to draw
+
+
+def test_a_log_record_is_foxgloves_log_for_its_log_panel():
+    """Issue 28: every node's records on the ``log`` channel (the bridge, record --scene)."""
+    from turtlectl.cli.foxglove.scene import LOG, SceneMaker
+    from turtlectl.messages import Log
+    from turtlectl.messages.world import World
+
+    levels = {}
+    for level in (10, 20, 25, 30, 40, 50, 5, 0):
+        record = Log(
+            level=level, node="turtle2/navigator", message="m", file="/n/navigator.py", line=155, stamp=1_500_000_000
+        )
+        ((topic, drawn),) = SceneMaker(World()).on_message("turtlectl/log/turtle2.navigator", record, 2_000_000_000)
+        assert topic == LOG == "log" and type(drawn).get_schema().name == "foxglove.Log"
+        entry = decoded(drawn)
+        assert (entry.name, entry.message, entry.file, entry.line) == ("turtle2/navigator", "m", "/n/navigator.py", 155)
+        assert (entry.timestamp.seconds, entry.timestamp.nanos) == (1, 500_000_000)  # when it was logged
+        levels[level] = entry.level
+    # Foxglove's LogLevel: 0 UNKNOWN, 1 DEBUG, 2 INFO, 3 WARNING, 4 ERROR, 5 FATAL
+    assert levels == {10: 1, 20: 2, 25: 2, 30: 3, 40: 4, 50: 5, 5: 1, 0: 0}

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from turtlectl.cli.system.access import ROLES, access_control, node_rights, permitted, who_may
+from turtlectl.messages.keys import LOG_KEYS, log_key
 from turtlectl.nodes.kinds import KINDS
 
 
@@ -75,7 +76,22 @@ def test_a_user_kind_without_an_interface_may_do_what_teleop_may_and_use_its_own
     mine = node_rights("guard", NodeKind("/p/patrol.py:Patrol", SimParams))
     # what teleop may: drive any turtle (issue 27), turtle1 among them
     assert "*/cmd_vel" in mine["publish"] and "guard/**" in mine["publish"] and mine["serve"][0] == "guard/**"
-    assert mine["subscribe"] == ("**",) and "navigate_to" in mine["call"]
+    assert mine["subscribe"] == ("**", "clock") and "navigate_to" in mine["call"]
     declared = node_rights("guard", NodeKind("/p/patrol.py:Patrol", SimParams, interface=Interface(publishes=("a",))))
     assert declared["publish"][0] == "a"
-    assert declared["subscribe"] == () and "turtle1/cmd_vel" not in declared["publish"]
+    # every node's share: the simulator's clock (use_sim_time)
+    assert declared["subscribe"] == ("clock",) and "turtle1/cmd_vel" not in declared["publish"]
+
+
+def test_every_node_may_publish_and_serve_its_own_log_and_a_viewer_may_read_every_nodes():
+    """Issue 28: one log stream.  Zenoh drops a denied put without a word: a node's log key is
+    its own share under --secure, whatever its kind declares, and no other node's."""
+    for name, kind in (("navigator", KINDS["navigator"]), ("turtle2/navigator", KINDS["navigator"])):
+        rights = node_rights(name, kind)
+        key = log_key(name)
+        assert key in rights["publish"] and key in rights["serve"] and LOG_KEYS in rights["asked"]
+        # a publisher hears of a wildcard subscriber (turtlectl log's, record -a's) only through a rule as wide
+        assert rights["heard"] == ("**",)
+    assert "turtlectl/log/sim" not in node_rights("navigator", KINDS["navigator"])["publish"]
+    assert "turtlectl/log/turtle2.navigator" in node_rights("turtle2/navigator", KINDS["navigator"])["publish"]
+    assert permitted("viewer", "subscribe", "turtlectl/log/navigator") and permitted("viewer", "call", LOG_KEYS)

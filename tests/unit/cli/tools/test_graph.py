@@ -142,3 +142,17 @@ def test_one_long_publisher_list_widens_only_its_own_line():
     )
     pose_line = next(line for line in graph_text(graph).splitlines() if "turtle1/pose" in line)
     assert len(pose_line) < 120 and pose_line.endswith("sub: navigator")
+
+
+def test_list_counts_the_log_topic_every_node_has_instead_of_listing_it():
+    """Issue 28: every node publishes its log on turtlectl/log/<node>: listed with --all."""
+    from turtlectl.cli.tools.graph import Graph, TopicRow, without_node_services
+
+    keys = ["robot/status", "turtlectl/parameter_events", "turtlectl/log/sim", "turtlectl/log/turtle2.navigator"]
+    graph = Graph(
+        nodes=[], topics=[TopicRow(key=k, type="Log", publishers=["sim"], subscribers=[]) for k in keys], services=[]
+    )
+    kept = without_node_services(graph)
+    assert [t.key for t in kept.topics] == ["robot/status", "turtlectl/parameter_events"] and kept.hidden_topics == 2
+    assert "(+ 2 log topics, one per node: `turtlectl log` reads them; --all lists them)" in graph_text(kept)
+    assert "log topics" not in graph_text(graph)

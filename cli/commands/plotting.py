@@ -1,0 +1,189 @@
+"""turtlectl's plot command: fields of messages drawn over time, live in the terminal (as
+`rqt_plot`), from a recording, or into a picture.
+
+The model (cli.tools.plot), the sources (cli.tools.plot_sources) and the drawing
+(cli.tools.plot_draw: plotext and matplotlib) are imported inside the command."""
+
+from __future__ import annotations
+
+import signal
+import sys
+from pathlib import Path
+from typing import Any
+
+import typer
+
+from turtlectl.cli import args
+from turtlectl.cli.commands.options import ConnectOption, DomainOption, TurtleOption, result
+from turtlectl.cli.errors import BadInput, Unreachable
+
+
+def plot(
+    fields: list[str] = typer.Argument(
+        ...,
+        metavar="KEY.FIELD...",
+        help="What to plot: a key, a '.', a numeric field (robot/status.battery, turtle1/pose.x, obstacles.ranges.0).",
+    ),
+    recording: Path | None = typer.Option(
+        None, "-i", "--input", metavar="FILE", help="Plot a recording (MCAP file) whole, instead of a running system."
+    ),
+    output: Path | None = typer.Option(
+        None,
+        "-o",
+        "--output",
+        metavar="FILE",
+        help="Write a picture (.png or .svg) instead of drawing in the terminal.",
+    ),
+    window: float = typer.Option(10.0, "--window", min=1.0, help="Seconds the live plot shows (a sliding window)."),
+    duration: float | None = typer.Option(None, "--duration", min=0.1, help="Stop after S seconds (a running system)."),
+    turtle: str = TurtleOption,
+    connect: str = ConnectOption,
+    domain: str = DomainOption,
+) -> None:
+    """Plot numeric fields over time, one line each, as `rqt_plot`: live in this terminal from a
+    running system (the last --window seconds, redrawn 5 times a second), or a recording whole
+    (--input), or into a picture (--output FILE.png or .svg).
+
+    KEY.FIELD is a key, then a '.' and the field (nested fields and list items as echo's
+    --field: navigate_to/feedback.path.0.1); with --turtle turtle2, the key as turtle2's nodes
+    write it.  A bool plots as 0 or 1; inf and NaN are left out.  A field that is not a number
+    is exit code 2, naming the numeric fields of its type.  The live plot runs until q or Ctrl-C
+    (exit code 0) or --duration; with --output, a running system's messages are collected until
+    --duration or Ctrl-C, then drawn.  No number to plot at all is exit code 3.
+
+    Example: turtlectl plot robot/status.battery turtle1/pose.x
+    """
+    from turtlectl.cli.tools import plot as model
+
+    series = model.parse_all(fields, turtle)
+    args.finite_option(window, "--window")
+    args.finite_option(duration, "--duration")
+    kind = model.picture_format(output) if output is not None else ""
+    if recording is not None:
+        if duration is not None:
+            raise BadInput("--duration is for a running system: a recording (--input) is plotted whole")
+        _plot_recording(series, recording, output, kind)
+        return
+    model.check_builtins(series, turtle)  # a built-in key's type is known: a typo is said at once
+    if output is not None:
+        _collect_live(series, output, kind, duration, connect)
+    else:
+        if not sys.stdout.isatty():
+            raise BadInput(
+                "the live plot draws in a terminal, and the output is not one: write a picture with "
+                "--output FILE.png (with --duration S), or the numbers with `turtlectl echo KEY --field FIELD --csv`"
+            )
+        _plot_live(series, window, duration, connect)
+
+
+def _lines(series: list[Any], points: Any) -> list[Any]:
+    return [(s.label, *points.xy(s)) for s in series]
+
+
+def _plot_recording(series: list[Any], path: Path, output: Path | None, kind: str) -> None:
+    """A recording whole: a picture, or one chart printed in the terminal."""
+    import shutil
+
+    from turtlectl.cli.tools import plot_draw, plot_sources
+
+    got = plot_sources.from_recording(path, series)
+    if not got.closed:
+        from turtlectl.cli.recording.recover import hint
+
+        typer.echo(
+            f"warning: {path} was not closed (the recorder was killed?): plotting what is complete; {hint(path)}",
+            err=True,
+        )
+    for s in got.collected.empty():
+        typer.echo(f"warning: no number in {s.label} (only inf or NaN)", err=True)
+    lines = _lines(series, got.collected)
+    if output is not None:
+        plot_draw.write_picture(output, kind, lines, path.name)
+        result(_wrote(output, got.collected, got.duration))
+        return
+    cols, rows = shutil.get_terminal_size((100, 30))
+    x_limits = (0.0, max(got.duration, 1e-3))
+    text = plot_draw.chart(lines, cols, max(rows - 2, 8), x_limits, None, color=sys.stdout.isatty())
+    result("\n".join(text) + f"\n{path.name}: {got.collected.count} samples over {got.duration:.1f} s")
+
+
+def _wrote(output: Path, collected: Any, seconds: float) -> str:
+    count = len(collected.series)
+    return f"wrote {output}: {collected.count} samples of {count} series over {seconds:.1f} s"
+
+
+def _collect_live(series: list[Any], output: Path, kind: str, duration: float | None, connect: str) -> None:
+    """A running system's numbers until --duration or Ctrl-C, then a picture of them."""
+    from turtlectl.cli.sigint import stop_on_signals
+    from turtlectl.cli.tools import client, plot_draw, plot_sources
+    from turtlectl.cli.tools.plot import Collected
+
+    collected = Collected(series)
+    told: set[str] = set()
+    ends = f"for {duration:g} s" if duration is not None else "until Ctrl-C"
+    labels = ", ".join(s.label for s in series)
+    with client.client_session(connect) as session, stop_on_signals() as stop:
+        live = plot_sources.Live(session, connect, series)
+        typer.echo(f"plotting {labels} into {output} {ends}", err=True)
+        try:
+            while not stop.is_set() and (duration is None or live.elapsed() < duration):
+                wait = 0.1 if duration is None else max(0.0, min(0.1, duration - live.elapsed()))
+                for s, t, value in live.poll(wait):
+                    collected.add(s, t, value)
+                for notice in live.notices:
+                    if notice not in told:
+                        told.add(notice)
+                        typer.echo(notice, err=True)
+            seconds = live.elapsed()
+            if not collected.count:
+                raise Unreachable(f"no message within {seconds:.1f} s: {live.why_silent()}")
+        finally:
+            live.close()
+    for s in collected.empty():
+        typer.echo(f"warning: no number in {s.label} within {seconds:.1f} s", err=True)
+    plot_draw.write_picture(output, kind, _lines(series, collected), "turtlectl plot")
+    result(_wrote(output, collected, seconds))
+
+
+def _plot_live(series: list[Any], window: float, duration: float | None, connect: str) -> None:
+    """The live plot in this terminal, redrawn every FRAME s, until q, Ctrl-C or --duration."""
+    from turtlectl.cli.sigint import stop_on_signals
+    from turtlectl.cli.tools import client, plot_draw, plot_sources
+    from turtlectl.cli.tools.plot import Window, status_line
+
+    shown = Window(series, window)
+    frame: list[str] = []
+    timed_out = False  # ended by --duration: its last frame stays in the terminal
+    try:
+        with client.client_session(connect) as session, stop_on_signals((signal.SIGHUP,)) as stop:
+            live = plot_sources.Live(session, connect, series)
+            try:
+                with plot_draw.screen(sys.stdout) as screen:
+                    while not stop.is_set():
+                        for s, t, value in live.poll():
+                            shown.add(s, t, value)
+                        shown.advance(live.elapsed())
+                        cols, rows = screen.size()
+                        if cols < 30 or rows < 8:
+                            frame = ["terminal too small"]
+                        else:
+                            lines = _lines(series, shown)
+                            text = plot_draw.chart(lines, cols, rows - 1, shown.x_limits(), shown.y_limits())
+                            frame = [*text, status_line(shown, live.notices, cols)]
+                        screen.show(frame)
+                        timed_out = duration is not None and live.elapsed() >= duration
+                        if timed_out or screen.key(plot_draw.FRAME).lower().startswith("q"):
+                            break
+                if timed_out and not live.received:
+                    raise Unreachable(f"no message within {duration:g} s: {live.why_silent()}")
+            finally:
+                live.close()
+    except KeyboardInterrupt:  # before the screen was up: as echo, Ctrl-C ends it
+        return
+    if timed_out:
+        result("\n".join(frame[:-1]))  # without the status line's "q quits"
+
+
+def register(app: typer.Typer) -> None:
+    """Add this group's commands to ``app``."""
+    app.command()(plot)

@@ -1,0 +1,381 @@
+"""``turtlectl plot``'s model (pure: no Zenoh, no terminal, no files, nothing printed).
+
+- ``parse_series``: what a user types, ``KEY.FIELD`` (``robot/status.battery``), as a ``Series``:
+  the key (resolved for ``--turtle`` as echo's TOPIC is) and the field's dotted path.  The key is
+  everything up to the first ``.`` of its last chunk (after the last ``/``); the rest is the path,
+  nested fields and list items as echo's ``--field`` writes them (``obstacles.ranges.0``,
+  ``navigate_to/feedback.path.0.1``).  A key whose last chunk has a ``.`` of its own cannot be
+  plotted; a key with a wildcard neither (one key per series).
+- ``Extractor``: the number a message holds at a series' path (a bool is 0 or 1; inf and NaN
+  are no sample).  The first message of a series must have a number there, else BadInput (exit 2)
+  naming the numeric fields its type has; after that a message without one is left out (a list
+  that is shorter this time).  ``check_type`` says the same before any message, for a type
+  known in advance (a built-in key's).
+- ``Window``: each series' samples over the last ``seconds`` (the live terminal plot), and the
+  axes' limits to draw them with (``x_limits``, ``y_limits``).
+- ``picture_format``: ``--output``'s file type from its extension (png or svg).
+"""
+
+from __future__ import annotations
+
+import collections
+import dataclasses
+import math
+from collections.abc import Iterable
+from pathlib import Path
+from typing import Any
+
+import msgspec
+import msgspec.inspect as mi
+
+from turtlectl.cli.errors import BadInput
+from turtlectl.messages import Message
+from turtlectl.messages.keys import TOPICS, resolve
+
+#: the file types ``--output`` writes, by extension
+PICTURE_FORMATS = ("png", "svg")
+#: what ``numeric_fields`` writes for "any index of this list"
+ANY_INDEX = "N"
+
+
+@dataclasses.dataclass(frozen=True)
+class Series:
+    """One line of the plot: the numbers at ``path`` in the messages on ``key``."""
+
+    key: str
+    path: str
+
+    @property
+    def label(self) -> str:
+        """How the plot names it: ``robot/status.battery`` (the key as resolved for --turtle)."""
+        return f"{self.key}.{self.path}"
+
+
+def parse_series(text: str, turtle: str = "") -> Series:
+    """``KEY.FIELD`` as typed (``robot/status.battery``, ``turtle1/pose.x``, ``obstacles.ranges.0``);
+    ``turtle``: --turtle's namespace (``turtle2``: ``robot/status`` is ``turtle2/robot/status``).
+    BadInput for anything else, with the way to write it."""
+    head, slash, last = text.rpartition("/")
+    name, dot, path = last.partition(".")
+    key = f"{head}{slash}{name}"
+    if not dot:
+        known = head and last and builtin_type(resolve(head, turtle), turtle) is not None
+        hint = f"{head}.{last}" if known else "robot/status.battery"  # rqt_plot's turtle1/pose/x
+        raise BadInput(f"{text!r}: name a field after the key and a '.', as {hint} (KEY.FIELD)")
+    if not key.strip("/") or not path:
+        raise BadInput(f"{text!r}: write KEY.FIELD, as robot/status.battery or turtle1/pose.x")
+    if any(not part for part in path.split(".")):
+        raise BadInput(
+            f"{text!r}: the field {path!r} has an empty part (write nested fields as a.b, items as ranges.0)"
+        )
+    if any(c in key for c in "*$?#") or key.lstrip("/").startswith("@") or "//" in key or key.endswith("/"):
+        raise BadInput(f"{text!r}: plot one plain key per series (no wildcards, nothing starting with '@')")
+    return Series(resolve(key, turtle), path)
+
+
+def parse_all(texts: Iterable[str], turtle: str = "") -> list[Series]:
+    """Every series typed, each once, in the order typed."""
+    return list(dict.fromkeys(parse_series(text, turtle) for text in texts))
+
+
+def number(value: Any) -> float | None:
+    """``value`` as a number to plot: a bool is 0 or 1; None for anything else (text, lists)."""
+    if isinstance(value, bool):
+        return float(value)
+    if isinstance(value, int | float):
+        return float(value)
+    return None
+
+
+class _Missing(Exception):
+    """No value at a path (no such field, an index out of range)."""
+
+
+def value_at(message: Any, path: str) -> Any:
+    """The value at dotted ``path`` in a message (a Struct) or undescribed data (dicts, lists):
+    fields by name, list items by index (negative from the end); _Missing if there is none."""
+    value = message
+    for part in path.split("."):
+        if isinstance(value, msgspec.Struct) and part in value.__struct_fields__:
+            value = getattr(value, part)
+        elif isinstance(value, dict) and part in value:
+            value = value[part]
+        elif isinstance(value, list | tuple) and part.lstrip("-").isdigit():
+            index = int(part)
+            if not -len(value) <= index < len(value):
+                raise _Missing(path)
+            value = value[index]
+        else:
+            raise _Missing(path)
+    return value
+
+
+def type_name(message: Any) -> str:
+    """The name of a message's type for people: ``Pose``, or an undescribed payload's own."""
+    if isinstance(message, msgspec.Struct):
+        return type(message).__name__
+    name = getattr(message, "type_name", "") or (message.get("type", "") if isinstance(message, dict) else "")
+    return str(name) if name else "the payload"
+
+
+def _type_paths(info: Any, prefix: str) -> list[str]:
+    """The numeric paths of a msgspec type (``msgspec.inspect``), under ``prefix``."""
+    if isinstance(info, mi.UnionType):  # Optional[X]: X's
+        return [p for t in info.types if not isinstance(t, mi.NoneType) for p in _type_paths(t, prefix)]
+    if isinstance(info, mi.FloatType | mi.IntType | mi.BoolType):
+        return [prefix]
+    if isinstance(info, mi.EnumType) and issubclass(info.cls, int):
+        return [prefix]
+    if isinstance(info, mi.StructType):
+        return [p for f in info.fields if f.name != "type" for p in _type_paths(f.type, _join(prefix, f.name))]
+    if isinstance(info, mi.ListType | mi.VarTupleType | mi.SetType | mi.FrozenSetType):
+        return _type_paths(info.item_type, _join(prefix, ANY_INDEX))
+    if isinstance(info, mi.TupleType):
+        return [p for i, t in enumerate(info.item_types) for p in _type_paths(t, _join(prefix, str(i)))]
+    return []
+
+
+def _data_paths(value: Any, prefix: str) -> list[str]:
+    """The numeric paths of undescribed data (a list's by its first item)."""
+    if number(value) is not None:
+        return [prefix]
+    if isinstance(value, msgspec.Struct):
+        return _type_paths(mi.type_info(type(value)), prefix)
+    if isinstance(value, dict):
+        return [p for k, v in value.items() if prefix or k != "type" for p in _data_paths(v, _join(prefix, str(k)))]
+    if isinstance(value, list | tuple) and value:
+        return _data_paths(value[0], _join(prefix, ANY_INDEX))
+    return []
+
+
+def _join(prefix: str, part: str) -> str:
+    return f"{prefix}.{part}" if prefix else part
+
+
+def numeric_fields(message: Any) -> list[str]:
+    """The paths a message's type has numbers at (``ranges.N``: any item of a list), as
+    ``parse_series`` reads them after the key."""
+    if isinstance(message, msgspec.Struct):
+        return _type_paths(mi.type_info(type(message)), "")
+    return _data_paths(getattr(message, "data", message), "")
+
+
+def _no_number(series: Series, name: str, fields: list[str], why: str) -> BadInput:
+    listed = ", ".join(fields) if fields else "none"
+    return BadInput(f"{series.label}: {why}; the numeric fields of {name}: {listed}")
+
+
+def _kind(value: Any, label: str) -> str:
+    """What ``value`` is, when it is no number, and what to plot instead."""
+    if isinstance(value, str):
+        return f"text ({value!r}), not a number"
+    if isinstance(value, list | tuple):
+        return f"a list of {len(value)}: plot one of its items, as {label}.0"
+    if isinstance(value, dict | msgspec.Struct):
+        return f"a table of fields: plot one of them, as {label}.NAME"
+    return f"{type(value).__name__} ({value!r}), not a number"
+
+
+def check(series: Series, message: Any) -> float | None:
+    """The number ``message`` holds for ``series`` (None for inf or NaN: no sample); BadInput
+    if it holds none there, naming the numeric fields its type has."""
+    data = getattr(message, "data", message)  # an undescribed payload (cli.tools.format.Undescribed)
+    try:
+        value = value_at(data, series.path)
+    except _Missing:
+        why = f"{type_name(message)} has no field {series.path!r}"
+        raise _no_number(series, type_name(message), numeric_fields(message), why) from None
+    found = number(value)
+    if found is None:
+        why = f"{series.path} is {_kind(value, series.label)}"
+        raise _no_number(series, type_name(message), numeric_fields(message), why)
+    return found if math.isfinite(found) else None
+
+
+def check_type(series: Series, msg_type: type[Message]) -> None:
+    """Before any message: BadInput if messages of ``msg_type`` can have no number at
+    ``series.path`` (no such field, or one that is not a number), naming the ones they have.
+    Indexes are not checked (a list's length is the message's)."""
+    fields = _type_paths(mi.type_info(msg_type), "")
+    wanted = series.path.split(".")
+    if any(_matches(candidate, wanted) for candidate in fields):
+        return
+    name = msg_type.__name__
+    below = [p for p in fields if len(p.split(".")) > len(wanted) and _matches(_head(p, len(wanted)), wanted)]
+    first = series.path.split(".")[0]
+    if first not in {f.name for f in mi.type_info(msg_type).fields}:
+        why = f"{name} has no field {first!r}"
+    elif below:
+        example = ".".join("0" if part == ANY_INDEX else part for part in below[0].split("."))
+        why = f"{series.path} holds several values: plot one number of it, as {series.key}.{example}"
+    else:
+        why = f"{series.path} is not a number"
+    raise _no_number(series, name, fields, why)
+
+
+def _head(path: str, parts: int) -> str:
+    return ".".join(path.split(".")[:parts])
+
+
+def _matches(candidate: str, wanted: list[str]) -> bool:
+    """A numeric path of a type (``ranges.N``) read as the path typed (``ranges.3``, split)."""
+    parts = candidate.split(".")
+    return len(parts) == len(wanted) and all(
+        a == b or (b == ANY_INDEX and a.lstrip("-").isdigit()) for a, b in zip(wanted, parts, strict=True)
+    )
+
+
+def builtin_type(key: str, turtle: str = "") -> type[Message] | None:
+    """The type a built-in topic carries (``robot/status``: TurtleStatus), as resolved for
+    --turtle (``turtle2/robot/status`` with turtle2); None for any other key (a user's own)."""
+    for known, msg_type in TOPICS.items():
+        if resolve(known, turtle) == key:
+            return msg_type
+    return None
+
+
+def check_builtins(series: list[Series], turtle: str = "") -> None:
+    """``check_type`` for each series on a built-in key (its type known before any message):
+    a typo says so at once, before anything is drawn or waited for."""
+    for s in series:
+        msg_type = builtin_type(s.key, turtle)
+        if msg_type is not None:
+            check_type(s, msg_type)
+
+
+class Extractor:
+    """The numbers of each series, message after message: the first message of a series is
+    ``check``ed (BadInput if it has no number there); later ones without one are skipped."""
+
+    def __init__(self, series: list[Series]):
+        self.series = series
+        self.by_key: dict[str, list[Series]] = {}
+        for s in series:
+            self.by_key.setdefault(s.key, []).append(s)
+        self.seen: set[Series] = set()
+
+    def values(self, key: str, message: Any) -> list[tuple[Series, float]]:
+        """The samples one message on ``key`` gives: (series, number) for each series it fits."""
+        found = []
+        for s in self.by_key.get(key, ()):
+            if s in self.seen:
+                try:
+                    value = number(value_at(getattr(message, "data", message), s.path))
+                except _Missing:
+                    continue
+                if value is None or not math.isfinite(value):
+                    continue
+            else:
+                value = check(s, message)
+                self.seen.add(s)
+                if value is None:
+                    continue
+            found.append((s, value))
+        return found
+
+
+class Window:
+    """The samples of each series over the last ``seconds`` s (a live plot's sliding window),
+    times in s since the plot started; one sample older than the window is kept so a line
+    comes in from the left edge."""
+
+    def __init__(self, series: list[Series], seconds: float):
+        self.seconds = seconds
+        self.points: dict[Series, collections.deque[tuple[float, float]]] = {s: collections.deque() for s in series}
+        self.latest: dict[Series, float] = {}
+        self.now = 0.0
+
+    def add(self, series: Series, t: float, value: float) -> None:
+        self.points[series].append((t, value))
+        self.latest[series] = value
+        self.now = max(self.now, t)
+
+    def advance(self, now: float) -> None:
+        """The time is ``now``: samples that left the window (but the last before it) go."""
+        self.now = max(self.now, now)
+        start = self.now - self.seconds
+        for points in self.points.values():
+            while len(points) > 1 and points[1][0] <= start:
+                points.popleft()
+
+    def x_limits(self) -> tuple[float, float]:
+        """The time axis: [0, seconds] until the window is full, then the last ``seconds`` s."""
+        return (max(0.0, self.now - self.seconds), max(self.seconds, self.now))
+
+    def y_limits(self) -> tuple[float, float] | None:
+        """Room for every sample in the window (5 % more each side); None while there is none."""
+        lo, hi = self.x_limits()
+        values = [v for points in self.points.values() for t, v in points if lo <= t <= hi]
+        return value_limits(values)
+
+    def xy(self, series: Series) -> tuple[list[float], list[float]]:
+        """The times and values of one series."""
+        points = self.points[series]
+        return [t for t, _ in points], [v for _, v in points]
+
+
+def status_line(window: Window, notices: list[str], width: int) -> str:
+    """The live plot's bottom line, at most ``width - 1`` characters: the first notice (the
+    router lost, a key silent and why) if any, else each series' latest number (or that it
+    waits for one); then how to quit."""
+    if notices:
+        said = notices[0]
+    else:
+        said = "  ".join(
+            f"{s.label} {window.latest[s]:.6g}" if s in window.latest else f"{s.label} (waiting)" for s in window.points
+        )
+    return f"{said} | q quits"[: max(0, width - 1)]
+
+
+def value_limits(values: list[float]) -> tuple[float, float] | None:
+    """A value axis for ``values``: 5 % of their span more each side, ±1 around a constant
+    (a line held at 100 % shows as a line, not on the frame); None for no values."""
+    if not values:
+        return None
+    lo, hi = min(values), max(values)
+    if hi - lo < 1e-9 * max(1.0, abs(hi)):
+        return (lo - 1.0, hi + 1.0)
+    margin = (hi - lo) * 0.05
+    return (lo - margin, hi + margin)
+
+
+@dataclasses.dataclass
+class Collected:
+    """Every sample of each series (a recording's, or a live run's for ``--output``): times in s
+    from ``origin`` (the recording's start, or when the plot started)."""
+
+    series: list[Series]
+    points: dict[Series, list[tuple[float, float]]] = dataclasses.field(default_factory=dict)
+
+    def __post_init__(self) -> None:
+        for s in self.series:
+            self.points.setdefault(s, [])
+
+    def add(self, series: Series, t: float, value: float) -> None:
+        self.points[series].append((t, value))
+
+    @property
+    def count(self) -> int:
+        return sum(len(p) for p in self.points.values())
+
+    def empty(self) -> list[Series]:
+        """The series without a sample."""
+        return [s for s in self.series if not self.points[s]]
+
+    def xy(self, series: Series) -> tuple[list[float], list[float]]:
+        points = self.points[series]
+        return [t for t, _ in points], [v for _, v in points]
+
+    def span(self) -> float:
+        """Seconds from the first sample to the last, of any series."""
+        times = [t for points in self.points.values() for t, _ in points]
+        return max(times) - min(times) if times else 0.0
+
+
+def picture_format(path: Path) -> str:
+    """``--output``'s file type: ``png`` or ``svg`` from its extension (any case); BadInput otherwise."""
+    suffix = path.suffix.lower().lstrip(".")
+    if suffix not in PICTURE_FORMATS:
+        given = f"{path.suffix!r}" if path.suffix else "no extension"
+        raise BadInput(f"--output {str(path)!r}: write a .png or .svg file ({given} is neither)")
+    return suffix

@@ -1,0 +1,168 @@
+"""Where ``turtlectl plot``'s numbers come from: a recording read whole (``from_recording``), or
+a running system, sample by sample as they arrive (``Live``).  Nothing here prints; errors are
+TurtlectlErrors (cli.errors): a field that is not a number is BadInput (exit 2), a key a
+recording does not hold, or no number at all, Unreachable (exit 3)."""
+
+from __future__ import annotations
+
+import dataclasses
+import queue
+import time
+from pathlib import Path
+from typing import Any
+
+import zenoh
+
+from turtlectl.cli.errors import Unreachable
+from turtlectl.cli.tools.client import ROUTER_CHECK, check_key, domain_hint, router_lost
+from turtlectl.cli.tools.format import Undescribed
+from turtlectl.cli.tools.plot import Collected, Extractor, Series, check_type
+from turtlectl.cli.tools.rates import Quiet
+from turtlectl.cli.tools.topics import Received, decode_sample, learn, live_graph, silence_text
+from turtlectl.cli.tools.typebook import TypeBook, generic
+from turtlectl.messages.codec import TYPES_BY_NAME
+from turtlectl.runtime.endpoint import default_domain
+
+
+@dataclasses.dataclass
+class FromRecording:
+    """A recording's numbers (``collected``: times in s from the recording's start), and
+    whether the recorder closed the file (one that was not is read as far as it is whole)."""
+
+    collected: Collected
+    closed: bool
+    duration: float  # s, the whole recording's
+
+
+def from_recording(path: Path, series: list[Series]) -> FromRecording:
+    """Every number of each series in the recording at ``path``, on the time of its log (when
+    the recorder received each message) from the recording's first message.  RecordingError
+    (exit 2) for a file that is no recording, BadInput (exit 2) for a field that is no number
+    (checked against the type the file holds), Unreachable (exit 3) for a key the file does
+    not hold or no number at all."""
+    from turtlectl.cli.recording.reading import Recording
+
+    recording = Recording(path)
+    info = recording.info()
+    held = {t.key: t for t in info.topics if t.count}
+    keys = list(dict.fromkeys(s.key for s in series))
+    missing = [k for k in keys if k not in held]
+    if missing:
+        holds = ", ".join(sorted(held)) or "no message at all"
+        raise Unreachable(f"{path} has no messages on {', '.join(missing)} (it holds {holds})")
+    for s in series:
+        msg_type = TYPES_BY_NAME.get(held[s.key].type_name)
+        if msg_type is not None:
+            check_type(s, msg_type)
+    extractor = Extractor(series)
+    collected = Collected(series)
+    for record in recording.records(keys):
+        if record.scene:
+            continue
+        message: Any = record.message()
+        if message is None:  # kept raw: what it is, if it reads as data
+            data = generic(record.data, record.encoding)
+            if data is None:
+                continue
+            message = Undescribed(data)
+        for s, value in extractor.values(record.key, message):
+            collected.add(s, (record.log_time - info.start) / 1e9, value)
+    if not collected.count:
+        labels = ", ".join(s.label for s in series)
+        raise Unreachable(f"{path}: no number to plot in {labels} (only inf or NaN, or payloads that are no message)")
+    return FromRecording(collected, recording.closed, info.duration)
+
+
+class Live:
+    """A running system's numbers as they arrive: ``poll`` gives the samples since the last
+    call (times in s since this started); ``notices`` say why a key is silent, or that the
+    router is lost (shown until it is not so any more).  Decoding and type learning as echo's
+    (a user's own type is learnt from the nodes that use it)."""
+
+    def __init__(self, session: zenoh.Session, connect: str, series: list[Series]):
+        self.session = session
+        self.connect = connect
+        self.extractor = Extractor(series)
+        self.keys = list(dict.fromkeys(check_key(s.key) for s in series))
+        self.inbox: queue.SimpleQueue[tuple[float, Received]] = queue.SimpleQueue()
+        self.book = TypeBook(session)
+        self.started = time.monotonic()
+        self.quiet = {key: Quiet(self.started) for key in self.keys}
+        self.silent: dict[str, str] = {}  # key -> why it is silent
+        self.router = ""  # why there is no router ("" while there is one)
+        self._next_check = self.started + ROUTER_CHECK
+        self.received = 0  # numbers so far
+        self._subs = [session.declare_subscriber(key, self._on_sample) for key in self.keys]
+
+    def _on_sample(self, sample: zenoh.Sample) -> None:  # Zenoh's thread: decode and queue
+        received = decode_sample(str(sample.key_expr), sample.payload.to_bytes(), str(sample.encoding))
+        self.inbox.put((time.monotonic(), received))
+
+    def close(self) -> None:
+        for sub in self._subs:
+            sub.undeclare()
+        self._subs = []
+
+    def elapsed(self) -> float:
+        """Seconds since this started (the time axis)."""
+        return time.monotonic() - self.started
+
+    @property
+    def notices(self) -> list[str]:
+        """What to tell the user now: the router lost, the keys silent and why."""
+        return ([self.router] if self.router else []) + list(self.silent.values())
+
+    def poll(self, wait: float = 0.0) -> list[tuple[Series, float, float]]:
+        """The samples (series, s since the start, number) that arrived since the last call,
+        after waiting up to ``wait`` s for the first.  BadInput (exit 2) when the first
+        message of a series has no number at its field."""
+        found: list[tuple[Series, float, float]] = []
+        deadline = time.monotonic() + wait
+        while True:
+            try:
+                arrived, item = self.inbox.get(timeout=max(0.0, deadline - time.monotonic()))
+            except queue.Empty:
+                break
+            found += self._samples(arrived, item)
+            deadline = 0.0  # the rest without waiting
+        self._watch(time.monotonic())
+        self.received += len(found)
+        return found
+
+    def _samples(self, arrived: float, item: Received) -> list[tuple[Series, float, float]]:
+        key = item.key
+        if key in self.quiet:
+            self.quiet[key].heard(arrived)
+            self.silent.pop(key, None)
+        item = learn(item, self.book)
+        message = item.message if item.message is not None else None
+        if message is None and item.generic is not None:
+            message = Undescribed(item.generic, item.unknown)
+        if message is None:
+            return []
+        t = arrived - self.started
+        return [(s, t, value) for s, value in self.extractor.values(key, message)]
+
+    def why_silent(self) -> str:
+        """Why nothing has arrived on the keys that had no message (as echo says it), asked now."""
+        graph = live_graph(self.session)
+        hint = lambda: domain_hint(self.connect)  # noqa: E731 - asked only when no node runs
+        return "; ".join(
+            silence_text(key, graph, hint, default_domain()) for key, quiet in self.quiet.items() if not quiet.flowed
+        )
+
+    def _watch(self, now: float) -> None:
+        if now >= self._next_check:
+            self._next_check = now + ROUTER_CHECK
+            lost = router_lost(self.session)
+            self.router = (
+                f"no router at {self.connect}: waiting for it (is `turtlectl launch` running?)" if lost else ""
+            )
+            if lost:
+                return
+        for key, quiet in self.quiet.items():
+            if quiet.due(now):
+                graph = live_graph(self.session)
+                self.silent[key] = silence_text(
+                    key, graph, lambda: domain_hint(self.connect), default_domain(), quiet.flowed
+                )

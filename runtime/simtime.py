@@ -1,0 +1,91 @@
+"""Simulated time for a node started with ``use_sim_time`` (ROS's parameter of that name):
+the node's clock follows the ``Clock`` messages the simulator publishes on ``clock`` after
+every step, instead of the machine's clock.
+
+Its timers, the timeouts its code measures with ``node.clock()`` and the stamps of what it
+publishes all follow the simulated time, so a simulator running 5 times as fast as the wall
+clock (its ``real_time_factor``) makes the whole system run 5 times as fast, and one slowed by a
+busy machine slows the nodes with it.  Until the first ``Clock`` arrives the time is 0 (as in
+ROS): no timer of the node is due, and what it publishes is stamped 0.
+
+Between two Clocks the time runs on at their factor, by at most one step (SimClock).
+
+Units: ``now()`` in s, ``now_ns()`` in ns, both since the Unix epoch (the simulated clock starts
+at the wall-clock time its simulator started).
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from collections.abc import Callable
+
+from turtlectl.messages import Clock, decode
+
+
+class SimClock:
+    """The simulated time: the newest ``Clock`` heard (it never goes back), running on at its
+    ``real_time_factor`` until the next one, by at most the gap between the last two (one step of
+    the simulator: a timer of 100 ms fires at 100 ms of simulated time, not at the 16 ms step
+    after it, and a stalled simulator stops the time within a step).  Wakes the node's thread
+    when a Clock passes its next timer deadline (``wake_at``, s)."""
+
+    def __init__(
+        self, wake: Callable[[], None], rejected: Callable[[str], None], monotonic: Callable[[], float] = time.monotonic
+    ):
+        self._monotonic = monotonic  # s: the machine's clock, to run on between two Clocks
+        #: (ns of the last Clock, monotonic s it came, ns since the one before, its factor)
+        self._base = (0, 0.0, 0, 1.0)
+        self._last = 0  # ns: the latest time given (never less after)
+        self.wake_at = math.inf  # s: the node's next deadline, set by its loop before it waits
+        self._wake = wake  # queues a no-op for the node's thread (it then fires what is due)
+        self._rejected = rejected  # a malformed payload on ``clock``: counted and logged
+
+    @property
+    def real_time_factor(self) -> float:
+        """Simulated s per wall s, as the last Clock said."""
+        return self._base[3]
+
+    def now_ns(self) -> int:
+        """The simulated time in ns (0 before the first Clock)."""
+        ns, heard, step, factor = self._base
+        if ns == 0:
+            return 0
+        ahead = min(round((self._monotonic() - heard) * factor * 1e9), step)
+        self._last = max(self._last, ns + ahead)
+        return self._last
+
+    def now(self) -> float:
+        """The simulated time in s (0.0 before the first Clock)."""
+        return self.now_ns() / 1e9
+
+    def timeout(self, wake: float) -> float:
+        """Wall s the node's thread may sleep before its deadline ``wake`` (simulated s) comes,
+        as far as the time can run on without a new Clock; beyond that a Clock wakes it."""
+        ns, _, step, factor = self._base
+        now = self.now()
+        if wake <= now:
+            return 0.0
+        if ns == 0 or now >= (ns + step) / 1e9:  # no time to run on: the next Clock wakes it
+            return 1.0
+        return min(1.0, (min(wake, (ns + step) / 1e9) - now) / factor)
+
+    def heard(self, payload: bytes) -> None:
+        """A ``Clock`` payload arrived (on a Zenoh thread): move the time on, and wake the node's
+        thread if a deadline of its is due."""
+        try:
+            clock = decode(payload, Clock)
+        except ValueError as exc:
+            self._rejected(str(exc))
+            return
+        self.heard_clock(clock)
+
+    def heard_clock(self, clock: Clock) -> None:
+        """A ``Clock`` (decoded) arrived: as ``heard``."""
+        last = self._base[0]
+        if clock.clock <= last:  # a late or repeated one (a second simulator, a replay)
+            return
+        step = min(clock.clock - last, 1_000_000_000) if last else 0
+        self._base = (clock.clock, self._monotonic(), step, clock.real_time_factor)
+        if clock.clock / 1e9 >= self.wake_at:
+            self._wake()

@@ -1,0 +1,65 @@
+"""Simulated time, end to end: ``turtlectl launch --time-scale 5`` runs the simulator five times
+as fast as the wall clock and every node on its ``clock``.  A goal is reached with the outcome
+it has at 1x (success, within the navigator's tolerances), and its ``time_taken`` is in
+simulated seconds: the movement as the poses' simulated stamps show it, more than the wall
+clock saw go by.  The status monitor's 10 Hz is 10 Hz of simulated time."""
+
+from __future__ import annotations
+
+import math
+import queue
+import statistics
+import time
+
+import pytest
+
+from tests.integration.harness import running_system
+from turtlectl.messages import Clock, Pose, TurtleStatus, decode
+from turtlectl.messages.keys import CLOCK, POSE, STATUS
+
+pytestmark = pytest.mark.integration
+
+
+@pytest.fixture(scope="module")
+def fast():
+    with running_system(extra_args=("--time-scale", "5")) as system:
+        yield system
+
+
+def test_the_simulator_publishes_its_clock_at_the_factor(fast):
+    clocks = [m for _, m in fast.collect(CLOCK, Clock, 20, timeout=10.0)]
+    assert {c.real_time_factor for c in clocks} == {5.0}
+    steps = {b.clock - a.clock for a, b in zip(clocks, clocks[1:], strict=False)}
+    assert steps <= {16_000_000 * k for k in range(1, 10)}  # whole steps (a late one is skipped)
+
+
+def test_a_goal_at_5x_has_the_outcome_of_1x_and_its_time_taken_in_simulated_seconds(fast):
+    poses: queue.SimpleQueue[Pose] = queue.SimpleQueue()
+    sub = fast.session.declare_subscriber(POSE, lambda s: poses.put(decode(s.payload.to_bytes(), Pose)))
+    try:
+        fast.wait_stopped()
+        seen = [fast.wait_stopped()]
+        while not poses.empty():  # the latest pose at rest before the call
+            seen = [poses.get()]
+        started = time.monotonic()
+        response, _, _ = fast.navigate(3.0, 3.0, 180.0)
+        wall = time.monotonic() - started
+        fast.wait_stopped()
+        while not poses.empty():
+            seen.append(poses.get())
+    finally:
+        sub.undeclare()
+    assert response.success, response
+    assert response.position_error <= 0.01 and response.heading_error <= 0.5
+    moving = [k for k, p in enumerate(seen) if p.linear_velocity != 0.0 or p.angular_velocity != 0.0]
+    movement = (seen[moving[-1] + 1].stamp - seen[moving[0] - 1].stamp) / 1e9  # simulated s
+    assert abs(response.time_taken - movement) <= 0.1, (response.time_taken, movement)
+    assert response.time_taken > wall, f"{response.time_taken:.2f} simulated s took {wall:.2f} s of wall clock"
+    distance = math.hypot(3.0 - seen[0].x, 3.0 - seen[0].y)
+    assert response.time_taken >= distance / 4.0  # no faster than the turtle's 4 m/s in simulated time
+
+
+def test_status_is_10_hz_of_simulated_time(fast):
+    stamps = [m.stamp / 1e9 for _, m in fast.collect(STATUS, TurtleStatus, 21, timeout=10.0)]
+    periods = [b - a for a, b in zip(stamps, stamps[1:], strict=False)]
+    assert abs(statistics.median(periods) - 0.100) <= 0.010, periods

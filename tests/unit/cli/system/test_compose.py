@@ -1,0 +1,308 @@
+"""Issue 28, launch composition (cli.system.compose and its use by the launch file): arguments
+with defaults and descriptions (``[arg.NAME]``, ``$(arg NAME)``, ``--arg NAME=VALUE``), includes of
+other launch files with arguments and a namespace (``[[include]]``), and a node's ``remap``.
+Errors name the chain of files and the key path; a cycle of includes is refused."""
+
+from __future__ import annotations
+
+import textwrap
+from pathlib import Path
+
+import pytest
+
+from turtlectl.cli.system.launchfile import LaunchFileError, load_launch, parse_launch
+from turtlectl.cli.system.overrides import launch_plan, node_config
+from turtlectl.cli.tools.format import plan_text
+
+SIM = '[[node]]\nname = "sim"\nrun = "sim"\n'
+
+TURTLE = """
+[arg.timeout]
+default = 30.0
+description = "s before a goal fails"
+
+[arg.robot]
+description = "no default: the including file gives it"
+
+[[node]]
+name = "navigator"
+run = "navigator"
+remap = { "turtle1/cmd_vel" = "safety/cmd_vel" }
+[node.params]
+goal_timeout = "$(arg timeout)"
+
+[[node]]
+name = "$(arg robot)_relay"
+run = "./relay.py:Relay"
+"""
+
+RELAY = """
+import msgspec
+
+
+class Relay:
+    Params = msgspec.defstruct("RelayParams", [])
+"""
+
+
+def files(folder: Path, **texts: str) -> Path:
+    """Write each ``name=text`` (``robots__turtle`` is robots/turtle.toml); the first one's path."""
+    paths = []
+    for name, text in texts.items():
+        path = folder / (name.replace("__", "/") + (".py" if name.endswith("relay") else ".toml"))
+        path.parent.mkdir(parents=True, exist_ok=True)
+        path.write_text(textwrap.dedent(text))
+        paths.append(path)
+    return paths[0]
+
+
+def test_an_include_brings_its_nodes_with_the_arguments_it_is_given_and_a_namespace(tmp_path):
+    top = files(
+        tmp_path,
+        launch="""
+        [arg.speed]
+        default = 2.0
+        description = "how fast"
+
+        [[node]]
+        name = "sim"
+        run = "sim"
+
+        [[include]]
+        file = "robots/turtle.toml"
+        args = { robot = "first" }
+
+        [[include]]
+        file = "robots/turtle.toml"
+        namespace = "/turtle2"
+        args = { timeout = 45, robot = "second" }
+        """,
+        robots__turtle=TURTLE,
+        robots__relay=RELAY,
+    )
+    plan = load_launch(top)
+    names = [e.name for e in plan.launch.node]
+    assert names == ["sim", "navigator", "first_relay", "turtle2/navigator", "turtle2/second_relay"]
+    assert plan.params["navigator"]["goal_timeout"] == 30.0  # the default
+    assert plan.params["turtle2/navigator"]["goal_timeout"] == 45.0  # given 45: taken as its default's float
+    # a ./file.py:Class of an included file is relative to it, written from the top file's folder
+    assert plan.launch.node[2].run == "./robots/relay.py:Relay"
+    assert plan.remaps == {
+        "navigator": {"turtle1/cmd_vel": "safety/cmd_vel"},
+        "turtle2/navigator": {"turtle1/cmd_vel": "safety/cmd_vel"},
+    }
+    given = {(a.file, a.name): (a.value, a.given) for a in plan.args}
+    assert given[(str(top), "speed")] == (2.0, "default")
+    assert given[(f"{top} -> robots/turtle.toml", "robot")] == ("second", f"include[1] of {top}")
+
+
+def test_a_remap_reaches_the_nodes_config_its_keys_interface_and_claims(tmp_path):
+    top = files(
+        tmp_path,
+        launch=SIM + '[[include]]\nfile = "t.toml"\nnamespace = "turtle2"\nargs = { robot = "r" }\n',
+        t=TURTLE,
+        relay=RELAY,
+    )
+    config = node_config(load_launch(top), "turtle2/navigator", "tcp/127.0.0.1:7447")
+    assert config.remaps == {"turtle1/cmd_vel": "safety/cmd_vel"}
+    assert config.interface is not None and "turtle2/safety/cmd_vel" in config.interface.publishes
+    assert "turtle2/cmd_vel" not in config.interface.publishes
+    assert [c.key for c in config.claims] == ["turtle2/navigate_to"]
+    assert "remap turtle2/cmd_vel -> turtle2/safety/cmd_vel" in plan_text(load_launch(top))
+
+
+def test_command_line_arguments_are_typed_from_their_defaults(tmp_path):
+    top = files(
+        tmp_path,
+        launch="""
+        [arg.timeout]
+        default = 30.0
+        [arg.name]
+        default = "1"
+        [arg.respawn]
+        default = false
+        [arg.both]
+        default = "$(arg name)_$(arg timeout)"    # a default may use the arguments above it
+
+        [[node]]
+        name = "nav_$(arg name)"
+        run = "navigator"
+        respawn = "$(arg respawn)"
+        [node.params]
+        goal_timeout = "$(arg timeout)"
+        """,
+    )
+    plan = launch_plan(top, [], [], [], arguments=["timeout=60", "name = 2", "respawn=true"])
+    assert plan.launch.node[0].name == "nav_2"  # a text argument takes the text as written
+    assert plan.params["nav_2"]["goal_timeout"] == 60.0 and plan.launch.node[0].respawn is True
+    assert {a.name: a.value for a in plan.args}["both"] == "2_60.0"
+    text = plan_text(plan)
+    assert "arguments:" in text and f"{top}: timeout = 60.0 (--arg; default 30.0)" in text
+
+
+@pytest.mark.parametrize(
+    "arguments, message",
+    [
+        (["speeed=2"], "--arg speeed=2: {top} declares no argument speeed; did you mean speed? (its arguments: speed)"),
+        (["speed=fast"], "--arg speed=fast: {top}'s argument speed is a number (its default: 2.0), not a text"),
+        (["speed"], "--arg 'speed': write it as NAME=VALUE"),
+    ],
+)
+def test_an_argument_the_file_does_not_declare_or_cannot_take_is_refused(tmp_path, arguments, message):
+    top = files(tmp_path, launch='[arg.speed]\ndefault = 2.0\n[[node]]\nname = "sim"\nrun = "sim"\n')
+    with pytest.raises(LaunchFileError) as err:
+        load_launch(top, arguments)
+    assert str(err.value).startswith(message.format(top=top)), str(err.value)
+
+
+def test_an_argument_without_a_default_must_be_given(tmp_path):
+    top = files(tmp_path, launch="[arg.robot]\n" + SIM)
+    with pytest.raises(LaunchFileError, match=r"launch.toml: arg.robot: no value: give one, --arg robot=VALUE"):
+        load_launch(top)
+    assert load_launch(top, ["robot=r2"]).args[0].value == "r2"
+
+
+@pytest.mark.parametrize(
+    "texts, message",
+    [
+        # the include of a missing file names the including file and the key
+        (
+            {"launch": SIM + '[[include]]\nfile = "robots/nope.toml"\n'},
+            "launch.toml: include[0].file: robots/nope.toml: no such file",
+        ),
+        # an argument the included file does not declare, at the include's key path
+        (
+            {"launch": SIM + '[[include]]\nfile = "t.toml"\nargs = { robot = "r", timout = 3 }\n', "t": TURTLE},
+            "launch.toml: include[0].args.timout: t.toml declares no argument timout; did you mean timeout? "
+            "(its arguments: timeout, robot)",
+        ),
+        (
+            {"launch": SIM + '[[include]]\nfile = "t.toml"\n', "t": TURTLE},
+            "launch.toml: include[0].args: t.toml's argument robot has no default: give it, args = { robot = ... }",
+        ),
+        (
+            {"launch": SIM + '[[include]]\nfile = "t.toml"\nargs = { robot = "r", timeout = "long" }\n', "t": TURTLE},
+            "launch.toml: include[0].args.timeout: t.toml's argument timeout is a number (its default: 30.0)",
+        ),
+        # a cycle, through another file or straight back
+        (
+            {"launch": SIM + '[[include]]\nfile = "b.toml"\n', "b": '[[include]]\nfile = "launch.toml"\n'},
+            "launch.toml -> b.toml -> launch.toml: include cycle",
+        ),
+        ({"launch": SIM + '[[include]]\nfile = "./launch.toml"\n'}, "launch.toml -> ./launch.toml: include cycle"),
+        # errors inside an included file name the chain of files, then the key path
+        (
+            {"launch": SIM + '[[include]]\nfile = "t.toml"\nargs = { robot = "r", timeout = 0.0 }\n', "t": TURTLE},
+            "launch.toml -> t.toml: node[0] (navigator).params.goal_timeout: Expected `float` >= 0.1",
+        ),
+        (
+            {
+                "launch": SIM + '[[include]]\nfile = "t.toml"\n',
+                "t": '[[node]]\nname = "n"\nrun = "navigator"\nrespawn = "$(arg again)"\n',
+            },
+            "launch.toml -> t.toml: node[0] (n).respawn: $(arg again): the file declares no argument again "
+            "(it declares none: add [arg.NAME])",
+        ),
+        (
+            {"launch": "[arg.a]\ndefault = 1\n" + SIM.replace('"sim"\n', '"sim"\nrequired = "$(env A)"\n', 1)},
+            "launch.toml: node[0] (sim).required: $(env A): not a substitution; write $(arg NAME)",
+        ),
+        (
+            {
+                "launch": SIM + '[[include]]\nfile = "t.toml"\n',
+                "t": '[[node]]\nname = "n"\nrun = "navigator"\nrespawn = "yes"\n',
+            },
+            "launch.toml -> t.toml: node[0] (n).respawn: Expected `bool`, got `str`",
+        ),
+        # the system has one world, written in any one of its files
+        (
+            {"launch": "[world]\nsize = 20\n" + SIM + '[[include]]\nfile = "w.toml"\n', "w": "[world]\nsize = 10\n"},
+            "launch.toml -> w.toml: world: {dir}/launch.toml writes [world] too: a launch has one [world]",
+        ),
+        # namespaces do not nest, and a file included twice in one namespace is two of each node
+        (
+            {
+                "launch": SIM + '[[include]]\nfile = "g.toml"\nnamespace = "turtle2"\n',
+                "g": '[[group]]\nnamespace = "turtle3"\n[[group.node]]\nname = "n"\nrun = "navigator"\n',
+            },
+            "launch.toml -> g.toml: group[0].namespace: the file is included in namespace 'turtle2': namespaces do not nest",
+        ),
+        (
+            {
+                "launch": SIM + '[[include]]\nfile = "n.toml"\n[[include]]\nfile = "n.toml"\n',
+                "n": '[[node]]\nname = "n"\nrun = "navigator"\n',
+            },
+            "launch.toml -> n.toml: node[0] (n).name: duplicate node name 'n' (its file is included twice: "
+            "give each [[include]] a namespace)",
+        ),
+        ({"launch": SIM + '[[includ]]\nfile = "n.toml"\n'}, "launch.toml: includ: unknown key; did you mean include?"),
+        ({"launch": SIM + "[arg.x]\ndefalt = 1\n"}, "launch.toml: arg.x.defalt: unknown key; did you mean default?"),
+        ({"launch": SIM + "[arg]\nx = 1\n"}, "launch.toml: arg.x: write it as a table, [arg.NAME] with default = ..."),
+        # remaps: keys, never the runtime's own, and (for a kind that declares its keys) one the node uses
+        (
+            {"launch": SIM + '[[node]]\nname = "n"\nrun = "navigator"\nremap = { "turtle1/cmd_vell" = "x" }\n'},
+            'launch.toml: node[1] (n).remap."turtle1/cmd_vell": the node uses no key turtle1/cmd_vell (its keys: '
+            "turtle1/cmd_vel, navigate_to/feedback,",
+        ),
+        (
+            {
+                "launch": SIM
+                + '[[node]]\nname = "n"\nrun = "navigator"\nnamespace = "turtle2"\nremap = { "turtle2/pose" = "x" }\n'
+            },
+            'launch.toml: node[1] (turtle2/n).remap."turtle2/pose": the node uses no key turtle2/turtle2/pose',
+        ),
+        (
+            {
+                "launch": SIM
+                + '[[node]]\nname = "n"\nrun = "navigator"\nremap = { "turtle1/pose" = "turtlectl/pose" }\n'
+            },
+            'launch.toml: node[1] (n).remap."turtle1/pose": turtlectl/pose is one of the runtime\'s own keys',
+        ),
+        (
+            {"launch": SIM + '[[node]]\nname = "n"\nrun = "navigator"\nremap = { "turtle1/pose" = "*/pose" }\n'},
+            "launch.toml: node[1] (n).remap.\"turtle1/pose\": '*/pose' is not a key",
+        ),
+        (
+            {"launch": SIM + '[[node]]\nname = "n"\ncmd = ["true"]\nremap = { "a" = "b" }\n'},
+            "launch.toml: node[1] (n).remap: a cmd node has no keys of a turtlectl node to remap",
+        ),
+    ],
+)
+def test_errors_name_the_chain_of_files_and_the_key_path(tmp_path, texts, message):
+    top = files(tmp_path, **texts)
+    with pytest.raises(LaunchFileError) as err:
+        load_launch(top)
+    assert str(err.value).startswith(f"{tmp_path}/{message}".replace("{dir}", str(tmp_path))), str(err.value)
+
+
+def test_an_included_file_may_write_the_world_when_no_other_does(tmp_path):
+    top = files(
+        tmp_path,
+        launch=SIM + '[[include]]\nfile = "w.toml"\n',
+        w="[world]\nsize = 20\n[limits]\nmax_linear_speed = 1.0\n",
+    )
+    plan = load_launch(top)
+    assert plan.launch.world.size == 20.0 and plan.launch.limits.max_linear_speed == 1.0
+
+
+def test_a_world_mistake_in_an_included_file_names_it(tmp_path):
+    top = files(
+        tmp_path,
+        launch=SIM + '[[include]]\nfile = "w.toml"\n',
+        w="[world]\nobstacles = [{x = 50, y = 5, radius = 1}]\n",
+    )
+    with pytest.raises(LaunchFileError, match=r"launch.toml -> w.toml: world.obstacles\[0\]: centre \(50, 5\)"):
+        load_launch(top)
+
+
+def test_two_navigators_in_one_namespace_remapped_apart_claim_different_keys():
+    text = SIM + '[[node]]\nname = "a"\nrun = "navigator"\n[[node]]\nname = "b"\nrun = "navigator"\n'
+    with pytest.raises(LaunchFileError, match="a second 'navigator' node"):
+        parse_launch(text, source="f.toml")
+    plan = parse_launch(text + 'remap = { navigate_to = "b/navigate_to", "navigate_to/cancel" = "b/cancel" }\n')
+    assert [e.name for e in plan.launch.node] == ["sim", "a", "b"]
+
+
+def test_without_includes_or_arguments_a_file_is_as_before():
+    plan = parse_launch(SIM, source="f.toml")
+    assert plan.args == [] and plan.remaps == {} and "arguments:" not in plan_text(plan)
