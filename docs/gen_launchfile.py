@@ -45,7 +45,7 @@ TABLES = (
     (
         "[arg.NAME]",
         Argument,
-        "An argument of the file (ROS's `DeclareLaunchArgument`): `\"$(arg NAME)\"` in any value of the file is its "
+        'An argument of the file (ROS\'s `DeclareLaunchArgument`): `"$(arg NAME)"` in any value of the file is its '
         "value, typed as given (a value that is only the substitution), or written out inside a longer text. Given "
         "by `turtlectl launch FILE --arg NAME=VALUE` for the file launched, by an `[[include]]`'s `args` for an "
         "included one; `launch --check` lists every file's (see [Compose launch files](../how-to/compose.md)).",

@@ -6,6 +6,9 @@ installed).  Fixtures:
   ``@pytest.mark.turtlectl_launch("path/launch.toml", "--set", "patrol.side=3")`` marker
   (path relative to the test file; the rest: ``launch`` options), else the ini option
   ``turtlectl_launch`` (relative to the rootdir), else ``launch.toml`` in the rootdir.
+  ``pytest --turtlectl-time-scale 5`` (or the ini option ``turtlectl_time_scale``) starts it
+  with ``launch --time-scale 5``: simulated time, five times as fast (a marker's own
+  ``--time-scale`` wins).
 * ``turtlectl_launch``: a factory, ``turtlectl_launch(path, *args) -> LaunchedSystem``, for
   a test that needs the system itself (its output, several systems); each is stopped after
   the test.
@@ -29,8 +32,21 @@ if TYPE_CHECKING:
 MARKER = "turtlectl_launch"
 
 
+TIME_SCALE = "turtlectl_time_scale"
+
+
 def pytest_addoption(parser: pytest.Parser) -> None:
     parser.addini(MARKER, "the launch file turtlectl_system starts (relative to the rootdir)", default="launch.toml")
+    parser.addini(
+        TIME_SCALE, "turtlectl_system's systems run this many times as fast (launch --time-scale)", default=""
+    )
+    parser.getgroup("turtlectl").addoption(
+        "--turtlectl-time-scale",
+        dest=TIME_SCALE,
+        metavar="F",
+        default=None,
+        help="turtlectl_system's systems run F times as fast, in simulated time (launch --time-scale F)",
+    )
 
 
 def pytest_configure(config: pytest.Config) -> None:
@@ -75,4 +91,7 @@ def turtlectl_system(request: pytest.FixtureRequest, turtlectl_launch: Callable[
         path, args = Path(request.path).parent / marker.args[0], [str(a) for a in marker.args[1:]]
     else:
         path, args = Path(request.config.rootpath) / request.config.getini(MARKER), []
+    scale = request.config.getoption(TIME_SCALE) or request.config.getini(TIME_SCALE)
+    if scale and "--time-scale" not in args:
+        args = [*args, "--time-scale", str(scale)]
     return turtlectl_launch(path, *args).client()

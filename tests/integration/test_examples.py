@@ -18,10 +18,10 @@ pytestmark = pytest.mark.integration
 EXAMPLE = Path(__file__).resolve().parents[2] / "examples" / "patrol"
 
 
-def pytest_in(folder: Path) -> subprocess.CompletedProcess[str]:
+def pytest_in(folder: Path, *options: str) -> subprocess.CompletedProcess[str]:
     """The project's own ``pytest`` (the console script, as a user runs it), in its folder."""
     return subprocess.run(
-        [str(Path(sys.executable).parent / "pytest"), "-q", "-p", "no:cacheprovider"],
+        [str(Path(sys.executable).parent / "pytest"), "-q", "-p", "no:cacheprovider", *options],
         cwd=folder,
         capture_output=True,
         text=True,
@@ -74,4 +74,29 @@ def test_a_node_dying_while_the_system_starts_fails_the_test_with_its_traceback(
     assert done.returncode == 1, done.stdout + done.stderr
     assert "broken exited with code 1 while the system started" in done.stdout, done.stdout
     assert "RuntimeError: the broken node cannot start" in done.stdout and "'ran'" not in done.stdout
+    assert left_in(tmp_path) == []
+
+
+def test_a_projects_tests_run_in_simulated_time_with_the_plugins_option(tmp_path):
+    """Issue 28: ``pytest --turtlectl-time-scale 5`` starts turtlectl_system's system with
+    ``launch --time-scale 5``: the simulator's clock says 5, a goal's time is simulated seconds."""
+    (tmp_path / "launch.toml").write_text(
+        '[[node]]\nname = "sim"\nrun = "sim"\n\n[[node]]\nname = "navigator"\nrun = "navigator"\n'
+    )
+    (tmp_path / "test_fast.py").write_text(
+        textwrap.dedent(
+            """
+            import time
+
+
+            def test_fast(turtlectl_system):
+                assert turtlectl_system.latest("clock").real_time_factor == 5.0
+                started = time.monotonic()
+                response = turtlectl_system.goto(8.5, 5.5, 180.0)
+                assert response.success and response.time_taken > time.monotonic() - started
+            """
+        )
+    )
+    done = pytest_in(tmp_path, "--turtlectl-time-scale", "5")
+    assert done.returncode == 0, done.stdout + done.stderr
     assert left_in(tmp_path) == []

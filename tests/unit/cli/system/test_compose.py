@@ -306,3 +306,22 @@ def test_two_navigators_in_one_namespace_remapped_apart_claim_different_keys():
 def test_without_includes_or_arguments_a_file_is_as_before():
     plan = parse_launch(SIM, source="f.toml")
     assert plan.args == [] and plan.remaps == {} and "arguments:" not in plan_text(plan)
+
+
+EXAMPLE = Path(__file__).resolve().parents[4] / "examples" / "compose"
+
+
+def test_the_example_is_valid_and_the_how_to_shows_its_files():
+    plan = load_launch(EXAMPLE / "launch.toml", ["speed_limit=0.8"])
+    assert (
+        plan.params["turtle2/speed_limit"]["max_speed"] == 0.8
+        and plan.params["turtle2/navigator"]["goal_timeout"] == 60.0
+    )
+    page = (EXAMPLE.parents[1] / "docs" / "how-to" / "compose.md").read_text()
+    for block in page.split("```toml\n")[1:]:
+        first, *lines = block.split("```")[0].splitlines()
+        if first.startswith("# examples/compose/"):
+            text = (EXAMPLE / first.split()[1].rpartition("/")[2].rstrip(":")).read_text()
+            for line in lines:
+                code = line.split("#")[0].strip()
+                assert code in text, (first, line)  # every line shown (comments aside) is the example's
