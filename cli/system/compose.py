@@ -97,11 +97,12 @@ class _Given(NamedTuple):
 
 
 def parse_args(items: list[str]) -> dict[str, str]:
-    """``--arg NAME=VALUE`` items (spaces allowed around both): NAME -> VALUE as written."""
+    """``--arg NAME=VALUE`` items (spaces allowed around both; ROS's ``NAME:=VALUE`` too): NAME ->
+    VALUE as written."""
     given: dict[str, str] = {}
     for item in items:
         name, sep, text = item.partition("=")
-        name = name.strip()
+        name = name.removesuffix(":").strip()
         if not sep or not name:
             raise LaunchFileError(f"--arg {item!r}: write it as NAME=VALUE (an argument the launch file declares)")
         given[name] = text.strip()

@@ -44,6 +44,8 @@ PURE = [
     "nodes.params",
     "nodes.kinds",
     "cli.system.launchfile",
+    "cli.system.compose",  # arguments and includes of launch files (issue 28)
+    "cli.system.report",
     "cli.system.overrides",
     "cli.args",
     "cli.verify.spec",

@@ -132,7 +132,7 @@ def test_command_line_arguments_are_typed_from_their_defaults(tmp_path):
         goal_timeout = "$(arg timeout)"
         """,
     )
-    plan = launch_plan(top, [], [], [], arguments=["timeout=60", "name = 2", "respawn=true"])
+    plan = launch_plan(top, [], [], [], arguments=["timeout=60", "name = 2", "respawn:=true"])  # ROS's := too
     assert plan.launch.node[0].name == "nav_2"  # a text argument takes the text as written
     assert plan.params["nav_2"]["goal_timeout"] == 60.0 and plan.launch.node[0].respawn is True
     assert {a.name: a.value for a in plan.args}["both"] == "2_60.0"
