@@ -216,6 +216,8 @@ class NodeDetails(NodeInfo, frozen=True, forbid_unknown_fields=True):
     log_level: str = "INFO"
     errors: int = 0
     last_error: str = ""
+    #: its timers, timeouts and stamps on the simulator's ``clock`` (launch --time-scale, use_sim_time)
+    use_sim_time: bool = False
 
 
 class EntityInfo(msgspec.Struct, frozen=True):

@@ -72,6 +72,8 @@ M = TypeVar("M", bound=Message)
 __all__ = ["Latest", "Node", "NodeConflict", "Publisher", "Request", "Timer"]  # the entities are runtime.entities'
 
 
+#: s: with use_sim_time, how long a node waits for the first Clock before it says so
+WAIT_FOR_CLOCK = 3.0
 #: a queue item that does nothing: it only wakes the node's thread
 _NOTHING: tuple[Callable[..., None], tuple[Any, ...]] = (lambda: None, ())
 
@@ -161,11 +163,27 @@ class Node(Generic[P]):
     def _follow_sim_time(self) -> None:
         """``use_sim_time``: timers, ``clock()`` and stamps on the simulator's ``clock`` key."""
         wake = self._queue.put
-        sim = self._sim = SimClock(lambda: wake(_NOTHING), lambda why: wake((self._rejected, (CLOCK, why))))
+        sim = self._sim = SimClock(
+            lambda: wake(_NOTHING),
+            lambda why: wake((self._rejected, (CLOCK, why))),
+            restarted=lambda back: wake((self._time_restarted, (back,))),
+        )
         self.clock, self._time_ns = sim.now, sim.now_ns
         declared = self._sim_declared = Declaration(self._entities, "subscription", CLOCK)
         declared.add(self.session.declare_subscriber(CLOCK, lambda sample: sim.heard(sample.payload.to_bytes())))
         declared.add(self._announce("sub", Clock, CLOCK))
+
+    def _time_restarted(self, back: float) -> None:
+        """The simulated time began (``back`` 0.0) or jumped back ``back`` s: every timer starts
+        again from it, its first tick a period on (ROS resets its timers on a jump back)."""
+        if self._sim is None:  # it made the time itself meanwhile (use_time)
+            return
+        self._sim.accept()
+        now = self.clock()
+        for timer in self._timers:
+            timer.retime(timer.period, now)
+        if back:
+            self.log.warning("the clock went back %.3f s (a replay looping?): timers start again from it", back)
 
     # -- declarations -------------------------------------------------------
     def resolve(self, key: str) -> str:
@@ -402,8 +420,15 @@ class Node(Generic[P]):
         # no generator per turn
         timers, get, clock, empty, fire_due = self._timers, self._queue.get, self.clock, queue.Empty, self._fire_due
         sim = self._sim
+        waiting = time.monotonic() + WAIT_FOR_CLOCK if sim is not None else None  # for the first Clock
         try:
             while self._running:
+                if waiting is not None and sim is not None and time.monotonic() > waiting:
+                    waiting = None
+                    if not sim.now_ns():
+                        self.log.warning(
+                            "no clock yet (use_sim_time): its timers wait for a simulator to publish %s", CLOCK
+                        )
                 now = clock()
                 fire_due(now)
                 wake = now + 1.0

@@ -103,6 +103,7 @@ class OwnServices:
             log_level=level,
             errors=ERRORS.count,
             last_error=ERRORS.last,
+            use_sim_time=self.node.uses_sim_time,
         )
         return msgspec.json.encode(details)
 

@@ -22,17 +22,31 @@ from collections.abc import Callable
 
 from turtlectl.messages import Clock, decode
 
+#: ns: a Clock this much older than the last is a jump back (a replay looping, a simulator
+#: started again), which the node's time follows; a less old one is a late one, ignored
+JUMP_BACK = 1_000_000_000
+
 
 class SimClock:
-    """The simulated time: the newest ``Clock`` heard (it never goes back), running on at its
+    """The simulated time: the newest ``Clock`` heard (a late one never takes it back; a jump of
+    more than JUMP_BACK back does, and ``restarted`` is told, as ROS's time jump), running on at its
     ``real_time_factor`` until the next one, by at most the gap between the last two (one step of
     the simulator: a timer of 100 ms fires at 100 ms of simulated time, not at the 16 ms step
     after it, and a stalled simulator stops the time within a step).  Wakes the node's thread
     when a Clock passes its next timer deadline (``wake_at``, s)."""
 
     def __init__(
-        self, wake: Callable[[], None], rejected: Callable[[str], None], monotonic: Callable[[], float] = time.monotonic
+        self,
+        wake: Callable[[], None],
+        rejected: Callable[[str], None],
+        monotonic: Callable[[], float] = time.monotonic,
+        restarted: Callable[[float], None] | None = None,
     ):
+        #: told (on a Zenoh thread) that the time began or jumped back (s back; 0.0 the first time):
+        #: the new time holds off until the node's thread ``accept``s it (so no timer of its fires on
+        #: the old grid meanwhile).  None: the new time holds at once.
+        self._restarted = restarted
+        self._pending: tuple[int, float, int, float] | None = None
         self._monotonic = monotonic  # s: the machine's clock, to run on between two Clocks
         #: (ns of the last Clock, monotonic s it came, ns since the one before, its factor)
         self._base = (0, 0.0, 0, 1.0)
@@ -80,12 +94,31 @@ class SimClock:
             return
         self.heard_clock(clock)
 
+    def accept(self) -> None:
+        """On the node's thread: the time that began or jumped back holds from now on."""
+        pending, self._pending = self._pending, None
+        if pending is not None:
+            self._base, self._last = pending, pending[0]
+
     def heard_clock(self, clock: Clock) -> None:
         """A ``Clock`` (decoded) arrived: as ``heard``."""
-        last = self._base[0]
-        if clock.clock <= last:  # a late or repeated one (a second simulator, a replay)
+        last = (self._pending or self._base)[0]
+        back = last - clock.clock
+        if 0 <= back <= JUMP_BACK:  # a late or repeated one: the time never goes back for it
             return
-        step = min(clock.clock - last, 1_000_000_000) if last else 0
-        self._base = (clock.clock, self._monotonic(), step, clock.real_time_factor)
+        first_or_back = not last or back > 0
+        step = 0 if first_or_back else min(clock.clock - last, 1_000_000_000)
+        base = (clock.clock, self._monotonic(), step, clock.real_time_factor)
+        if self._restarted is None:
+            self._base = base
+            if first_or_back:
+                self._last = clock.clock
+        elif first_or_back or self._pending is not None:  # the time begins, or a replay looped
+            self._pending = base  # held for the node's thread (accept)
+            if first_or_back:
+                self._restarted(back / 1e9 if last else 0.0)
+            return
+        else:
+            self._base = base
         if clock.clock / 1e9 >= self.wake_at:
             self._wake()

@@ -32,7 +32,9 @@ def verify(
         help="With --launch: run it F times as fast (launch --time-scale) and measure in its simulated time.",
     ),
     use_sim_time: bool = typer.Option(
-        False, "--use-sim-time", help="Measure in the simulated time of the system's clock (one run with --time-scale)."
+        False,
+        "--use-sim-time",
+        help="Measure in the simulated time of the system's clock (without it: when its clock runs at another factor than 1).",
     ),
     junit: Path | None = typer.Option(
         None, "--junit", metavar="FILE", help="Also write the verdicts as a JUnit XML report to FILE (for CI)."
@@ -55,7 +57,7 @@ def verify(
     from turtlectl.cli.verify import checks, report
     from turtlectl.cli.verify.report import Verdict
     from turtlectl.cli.verify.spec import load_spec
-    from turtlectl.cli.verify.timebase import SimulatedTime, Timebase
+    from turtlectl.cli.verify.timebase import system_time
 
     loaded = load_spec(spec)
 
@@ -66,7 +68,7 @@ def verify(
         raise BadInput("--time-scale starts the system it checks faster: give --launch FILE (or --use-sim-time)")
 
     def measured(client: Client) -> list[Verdict]:
-        clock = SimulatedTime(client) if use_sim_time or time_scale is not None else Timebase()
+        clock = system_time(client, use_sim_time or time_scale is not None, progress)
         try:
             return checks.verify(client, loaded, progress, short, clock)
         finally:

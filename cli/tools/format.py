@@ -224,7 +224,9 @@ def plan_text(plan: LaunchPlan) -> str:
         if e.respawn:
             limit = "no limit" if e.respawn_max == 0 else f"at most {e.respawn_max} in a row"
             how.append(f"respawn after {e.respawn_delay:g} s doubling to {e.respawn_delay_max:g} s, {limit}")
-        if e.use_sim_time:
+        if e.run == "sim" and plan.params[e.name].get("real_time_factor", 1.0) != 1.0:
+            how.append(f"makes the clock, {plan.params[e.name]['real_time_factor']:g}x real time")
+        elif e.use_sim_time and e.run != "sim":  # the simulator makes the time: it never follows a clock
             how.append("use_sim_time")
         if e.remap:
             keys = (f"{resolve(k, e.namespace)} -> {resolve(k, e.namespace, e.remap)}" for k in e.remap)
@@ -237,17 +239,31 @@ def plan_text(plan: LaunchPlan) -> str:
 
 
 def plan_notes(plan: LaunchPlan) -> list[str]:
-    """What is valid in a launch file but likely not meant: a namespace whose turtle the
-    simulator does not make at start (its nodes wait for a pose until one is spawned)."""
+    """What is valid in a launch file but likely not meant, or worth knowing at launch: a
+    namespace whose turtle the simulator does not make at start (its nodes wait for a pose until
+    one is spawned); simulated time at another pace than the wall clock's, and which nodes keep
+    the wall clock then."""
     sim = next((e for e in plan.launch.node if e.run == "sim"), None)
     if sim is None:
         return []
     made = {FIRST_TURTLE, *(t["name"] for t in plan.params[sim.name].get("turtles", []))}
-    return [
+    return _time_notes(plan, sim.name) + [
         f"no turtle {namespace} at start for the nodes of namespace {namespace}: add it to {sim.name}'s "
         f"params.turtles, or spawn it (turtlectl spawn X Y THETA --name {namespace})"
         for namespace in sorted({e.namespace for e in plan.launch.node if e.namespace} - made)
     ]
+
+
+def _time_notes(plan: LaunchPlan, sim: str) -> list[str]:
+    factor = plan.params[sim].get("real_time_factor", 1.0)
+    if factor == 1.0:
+        return []
+    nodes = [e for e in plan.launch.node if e.run != "sim" and not e.cmd]
+    wall = [e.name for e in nodes if not e.use_sim_time]
+    note = f"simulated time: {sim} runs {factor:g}x as fast as the wall clock"
+    if not wall:
+        return [f"{note}; every node follows its clock (use_sim_time)"]
+    return [f"{note}; {', '.join(wall)} keep{'s' * (len(wall) == 1)} the wall clock (no use_sim_time)"]
 
 
 def size_text(size: int) -> str:

@@ -40,6 +40,7 @@ class NodeReport(msgspec.Struct):
     parameters: dict[str, Any]
     errors: int = 0  # records at ERROR or worse logged since it started
     last_error: str = ""  # the last one's message
+    use_sim_time: bool = False  # its time is the simulator's clock
 
 
 def _no_node(node: str, graph: Graph) -> NobodyServes:
@@ -85,6 +86,7 @@ def node_report(connect: str, node: str) -> NodeReport:
         parameters=params.fetch(connect, node),
         errors=details.errors,
         last_error=details.last_error,
+        use_sim_time=details.use_sim_time,
     )
 
 
@@ -98,7 +100,8 @@ def node_text(report: NodeReport) -> str:
 
     lines = [
         f"{report.name}  kind {report.kind}, pid {report.pid}, host {report.host}, "
-        f"up {report.uptime:.1f} s, log level {report.log_level}",
+        f"up {report.uptime:.1f} s, log level {report.log_level}"
+        + (", use_sim_time (its time is the simulator's clock)" if report.use_sim_time else ""),
         *([f"ERRORS {report.errors} logged, the last: {report.last_error}"] if report.errors else []),
         "PUBLISHERS",
         *_rows(report.publishers),

@@ -61,8 +61,11 @@ def rate_stats(key: str, arrivals: list[float], stamps: list[int]) -> RateStats 
 
 
 def rate_line(s: RateStats) -> str:
+    """One line of ``hz``: the rate of arrivals, and the publisher's from the stamps (a type
+    with no stamps, such as Clock, has none to say)."""
+    publisher = f" (publisher {s.publisher_rate:.3f} Hz)" if s.publisher_rate > 0 else ""
     return (
-        f"{s.key}: {s.rate:.3f} Hz (publisher {s.publisher_rate:.3f} Hz), mean period {s.mean_period:.2f} ms, "
+        f"{s.key}: {s.rate:.3f} Hz{publisher}, mean period {s.mean_period:.2f} ms, "
         f"jitter p50 {s.jitter_p50:.2f} / p99 {s.jitter_p99:.2f} / max {s.jitter_max:.2f} ms, window {s.samples}"
     )
 

@@ -7,8 +7,9 @@ from __future__ import annotations
 
 import threading
 import time
+from collections.abc import Callable
 
-from turtlectl.cli.errors import Unreachable
+from turtlectl.cli.errors import TurtlectlError, Unreachable
 from turtlectl.cli.tools.api import Client
 from turtlectl.messages import Clock
 from turtlectl.messages.keys import CLOCK
@@ -68,3 +69,23 @@ class SimulatedTime(Timebase):
 
     def close(self) -> None:
         self._sub.undeclare()
+
+
+#: s: how long verify listens for a system's clock to learn whether it runs in simulated time
+PEEK = 0.5
+
+
+def system_time(client: Client, asked: bool, progress: Callable[[str], None]) -> Timebase:
+    """What ``verify`` measures with: the system's simulated time when ``asked`` (--use-sim-time,
+    --time-scale) or when its clock runs at another factor than 1 (a system started with
+    ``launch --time-scale``: the machine's clock would misread every time in it); else the machine's."""
+    if asked:
+        return SimulatedTime(client)
+    try:
+        clock = client.latest(CLOCK, timeout=PEEK)
+    except TurtlectlError:
+        return Timebase()  # no simulator's clock: the machine's time
+    if isinstance(clock, Clock) and clock.real_time_factor != 1.0:
+        progress(f"the system's clock runs at {clock.real_time_factor:g}x: measuring in its simulated time")
+        return SimulatedTime(client)
+    return Timebase()

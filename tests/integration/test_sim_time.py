@@ -59,7 +59,27 @@ def test_a_goal_at_5x_has_the_outcome_of_1x_and_its_time_taken_in_simulated_seco
     assert response.time_taken >= distance / 4.0  # no faster than the turtle's 4 m/s in simulated time
 
 
+def test_node_info_says_a_node_uses_sim_time(fast):
+    """A review found no way to see whether a running node follows the clock."""
+    done = fast.run_cli("node", "info", "navigator")
+    assert done.returncode == 0, done.stderr
+    assert "use_sim_time (its time is the simulator's clock)" in done.stdout.splitlines()[0]
+
+
 def test_status_is_10_hz_of_simulated_time(fast):
     stamps = [m.stamp / 1e9 for _, m in fast.collect(STATUS, TurtleStatus, 21, timeout=10.0)]
     periods = [b - a for a, b in zip(stamps, stamps[1:], strict=False)]
     assert abs(statistics.median(periods) - 0.100) <= 0.010, periods
+
+
+def test_verify_against_a_fast_system_measures_in_its_simulated_time_unasked(fast, tmp_path):
+    """A review found verify against a 5x system reading goals in wall clock ("reported 1.537 s,
+    the client measured 0.326 s"): it now sees the clock's factor and measures in simulated time."""
+    spec = tmp_path / "spec.toml"
+    spec.write_text(
+        'intent = "reported time"\n[[criterion]]\ncheck = "reported_time"\nname = "reported"\n'
+        "goals = [[5.5, 5.5, 0.0]]\nwithin_s = 0.1\n"
+    )
+    done = fast.run_cli("verify", str(spec), timeout=120)
+    assert done.returncode == 0, done.stdout + done.stderr
+    assert "the system's clock runs at 5x: measuring in its simulated time" in done.stderr

@@ -40,6 +40,8 @@ def test_the_time_is_zero_until_the_first_clock_then_the_clocks():
     pub = node.publisher("out", Twist)
     pub.publish(Twist())
     tick(session, 5_000_000_000)
+    assert node.clock() == 0.0  # until the node's thread takes the new time (its timers with it)
+    node._drain()
     assert node.clock() == 5.0 and node.now_ns() == 5_000_000_000
     pub.publish(Twist())
     assert stamps(session, "out") == [0, 5_000_000_000]  # stamped with the simulated time
@@ -58,6 +60,7 @@ def test_without_use_sim_time_the_machines_clock_and_no_clock_subscription():
 def test_timers_run_on_the_simulated_time_and_a_clock_past_the_next_deadline_wakes_the_node():
     node, session = sim_node()
     tick(session, 10_000_000_000)
+    node._drain()
     fired: list[float] = []
     node.timer(0.1, lambda: fired.append(node.clock()))
     node._sim.wake_at = node._timers[0].deadline  # as the node's loop sets it before it waits
@@ -75,6 +78,7 @@ def test_timers_run_on_the_simulated_time_and_a_clock_past_the_next_deadline_wak
 def test_a_malformed_clock_is_counted_and_logged_and_the_time_holds(caplog):
     node, session = sim_node()
     tick(session, 7_000_000_000)
+    node._drain()
     session.deliver(CLOCK, b"garbage")
     node._drain()
     assert node._bad_payloads == {CLOCK: 1}
@@ -110,3 +114,56 @@ def test_between_two_clocks_the_time_runs_on_at_their_factor_by_at_most_a_step()
     assert woken == [1] and sim.now() == 10.048
     sim.heard(encode(Clock(clock=10_020_000_000, real_time_factor=5.0)))  # from the past: ignored
     assert sim.now() == 10.048
+
+
+def test_timers_made_before_the_first_clock_tick_a_period_after_it_not_on_a_grid_from_0():
+    """A review found a 1 s timer firing at once when the first Clock came, then on whole
+    seconds since 1970: its grid began at time 0."""
+    node, session = sim_node()
+    fired: list[float] = []
+    node.timer(1.0, lambda: fired.append(node.clock()))
+    tick(session, 1_795_659_174_987_000_000)
+    node._drain()
+    node._fire_due(node.clock())
+    assert fired == []
+    assert node._timers[0].deadline == pytest.approx(1_795_659_175.987)
+
+
+def test_a_jump_back_starts_the_timers_again_from_the_new_time(caplog):
+    """``play --loop --clock``: the recording's time starts again; a review found timers stopped
+    for good (the node's time would not go back)."""
+    node, session = sim_node()
+    tick(session, 100_000_000_000)
+    node._drain()
+    node.timer(0.5, lambda: None)
+    tick(session, 100_400_000_000)
+    tick(session, 100_300_000_000)  # a late one: ignored
+    node._drain()
+    assert node.clock() == pytest.approx(100.4, abs=0.02)
+    tick(session, 96_000_000_000)  # 4.4 s back: the replay looped
+    node._drain()
+    assert node.clock() == pytest.approx(96.0, abs=0.02)
+    assert node._timers[0].deadline == pytest.approx(96.5, abs=0.02)
+    assert "the clock went back 4.400 s" in caplog.text
+
+
+def test_a_node_with_no_clock_says_so_once(monkeypatch, caplog):
+    """A review found a use_sim_time node beside no simulator silent forever."""
+    import threading
+
+    import turtlectl.runtime.node as node_module
+
+    monkeypatch.setattr(node_module, "WAIT_FOR_CLOCK", 0.05)
+    node, _ = sim_node()
+    spinning = threading.Thread(target=node.spin)
+    spinning.start()
+    try:
+        deadline = threading.Event()
+        for _ in range(100):  # up to 5 s for the warning, under a deadline
+            if "no clock yet (use_sim_time)" in caplog.text:
+                break
+            deadline.wait(0.05)
+    finally:
+        node.stop()
+        spinning.join(5)
+    assert caplog.text.count("no clock yet (use_sim_time): its timers wait for a simulator to publish clock") == 1

@@ -509,3 +509,29 @@ def test_a_ros_namespace_may_be_written_with_its_slash_and_a_turtle_missing_at_s
         "or spawn it (turtlectl spawn X Y THETA --name turtle9)"
     ]
     assert plan_text(lonely).endswith("note: " + plan_notes(lonely)[0])
+
+
+def test_time_scale_puts_every_node_on_the_simulators_clock_and_check_says_so():
+    """Issue 28: `launch --time-scale 5` is the simulator's real_time_factor and every node's
+    use_sim_time (not a cmd program's); --check and the launch say it, the simulator as the one
+    that makes the clock (a review found `sim (...; use_sim_time)` confusing)."""
+    from turtlectl.cli.system.overrides import launch_plan
+    from turtlectl.cli.tools.format import plan_notes, plan_text
+
+    plan = launch_plan(ROOT / "launch.toml", [], [], [], 5.0)
+    assert plan.params["sim"]["real_time_factor"] == 5.0
+    assert all(e.use_sim_time for e in plan.launch.node)
+    assert node_config(plan, "navigator", "tcp/127.0.0.1:7447").use_sim_time
+    text = plan_text(plan)
+    assert "sim (run sim; required; makes the clock, 5x real time)" in text
+    assert "; use_sim_time)" in text.split("navigator (")[1].split("\n")[0]
+    assert (
+        plan_notes(plan)[0]
+        == "simulated time: sim runs 5x as fast as the wall clock; every node follows its clock (use_sim_time)"
+    )
+    alone = launch_plan(ROOT / "launch.toml", [], [], ["sim.real_time_factor=2"])
+    assert not any(e.use_sim_time for e in alone.launch.node)
+    assert "navigator, status_monitor, obstacle_detector keep the wall clock" in plan_notes(alone)[0]
+    assert plan_notes(launch_plan(ROOT / "launch.toml", [], [], [])) == []
+    with pytest.raises(LaunchFileError, match="real_time_factor"):
+        launch_plan(ROOT / "launch.toml", [], [], [], 50.0)

@@ -79,3 +79,13 @@ def test_quiet_is_due_once_per_silence_whether_or_not_anything_arrived():
     assert not quiet.due(110.1 + SILENCE - 0.01)
     assert quiet.due(110.1 + SILENCE) and quiet.flowed  # a stream that stopped after flowing
     assert not quiet.due(120.0)
+
+
+def test_a_type_without_stamps_says_no_publisher_rate():
+    """A review found `clock: 306.281 Hz (publisher 0.000 Hz)`: Clock carries no stamp."""
+    from turtlectl.cli.tools.rates import rate_line
+
+    unstamped = rate_stats("clock", [0.0, 0.016, 0.032], [0, 0, 0])
+    assert unstamped is not None and "publisher" not in rate_line(unstamped)
+    stamped = rate_stats("robot/status", [0.0, 0.1, 0.2], [0, 100_000_000, 200_000_000])
+    assert stamped is not None and "(publisher 10.000 Hz)" in rate_line(stamped)
