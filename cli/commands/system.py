@@ -199,7 +199,7 @@ def run(
     def on_sim_time(config: NodeConfig) -> NodeConfig:
         return msgspec.structs.replace(config, use_sim_time=True) if use_sim_time else config
 
-    if not is_target(node) and is_file(node):
+    if not is_target(node) and is_file(node) and (node.endswith(".py") or Path(node).is_file()):
         raise BadInput(f"{node} names a file: add its node class, as {node}:ClassName")
     level = args.log_level(log_level)
     endpoint = args.endpoint(connect)

@@ -11,6 +11,7 @@ import signal
 import socket
 import subprocess
 import sys
+from pathlib import Path
 
 import pytest
 from typer.testing import CliRunner
@@ -19,6 +20,8 @@ from turtlectl.cli.errors import BadInput, ExitCode, Interrupted, TurtlectlError
 from turtlectl.cli.main import app, error_line, main
 from turtlectl.cli.system.launchfile import PACKAGED_LAUNCH
 from turtlectl.runtime.endpoint import CONNECT_ENV, DOMAIN_ENV
+
+FLEET = Path(__file__).resolve().parents[3] / "examples" / "fleet" / "launch.toml"
 
 HEAVY = [
     "numpy",
@@ -281,6 +284,8 @@ def test_a_malformed_launch_file_names_the_key_path(tmp_path):
         # a file without its class (a new user's first try): not taken for a launch-file name
         (("./patrol.py",), "./patrol.py names a file: add its node class, as ./patrol.py:ClassName"),
         (("myrobot/patrol.py",), "myrobot/patrol.py names a file: add its node class"),
+        # a namespaced node of a launch file is a name, not a file (a review: "turtle2/navigator names a file")
+        (("turtle2/nav", "--file", str(FLEET)), "no node named 'turtle2/nav'; did you mean turtle2/navigator?"),
     ],
 )
 def test_run_checks_the_node_and_its_overrides_before_it_starts(argv, message):
