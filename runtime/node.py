@@ -42,7 +42,6 @@ import msgspec
 import zenoh
 
 from turtlectl.messages import (
-    Clock,
     Message,
     decode,
     decode_any,
@@ -50,7 +49,6 @@ from turtlectl.messages import (
 )
 from turtlectl.messages.codec import type_name
 from turtlectl.messages.keys import (
-    CLOCK,
     EntityInfo,
     entity_token,
     namespace_of,
@@ -64,18 +62,12 @@ from turtlectl.runtime.entities import RING, Latest, Publisher, Request, Timer, 
 from turtlectl.runtime.handles import Declaration
 from turtlectl.runtime.interface import check
 from turtlectl.runtime.own_services import OwnServices
-from turtlectl.runtime.simtime import SimClock
+from turtlectl.runtime.simtime import SimClock, follow_clock
 
 P = TypeVar("P", bound=msgspec.Struct)
 M = TypeVar("M", bound=Message)
 
 __all__ = ["Latest", "Node", "NodeConflict", "Publisher", "Request", "Timer"]  # the entities are runtime.entities'
-
-
-#: s: with use_sim_time, how long a node waits for the first Clock before it says so
-WAIT_FOR_CLOCK = 3.0
-#: a queue item that does nothing: it only wakes the node's thread
-_NOTHING: tuple[Callable[..., None], tuple[Any, ...]] = (lambda: None, ())
 
 
 class NodeConflict(Exception):
@@ -135,7 +127,7 @@ class Node(Generic[P]):
         self._on_params: list[Callable[[P], None]] = []
         self._own = OwnServices(self)  # every node's: its parameters, what it is, its log level, its types
         if config.use_sim_time:
-            self._follow_sim_time()
+            self._sim = follow_clock(self)
         self.interface = config.interface  # from here on, what the node declares is checked against it
 
     def now_ns(self) -> int:
@@ -156,34 +148,9 @@ class Node(Generic[P]):
         time).  Its timers and ``clock()`` are the machine's (they pace it), even with
         ``use_sim_time``: call it before declaring a timer."""
         if self._sim is not None:  # it makes the time: it does not follow it
-            self._sim_declared.undeclare()
+            self._sim.declared.undeclare()
             self._sim, self.clock = None, self._machine_clock
         self._time_ns = now_ns
-
-    def _follow_sim_time(self) -> None:
-        """``use_sim_time``: timers, ``clock()`` and stamps on the simulator's ``clock`` key."""
-        wake = self._queue.put
-        sim = self._sim = SimClock(
-            lambda: wake(_NOTHING),
-            lambda why: wake((self._rejected, (CLOCK, why))),
-            restarted=lambda back: wake((self._time_restarted, (back,))),
-        )
-        self.clock, self._time_ns = sim.now, sim.now_ns
-        declared = self._sim_declared = Declaration(self._entities, "subscription", CLOCK)
-        declared.add(self.session.declare_subscriber(CLOCK, lambda sample: sim.heard(sample.payload.to_bytes())))
-        declared.add(self._announce("sub", Clock, CLOCK))
-
-    def _time_restarted(self, back: float) -> None:
-        """The simulated time began (``back`` 0.0) or jumped back ``back`` s: every timer starts
-        again from it, its first tick a period on (ROS resets its timers on a jump back)."""
-        if self._sim is None:  # it made the time itself meanwhile (use_time)
-            return
-        self._sim.accept()
-        now = self.clock()
-        for timer in self._timers:
-            timer.retime(timer.period, now)
-        if back:
-            self.log.warning("the clock went back %.3f s (a replay looping?): timers start again from it", back)
 
     # -- declarations -------------------------------------------------------
     def resolve(self, key: str) -> str:
@@ -420,15 +387,8 @@ class Node(Generic[P]):
         # no generator per turn
         timers, get, clock, empty, fire_due = self._timers, self._queue.get, self.clock, queue.Empty, self._fire_due
         sim = self._sim
-        waiting = time.monotonic() + WAIT_FOR_CLOCK if sim is not None else None  # for the first Clock
         try:
             while self._running:
-                if waiting is not None and sim is not None and time.monotonic() > waiting:
-                    waiting = None
-                    if not sim.now_ns():
-                        self.log.warning(
-                            "no clock yet (use_sim_time): its timers wait for a simulator to publish %s", CLOCK
-                        )
                 now = clock()
                 fire_due(now)
                 wake = now + 1.0
@@ -437,6 +397,7 @@ class Node(Generic[P]):
                         wake = t.deadline
                 if sim is not None:  # simulated time: the next Clock past ``wake`` wakes the thread
                     sim.wake_at = wake
+                    sim.say_if_waiting(self.log)
                 try:
                     func, args = get(timeout=sim.timeout(wake) if sim is not None else max(0.0, wake - clock()))
                 except empty:

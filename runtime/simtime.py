@@ -16,11 +16,21 @@ at the wall-clock time its simulator started).
 
 from __future__ import annotations
 
+import logging
 import math
 import time
 from collections.abc import Callable
+from typing import TYPE_CHECKING, Any
 
 from turtlectl.messages import Clock, decode
+from turtlectl.messages.keys import CLOCK
+from turtlectl.runtime.handles import Declaration
+
+if TYPE_CHECKING:
+    from turtlectl.runtime.node import Node
+
+#: s: with use_sim_time, how long a node waits for the first Clock before it says so
+WAIT_FOR_CLOCK = 3.0
 
 #: ns: a Clock this much older than the last is a jump back (a replay looping, a simulator
 #: started again), which the node's time follows; a less old one is a late one, ignored
@@ -47,6 +57,8 @@ class SimClock:
         #: the old grid meanwhile).  None: the new time holds at once.
         self._restarted = restarted
         self._pending: tuple[int, float, int, float] | None = None
+        self._say_by: float | None = monotonic() + WAIT_FOR_CLOCK  # s: say so if no Clock came by then
+        self.declared: Declaration | None = None  # a node's subscription to ``clock`` (follow_clock)
         self._monotonic = monotonic  # s: the machine's clock, to run on between two Clocks
         #: (ns of the last Clock, monotonic s it came, ns since the one before, its factor)
         self._base = (0, 0.0, 0, 1.0)
@@ -94,6 +106,13 @@ class SimClock:
             return
         self.heard_clock(clock)
 
+    def say_if_waiting(self, log: logging.Logger) -> None:
+        """Once, WAIT_FOR_CLOCK s after it was made: log that no Clock came yet, if none did."""
+        if self._say_by is not None and self._monotonic() > self._say_by:
+            self._say_by = None
+            if not self._base[0] and self._pending is None:
+                log.warning("no clock yet (use_sim_time): its timers wait for a simulator to publish %s", CLOCK)
+
     def accept(self) -> None:
         """On the node's thread: the time that began or jumped back holds from now on."""
         pending, self._pending = self._pending, None
@@ -122,3 +141,38 @@ class SimClock:
             self._base = base
         if clock.clock / 1e9 >= self.wake_at:
             self._wake()
+
+
+def follow_clock(node: Node[Any]) -> SimClock:
+    """Put ``node`` on the simulator's clock (``use_sim_time``): its ``clock()``, its timers and
+    its stamps follow the ``Clock`` messages on ``clock``; when the time begins or jumps back,
+    its timers start again from it (on its own thread).  The subscription is the runtime's own
+    (``list`` shows it); ``Node.use_time`` undeclares it for a node that makes the time itself."""
+    wake = node._queue.put
+    sim = SimClock(
+        lambda: wake((_nothing, ())),
+        lambda why: wake((node._rejected, (CLOCK, why))),
+        restarted=lambda back: wake((_restarted, (node, sim, back))),
+    )
+    node.clock, node._time_ns = sim.now, sim.now_ns
+    sim.declared = Declaration(node._entities, "subscription", CLOCK)
+    sim.declared.add(node.session.declare_subscriber(CLOCK, lambda sample: sim.heard(sample.payload.to_bytes())))
+    sim.declared.add(node._announce("sub", Clock, CLOCK))
+    return sim
+
+
+def _nothing() -> None:
+    """A queue item that only wakes the node's thread (it then fires what is due)."""
+
+
+def _restarted(node: Node[Any], sim: SimClock, back: float) -> None:
+    """The simulated time began (``back`` 0.0) or jumped back ``back`` s: every timer of the node
+    starts again from it, its first tick a period on (ROS resets its timers on a jump back)."""
+    if node._sim is not sim:  # it makes the time itself meanwhile (use_time)
+        return
+    sim.accept()
+    now = node.clock()
+    for timer in node._timers:
+        timer.retime(timer.period, now)
+    if back:
+        node.log.warning("the clock went back %.3f s (a replay looping?): timers start again from it", back)

@@ -151,9 +151,9 @@ def test_a_node_with_no_clock_says_so_once(monkeypatch, caplog):
     """A review found a use_sim_time node beside no simulator silent forever."""
     import threading
 
-    import turtlectl.runtime.node as node_module
+    import turtlectl.runtime.simtime as simtime
 
-    monkeypatch.setattr(node_module, "WAIT_FOR_CLOCK", 0.05)
+    monkeypatch.setattr(simtime, "WAIT_FOR_CLOCK", 0.05)
     node, _ = sim_node()
     spinning = threading.Thread(target=node.spin)
     spinning.start()
