@@ -36,6 +36,11 @@ def plot(
     ),
     window: float = typer.Option(10.0, "--window", min=1.0, help="Seconds the live plot shows (a sliding window)."),
     duration: float | None = typer.Option(None, "--duration", min=0.1, help="Stop after S seconds (a running system)."),
+    stamps: bool = typer.Option(
+        False,
+        "--stamps",
+        help="Time axis: each message's own stamp (simulated time with launch --time-scale), not when it arrived.",
+    ),
     turtle: str = TurtleOption,
     connect: str = ConnectOption,
     domain: str = DomainOption,
@@ -49,7 +54,9 @@ def plot(
     write it.  A bool plots as 0 or 1; inf and NaN are left out.  A field that is not a number
     is exit code 2, naming the numeric fields of its type.  The live plot runs until q or Ctrl-C
     (exit code 0) or --duration; with --output, a running system's messages are collected until
-    --duration or Ctrl-C, then drawn.  No number to plot at all is exit code 3.
+    --duration or Ctrl-C, then drawn.  No number to plot at all is exit code 3.  The time axis
+    is when each message arrived (a recording's: when it was recorded); --stamps: each
+    message's own stamp, for a system on simulated time (launch --time-scale).
 
     Example: turtlectl plot robot/status.battery turtle1/pose.x
     """
@@ -59,34 +66,38 @@ def plot(
     args.finite_option(window, "--window")
     args.finite_option(duration, "--duration")
     kind = model.picture_format(output) if output is not None else ""
+    if output is not None:
+        from turtlectl.cli.tools.plot_draw import check_writable
+
+        check_writable(output)  # before collecting: nothing is lost to a folder that is not there
     if recording is not None:
         if duration is not None:
             raise BadInput("--duration is for a running system: a recording (--input) is plotted whole")
-        _plot_recording(series, recording, output, kind)
+        _plot_recording(series, recording, output, kind, stamps)
         return
-    model.check_builtins(series, turtle)  # a built-in key's type is known: a typo is said at once
+    model.check_builtins(series, turtle, stamps)  # a built-in key's type is known: a typo is said at once
     if output is not None:
-        _collect_live(series, output, kind, duration, connect)
+        _collect_live(series, output, kind, duration, connect, stamps, turtle)
     else:
         if not sys.stdout.isatty():
             raise BadInput(
                 "the live plot draws in a terminal, and the output is not one: write a picture with "
                 "--output FILE.png (with --duration S), or the numbers with `turtlectl echo KEY --field FIELD --csv`"
             )
-        _plot_live(series, window, duration, connect)
+        _plot_live(series, window, duration, connect, stamps, turtle)
 
 
 def _lines(series: list[Any], points: Any) -> list[Any]:
     return [(s.label, *points.xy(s)) for s in series]
 
 
-def _plot_recording(series: list[Any], path: Path, output: Path | None, kind: str) -> None:
+def _plot_recording(series: list[Any], path: Path, output: Path | None, kind: str, stamps: bool = False) -> None:
     """A recording whole: a picture, or one chart printed in the terminal."""
     import shutil
 
     from turtlectl.cli.tools import plot_draw, plot_sources
 
-    got = plot_sources.from_recording(path, series)
+    got = plot_sources.from_recording(path, series, stamps)
     if not got.closed:
         from turtlectl.cli.recording.recover import hint
 
@@ -104,27 +115,35 @@ def _plot_recording(series: list[Any], path: Path, output: Path | None, kind: st
     cols, rows = shutil.get_terminal_size((100, 30))
     x_limits = (0.0, max(got.duration, 1e-3))
     text = plot_draw.chart(lines, cols, max(rows - 2, 8), x_limits, None, color=sys.stdout.isatty())
-    result("\n".join(text) + f"\n{path.name}: {got.collected.count} samples over {got.duration:.1f} s")
+    result("\n".join(text) + f"\n{path.name}: {_samples(got.collected.count)} over {got.duration:.1f} s")
+
+
+def _samples(count: int) -> str:
+    return f"{count} sample{'s' * (count != 1)}"
 
 
 def _wrote(output: Path, collected: Any, seconds: float) -> str:
     count = len(collected.series)
-    return f"wrote {output}: {collected.count} samples of {count} series over {seconds:.1f} s"
+    return f"wrote {output}: {_samples(collected.count)} of {count} series over {seconds:.1f} s"
 
 
-def _collect_live(series: list[Any], output: Path, kind: str, duration: float | None, connect: str) -> None:
+def _collect_live(
+    series: list[Any], output: Path, kind: str, duration: float | None, connect: str, stamps: bool, turtle: str
+) -> None:
     """A running system's numbers until --duration or Ctrl-C, then a picture of them."""
     from turtlectl.cli.sigint import stop_on_signals
     from turtlectl.cli.tools import client, plot_draw, plot_sources
-    from turtlectl.cli.tools.plot import Collected
+    from turtlectl.cli.tools.plot_window import Collected
 
     collected = Collected(series)
     told: set[str] = set()
     ends = f"for {duration:g} s" if duration is not None else "until Ctrl-C"
     labels = ", ".join(s.label for s in series)
     with client.client_session(connect) as session, stop_on_signals() as stop:
-        live = plot_sources.Live(session, connect, series)
+        live = plot_sources.Live(session, connect, series, stamps, turtle)
         typer.echo(f"plotting {labels} into {output} {ends}", err=True)
+        for note in live.typos.values():  # a typo said at once (the key is still waited for, as echo does)
+            typer.echo(f"note: {note}", err=True)
         try:
             while not stop.is_set() and (duration is None or live.elapsed() < duration):
                 wait = 0.1 if duration is None else max(0.0, min(0.1, duration - live.elapsed()))
@@ -141,47 +160,60 @@ def _collect_live(series: list[Any], output: Path, kind: str, duration: float | 
             live.close()
     for s in collected.empty():
         typer.echo(f"warning: no number in {s.label} within {seconds:.1f} s", err=True)
+    if stamps:
+        seconds = collected.rebase()  # the stamps' span
     plot_draw.write_picture(output, kind, _lines(series, collected), "turtlectl plot")
     result(_wrote(output, collected, seconds))
 
 
-def _plot_live(series: list[Any], window: float, duration: float | None, connect: str) -> None:
-    """The live plot in this terminal, redrawn every FRAME s, until q, Ctrl-C or --duration."""
+def _plot_live(
+    series: list[Any], window: float, duration: float | None, connect: str, stamps: bool = False, turtle: str = ""
+) -> None:
+    """The live plot in this terminal, redrawn every FRAME s, until q, Ctrl-C or --duration;
+    ended by --duration, its last frame is printed (the bottom line without "q quits")."""
     from turtlectl.cli.sigint import stop_on_signals
     from turtlectl.cli.tools import client, plot_draw, plot_sources
-    from turtlectl.cli.tools.plot import Window, status_line
+    from turtlectl.cli.tools.plot_window import Window, status_line
 
     shown = Window(series, window)
-    frame: list[str] = []
+    chart: list[str] = []
+    last = ""
     timed_out = False  # ended by --duration: its last frame stays in the terminal
     try:
         with client.client_session(connect) as session, stop_on_signals((signal.SIGHUP,)) as stop:
-            live = plot_sources.Live(session, connect, series)
+            live = plot_sources.Live(session, connect, series, stamps, turtle)
             try:
+                for note in live.typos.values():  # on the terminal after the plot
+                    typer.echo(f"note: {note}", err=True)
                 with plot_draw.screen(sys.stdout) as screen:
                     while not stop.is_set():
                         for s, t, value in live.poll():
                             shown.add(s, t, value)
-                        shown.advance(live.elapsed())
+                        shown.advance(shown.now if stamps else live.elapsed())  # stamps: the latest
                         cols, rows = screen.size()
                         if cols < 30 or rows < 8:
-                            frame = ["terminal too small"]
+                            chart = ["terminal too small"]
+                            screen.show(chart)
                         else:
                             lines = _lines(series, shown)
-                            text = plot_draw.chart(lines, cols, rows - 1, shown.x_limits(), shown.y_limits())
-                            frame = [*text, status_line(shown, live.notices, cols)]
-                        screen.show(frame)
+                            chart = plot_draw.chart(lines, cols, rows - 1, shown.x_limits(), shown.y_limits())
+                            screen.show([*chart, status_line(shown, cols, live.silent, live.router)])
                         timed_out = duration is not None and live.elapsed() >= duration
                         if timed_out or screen.key(plot_draw.FRAME).lower().startswith("q"):
                             break
-                if timed_out and not live.received:
-                    raise Unreachable(f"no message within {duration:g} s: {live.why_silent()}")
+                if timed_out:  # the last frame, its bottom line ended, before any error
+                    cols = plot_draw.Screen(sys.stdout).size()[0]
+                    bottom = status_line(shown, max(cols, 30), live.silent, live.router, quits=False)
+                    last = "\n".join([*chart, bottom])
+                    if not live.received:
+                        typer.echo(last)
+                        raise Unreachable(f"no message within {duration:g} s: {live.why_silent()}")
             finally:
                 live.close()
     except KeyboardInterrupt:  # before the screen was up: as echo, Ctrl-C ends it
         return
     if timed_out:
-        result("\n".join(frame[:-1]))  # without the status line's "q quits"
+        result(last)
 
 
 def register(app: typer.Typer) -> None:

@@ -11,15 +11,17 @@
   naming the numeric fields its type has; after that a message without one is left out (a list
   that is shorter this time).  ``check_type`` says the same before any message, for a type
   known in advance (a built-in key's).
-- ``Window``: each series' samples over the last ``seconds`` (the live terminal plot), and the
-  axes' limits to draw them with (``x_limits``, ``y_limits``).
+- ``Stamps``: --stamps' time axis, each message's own ``stamp`` (s from the first);
+  ``nearest_key``: the built-in key a typo was meant to be.
+- The sliding window of the live plot, its status line and the samples collected whole: in
+  ``cli.tools.plot_window``.
 - ``picture_format``: ``--output``'s file type from its extension (png or svg).
 """
 
 from __future__ import annotations
 
-import collections
 import dataclasses
+import difflib
 import math
 from collections.abc import Iterable
 from pathlib import Path
@@ -36,6 +38,8 @@ from turtlectl.messages.keys import TOPICS, resolve
 PICTURE_FORMATS = ("png", "svg")
 #: what ``numeric_fields`` writes for "any index of this list"
 ANY_INDEX = "N"
+#: the field --stamps reads each message's time from (ns since the epoch)
+STAMP = "stamp"
 
 
 @dataclasses.dataclass(frozen=True)
@@ -91,11 +95,19 @@ class _Missing(Exception):
     """No value at a path (no such field, an index out of range)."""
 
 
+class _PastTheEnd(_Missing):
+    """An index past the end of a list: ``at`` (the list's path), its ``length``, the ``index``."""
+
+    def __init__(self, at: str, length: int, index: str):
+        super().__init__(at)
+        self.at, self.length, self.index = at, length, index
+
+
 def value_at(message: Any, path: str) -> Any:
     """The value at dotted ``path`` in a message (a Struct) or undescribed data (dicts, lists):
     fields by name, list items by index (negative from the end); _Missing if there is none."""
     value = message
-    for part in path.split("."):
+    for depth, part in enumerate(path.split(".")):
         if isinstance(value, msgspec.Struct) and part in value.__struct_fields__:
             value = getattr(value, part)
         elif isinstance(value, dict) and part in value:
@@ -103,7 +115,8 @@ def value_at(message: Any, path: str) -> Any:
         elif isinstance(value, list | tuple) and part.lstrip("-").isdigit():
             index = int(part)
             if not -len(value) <= index < len(value):
-                raise _Missing(path)
+                at = ".".join(path.split(".")[:depth])
+                raise _PastTheEnd(at, len(value), _join(at, part))
             value = value[index]
         else:
             raise _Missing(path)
@@ -182,6 +195,12 @@ def check(series: Series, message: Any) -> float | None:
     data = getattr(message, "data", message)  # an undescribed payload (cli.tools.format.Undescribed)
     try:
         value = value_at(data, series.path)
+    except _PastTheEnd as past:
+        items = f"{past.length} item{'s' * (past.length != 1)}"
+        raise BadInput(
+            f"{series.label}: {series.key}.{past.at} has {items} in the first {type_name(message)}; "
+            f"{past.index} is past the end ({past.at}.-1 is the last)"
+        ) from None
     except _Missing:
         why = f"{type_name(message)} has no field {series.path!r}"
         raise _no_number(series, type_name(message), numeric_fields(message), why) from None
@@ -234,13 +253,62 @@ def builtin_type(key: str, turtle: str = "") -> type[Message] | None:
     return None
 
 
-def check_builtins(series: list[Series], turtle: str = "") -> None:
+def check_builtins(
+    series: list[Series], turtle: str = "", stamps: bool = False, types: dict[str, type[Message]] | None = None
+) -> None:
     """``check_type`` for each series on a built-in key (its type known before any message):
-    a typo says so at once, before anything is drawn or waited for."""
+    a typo says so at once, before anything is drawn or waited for; with ``stamps``
+    (--stamps), BadInput naming the types that have no stamp (also those of ``types``,
+    key -> type: a recording's)."""
+    unstamped = []
+    known = dict(types or {})
     for s in series:
         msg_type = builtin_type(s.key, turtle)
         if msg_type is not None:
             check_type(s, msg_type)
+            known[s.key] = msg_type
+    if stamps:
+        unstamped = [f"{t.__name__} on {key}" for key, t in known.items() if STAMP not in t.__struct_fields__]
+    if unstamped:
+        raise _unstamped(unstamped)
+
+
+def _unstamped(which: list[str]) -> BadInput:
+    return BadInput(
+        f"--stamps: {', '.join(dict.fromkeys(which))} has no stamp: plot it without --stamps "
+        "(the time axis is then when each message arrived)"
+    )
+
+
+def nearest_key(key: str, turtle: str = "") -> str | None:
+    """The built-in key (as resolved for --turtle) nearest to ``key``, a typo's
+    (``turtle1/pos``: ``turtle1/pose``); None for a built-in key or one near none."""
+    known = [resolve(k, turtle) for k in TOPICS]
+    if key in known:
+        return None
+    near = difflib.get_close_matches(key, known, n=1, cutoff=0.75)
+    return near[0] if near else None
+
+
+class Stamps:
+    """--stamps' time axis: each message's own ``stamp`` (ns since the epoch: simulated time in a
+    system run with --time-scale) in s from the first stamp seen."""
+
+    def __init__(self) -> None:
+        self.origin: int | None = None
+
+    def time(self, key: str, message: Any) -> float | None:
+        """When ``message`` (on ``key``) was stamped, s from the first stamp; None for one not
+        stamped (0); BadInput for a message whose type has no stamp."""
+        try:
+            stamp = value_at(getattr(message, "data", message), STAMP)
+        except _Missing:
+            raise _unstamped([f"{type_name(message)} on {key}"]) from None
+        if isinstance(stamp, bool) or not isinstance(stamp, int | float) or stamp <= 0:
+            return None
+        if self.origin is None:
+            self.origin = int(stamp)
+        return (stamp - self.origin) / 1e9
 
 
 class Extractor:
@@ -272,104 +340,6 @@ class Extractor:
                     continue
             found.append((s, value))
         return found
-
-
-class Window:
-    """The samples of each series over the last ``seconds`` s (a live plot's sliding window),
-    times in s since the plot started; one sample older than the window is kept so a line
-    comes in from the left edge."""
-
-    def __init__(self, series: list[Series], seconds: float):
-        self.seconds = seconds
-        self.points: dict[Series, collections.deque[tuple[float, float]]] = {s: collections.deque() for s in series}
-        self.latest: dict[Series, float] = {}
-        self.now = 0.0
-
-    def add(self, series: Series, t: float, value: float) -> None:
-        self.points[series].append((t, value))
-        self.latest[series] = value
-        self.now = max(self.now, t)
-
-    def advance(self, now: float) -> None:
-        """The time is ``now``: samples that left the window (but the last before it) go."""
-        self.now = max(self.now, now)
-        start = self.now - self.seconds
-        for points in self.points.values():
-            while len(points) > 1 and points[1][0] <= start:
-                points.popleft()
-
-    def x_limits(self) -> tuple[float, float]:
-        """The time axis: [0, seconds] until the window is full, then the last ``seconds`` s."""
-        return (max(0.0, self.now - self.seconds), max(self.seconds, self.now))
-
-    def y_limits(self) -> tuple[float, float] | None:
-        """Room for every sample in the window (5 % more each side); None while there is none."""
-        lo, hi = self.x_limits()
-        values = [v for points in self.points.values() for t, v in points if lo <= t <= hi]
-        return value_limits(values)
-
-    def xy(self, series: Series) -> tuple[list[float], list[float]]:
-        """The times and values of one series."""
-        points = self.points[series]
-        return [t for t, _ in points], [v for _, v in points]
-
-
-def status_line(window: Window, notices: list[str], width: int) -> str:
-    """The live plot's bottom line, at most ``width - 1`` characters: the first notice (the
-    router lost, a key silent and why) if any, else each series' latest number (or that it
-    waits for one); then how to quit."""
-    if notices:
-        said = notices[0]
-    else:
-        said = "  ".join(
-            f"{s.label} {window.latest[s]:.6g}" if s in window.latest else f"{s.label} (waiting)" for s in window.points
-        )
-    return f"{said} | q quits"[: max(0, width - 1)]
-
-
-def value_limits(values: list[float]) -> tuple[float, float] | None:
-    """A value axis for ``values``: 5 % of their span more each side, ±1 around a constant
-    (a line held at 100 % shows as a line, not on the frame); None for no values."""
-    if not values:
-        return None
-    lo, hi = min(values), max(values)
-    if hi - lo < 1e-9 * max(1.0, abs(hi)):
-        return (lo - 1.0, hi + 1.0)
-    margin = (hi - lo) * 0.05
-    return (lo - margin, hi + margin)
-
-
-@dataclasses.dataclass
-class Collected:
-    """Every sample of each series (a recording's, or a live run's for ``--output``): times in s
-    from ``origin`` (the recording's start, or when the plot started)."""
-
-    series: list[Series]
-    points: dict[Series, list[tuple[float, float]]] = dataclasses.field(default_factory=dict)
-
-    def __post_init__(self) -> None:
-        for s in self.series:
-            self.points.setdefault(s, [])
-
-    def add(self, series: Series, t: float, value: float) -> None:
-        self.points[series].append((t, value))
-
-    @property
-    def count(self) -> int:
-        return sum(len(p) for p in self.points.values())
-
-    def empty(self) -> list[Series]:
-        """The series without a sample."""
-        return [s for s in self.series if not self.points[s]]
-
-    def xy(self, series: Series) -> tuple[list[float], list[float]]:
-        points = self.points[series]
-        return [t for t, _ in points], [v for _, v in points]
-
-    def span(self) -> float:
-        """Seconds from the first sample to the last, of any series."""
-        times = [t for points in self.points.values() for t, _ in points]
-        return max(times) - min(times) if times else 0.0
 
 
 def picture_format(path: Path) -> str:

@@ -101,6 +101,20 @@ def write_picture(path: Path, kind: str, lines: list[Line], title: str) -> None:
         raise BadInput(f"cannot write {path}: {exc.strerror or exc}") from None
 
 
+def check_writable(path: Path) -> None:
+    """Before anything is collected: BadInput (exit 2) unless ``path``'s folder exists and can be
+    written into, and ``path`` is no folder itself."""
+    folder = path.parent
+    if not folder.exists():
+        raise BadInput(f"--output {str(path)!r}: no folder {folder}")
+    if not folder.is_dir():
+        raise BadInput(f"--output {str(path)!r}: {folder} is not a folder")
+    if path.is_dir():
+        raise BadInput(f"--output {str(path)!r} is a folder: name the picture file in it")
+    if not os.access(folder, os.W_OK | os.X_OK) or (path.exists() and not os.access(path, os.W_OK)):
+        raise BadInput(f"--output {str(path)!r}: cannot write into {folder}")
+
+
 class Screen:
     """The terminal a live plot is redrawn on: the alternate screen (the shell's text comes back
     after), no cursor, keys read one by one without echo; all restored on leaving."""
@@ -151,7 +165,7 @@ def screen(out: TextIO) -> Iterator[Screen]:
     try:
         yield shown
     finally:
-        out.write("\x1b[?25h\x1b[?1049l")
+        out.write("\r\n\x1b[?25h\x1b[?1049l")  # the last line ended (a terminal without the alternate screen)
         out.flush()
         if saved is not None:
             termios.tcsetattr(shown.fd_in, termios.TCSADRAIN, saved)

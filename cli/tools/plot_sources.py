@@ -16,7 +16,9 @@ import zenoh
 from turtlectl.cli.errors import Unreachable
 from turtlectl.cli.tools.client import ROUTER_CHECK, check_key, domain_hint, router_lost
 from turtlectl.cli.tools.format import Undescribed
-from turtlectl.cli.tools.plot import Collected, Extractor, Series, check_type
+from turtlectl.cli.tools.graph import Graph
+from turtlectl.cli.tools.plot import Extractor, Series, Stamps, check_builtins, check_type, nearest_key
+from turtlectl.cli.tools.plot_window import Collected
 from turtlectl.cli.tools.rates import Quiet
 from turtlectl.cli.tools.topics import Received, decode_sample, learn, live_graph, silence_text
 from turtlectl.cli.tools.typebook import TypeBook, generic
@@ -34,9 +36,10 @@ class FromRecording:
     duration: float  # s, the whole recording's
 
 
-def from_recording(path: Path, series: list[Series]) -> FromRecording:
+def from_recording(path: Path, series: list[Series], stamps: bool = False) -> FromRecording:
     """Every number of each series in the recording at ``path``, on the time of its log (when
-    the recorder received each message) from the recording's first message.  RecordingError
+    the recorder received each message) from the recording's first message; with ``stamps``,
+    on each message's own stamp from the earliest (messages not stamped left out).  RecordingError
     (exit 2) for a file that is no recording, BadInput (exit 2) for a field that is no number
     (checked against the type the file holds), Unreachable (exit 3) for a key the file does
     not hold or no number at all."""
@@ -54,8 +57,11 @@ def from_recording(path: Path, series: list[Series]) -> FromRecording:
         msg_type = TYPES_BY_NAME.get(held[s.key].type_name)
         if msg_type is not None:
             check_type(s, msg_type)
+            if stamps:
+                check_builtins([], stamps=True, types={s.key: msg_type})  # BadInput for a type with no stamp
     extractor = Extractor(series)
     collected = Collected(series)
+    stamped = Stamps() if stamps else None
     for record in recording.records(keys):
         if record.scene:
             continue
@@ -65,12 +71,30 @@ def from_recording(path: Path, series: list[Series]) -> FromRecording:
             if data is None:
                 continue
             message = Undescribed(data)
+        t = (record.log_time - info.start) / 1e9 if stamped is None else stamped.time(record.key, message)
+        if t is None:
+            continue
         for s, value in extractor.values(record.key, message):
-            collected.add(s, (record.log_time - info.start) / 1e9, value)
+            collected.add(s, t, value)
     if not collected.count:
         labels = ", ".join(s.label for s in series)
-        raise Unreachable(f"{path}: no number to plot in {labels} (only inf or NaN, or payloads that are no message)")
-    return FromRecording(collected, recording.closed, info.duration)
+        also = ", messages not stamped (--stamps)" if stamps else ""
+        raise Unreachable(
+            f"{path}: no number to plot in {labels} (only inf or NaN{also}, or payloads that are no message)"
+        )
+    return FromRecording(collected, recording.closed, info.duration if stamped is None else collected.rebase())
+
+
+def typo_notes(graph: Graph, series: list[Series], turtle: str = "") -> dict[str, str]:
+    """For each key that is no built-in one and that nothing in ``graph`` publishes, but near a
+    built-in key (a typo: ``turtle1/pos``): key -> ``nothing publishes turtle1/pos: did you mean turtle1/pose?``."""
+    notes = {}
+    for s in series:
+        near = nearest_key(s.key, turtle)
+        expr = zenoh.KeyExpr(s.key)
+        if near and not any(t.publishers and expr.intersects(zenoh.KeyExpr(t.key)) for t in graph.topics):
+            notes[s.key] = f"nothing publishes {s.key}: did you mean {near}?"
+    return notes
 
 
 class Live:
@@ -79,7 +103,9 @@ class Live:
     router is lost (shown until it is not so any more).  Decoding and type learning as echo's
     (a user's own type is learnt from the nodes that use it)."""
 
-    def __init__(self, session: zenoh.Session, connect: str, series: list[Series]):
+    def __init__(
+        self, session: zenoh.Session, connect: str, series: list[Series], stamps: bool = False, turtle: str = ""
+    ):
         self.session = session
         self.connect = connect
         self.extractor = Extractor(series)
@@ -92,6 +118,10 @@ class Live:
         self.router = ""  # why there is no router ("" while there is one)
         self._next_check = self.started + ROUTER_CHECK
         self.received = 0  # numbers so far
+        self.stamps = Stamps() if stamps else None  # --stamps: the time axis is the messages' stamps
+        self.typos: dict[str, str] = {}  # key -> "did you mean" (a key near a built-in one nobody publishes)
+        if any(nearest_key(key, turtle) for key in self.keys):
+            self.typos = typo_notes(live_graph(session), series, turtle)
         self._subs = [session.declare_subscriber(key, self._on_sample) for key in self.keys]
 
     def _on_sample(self, sample: zenoh.Sample) -> None:  # Zenoh's thread: decode and queue
@@ -140,7 +170,9 @@ class Live:
             message = Undescribed(item.generic, item.unknown)
         if message is None:
             return []
-        t = arrived - self.started
+        t = arrived - self.started if self.stamps is None else self.stamps.time(key, message)
+        if t is None:  # not stamped
+            return []
         return [(s, t, value) for s, value in self.extractor.values(key, message)]
 
     def why_silent(self) -> str:
@@ -148,8 +180,15 @@ class Live:
         graph = live_graph(self.session)
         hint = lambda: domain_hint(self.connect)  # noqa: E731 - asked only when no node runs
         return "; ".join(
-            silence_text(key, graph, hint, default_domain()) for key, quiet in self.quiet.items() if not quiet.flowed
+            self._typo(key, silence_text(key, graph, hint, default_domain()))
+            for key, quiet in self.quiet.items()
+            if not quiet.flowed
         )
+
+    def _typo(self, key: str, why: str) -> str:
+        """``why`` with "did you mean" for a key that looks like a typo of a built-in one."""
+        near = self.typos.get(key, "").partition(": ")[2]
+        return f"{why.split(' (')[0]}: {near}" if near else why
 
     def _watch(self, now: float) -> None:
         if now >= self._next_check:
@@ -163,6 +202,6 @@ class Live:
         for key, quiet in self.quiet.items():
             if quiet.due(now):
                 graph = live_graph(self.session)
-                self.silent[key] = silence_text(
-                    key, graph, lambda: domain_hint(self.connect), default_domain(), quiet.flowed
+                self.silent[key] = self._typo(
+                    key, silence_text(key, graph, lambda: domain_hint(self.connect), default_domain(), quiet.flowed)
                 )

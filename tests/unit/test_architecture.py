@@ -54,7 +54,8 @@ PURE = [
     "cli.tools.format",
     "cli.tools.graph",
     "cli.tools.rates",
-    "cli.tools.plot",  # plot's model: KEY.FIELD, the numbers in a message, the sliding window
+    "cli.tools.plot",  # plot's model: KEY.FIELD, the numbers in a message
+    "cli.tools.plot_window",  # plot's sliding window, its status line, the samples collected
     "cli.tools.keyboard",
     "cli.tools.interface_live",
     "cli.recording.bag",  # recordings: MCAP files, read and written without a session

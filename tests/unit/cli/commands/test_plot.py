@@ -11,7 +11,7 @@ import pytest
 import typer
 from typer.testing import CliRunner
 
-from turtlectl.cli.errors import ExitCode, TurtlectlError, exit_code
+from turtlectl.cli.errors import ExitCode, TurtlectlError, Unreachable, exit_code
 from turtlectl.cli.main import app, error_line
 from turtlectl.messages import Pose, TurtleStatus, encode, encoding_for
 
@@ -106,3 +106,140 @@ def test_help_does_not_import_the_plotting_libraries():
     code = f"import turtlectl.cli.main, sys; print([m for m in {heavy!r} if m in sys.modules])"
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
     assert out.strip() == "[]"
+
+
+# -- the new-user review -----------------------------------------------------------------------
+
+
+def test_one_sample_is_said_in_the_singular():
+    from pathlib import Path
+
+    from turtlectl.cli.commands import plotting
+    from turtlectl.cli.tools.plot import Series
+    from turtlectl.cli.tools.plot_window import Collected
+
+    x = Series("turtle1/pose", "x")
+    collected = Collected([x])
+    collected.add(x, 0.0, 1.0)
+    assert plotting._wrote(Path("a.png"), collected, 2.0) == "wrote a.png: 1 sample of 1 series over 2.0 s"
+
+
+def test_an_output_folder_that_does_not_exist_is_bad_input_before_anything_is_collected(tmp_path):
+    code, text = run(
+        "turtle1/pose.x", "-o", str(tmp_path / "no" / "a.png"), "--duration", "2", "--connect", "tcp/127.0.0.1:9"
+    )
+    assert (code, text) == (
+        ExitCode.BAD_INPUT,
+        f"turtlectl: error: --output {str(tmp_path / 'no' / 'a.png')!r}: no folder {tmp_path / 'no'}",
+    )
+
+
+def test_an_output_folder_that_is_a_file_is_bad_input(tmp_path):
+    (tmp_path / "notes").write_text("")
+    code, text = run("turtle1/pose.x", "-o", str(tmp_path / "notes" / "a.png"), "--connect", "tcp/127.0.0.1:9")
+    assert code == ExitCode.BAD_INPUT and text.endswith(f"{tmp_path / 'notes'} is not a folder"), text
+
+
+def test_a_recording_with_stamps_plots_on_them(rec):
+    from turtlectl.cli.recording.bag import BagWriter
+
+    writer = BagWriter(rec / "sim.mcap")
+    for i in range(24):  # logged 0.1 s apart, stamped 0.5 s apart: simulated time at 5 x
+        pose = encode(Pose(x=i, y=0, theta=0, stamp=START + i * 500_000_000))
+        writer.add("turtle1/pose", encoding_for(Pose), pose, START + i * 100_000_000)
+    writer.close()
+    assert run("turtle1/pose.x", "-i", "sim.mcap", "-o", "out.png") == (
+        0,
+        "wrote out.png: 24 samples of 1 series over 2.3 s\n",
+    )
+    code, text = run("turtle1/pose.x", "-i", "sim.mcap", "-o", "out.png", "--stamps")
+    assert (code, text) == (0, "wrote out.png: 24 samples of 1 series over 11.5 s\n")
+    code, text = run("turtle1/pose.x", "-i", "run.mcap", "--stamps")  # none stamped
+    assert code == ExitCode.UNREACHABLE and "not stamped" in text, text
+
+
+def test_with_stamps_a_type_without_one_is_bad_input(rec):
+    code, text = run("clock.clock", "--stamps", "-o", "out.png", "--connect", "tcp/127.0.0.1:9")
+    assert code == ExitCode.BAD_INPUT and text.startswith("turtlectl: error: --stamps: Clock on clock has no stamp")
+
+
+class FakeLive:
+    """plot_sources.Live with nothing to say but what a test gives it, its time past --duration."""
+
+    def __init__(self, samples, silent):
+        self.samples, self.silent, self.router, self.received = samples, silent, "", len(samples)
+        self.typos = {}
+
+    def poll(self, wait=0.0):
+        samples, self.samples = self.samples, []
+        return samples
+
+    def elapsed(self):
+        return 5.0
+
+    def now(self):
+        return 5.0
+
+    def why_silent(self):
+        return "; ".join(self.silent.values())
+
+    def close(self):
+        pass
+
+
+class FakeScreen:
+    def size(self):
+        return 100, 30
+
+    def show(self, lines):
+        pass
+
+    def key(self, wait):
+        return ""
+
+
+def live_plot(monkeypatch, capsys, samples, silent):
+    import contextlib
+
+    from turtlectl.cli.commands import plotting
+    from turtlectl.cli.tools import client, plot_draw, plot_sources
+    from turtlectl.cli.tools.plot import Series
+
+    series = [Series("turtle1/pose", "x"), Series("nobody/here", "x")]
+    monkeypatch.setattr(plotting, "result", typer.echo)
+    monkeypatch.setattr(client, "client_session", lambda connect: contextlib.nullcontext())
+    monkeypatch.setattr(plot_sources, "Live", lambda *a, **k: FakeLive([(series[0], t, 3.0) for t in samples], silent))
+    monkeypatch.setattr(plot_draw, "screen", lambda out: contextlib.nullcontext(FakeScreen()))
+    try:
+        plotting._plot_live(series, 10.0, 1.0, "tcp/x:1", stamps=False)
+    except TurtlectlError as error:
+        return capsys.readouterr().out, error
+    return capsys.readouterr().out, None
+
+
+SILENT = {
+    "nobody/here": "nothing published on nobody/here yet: no running node publishes it (`turtlectl list` shows the topics)"
+}
+
+
+def test_the_last_frame_of_a_duration_keeps_its_bottom_line(monkeypatch, capsys):
+    out, error = live_plot(monkeypatch, capsys, [0.5, 1.0], SILENT)
+    assert error is None and "time (s)" in out
+    assert out.endswith("turtle1/pose.x 3  nobody/here.x (silent: no running node publishes it)\n"), out[-200:]
+
+
+def test_nothing_within_a_duration_ends_the_last_frame_with_a_newline_before_the_error(monkeypatch, capsys):
+    out, error = live_plot(monkeypatch, capsys, [], SILENT)
+    assert isinstance(error, Unreachable)
+    assert out.endswith("nobody/here.x (silent: no running node publishes it)\n"), out[-200:]
+
+
+def test_the_screen_ends_its_last_line_before_leaving():
+    import io
+
+    from turtlectl.cli.tools import plot_draw
+
+    out = io.StringIO()
+    with plot_draw.screen(out) as shown:
+        shown.show(["a", "bottom line"])
+    assert out.getvalue().endswith("bottom line\x1b[K\x1b[J\r\n\x1b[?25h\x1b[?1049l")
