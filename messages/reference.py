@@ -213,6 +213,8 @@ FIELDS: dict[str, dict[str, tuple[str, str, str]]] = {
             "> 0",
             "simulated seconds per wall-clock second the simulator aims at (its real_time_factor parameter)",
         ),
+        "stamp": STAMP,
+        "seq": SEQ,
     },
     "Kill": {"name": ("-", "a turtle's name", "the turtle to remove")},
     "Ack": {

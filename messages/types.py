@@ -258,6 +258,8 @@ class Clock(Message, tag="Clock"):
 
     clock: int
     real_time_factor: float = 1.0
+    stamp: int = 0
+    seq: int = 0
 
 
 class Kill(Message, tag="Kill"):

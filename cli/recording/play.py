@@ -225,6 +225,7 @@ class Clocked:
         self.pub = session.declare_publisher(CLOCK, encoding=zenoh.Encoding(encoding_for(Clock)))
         self.first, self.rate, self.period = first, rate, 1.0 / hz
         self.next = 0.0  # monotonic s: when the next one is due
+        self.seq = 0
 
     def tick(self, start: float) -> None:
         """Publish the time played now (``start``: when the recording's first message was due),
@@ -232,8 +233,8 @@ class Clocked:
         now = time.monotonic()
         if now >= self.next:
             played = self.first + round(max(0.0, now - start) * self.rate * 1e9)
-            self.pub.put(encode(Clock(clock=played, real_time_factor=self.rate)))
-            self.next = now + self.period
+            self.pub.put(encode(Clock(clock=played, real_time_factor=self.rate, stamp=played, seq=self.seq)))
+            self.next, self.seq = now + self.period, self.seq + 1
 
     def wait(self) -> float:
         """s until the next one is due."""

@@ -158,11 +158,6 @@ def test_a_recording_with_stamps_plots_on_them(rec):
     assert code == ExitCode.UNREACHABLE and "not stamped" in text, text
 
 
-def test_with_stamps_a_type_without_one_is_bad_input(rec):
-    code, text = run("clock.clock", "--stamps", "-o", "out.png", "--connect", "tcp/127.0.0.1:9")
-    assert code == ExitCode.BAD_INPUT and text.startswith("turtlectl: error: --stamps: Clock on clock has no stamp")
-
-
 class FakeLive:
     """plot_sources.Live with nothing to say but what a test gives it, its time past --duration."""
 

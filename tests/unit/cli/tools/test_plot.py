@@ -443,13 +443,17 @@ def test_with_stamps_the_time_is_each_messages_stamp_from_the_first():
     assert raised.value.message.startswith("--stamps: Odometry on odom has no stamp")
 
 
-def test_with_stamps_a_built_in_type_without_one_is_bad_input_at_once():
+def test_with_stamps_a_known_type_without_one_is_bad_input_at_once():
+    from turtlectl.messages import Message
     from turtlectl.messages.keys import CLOCK
 
-    plot.check_builtins([Series("turtle1/pose", "x")], stamps=True)
-    with pytest.raises(BadInput) as raised:
-        plot.check_builtins([Series("turtle1/pose", "x"), Series(CLOCK, "clock")], stamps=True)
-    assert raised.value.message.startswith(f"--stamps: Clock on {CLOCK} has no stamp")
+    class Odometry(Message, tag="OdometryWithoutStamp"):
+        x: float = 0.0
+
+    plot.check_builtins([Series("turtle1/pose", "x"), Series(CLOCK, "clock")], stamps=True)  # every built-in is stamped
+    with pytest.raises(BadInput) as raised:  # a recording's type without one
+        plot.check_builtins([Series("turtle1/pose", "x")], stamps=True, types={"odom": Odometry})
+    assert raised.value.message.startswith("--stamps: Odometry on odom has no stamp")
 
 
 def test_a_recording_is_plotted_on_its_stamps_with_stamps(tmp_path):

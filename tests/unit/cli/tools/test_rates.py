@@ -82,7 +82,7 @@ def test_quiet_is_due_once_per_silence_whether_or_not_anything_arrived():
 
 
 def test_a_type_without_stamps_says_no_publisher_rate():
-    """A review found `clock: 306.281 Hz (publisher 0.000 Hz)`: Clock carries no stamp."""
+    """A review found `clock: 306.281 Hz (publisher 0.000 Hz)` (Clock had no stamp then): a type without stamps."""
     from turtlectl.cli.tools.rates import rate_line
 
     unstamped = rate_stats("clock", [0.0, 0.016, 0.032], [0, 0, 0])
