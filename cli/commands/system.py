@@ -39,7 +39,8 @@ def launch(
     arg: list[str] = typer.Option(
         [],
         "--arg",
-        help="NAME=VALUE for an argument the file declares ([arg.NAME]; repeatable); --check lists them.",
+        metavar="NAME=VALUE",
+        help="A launch argument, NAME an [arg.NAME] of FILE: --arg speed=2 (or speed:=2); one --arg each, repeatable; --check lists them.",
     ),
     check: bool = typer.Option(
         False, "--check", help="Validate the file (and overrides), print the plan and its arguments, and exit."
@@ -78,10 +79,14 @@ def launch(
     """
     from turtlectl.cli.system.launchfile import default_launch_file
     from turtlectl.cli.system.overrides import launch_plan
+    from turtlectl.cli.system.report import positional_arg_problem
     from turtlectl.cli.system.supervisor import logs
     from turtlectl.cli.system.supervisor.manager import Supervisor
     from turtlectl.cli.system.supervisor.printer import Printer
 
+    why = positional_arg_problem(file, ctx.args)
+    if why:
+        raise BadInput(why)
     if join is None:  # `turtlectl --connect E launch` joins E, as `turtlectl launch --connect E`
         join = (ctx.obj or {}).get("connect")
     level = args.log_level(log_level)
@@ -162,7 +167,12 @@ def run(
     ),
     param: list[str] = typer.Option([], "--param", "-p", help="KEY=VALUE override (repeatable; a.b=1 for tables)."),
     file: Path | None = typer.Option(None, "--file", help="Launch file (default as for launch)."),
-    arg: list[str] = typer.Option([], "--arg", help="NAME=VALUE for an argument of the launch file (repeatable)."),
+    arg: list[str] = typer.Option(
+        [],
+        "--arg",
+        metavar="NAME=VALUE",
+        help="A launch argument, NAME an [arg.NAME] of the launch file: --arg speed=2 (or speed:=2); one --arg each, repeatable.",
+    ),
     name: str | None = typer.Option(
         None, "--name", help="A node class's name in the system (default: its class's, Patrol: patrol)."
     ),
@@ -266,7 +276,7 @@ def new_node(
 def register(app: typer.Typer) -> None:
     """Add this group's commands to ``app``."""
     app.add_typer(new_app, name="new")
-    app.command()(launch)
+    app.command(context_settings={"allow_extra_args": True})(launch)  # ROS's speed:=2 gets a hint
     app.command()(certs)
     app.command()(router)
     app.command()(run)

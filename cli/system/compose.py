@@ -20,9 +20,9 @@ the text as written).
 
 ``compose`` reads a file and what it includes into ``Piece``s: each file's tables, arguments
 substituted, ``arg`` and ``include`` taken out, with the chain of files that names it in errors
-(``launch.toml -> turtle.toml``) and the namespace its include puts it in; cli.system.launchfile
+(``launch.toml -> include[1] (turtle2) turtle.toml``: each include by its index and namespace) and the namespace its include puts it in; cli.system.launchfile
 validates them as one system.  Refused (``LaunchFileError``, exit 2): a file that includes itself
-through any chain (``a.toml -> b.toml -> a.toml: include cycle``), an included file that does not
+through any chain (``a.toml -> include[0] b.toml -> include[0] a.toml: include cycle``), an included file that does not
 exist, an argument the file does not declare, and a second file writing ``[world]``, ``[limits]``
 or ``[supervisor]`` (a launch has one of each, written in any one of its files).  An included
 file's ``./file.py:Class`` and ``./program`` are relative to it (made absolute here); every
@@ -41,13 +41,14 @@ from typing import Any, NamedTuple
 import msgspec
 
 from turtlectl.cli.system.placement import namespace_problem
-from turtlectl.cli.system.report import LaunchFileError, Parts, Report, problem, raw_names
+from turtlectl.cli.system.report import LaunchFileError, Parts, Report, declared_below, problem, raw_names, toml_text
 from turtlectl.runtime.loader import is_file, is_target, suggestion
 
 #: the system's own tables (``--set TABLE.KEY=VALUE`` reaches them): one file of a launch writes each
 TABLES = ("world", "limits", "supervisor")
 ARG_NAME = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*$")
 SUBSTITUTION = re.compile(r"\$\(([^()]*)\)")
+UNCLOSED = re.compile(r"\$\((?![^()]*\))")  # a $( with no ) before the next ( or the end
 
 
 class Argument(msgspec.Struct, forbid_unknown_fields=True, kw_only=True):
@@ -83,9 +84,10 @@ class ArgValue(msgspec.Struct, frozen=True, kw_only=True):
 class Piece(NamedTuple):
     """One file of a launch: its tables, ready for cli.system.launchfile.validate."""
 
-    label: str  # names it in errors: the file, or the chain of files that includes it
+    label: str  # names it in errors: the file, or the chain of includes (launch.toml -> include[1] (turtle2) t.toml)
     data: dict[str, Any]  # its tables, arguments substituted, without arg and include
     namespace: str = ""  # the namespace its include puts its nodes in
+    sources: dict[str, str] = {}  # key path (node[1].params.rate) -> where its value came from (--arg speed ...)
 
 
 class _Given(NamedTuple):
@@ -94,6 +96,7 @@ class _Given(NamedTuple):
     values: dict[str, tuple[Any, str | None]]  # name -> (value, as the command line wrote it)
     origin: str  # "--arg", or "include[0] of launch.toml"
     error: Callable[[str | None, str], LaunchFileError]  # (argument or None, what is wrong) -> the error
+    sources: dict[str, str] = {}  # name -> where its value came from, when written as $(arg ...) (include args)
 
 
 def parse_args(items: list[str]) -> dict[str, str]:
@@ -122,7 +125,8 @@ def compose(text: str, source: str, given: dict[str, str] | None = None) -> tupl
 
     composer = _Composer()
     path = Path(source)
-    composer.file(text, source, path, _Given(values, "--arg", error), (path.resolve(),), "")
+    sources = {name: f"--arg {name}" for name in values}
+    composer.file(text, source, source, path, _Given(values, "--arg", error, sources), (path.resolve(),), "")
     for table in TABLES:
         writers = [piece.label for piece in composer.pieces if table in piece.data]
         if len(writers) > 1:
@@ -138,15 +142,21 @@ class _Composer:
         self.pieces: list[Piece] = []
         self.args: list[ArgValue] = []
 
-    def file(self, text: str, label: str, path: Path, given: _Given, chain: tuple[Path, ...], namespace: str) -> None:
-        """Add the file at ``path`` (its ``text``), then what it includes, depth first."""
+    def file(
+        self, text: str, label: str, name: str, path: Path, given: _Given, chain: tuple[Path, ...], namespace: str
+    ) -> None:
+        """Add the file at ``path`` (its ``text``, ``name`` as written), then what it includes, depth first."""
         try:
             data = tomllib.loads(text)
         except tomllib.TOMLDecodeError as exc:
             raise LaunchFileError(f"{label}: not valid TOML: {exc}") from None
         report = Report(label, raw_names(data), override=False)
-        values = self.arguments(data.pop("arg", {}), report, given)
-        data = _substitute(data, values, [], report)
+        below = data.get("include")
+        values, origins = self.arguments(
+            data.pop("arg", {}), report, given, name, lambda n: declared_below(n, below, path)
+        )
+        sources: dict[str, str] = {}
+        data = _substitute(data, values, [], report, None, (origins, sources))
         includes: Any = data.pop("include", [])
         try:
             includes = msgspec.convert(includes, list[Include], strict=True)
@@ -155,18 +165,29 @@ class _Composer:
             raise report.error(["include", *parts], what) from None
         if len(chain) > 1:
             _paths_from_top(data, path.parent, chain[0].parent)
-        self.pieces.append(Piece(label, data, namespace))
+        self.pieces.append(Piece(label, data, namespace, sources))
         for i, include in enumerate(includes):
-            self.include(i, include, label, path, report, chain, namespace)
+            self.include(i, include, label, path, report, chain, namespace, sources)
 
     def include(
-        self, i: int, include: Include, label: str, path: Path, report: Report, chain: tuple[Path, ...], namespace: str
+        self,
+        i: int,
+        include: Include,
+        label: str,
+        path: Path,
+        report: Report,
+        chain: tuple[Path, ...],
+        namespace: str,
+        sources: dict[str, str],
     ) -> None:
-        """The ``i``-th ``[[include]]`` of the file at ``path``."""
+        """The ``i``-th ``[[include]]`` of the file at ``path`` (``sources``: where its values came from)."""
         target = path.parent / Path(include.file).expanduser()
-        inner = f"{label} -> {include.file}"
+        pushed = include.namespace.strip("/")
+        inner = f"{label} -> include[{i}] {f'({pushed}) ' if pushed else ''}{include.file}"
         if target.resolve() in chain:
             raise LaunchFileError(f"{inner}: include cycle (a file cannot include itself, nor through others)")
+        if target.is_dir():
+            raise report.error(["include", i, "file"], f"{include.file} is a folder: name a launch file in it")
         if not target.is_file():
             raise report.error(["include", i, "file"], f"{include.file}: no such file ({target.resolve()})")
         try:
@@ -175,7 +196,6 @@ class _Composer:
             raise LaunchFileError(f"{inner}: cannot read: {exc.strerror or exc}") from None
         except UnicodeDecodeError:
             raise LaunchFileError(f"{inner}: not UTF-8 text") from None
-        pushed = include.namespace.strip("/")
         why = namespace_problem(pushed) if pushed else None
         if not why and namespace and pushed not in ("", namespace):
             why = f"{label} is in namespace {namespace!r} already: namespaces do not nest (a namespace is one turtle's)"
@@ -185,12 +205,22 @@ class _Composer:
         def error(name: str | None, what: str) -> LaunchFileError:
             return report.error(["include", i, "args", *([name] if name else [])], what)
 
-        given = _Given({n: (v, None) for n, v in include.args.items()}, f"include[{i}] of {label}", error)
-        self.file(text, inner, target, given, (*chain, target.resolve()), pushed or namespace)
+        values = {n: (v, None) for n, v in include.args.items()}
+        written = {n: f"include[{i}].args.{n}" for n in include.args}
+        origins = {
+            n: f"{sources[f'include[{i}].args.{n}']} through {w}"
+            for n, w in written.items()
+            if f"include[{i}].args.{n}" in sources
+        }
+        given = _Given(values, f"include[{i}] of {label}", error, {**written, **origins})
+        self.file(text, inner, include.file, target, given, (*chain, target.resolve()), pushed or namespace)
 
-    def arguments(self, table: Any, report: Report, given: _Given) -> dict[str, Any]:
+    def arguments(
+        self, table: Any, report: Report, given: _Given, file: str, elsewhere: Callable[[str], str | None]
+    ) -> tuple[dict[str, Any], dict[str, str]]:
         """The file's arguments (its ``[arg]`` table) with their values: ``given``, else each one's
-        default (which may use the arguments above it)."""
+        default (which may use the arguments above it); and where each value came from.  ``file``:
+        the file as written; ``elsewhere(NAME)``: the include below it that declares NAME, if any."""
         form = 'a table, [arg.NAME] with default = ... and description = "..."'
         if not isinstance(table, dict):
             raise report.error(["arg"], f"write each argument as {form}")
@@ -203,13 +233,19 @@ class _Composer:
             except msgspec.ValidationError as exc:
                 parts, what = problem(exc, Argument)
                 raise report.error(["arg", name, *parts], what) from None
-        file = report.label.rpartition(" -> ")[2]
         names = list(declared)
         for name in given.values:
+            if name not in declared and (below := elsewhere(name)):
+                raise given.error(
+                    name,
+                    f"{name} is an argument of {below}, not of {file}: a file sees only its own arguments; "
+                    f'pass it through that include\'s args, as args = {{ {name} = "$(arg ...)" }}',
+                )
             if name not in declared:
                 listed = f"its arguments: {', '.join(names)}" if names else "it declares none: add [arg.NAME]"
                 raise given.error(name, f"{file} declares no argument {name}{suggestion(name, names)} ({listed})")
         values: dict[str, Any] = {}
+        origins: dict[str, str] = {}
         for name, argument in declared.items():
             if not ARG_NAME.match(name):
                 raise report.error(["arg", name], f"{name!r} is not an argument name (letters, digits and _)")
@@ -221,8 +257,11 @@ class _Composer:
                 except ValueError as exc:
                     raise given.error(name, f"{file}'s argument {name} is {exc}") from None
                 origin = given.origin
+                if name in given.sources:
+                    origins[name] = given.sources[name]
             elif default is not None:
                 value, origin = default, "default"
+                origins[name] = f"arg.{name}'s default"
             elif given.origin == "--arg":
                 raise report.error(["arg", name], f"no value: give one, --arg {name}=VALUE (it has no default)")
             else:
@@ -238,7 +277,7 @@ class _Composer:
                     given=origin,
                 )
             )
-        return values
+        return values, origins
 
 
 def _toml_value(text: str) -> Any:
@@ -266,7 +305,7 @@ def _typed(value: Any, default: Any, text: str | None) -> Any:
         return text
     if isinstance(default, str) and isinstance(value, (int, float)):
         return _written(value)
-    raise ValueError(f"{_kind(default)} (its default: {default!r}), not {_kind(value)} ({value!r})")
+    raise ValueError(f"{_kind(default)} (its default: {toml_text(default)}), not {_kind(value)} ({toml_text(value)})")
 
 
 def _written(value: Any) -> str:
@@ -278,10 +317,27 @@ def _written(value: Any) -> str:
     raise ValueError(f"{_kind(value)} cannot be written inside a text")
 
 
-def _substitute(value: Any, values: dict[str, Any], at: Parts, report: Report, names: list[str] | None = None) -> Any:
+_Trace = tuple[dict[str, str], dict[str, str]]  # (argument -> where its value came from, key path -> the same)
+
+
+def _substitute(
+    value: Any,
+    values: dict[str, Any],
+    at: Parts,
+    report: Report,
+    names: list[str] | None = None,
+    trace: _Trace | None = None,
+) -> Any:
     """``value`` (at key path ``at``) with every ``$(arg NAME)`` in it replaced by ``values[NAME]``;
-    ``names``: every argument the file declares (those not in ``values`` yet come later)."""
+    ``names``: every argument the file declares (those not in ``values`` yet come later);
+    ``trace``: where each argument's value came from, and the key paths that take one, written in."""
     if isinstance(value, str):
+        if UNCLOSED.search(value):
+            raise report.error(at, f"{toml_text(value)}: unclosed $(...): write $(arg NAME)")
+        found = [m[0][2:-1].split() for m in SUBSTITUTION.finditer(value)]
+        used = [w[1] for w in found if len(w) == 2 and w[0] == "arg" and trace and w[1] in trace[0]]
+        if trace and used:
+            trace[1][_path(at)] = ", ".join(dict.fromkeys(trace[0][n] for n in used))
         whole = SUBSTITUTION.fullmatch(value)
         if whole:
             return _lookup(whole[0], values, at, report, names)
@@ -294,13 +350,18 @@ def _substitute(value: Any, values: dict[str, Any], at: Parts, report: Report, n
 
         return SUBSTITUTION.sub(written, value)
     if isinstance(value, list):
-        return [_substitute(item, values, [*at, i], report, names) for i, item in enumerate(value)]
+        return [_substitute(item, values, [*at, i], report, names, trace) for i, item in enumerate(value)]
     if isinstance(value, dict):
         return {
-            _substitute(key, values, at, report, names): _substitute(item, values, [*at, key], report, names)
+            _substitute(key, values, at, report, names): _substitute(item, values, [*at, key], report, names, trace)
             for key, item in value.items()
         }
     return value
+
+
+def _path(parts: Parts) -> str:
+    """A key path as errors write it, without node names: ``node[1].params.rate``."""
+    return "".join(f"[{p}]" if isinstance(p, int) else f".{p}" for p in parts).lstrip(".")
 
 
 def _lookup(written: str, values: dict[str, Any], at: Parts, report: Report, names: list[str] | None) -> Any:

@@ -20,7 +20,7 @@ A node's ``remap`` (ROS's remappings) is checked here against the keys its kind 
 A launch file may declare arguments and include other launch files (``[arg.NAME]``,
 ``$(arg NAME)``, ``[[include]]``: cli.system.compose, which reads them into pieces, one per
 file, that ``validate`` checks as one system; errors name the chain of files,
-``launch.toml -> robots/turtle.toml: node[0] (navigator).params.goal_timeout: ...``).
+``launch.toml -> include[1] (turtle2) robots/turtle.toml: node[0] (turtle2/navigator).params.goal_timeout: ...``; a value from an argument says which, ``(from --arg speed through include[1].args.max_speed)``).
 
 Overrides (``launch --set``, ``run -p``, ``param set``) and the ``--only``/``--exclude`` selection are in cli.system.overrides.
 """
@@ -51,6 +51,7 @@ from turtlectl.runtime.roles import claims_of, interface_of
 #: the launch file that comes with turtlectl: the whole system on one machine
 PACKAGED_LAUNCH = Path(__file__).resolve().parent / "launch.toml"
 NAME_RE = re.compile(r"^[A-Za-z_][A-Za-z0-9_\-]*$")
+_INCLUDE = re.compile(r"include\[\d+\] (\([^)]*\) )?")  # in a chain of files: which include of the file before
 
 Delay = Annotated[float, msgspec.Meta(ge=0.0, le=3600.0)]
 StopWait = Annotated[float, msgspec.Meta(gt=0.0, le=60.0)]
@@ -137,9 +138,11 @@ def validate(
     entries: list[NodeEntry] = []
     origins: list[str] = []
     labels: list[str] = []  # the file (chain) of each node written in an included file
+    sources: list[dict[str, str]] = []  # where the values of each node's file came from (its arguments)
     files: list[tuple[Piece, LaunchFile, Report]] = []
     for piece in (Piece(report.label, data), *included):
         own = report if not files else Report(piece.label, raw_names(piece.data), override=False)
+        own.sources = piece.sources if files else report.sources
         try:
             launch = msgspec.convert(piece.data, LaunchFile, strict=True)
         except msgspec.ValidationError as exc:
@@ -147,8 +150,10 @@ def validate(
         more, written = _flattened(launch, own, piece.namespace)
         entries, origins = entries + more, origins + written
         labels += [piece.label if files else ""] * len(more)
+        sources += [own.sources] * len(more)
         files.append((piece, launch, own))
     report.names, report.origins, report.files = [e.name for e in entries], origins, labels
+    report.node_sources = sources
     if not entries:
         raise report.error(["node"], "the launch file lists no node (no [[node]] and no [[group]] with one)")
 
@@ -174,7 +179,8 @@ def validate(
     for i, entry in enumerate(launch.node):
         if entry.name in seen:
             j = seen[entry.name]
-            twice = report.files[j] and (report.files[j], report.origins[j]) == (report.files[i], report.origins[i])
+            file_j, file_i = (_INCLUDE.sub("", report.files[k]) for k in (j, i))  # the file, whichever include
+            twice = file_j and (file_j, report.origins[j]) == (file_i, report.origins[i])
             why = f"{report.place(j, i)} has it"
             why = "its file is included twice: give each [[include]] a namespace" if twice else why
             raise report.error(["node", i, "name"], f"duplicate node name {entry.name!r} ({why})")
@@ -327,7 +333,9 @@ def parse_launch(text: str, source: str = "launch.toml", args: list[str] | None 
     folder); ``source`` names it in error messages; ``args``: ``--arg NAME=VALUE`` items."""
     pieces, values = compose(text, source, parse_args(args or []))
     top = pieces[0]
-    plan = validate(top.data, source, Report(source, raw_names(top.data), override=False), included=pieces[1:])
+    report = Report(source, raw_names(top.data), override=False)
+    report.sources = top.sources
+    plan = validate(top.data, source, report, included=pieces[1:])
     return msgspec.structs.replace(plan, args=values)
 
 

@@ -10,7 +10,7 @@ from __future__ import annotations
 import math
 from typing import Any
 
-from turtlectl.messages.keys import FIRST_TURTLE, includes, key_problem, resolve
+from turtlectl.messages.keys import FIRST_TURTLE, SERVICES, TOPICS, includes, key_problem, resolve
 from turtlectl.messages.world import World
 from turtlectl.runtime.config import Interface
 from turtlectl.sim.kinematics import TurtleState
@@ -54,6 +54,12 @@ def remap_problem(remap: dict[str, str], namespace: str, interface: Interface | 
         if key in seen:
             return source, f"{seen[key]} remaps the same key ({key})"
         seen[key] = source
+        types = (_type_of(key), _type_of(resolve(target, namespace)))
+        if types[0] and types[1] and types[0] != types[1]:
+            return source, (
+                f"{key} carries {types[0]} and {resolve(target, namespace)} carries {types[1]}: "
+                "a remap joins keys of one message type"
+            )
         used = [] if interface is None else [k for f in interface.__struct_fields__ for k in getattr(interface, f)]
         if interface is not None and not any(includes(k, key) for k in used):
             hint = (
@@ -62,7 +68,21 @@ def remap_problem(remap: dict[str, str], namespace: str, interface: Interface | 
                 if namespace
                 else ""
             )
-            return source, f"the node uses no key {key} (its keys: {', '.join(dict.fromkeys(used))}){hint}"
+            listed = [k for k in dict.fromkeys(used) if not k.startswith("@") and "*" not in k]  # not remappable
+            return source, f"the node uses no key {key} (its keys: {', '.join(listed)}){hint}"
+    return None
+
+
+def _type_of(key: str) -> str | None:
+    """The message type a known key carries (a resolved key: turtle2/pose is Pose, as turtle1/pose
+    is; a service's key, its request's), None: a key of no known type."""
+    first = key.partition("/")[0]
+    for known, message in TOPICS.items():
+        if key in (known, resolve(known, first)):
+            return message.__name__
+    for known, (request, _) in SERVICES.items():
+        if key in (known, resolve(known, first)):
+            return request.__name__
     return None
 
 

@@ -1,6 +1,6 @@
 """How a mistake in a launch file reads (pure: no zenoh): ``LaunchFileError``, one line naming
 the file (or the chain of files that includes it) and the exact key path, with the node's name
-when there is one, e.g. ``launch.toml -> robots/turtle.toml: node[1] (navigator).params.goal_timeot:
+when there is one, e.g. ``launch.toml -> include[0] robots/turtle.toml: node[1] (navigator).params.goal_timeot:
 unknown key; did you mean goal_timeout?``; or the option of an override, ``--set navigator.rate: ...``.
 
 Used by cli.system.compose (arguments, includes) and cli.system.launchfile (the Structs and
@@ -9,7 +9,10 @@ their validation), which re-exports what other modules import.
 
 from __future__ import annotations
 
+import json
 import re
+import tomllib
+from pathlib import Path
 from typing import Any
 
 import msgspec
@@ -82,6 +85,8 @@ class Report:
         self.override = override
         self.origins: list[str] = []  # where each node of the flattened list is written (group[0].node[1])
         self.files: list[str] = []  # the file (chain) each node of the flattened list is written in, if not label
+        self.sources: dict[str, str] = {}  # key path in the file -> where its value came from (an argument)
+        self.node_sources: list[dict[str, str]] = []  # the same for the file of each node of the flattened list
 
     def where(self, parts: Parts) -> str:
         text = ""
@@ -106,11 +111,74 @@ class Report:
         origin = self.origins[j] if j < len(self.origins) else f"node[{j}]"
         return origin if same or not file else f"{file}: {origin}"
 
+    def source(self, parts: Parts) -> str:
+        """`` (from --arg speed through include[0].args.max_speed)`` when the value at ``parts`` was
+        an argument's, else ``""``."""
+        sources, local = self.sources, parts
+        if len(parts) >= 2 and parts[0] == "node" and isinstance(parts[1], int) and parts[1] < len(self.origins):
+            i = parts[1]
+            sources = self.node_sources[i] if i < len(self.node_sources) else {}
+            local = [self.origins[i], *parts[2:]]
+        for n in range(len(local), 0, -1):  # the value, else the table that holds it
+            key = "".join(f"[{p}]" if isinstance(p, int) else f".{p}" for p in local[:n]).lstrip(".")
+            if key in sources:
+                return f" (from {sources[key]})"
+        return ""
+
     def error(self, parts: Parts, what: str) -> LaunchFileError:
         where = self.where(parts)
+        what += self.source(parts)
         if self.override:
             return LaunchFileError(f"{self.label} {where}: {what}" if where else f"{self.label}: {what}")
         label = self.label
         if len(parts) >= 2 and parts[0] == "node" and isinstance(parts[1], int) and parts[1] < len(self.files):
             label = self.files[parts[1]] or label
         return LaunchFileError(f"{label}: {where}: {what}" if where else f"{label}: {what}")
+
+
+def positional_arg_problem(file: Path | None, extra: list[str]) -> str | None:
+    """What is wrong with ``launch FILE EXTRA...`` (None: nothing): ROS's positional ``speed:=2``
+    is ``--arg speed:=2`` here (as FILE too, when it is no file)."""
+    written = [str(file)] if file is not None and ("=" in file.name and not file.exists()) else []
+    for item in [*written, *extra]:
+        if "=" in item:
+            return f"{item}: give launch arguments as --arg {item}"
+        return f"{item}: launch takes one FILE (arguments: --arg NAME=VALUE)"
+    return None
+
+
+def toml_text(value: Any) -> str:
+    """``value`` as TOML writes it: true, "fast", 2.5, [1, 2], { a = 1 }."""
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, str):
+        return json.dumps(value, ensure_ascii=False)
+    if isinstance(value, list):
+        return "[" + ", ".join(toml_text(item) for item in value) + "]"
+    if isinstance(value, dict):
+        return "{ " + ", ".join(f"{k} = {toml_text(v)}" for k, v in value.items()) + " }" if value else "{}"
+    return repr(value)
+
+
+def declared_below(name: str, includes: Any, path: Path, seen: tuple[Path, ...] = ()) -> str | None:
+    """The file, among those ``includes`` (a file's raw ``[[include]]`` list) bring, that declares
+    argument ``name``, as ``robots/robot.toml (include[0])``; None: none does (or they cannot be read)."""
+    if not isinstance(includes, list):
+        return None
+    for i, include in enumerate(includes):
+        file = include.get("file") if isinstance(include, dict) else None
+        if not isinstance(file, str) or "$(" in file:
+            continue
+        target = (path.parent / Path(file).expanduser()).resolve()
+        if target in seen or not target.is_file():
+            continue
+        try:
+            data = tomllib.loads(target.read_text(encoding="utf-8"))
+        except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError):
+            continue
+        if isinstance(data.get("arg"), dict) and name in data["arg"]:
+            return f"{file} (include[{i}])"
+        deeper = declared_below(name, data.get("include"), target, (*seen, target))
+        if deeper:
+            return f"{deeper.rpartition(' (')[0]} (include[{i}] {file} -> {deeper.rpartition(' (')[2]}"
+    return None

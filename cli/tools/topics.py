@@ -151,7 +151,10 @@ def silence_text(key: str, current: Graph, hint: Callable[[], str], domain: str 
             )
         if all(base_key(t.key).startswith(f"{LOG}/") for t in published):
             return f"nothing published on {key} {yet}: {who} only when {'it logs' if len(publishers) == 1 else 'they log'} a record (`turtlectl log` shows the recent ones)"
-        return f"nothing published on {key} for {SILENCE:g} s although {who}: it may be stalled (see its log)"
+        return (
+            f"nothing published on {key} for {SILENCE:g} s although {who}: it may be idle "
+            "(it publishes only when it has something to say) or stalled (see its log)"
+        )
     if elsewhere:
         which = ", ".join(elsewhere)
         return (

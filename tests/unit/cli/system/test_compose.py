@@ -93,7 +93,7 @@ def test_an_include_brings_its_nodes_with_the_arguments_it_is_given_and_a_namesp
     }
     given = {(a.file, a.name): (a.value, a.given) for a in plan.args}
     assert given[(str(top), "speed")] == (2.0, "default")
-    assert given[(f"{top} -> robots/turtle.toml", "robot")] == ("second", f"include[1] of {top}")
+    assert given[(f"{top} -> include[1] (turtle2) robots/turtle.toml", "robot")] == ("second", f"include[1] of {top}")
 
 
 def test_a_remap_reaches_the_nodes_config_its_keys_interface_and_claims(tmp_path):
@@ -187,20 +187,23 @@ def test_an_argument_without_a_default_must_be_given(tmp_path):
         # a cycle, through another file or straight back
         (
             {"launch": SIM + '[[include]]\nfile = "b.toml"\n', "b": '[[include]]\nfile = "launch.toml"\n'},
-            "launch.toml -> b.toml -> launch.toml: include cycle",
+            "launch.toml -> include[0] b.toml -> include[0] launch.toml: include cycle",
         ),
-        ({"launch": SIM + '[[include]]\nfile = "./launch.toml"\n'}, "launch.toml -> ./launch.toml: include cycle"),
+        (
+            {"launch": SIM + '[[include]]\nfile = "./launch.toml"\n'},
+            "launch.toml -> include[0] ./launch.toml: include cycle",
+        ),
         # errors inside an included file name the chain of files, then the key path
         (
             {"launch": SIM + '[[include]]\nfile = "t.toml"\nargs = { robot = "r", timeout = 0.0 }\n', "t": TURTLE},
-            "launch.toml -> t.toml: node[0] (navigator).params.goal_timeout: Expected `float` >= 0.1",
+            "launch.toml -> include[0] t.toml: node[0] (navigator).params.goal_timeout: Expected `float` >= 0.1",
         ),
         (
             {
                 "launch": SIM + '[[include]]\nfile = "t.toml"\n',
                 "t": '[[node]]\nname = "n"\nrun = "navigator"\nrespawn = "$(arg again)"\n',
             },
-            "launch.toml -> t.toml: node[0] (n).respawn: $(arg again): the file declares no argument again "
+            "launch.toml -> include[0] t.toml: node[0] (n).respawn: $(arg again): the file declares no argument again "
             "(it declares none: add [arg.NAME])",
         ),
         (
@@ -212,12 +215,12 @@ def test_an_argument_without_a_default_must_be_given(tmp_path):
                 "launch": SIM + '[[include]]\nfile = "t.toml"\n',
                 "t": '[[node]]\nname = "n"\nrun = "navigator"\nrespawn = "yes"\n',
             },
-            "launch.toml -> t.toml: node[0] (n).respawn: Expected `bool`, got `str`",
+            "launch.toml -> include[0] t.toml: node[0] (n).respawn: Expected `bool`, got `str`",
         ),
         # the system has one world, written in any one of its files
         (
             {"launch": "[world]\nsize = 20\n" + SIM + '[[include]]\nfile = "w.toml"\n', "w": "[world]\nsize = 10\n"},
-            "launch.toml -> w.toml: world: {dir}/launch.toml writes [world] too: a launch has one [world]",
+            "launch.toml -> include[0] w.toml: world: {dir}/launch.toml writes [world] too: a launch has one [world]",
         ),
         # namespaces do not nest, and a file included twice in one namespace is two of each node
         (
@@ -225,14 +228,14 @@ def test_an_argument_without_a_default_must_be_given(tmp_path):
                 "launch": SIM + '[[include]]\nfile = "g.toml"\nnamespace = "turtle2"\n',
                 "g": '[[group]]\nnamespace = "turtle3"\n[[group.node]]\nname = "n"\nrun = "navigator"\n',
             },
-            "launch.toml -> g.toml: group[0].namespace: the file is included in namespace 'turtle2': namespaces do not nest",
+            "launch.toml -> include[0] (turtle2) g.toml: group[0].namespace: the file is included in namespace 'turtle2': namespaces do not nest",
         ),
         (
             {
                 "launch": SIM + '[[include]]\nfile = "n.toml"\n[[include]]\nfile = "n.toml"\n',
                 "n": '[[node]]\nname = "n"\nrun = "navigator"\n',
             },
-            "launch.toml -> n.toml: node[0] (n).name: duplicate node name 'n' (its file is included twice: "
+            "launch.toml -> include[1] n.toml: node[0] (n).name: duplicate node name 'n' (its file is included twice: "
             "give each [[include]] a namespace)",
         ),
         ({"launch": SIM + '[[includ]]\nfile = "n.toml"\n'}, "launch.toml: includ: unknown key; did you mean include?"),
@@ -291,7 +294,9 @@ def test_a_world_mistake_in_an_included_file_names_it(tmp_path):
         launch=SIM + '[[include]]\nfile = "w.toml"\n',
         w="[world]\nobstacles = [{x = 50, y = 5, radius = 1}]\n",
     )
-    with pytest.raises(LaunchFileError, match=r"launch.toml -> w.toml: world.obstacles\[0\]: centre \(50, 5\)"):
+    with pytest.raises(
+        LaunchFileError, match=r"launch.toml -> include\[0\] w.toml: world.obstacles\[0\]: centre \(50, 5\)"
+    ):
         load_launch(top)
 
 
@@ -325,3 +330,150 @@ def test_the_example_is_valid_and_the_how_to_shows_its_files():
             for line in lines:
                 code = line.split("#")[0].strip()
                 assert code in text, (first, line)  # every line shown (comments aside) is the example's
+
+
+# -- the new-user review of launch composition ------------------------------------------------
+REVIEW_TOP = """
+[arg.speed]
+default = 1.0
+[arg.t2_timeout]
+default = 40.0
+
+[[node]]
+name = "sim"
+run = "sim"
+
+[[include]]
+file = "robots/robot.toml"
+args = { max_speed = "$(arg speed)" }
+
+[[include]]
+file = "robots/robot.toml"
+namespace = "turtle2"
+args = { max_speed = "$(arg speed)", timeout = "$(arg t2_timeout)", label = "r_$(arg speed)" }
+"""
+
+REVIEW_ROBOT = """
+[arg.max_speed]
+[arg.timeout]
+default = 30.0
+[arg.label]
+default = "r"
+
+[[node]]
+name = "navigator"
+run = "navigator"
+[node.params]
+goal_timeout = "$(arg timeout)"
+
+[[node]]
+name = "limiter"
+run = "status_monitor"
+[node.params]
+rate = "$(arg max_speed)"
+"""
+
+
+def test_an_argument_of_an_included_file_given_on_the_command_line_says_to_pass_it_through_args(tmp_path):
+    top = files(tmp_path, top=REVIEW_TOP, robots__robot=REVIEW_ROBOT)
+    with pytest.raises(LaunchFileError) as err:
+        load_launch(top, ["max_speed=1"])
+    assert str(err.value) == (
+        f"--arg max_speed=1: max_speed is an argument of robots/robot.toml (include[0]), not of {top}: a file "
+        'sees only its own arguments; pass it through that include\'s args, as args = { max_speed = "$(arg ...)" }'
+    )
+
+
+def test_the_chain_names_the_include_and_its_namespace_in_check_and_in_errors(tmp_path):
+    top = files(tmp_path, top=REVIEW_TOP, robots__robot=REVIEW_ROBOT)
+    text = plan_text(load_launch(top))
+    assert f"  {top} -> include[0] robots/robot.toml: max_speed = 1.0 (include[0] of {top}; no default)" in text
+    assert f"  {top} -> include[1] (turtle2) robots/robot.toml: timeout = 40.0 (include[1] of {top}" in text
+    with pytest.raises(LaunchFileError) as err:
+        load_launch(top, ["t2_timeout=0"])
+    assert str(err.value).startswith(
+        f"{top} -> include[1] (turtle2) robots/robot.toml: node[0] (turtle2/navigator).params.goal_timeout: "
+        "Expected `float` >= 0.1"
+    ), str(err.value)
+
+
+def test_a_value_error_says_which_argument_the_value_came_from(tmp_path):
+    top = files(tmp_path, top=REVIEW_TOP, robots__robot=REVIEW_ROBOT)
+    with pytest.raises(LaunchFileError) as err:
+        load_launch(top, ["speed=0"])
+    assert str(err.value).startswith(
+        f"{top} -> include[0] robots/robot.toml: node[1] (limiter).params.rate: Expected `float` "
+    ) and str(err.value).endswith(" (from --arg speed through include[0].args.max_speed)"), str(err.value)
+    with pytest.raises(LaunchFileError) as err:
+        parse_launch("[arg.t]\ndefault = 0.0\n" + SIM + '[node.params]\ncmd_timeout = "$(arg t)"\n', "f.toml")
+    assert str(err.value).endswith("(from arg.t's default)"), str(err.value)
+
+
+@pytest.mark.parametrize(
+    "texts, message",
+    [
+        ({"launch": SIM + 'required = "$(arg x"\n'}, 'launch.toml: node[0] (sim).required: "$(arg x": unclosed $(...)'),
+        (
+            {"launch": SIM + '[[include]]\nfile = "sub"\n', "sub__x": ""},
+            "launch.toml: include[0].file: sub is a folder",
+        ),
+    ],
+)
+def test_review_nits_unclosed_substitution_and_an_included_folder(tmp_path, texts, message):
+    top = files(tmp_path, **texts)
+    with pytest.raises(LaunchFileError) as err:
+        load_launch(top)
+    assert str(err.value).startswith(f"{tmp_path}/{message}"), str(err.value)
+
+
+def test_type_errors_show_values_as_toml_writes_them(tmp_path):
+    top = files(tmp_path, launch='[arg.fast]\ndefault = true\n[arg.name]\ndefault = "n"\n' + SIM)
+    with pytest.raises(LaunchFileError) as err:
+        load_launch(top, ["fast=2"])
+    assert str(err.value).endswith("is a boolean (its default: true), not an integer (2)"), str(err.value)
+    sub = files(
+        tmp_path,
+        launch=SIM + '[[include]]\nfile = "s.toml"\nargs = { fast = "fast" }\n',
+        s="[arg.fast]\ndefault = true\n",
+    )
+    with pytest.raises(LaunchFileError) as err:
+        load_launch(sub)
+    assert str(err.value).endswith('is a boolean (its default: true), not a text ("fast")'), str(err.value)
+
+
+def test_a_remap_onto_a_key_of_another_message_type_is_refused():
+    text = SIM + '[[node]]\nname = "n"\nrun = "navigator"\nremap = { "turtle1/cmd_vel" = "turtle1/pose" }\n'
+    with pytest.raises(LaunchFileError) as err:
+        parse_launch(text, "f.toml")
+    assert str(err.value) == (
+        'f.toml: node[1] (n).remap."turtle1/cmd_vel": turtle1/cmd_vel carries Twist and turtle1/pose carries Pose: '
+        "a remap joins keys of one message type"
+    )
+    spaced = text.replace('run = "navigator"\n', 'run = "navigator"\nnamespace = "turtle2"\n')
+    with pytest.raises(LaunchFileError, match="turtle2/cmd_vel carries Twist and turtle2/pose carries Pose"):
+        parse_launch(spaced, "f.toml")
+    other = text.replace('"turtle1/pose"', '"turtle3/robot/status"')
+    with pytest.raises(LaunchFileError, match="turtle3/robot/status carries TurtleStatus"):
+        parse_launch(other, "f.toml")
+    fine = text.replace('"turtle1/pose"', '"turtle3/cmd_vel"')  # another turtle's commands: the same type
+    assert parse_launch(fine, "f.toml").remaps["n"] == {"turtle1/cmd_vel": "turtle3/cmd_vel"}
+
+
+def test_an_unused_remaps_keys_leave_out_the_internal_wildcards():
+    text = SIM + '[[node]]\nname = "n"\nrun = "navigator"\nremap = { "turtle1/cmd_vell" = "x" }\n'
+    with pytest.raises(LaunchFileError) as err:
+        parse_launch(text, "f.toml")
+    assert "@turtlectl" not in str(err.value) and "turtle1/cmd_vel," in str(err.value), str(err.value)
+
+
+def test_launch_arguments_written_as_ros_positional_ones_get_a_hint(tmp_path):
+    from typer.testing import CliRunner
+
+    from turtlectl.cli.errors import BadInput, exit_code
+    from turtlectl.cli.main import app
+
+    top = files(tmp_path, launch="[arg.speed]\ndefault = 1.0\n" + SIM)
+    for argv in ([str(top), "speed:=2"], ["speed:=2"]):
+        result = CliRunner().invoke(app, ["launch", "--check", *argv])
+        assert isinstance(result.exception, BadInput) and exit_code(result.exception) == 2, result.output
+        assert str(result.exception) == "speed:=2: give launch arguments as --arg speed:=2", result.exception

@@ -75,3 +75,13 @@ def test_a_stream_that_stopped_after_flowing_gets_the_same_reasons_without_yet()
     gone = silence_text("robot/status", build_graph([], 0), lambda: "", flowed=True)
     assert gone.startswith("nothing published on robot/status for 3 s: no turtlectl node runs on this router")
     assert "yet" not in silence_text("nosuch", _graph_with(), lambda: "", flowed=True)
+
+
+def test_silence_of_a_publisher_does_not_call_it_stalled_only():
+    """New-user review: a filter node publishes only when it gets commands; silence is not a stall."""
+    pub = EntityInfo(node="turtle2/limiter", pid=3, role="pub", type_name="Twist", key="turtle2/cmd_vel")
+    text = silence_text("turtle2/cmd_vel", _graph_with(pub), lambda: "")
+    assert text.endswith(
+        "although turtle2/limiter publishes it: it may be idle (it publishes only when it has something to say) "
+        "or stalled (see its log)"
+    ), text
