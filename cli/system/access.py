@@ -7,8 +7,8 @@ events, log records, liveliness tokens).  A user's node class that declares no `
 the ``teleop`` role may (a local client of the system may do as much) and publish and serve
 under its own name (``<name>/**``); nothing else (``UNDECLARED``).  Clients log in with a role:
 
-* ``viewer``: echo, hz, list, view, record, node/topic info, param get (subscribe to
-  everything, read the JSON answers, follow the graph);
+* ``viewer``: echo, hz, list, view, record, log, node/topic info, param get (subscribe to
+  everything, read the JSON answers and the nodes' recent log records, follow the graph);
 * ``operator``: also goto, cancel, teleport, reset, call, param set, log-level;
 * ``teleop``: also publishes ``turtle1/cmd_vel`` (teleop, pub).
 

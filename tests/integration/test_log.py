@@ -1,7 +1,8 @@
 """Issue 28 (one log stream): every node publishes each record it logs on turtlectl/log/<node>
 and keeps its last ones for a get; ``turtlectl log`` reads every node's in one place, filtered
 by --node, --level and --since, and with --follow goes on with the new ones; a node run by
-hand (``turtlectl run``) is in the stream as the launched ones are."""
+hand (``turtlectl run``) is in the stream as the launched ones are; ``record -a`` keeps them.
+(Under --secure: test_security; Foxglove's Log channel: test_foxglove.)"""
 
 from __future__ import annotations
 
@@ -210,3 +211,40 @@ def test_a_hand_run_nodes_records_are_in_the_stream(system, tmp_path: Path):
         if run.poll() is None:
             run.kill()
             run.wait()
+
+
+def test_record_keeps_the_log_like_any_topic(system, tmp_path: Path):
+    from turtlectl.cli.recording.reading import Recording
+
+    path = tmp_path / "log.mcap"
+    recorder = subprocess.Popen(
+        [*turtlectl(), "record", "-a", "-o", str(path), "--connect", system.endpoint],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        stdin=subprocess.DEVNULL,
+        text=True,
+    )
+    try:
+        deadline = time.monotonic() + 15.0
+        while not (path.exists() and Recording(path).info().count > 20):  # it records: its subscriber is there
+            assert time.monotonic() < deadline and recorder.poll() is None, "the recorder wrote nothing"
+            time.sleep(0.05)  # pacing: polling a file under a deadline
+        assert system.run_cli("param", "set", "navigator", "goal_timeout", "55").returncode == 0
+        logged = until(
+            lambda: records(system.run_cli("log", "--node", "navigator", "--json")),
+            lambda got: any(m.endswith("-> 55.0") for m in messages(got)),
+            "the parameter change in the log",
+        )
+        changed = next(r for r in logged if r["message"].endswith("-> 55.0"))
+        recorder.send_signal(signal.SIGINT)
+        _, err = recorder.communicate(timeout=15)
+        assert recorder.returncode == 0, err
+    finally:
+        if recorder.poll() is None:
+            recorder.kill()
+            recorder.wait()
+    shown = subprocess.run([*turtlectl(), "info", str(path), "--json"], capture_output=True, text=True, timeout=30)
+    topics = {t["key"]: t for t in json.loads(shown.stdout)["topics"]}
+    assert topics["turtlectl/log/navigator"]["type_name"] == "Log", sorted(topics)
+    kept = [r.message() for r in Recording(path).records() if r.key == "turtlectl/log/navigator"]
+    assert any(m.message == changed["message"] and m.stamp == changed["stamp"] for m in kept)

@@ -28,6 +28,7 @@ EXPECTED = {
     "turtlectl node info patrol": "kind ./patrol.py:Patrol",
     "turtlectl param describe patrol side": "meaning:     the square's side",
     "turtlectl param set patrol laps 2": "patrol laps = 2 (was 1)",
+    "turtlectl log --node patrol": "patrol: parameter laps: 1 -> 2",
     "pytest -q": " passed",
 }
 
