@@ -41,7 +41,16 @@ from typing import Any, NamedTuple
 import msgspec
 
 from turtlectl.cli.system.placement import namespace_problem
-from turtlectl.cli.system.report import LaunchFileError, Parts, Report, declared_below, problem, raw_names, toml_text
+from turtlectl.cli.system.report import (
+    LaunchFileError,
+    Parts,
+    Report,
+    declared_below,
+    problem,
+    raw_names,
+    read_text,
+    toml_text,
+)
 from turtlectl.runtime.loader import is_file, is_target, suggestion
 
 #: the system's own tables (``--set TABLE.KEY=VALUE`` reaches them): one file of a launch writes each
@@ -190,12 +199,7 @@ class _Composer:
             raise report.error(["include", i, "file"], f"{include.file} is a folder: name a launch file in it")
         if not target.is_file():
             raise report.error(["include", i, "file"], f"{include.file}: no such file ({target.resolve()})")
-        try:
-            text = target.read_text(encoding="utf-8")
-        except OSError as exc:
-            raise LaunchFileError(f"{inner}: cannot read: {exc.strerror or exc}") from None
-        except UnicodeDecodeError:
-            raise LaunchFileError(f"{inner}: not UTF-8 text") from None
+        text = read_text(target, inner)
         why = namespace_problem(pushed) if pushed else None
         if not why and namespace and pushed not in ("", namespace):
             why = f"{label} is in namespace {namespace!r} already: namespaces do not nest (a namespace is one turtle's)"

@@ -41,7 +41,7 @@ from turtlectl.cli.system.compose import Argument, ArgValue, Include, Piece, com
 from turtlectl.cli.system.placement import check_spawn, check_turtles, check_world, namespace_problem, remap_problem
 from turtlectl.cli.system.report import LaunchFileError as LaunchFileError  # also for the other modules
 from turtlectl.cli.system.report import Report as Report  # also for cli.system.overrides
-from turtlectl.cli.system.report import problem, raw_names
+from turtlectl.cli.system.report import problem, raw_names, read_text
 from turtlectl.messages.world import Limits, World
 from turtlectl.nodes.kinds import KindError, NodeKind, kind_of
 from turtlectl.runtime.loader import suggestion as suggestion  # also for cli.system.overrides, cli.tools
@@ -341,13 +341,7 @@ def parse_launch(text: str, source: str = "launch.toml", args: list[str] | None 
 
 def load_launch(path: Path, args: list[str] | None = None) -> LaunchPlan:
     """Read and validate a launch file from disk (``args``: ``--arg NAME=VALUE`` items)."""
-    try:
-        text = path.read_text(encoding="utf-8")
-    except OSError as exc:
-        raise LaunchFileError(f"{path}: cannot read: {exc.strerror or exc}") from None
-    except UnicodeDecodeError:
-        raise LaunchFileError(f"{path}: not UTF-8 text") from None
-    return parse_launch(text, source=str(path), args=args)
+    return parse_launch(read_text(path, str(path)), source=str(path), args=args)
 
 
 def default_launch_file() -> Path:

@@ -182,3 +182,14 @@ def declared_below(name: str, includes: Any, path: Path, seen: tuple[Path, ...] 
         if deeper:
             return f"{deeper.rpartition(' (')[0]} (include[{i}] {file} -> {deeper.rpartition(' (')[2]}"
     return None
+
+
+def read_text(path: Path, label: str) -> str:
+    """A launch file's text (LaunchFileError naming ``label``, the file or its chain of includes,
+    when it cannot be read or is not UTF-8)."""
+    try:
+        return path.read_text(encoding="utf-8")
+    except OSError as exc:
+        raise LaunchFileError(f"{label}: cannot read: {exc.strerror or exc}") from None
+    except UnicodeDecodeError:
+        raise LaunchFileError(f"{label}: not UTF-8 text") from None
