@@ -29,7 +29,7 @@ from turtlectl.cli.errors import BadInput
 from turtlectl.cli.recording.bag import Record
 from turtlectl.cli.recording.reading import Recording
 from turtlectl.cli.tools.client import check_key, client_session, require
-from turtlectl.messages import ALL_TYPES, Clock, Message, encode, encoding_for
+from turtlectl.messages import ALL_TYPES, Clock, Log, Message, encode, encoding_for
 from turtlectl.messages.codec import TYPES_BY_NAME, type_name
 from turtlectl.messages.described import describable, describe
 from turtlectl.messages.keys import CLOCK, WORLD_KEY, type_key
@@ -77,10 +77,12 @@ def plan(records: Iterable[Record], start_offset: float) -> list[Record]:
 def _payload(record: Record, message: Message | None, keep_stamps: bool, recorded: bool = False) -> tuple[bytes, str]:
     """What to publish for ``record`` (whose ``message()`` is ``message``): msgpack of the
     message (freshly stamped unless ``keep_stamps``; with ``recorded``, stamped with the time it
-    was recorded at, as a played clock shows it), or its raw bytes; and their encoding."""
+    was recorded at, as a played clock shows it), or its raw bytes; and their encoding.  A log
+    record (Log) always keeps its stamp: when it was logged is what it says, as ``ros2 bag play``
+    leaves ``/rosout`` alone."""
     if message is None:
         return record.data, record.encoding
-    if not keep_stamps and "stamp" in type(message).__struct_fields__:
+    if not keep_stamps and "stamp" in type(message).__struct_fields__ and not isinstance(message, Log):
         message = msgspec.structs.replace(message, stamp=record.log_time if recorded else time.time_ns())
     return encode(message), encoding_for(type(message))
 

@@ -68,9 +68,12 @@ def since_seconds(text: str) -> float:
 
 
 def node_matches(name: str, patterns: tuple[str, ...]) -> bool:
-    """Whether node ``name`` is one of ``patterns`` (names, or globs: ``turtle2/*``); any node
-    when there are none."""
-    return not patterns or any(fnmatch.fnmatchcase(name, p) for p in patterns)
+    """Whether node ``name`` is one of ``patterns`` (names, or globs: ``turtle2/*``; a namespace
+    names its nodes, ``turtle2`` as ``turtle2/*``, as ``launch --only`` takes it; a leading
+    ``/`` as ROS writes names is dropped); any node when there are none."""
+    return not patterns or any(
+        fnmatch.fnmatchcase(name, p) or name.startswith(f"{p}/") for p in (p.lstrip("/") for p in patterns)
+    )
 
 
 @dataclasses.dataclass(frozen=True)
