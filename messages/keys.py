@@ -64,7 +64,7 @@ def resolve(key: str, namespace: str, remaps: Mapping[str, str] | None = None) -
 
     - a key starting with ``/`` is absolute: the slash dropped, never namespaced (``/chatter``);
     - the runtime's own keys (``turtlectl/...``), liveliness keys (``@...``) and the world's
-      (``turtles``, ``spawn``, ``kill``, ``reset``: the simulator's, one for every turtle) never are;
+      (``turtles``, ``spawn``, ``kill``, ``reset``, ``clock``: the simulator's, one for every turtle) never are;
     - with no namespace (``""``), every other key is as written (today's single-turtle system);
     - in namespace ``NS``, the default turtle's keys ``turtle1/X`` are the namespace's turtle's,
       ``NS/X`` (``turtle1/pose`` -> ``turtle2/pose`` in ``turtle2``), and any other key ``K`` is
