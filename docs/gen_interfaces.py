@@ -7,7 +7,7 @@ Field names, types, defaults and the type docstrings come from the msgspec Struc
 ``messages/`` (``messages.ALL_TYPES``); keys and token formats from ``messages/keys.py``;
 parameters and the world from the nodes' parameter Structs.  What code cannot say (the
 unit, range and meaning of each field, who publishes each key and how often) is in
-messages/reference.py (``turtlectl interface show`` reads it too), and
+messages/reference.py and messages/key_reference.py (``turtlectl interface show`` reads them too), and
 tests/unit/docs/test_gen_interfaces.py fails when a Struct field or a key has no entry
 there, when an entry names a field or key that no longer exists, or when
 docs/interfaces.md differs from what this script renders: the reference cannot drift.
@@ -29,8 +29,9 @@ from turtlectl.messages import ALL_TYPES, keys  # noqa: E402
 from turtlectl.messages.codec import MEDIA_TYPE  # noqa: E402
 from turtlectl.messages.described import FieldDescription, TypeDescription  # noqa: E402
 from turtlectl.messages.fieldtext import default_text, doc, struct_fields, type_name  # noqa: E402
+from turtlectl.messages.key_reference import KEYS  # noqa: E402
 from turtlectl.messages.params import ParamDescription, ParamInfo  # noqa: E402
-from turtlectl.messages.reference import FIELDS, KEYS  # noqa: E402
+from turtlectl.messages.reference import FIELDS  # noqa: E402
 from turtlectl.messages.world import Limits, Obstacle, World  # noqa: E402
 from turtlectl.nodes.kinds import KINDS  # noqa: E402
 from turtlectl.runtime.params import field_comments, param_infos  # noqa: E402

@@ -10,8 +10,9 @@ Rules (the reference for clients is docs/interfaces.md, generated from here):
 
 Units are SI unless a field says otherwise: metres, seconds, radians, except
 where people read and type them, in degrees (``TurtleStatus.theta``,
-``NavigateToRequest.theta``).  ``stamp`` is wall-clock time in nanoseconds
-since the Unix epoch, ``seq`` a per-publisher counter starting at 0.
+``NavigateToRequest.theta``).  ``stamp`` is the publisher's time in nanoseconds
+since the Unix epoch (the wall clock, or the simulated clock for a node with
+``use_sim_time``), ``seq`` a per-publisher counter starting at 0.
 """
 
 from __future__ import annotations

@@ -125,20 +125,17 @@ class SimClock:
         back = last - clock.clock
         if 0 <= back <= JUMP_BACK:  # a late or repeated one: the time never goes back for it
             return
-        first_or_back = not last or back > 0
-        step = 0 if first_or_back else min(clock.clock - last, 1_000_000_000)
+        restarting = not last or back > 0  # the time begins, or a replay looped
+        step = 0 if restarting else min(clock.clock - last, 1_000_000_000)
         base = (clock.clock, self._monotonic(), step, clock.real_time_factor)
-        if self._restarted is None:
-            self._base = base
-            if first_or_back:
-                self._last = clock.clock
-        elif first_or_back or self._pending is not None:  # the time begins, or a replay looped
+        if self._restarted is not None and (restarting or self._pending is not None):
             self._pending = base  # held for the node's thread (accept)
-            if first_or_back:
+            if restarting:
                 self._restarted(back / 1e9 if last else 0.0)
             return
-        else:
-            self._base = base
+        self._base = base
+        if restarting:
+            self._last = clock.clock
         if clock.clock / 1e9 >= self.wake_at:
             self._wake()
 

@@ -133,7 +133,12 @@ class Simulator:
         node.answer_json(WORLD_KEY, msgspec.json.encode(node.world))
         self.clock_pub = node.publisher(CLOCK, Clock)
         self.stepper = node.timer(STEP / p.real_time_factor, self.tick)
-        node.on_params(lambda params: self.stepper.retime(STEP / params.real_time_factor))
+        node.on_params(self.on_params)
+
+    def on_params(self, params: SimParams) -> None:
+        """A new ``real_time_factor`` paces the steps anew (another parameter leaves them be)."""
+        if self.stepper.period != STEP / params.real_time_factor:
+            self.stepper.retime(STEP / params.real_time_factor)
 
     def now(self) -> float:
         """The simulated time, s since the epoch."""
@@ -212,7 +217,7 @@ class Simulator:
         limits, world = self.node.limits, self.node.world
         self.time_ns += STEP_NS
         self.clock_pub.publish(Clock(clock=self.time_ns, real_time_factor=self.node.params.real_time_factor))
-        now = self.time_ns / 1e9
+        now = self.now()
         for turtle in self.turtles.values():
             age = None if turtle.cmd_time is None else now - turtle.cmd_time
             cmd = turtle.cmd

@@ -14,7 +14,8 @@ from turtlectl.messages import ALL_TYPES
 from turtlectl.messages.codec import encoding_for, type_name
 from turtlectl.messages.fieldtext import default_text, doc, struct_fields
 from turtlectl.messages.fieldtext import type_name as field_type
-from turtlectl.messages.reference import FIELDS, KEYS
+from turtlectl.messages.key_reference import KEYS
+from turtlectl.messages.reference import FIELDS
 
 
 def _keys_of(name: str) -> list[str]:
