@@ -38,10 +38,15 @@ def _signature(obj: object) -> str:
 
 
 def _members(cls: type) -> list[str]:
+    """The public methods and properties of ``cls``, its own first, then those it takes from a
+    base class of turtlectl's (``Node``'s loop: runtime.loop.NodeLoop)."""
     lines = []
-    for name, member in vars(cls).items():
-        if name.startswith("_") or not (callable(member) or isinstance(member, property)):
+    seen: set[str] = set()
+    owned = [c for c in cls.__mro__ if c.__module__.startswith("turtlectl")]
+    for name, member in ((n, m) for c in owned for n, m in vars(c).items()):
+        if name in seen or name.startswith("_") or not (callable(member) or isinstance(member, property)):
             continue
+        seen.add(name)
         if isinstance(member, property):
             head = f"`{name}` (property)"
         else:
