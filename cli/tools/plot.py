@@ -31,6 +31,7 @@ import msgspec
 import msgspec.inspect as mi
 
 from turtlectl.cli.errors import BadInput
+from turtlectl.cli.tools.format import Undescribed
 from turtlectl.messages import Message
 from turtlectl.messages.keys import TOPICS, resolve
 
@@ -103,6 +104,12 @@ class _PastTheEnd(_Missing):
         self.at, self.length, self.index = at, length, index
 
 
+def _data(message: Any) -> Any:
+    """What a message's fields are read from: an undescribed payload's data, a message itself
+    (a described type's own field named ``data`` is one of its fields)."""
+    return message.data if isinstance(message, Undescribed) else message
+
+
 def value_at(message: Any, path: str) -> Any:
     """The value at dotted ``path`` in a message (a Struct) or undescribed data (dicts, lists):
     fields by name, list items by index (negative from the end); _Missing if there is none."""
@@ -170,7 +177,7 @@ def numeric_fields(message: Any) -> list[str]:
     ``parse_series`` reads them after the key."""
     if isinstance(message, msgspec.Struct):
         return _type_paths(mi.type_info(type(message)), "")
-    return _data_paths(getattr(message, "data", message), "")
+    return _data_paths(_data(message), "")
 
 
 def _no_number(series: Series, name: str, fields: list[str], why: str) -> BadInput:
@@ -192,9 +199,8 @@ def _kind(value: Any, label: str) -> str:
 def check(series: Series, message: Any) -> float | None:
     """The number ``message`` holds for ``series`` (None for inf or NaN: no sample); BadInput
     if it holds none there, naming the numeric fields its type has."""
-    data = getattr(message, "data", message)  # an undescribed payload (cli.tools.format.Undescribed)
     try:
-        value = value_at(data, series.path)
+        value = value_at(_data(message), series.path)
     except _PastTheEnd as past:
         items = f"{past.length} item{'s' * (past.length != 1)}"
         raise BadInput(
@@ -301,7 +307,7 @@ class Stamps:
         """When ``message`` (on ``key``) was stamped, s from the first stamp; None for one not
         stamped (0); BadInput for a message whose type has no stamp."""
         try:
-            stamp = value_at(getattr(message, "data", message), STAMP)
+            stamp = value_at(_data(message), STAMP)
         except _Missing:
             raise _unstamped([f"{type_name(message)} on {key}"]) from None
         if isinstance(stamp, bool) or not isinstance(stamp, int | float) or stamp <= 0:
@@ -325,10 +331,11 @@ class Extractor:
     def values(self, key: str, message: Any) -> list[tuple[Series, float]]:
         """The samples one message on ``key`` gives: (series, number) for each series it fits."""
         found = []
+        data = _data(message)
         for s in self.by_key.get(key, ()):
             if s in self.seen:
                 try:
-                    value = number(value_at(getattr(message, "data", message), s.path))
+                    value = number(value_at(data, s.path))
                 except _Missing:
                     continue
                 if value is None or not math.isfinite(value):

@@ -169,6 +169,20 @@ def test_an_undescribed_payload_is_read_as_the_data_it_is():
     )
 
 
+def test_a_described_type_whose_own_field_is_named_data_is_read_as_itself():
+    from turtlectl.messages import Message
+
+    class Float64(Message, tag="PlotFloat64WithData"):  # a user's own type (std_msgs' Float64)
+        data: float = 0.0
+        stamp: int = 0
+
+    chatter = Series("chatter", "data")
+    assert Extractor([chatter]).values("chatter", Float64(data=2.5)) == [(chatter, 2.5)]
+    stamps = plot.Stamps()
+    assert stamps.time("chatter", Float64(data=1.0, stamp=START)) == 0.0
+    assert stamps.time("chatter", Float64(data=1.0, stamp=START + 1_500_000_000)) == pytest.approx(1.5)
+
+
 # -- a type known before any message -----------------------------------------------------------
 
 
