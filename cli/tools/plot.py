@@ -84,9 +84,7 @@ def parse_all(texts: Iterable[str], turtle: str = "") -> list[Series]:
 
 
 def number(value: Any) -> float | None:
-    """``value`` as a number to plot: a bool is 0 or 1; None for anything else (text, lists)."""
-    if isinstance(value, bool):
-        return float(value)
+    """``value`` as a number to plot: a bool is 0 or 1 (an int); None for anything else (text, lists)."""
     if isinstance(value, int | float):
         return float(value)
     return None
@@ -134,7 +132,7 @@ def type_name(message: Any) -> str:
     """The name of a message's type for people: ``Pose``, or an undescribed payload's own."""
     if isinstance(message, msgspec.Struct):
         return type(message).__name__
-    name = getattr(message, "type_name", "") or (message.get("type", "") if isinstance(message, dict) else "")
+    name = getattr(message, "type_name", "")  # an Undescribed's (its payload's "type" if it had no other)
     return str(name) if name else "the payload"
 
 
@@ -156,11 +154,9 @@ def _type_paths(info: Any, prefix: str) -> list[str]:
 
 
 def _data_paths(value: Any, prefix: str) -> list[str]:
-    """The numeric paths of undescribed data (a list's by its first item)."""
+    """The numeric paths of undescribed data, plain data as decoded (a list's by its first item)."""
     if number(value) is not None:
         return [prefix]
-    if isinstance(value, msgspec.Struct):
-        return _type_paths(mi.type_info(type(value)), prefix)
     if isinstance(value, dict):
         return [p for k, v in value.items() if prefix or k != "type" for p in _data_paths(v, _join(prefix, str(k)))]
     if isinstance(value, list | tuple) and value:
@@ -266,7 +262,6 @@ def check_builtins(
     a typo says so at once, before anything is drawn or waited for; with ``stamps``
     (--stamps), BadInput naming the types that have no stamp (also those of ``types``,
     key -> type: a recording's)."""
-    unstamped = []
     known = dict(types or {})
     for s in series:
         msg_type = builtin_type(s.key, turtle)
@@ -274,7 +269,12 @@ def check_builtins(
             check_type(s, msg_type)
             known[s.key] = msg_type
     if stamps:
-        unstamped = [f"{t.__name__} on {key}" for key, t in known.items() if STAMP not in t.__struct_fields__]
+        check_stamped(known)
+
+
+def check_stamped(types: dict[str, type[Message]]) -> None:
+    """--stamps: BadInput naming the types (key -> type) that have no stamp."""
+    unstamped = [f"{t.__name__} on {key}" for key, t in types.items() if STAMP not in t.__struct_fields__]
     if unstamped:
         raise _unstamped(unstamped)
 

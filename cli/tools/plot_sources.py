@@ -8,22 +8,23 @@ from __future__ import annotations
 import dataclasses
 import queue
 import time
+from collections.abc import Iterable
 from pathlib import Path
 from typing import Any
 
 import zenoh
 
 from turtlectl.cli.errors import Unreachable
-from turtlectl.cli.tools.client import ROUTER_CHECK, check_key, domain_hint, router_lost
+from turtlectl.cli.tools.client import ROUTER_CHECK, router_lost
 from turtlectl.cli.tools.format import Undescribed
 from turtlectl.cli.tools.graph import Graph
-from turtlectl.cli.tools.plot import Extractor, Series, Stamps, check_builtins, check_type, nearest_key
+from turtlectl.cli.tools.plot import Extractor, Series, Stamps, check_stamped, check_type, nearest_key
 from turtlectl.cli.tools.plot_window import Collected
 from turtlectl.cli.tools.rates import Quiet
-from turtlectl.cli.tools.topics import Received, decode_sample, learn, live_graph, silence_text
+from turtlectl.cli.tools.topics import Received, decode_sample, learn, live_graph, silence_reason
 from turtlectl.cli.tools.typebook import TypeBook, generic
+from turtlectl.messages import Message
 from turtlectl.messages.codec import TYPES_BY_NAME
-from turtlectl.runtime.endpoint import default_domain
 
 
 @dataclasses.dataclass
@@ -48,18 +49,20 @@ def from_recording(path: Path, series: list[Series], stamps: bool = False) -> Fr
     recording = Recording(path)
     info = recording.info()
     held = {t.key: t for t in info.topics if t.count}
-    keys = list(dict.fromkeys(s.key for s in series))
+    extractor = Extractor(series)
+    keys = list(extractor.by_key)
     missing = [k for k in keys if k not in held]
     if missing:
         holds = ", ".join(sorted(held)) or "no message at all"
         raise Unreachable(f"{path} has no messages on {', '.join(missing)} (it holds {holds})")
+    types: dict[str, type[Message]] = {}
     for s in series:
         msg_type = TYPES_BY_NAME.get(held[s.key].type_name)
         if msg_type is not None:
             check_type(s, msg_type)
-            if stamps:
-                check_builtins([], stamps=True, types={s.key: msg_type})  # BadInput for a type with no stamp
-    extractor = Extractor(series)
+            types[s.key] = msg_type
+    if stamps:
+        check_stamped(types)  # BadInput for a type with no stamp
     collected = Collected(series)
     stamped = Stamps() if stamps else None
     for record in recording.records(keys):
@@ -88,12 +91,20 @@ def from_recording(path: Path, series: list[Series], stamps: bool = False) -> Fr
 def typo_notes(graph: Graph, series: list[Series], turtle: str = "") -> dict[str, str]:
     """For each key that is no built-in one and that nothing in ``graph`` publishes, but near a
     built-in key (a typo: ``turtle1/pos``): key -> ``nothing publishes turtle1/pos: did you mean turtle1/pose?``."""
+    return _typo_notes(graph, _nearest(dict.fromkeys(s.key for s in series), turtle))
+
+
+def _nearest(keys: Iterable[str], turtle: str) -> dict[str, str]:
+    """Each key near a built-in one (but none itself) -> that built-in key."""
+    return {key: near for key in keys if (near := nearest_key(key, turtle))}
+
+
+def _typo_notes(graph: Graph, nearest: dict[str, str]) -> dict[str, str]:
     notes = {}
-    for s in series:
-        near = nearest_key(s.key, turtle)
-        expr = zenoh.KeyExpr(s.key)
-        if near and not any(t.publishers and expr.intersects(zenoh.KeyExpr(t.key)) for t in graph.topics):
-            notes[s.key] = f"nothing publishes {s.key}: did you mean {near}?"
+    for key, near in nearest.items():
+        expr = zenoh.KeyExpr(key)
+        if not any(t.publishers and expr.intersects(zenoh.KeyExpr(t.key)) for t in graph.topics):
+            notes[key] = f"nothing publishes {key}: did you mean {near}?"
     return notes
 
 
@@ -109,7 +120,7 @@ class Live:
         self.session = session
         self.connect = connect
         self.extractor = Extractor(series)
-        self.keys = list(dict.fromkeys(check_key(s.key) for s in series))
+        self.keys = list(self.extractor.by_key)
         self.inbox: queue.SimpleQueue[tuple[float, Received]] = queue.SimpleQueue()
         self.book = TypeBook(session)
         self.started = time.monotonic()
@@ -120,8 +131,9 @@ class Live:
         self.received = 0  # numbers so far
         self.stamps = Stamps() if stamps else None  # --stamps: the time axis is the messages' stamps
         self.typos: dict[str, str] = {}  # key -> "did you mean" (a key near a built-in one nobody publishes)
-        if any(nearest_key(key, turtle) for key in self.keys):
-            self.typos = typo_notes(live_graph(session), series, turtle)
+        nearest = _nearest(self.keys, turtle)
+        if nearest:
+            self.typos = _typo_notes(live_graph(session), nearest)
         self._subs = [session.declare_subscriber(key, self._on_sample) for key in self.keys]
 
     def _on_sample(self, sample: zenoh.Sample) -> None:  # Zenoh's thread: decode and queue
@@ -165,7 +177,7 @@ class Live:
             self.quiet[key].heard(arrived)
             self.silent.pop(key, None)
         item = learn(item, self.book)
-        message = item.message if item.message is not None else None
+        message: Any = item.message
         if message is None and item.generic is not None:
             message = Undescribed(item.generic, item.unknown)
         if message is None:
@@ -178,15 +190,12 @@ class Live:
     def why_silent(self) -> str:
         """Why nothing has arrived on the keys that had no message (as echo says it), asked now."""
         graph = live_graph(self.session)
-        hint = lambda: domain_hint(self.connect)  # noqa: E731 - asked only when no node runs
-        return "; ".join(
-            self._typo(key, silence_text(key, graph, hint, default_domain()))
-            for key, quiet in self.quiet.items()
-            if not quiet.flowed
-        )
+        return "; ".join(self._silence(key, graph) for key, quiet in self.quiet.items() if not quiet.flowed)
 
-    def _typo(self, key: str, why: str) -> str:
-        """``why`` with "did you mean" for a key that looks like a typo of a built-in one."""
+    def _silence(self, key: str, graph: Graph, flowed: bool = False) -> str:
+        """Why ``key`` is silent (as echo says it), with "did you mean" for a key that looks like
+        a typo of a built-in one."""
+        why = silence_reason(key, graph, self.connect, flowed)
         near = self.typos.get(key, "").partition(": ")[2]
         return f"{why.split(' (')[0]}: {near}" if near else why
 
@@ -199,9 +208,8 @@ class Live:
             )
             if lost:
                 return
-        for key, quiet in self.quiet.items():
-            if quiet.due(now):
-                graph = live_graph(self.session)
-                self.silent[key] = self._typo(
-                    key, silence_text(key, graph, lambda: domain_hint(self.connect), default_domain(), quiet.flowed)
-                )
+        due = [key for key, quiet in self.quiet.items() if quiet.due(now)]
+        if due:  # the graph asked once (a liveliness query: up to 2 s), only when a key is due
+            graph = live_graph(self.session)
+            for key in due:
+                self.silent[key] = self._silence(key, graph, self.quiet[key].flowed)

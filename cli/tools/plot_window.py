@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import collections
 import dataclasses
+from collections.abc import Collection
 
 from turtlectl.cli.tools.plot import Series
 
@@ -50,8 +51,12 @@ class Window:
 
     def xy(self, series: Series) -> tuple[list[float], list[float]]:
         """The times and values of one series."""
-        points = self.points[series]
-        return [t for t, _ in points], [v for _, v in points]
+        return _xy(self.points[series])
+
+
+def _xy(points: Collection[tuple[float, float]]) -> tuple[list[float], list[float]]:
+    """The times and the values of ``points`` (time, value)."""
+    return [t for t, _ in points], [v for _, v in points]
 
 
 def short_reason(key: str, why: str) -> str:
@@ -122,8 +127,8 @@ class Collected:
         return [s for s in self.series if not self.points[s]]
 
     def xy(self, series: Series) -> tuple[list[float], list[float]]:
-        points = self.points[series]
-        return [t for t, _ in points], [v for _, v in points]
+        """The times and values of one series."""
+        return _xy(self.points[series])
 
     def rebase(self) -> float:
         """Times from the earliest sample (0 from then on); the span, s."""
@@ -131,7 +136,7 @@ class Collected:
         first = min(times, default=0.0)
         for s, points in self.points.items():
             self.points[s] = [(t - first, v) for t, v in points]
-        return self.span()
+        return max(times) - first if times else 0.0
 
     def span(self) -> float:
         """Seconds from the first sample to the last, of any series."""

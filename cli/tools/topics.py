@@ -167,8 +167,14 @@ def silence_text(key: str, current: Graph, hint: Callable[[], str], domain: str 
     return f"nothing published on {key} {yet}: no turtlectl node runs {where} (is `turtlectl launch` running?){hint()}"
 
 
+def silence_reason(key: str, current: Graph, connect: str, flowed: bool = False) -> str:
+    """``silence_text`` as a client of ``connect`` in this machine's domain says it (the domain
+    hint asked only when no node runs at all)."""
+    return silence_text(key, current, lambda: domain_hint(connect), default_domain(), flowed)
+
+
 def _silence(session: zenoh.Session, connect: str, key: str, flowed: bool) -> Silence:
-    return Silence(key, silence_text(key, live_graph(session), lambda: domain_hint(connect), default_domain(), flowed))
+    return Silence(key, silence_reason(key, live_graph(session), connect, flowed))
 
 
 class _RouterWatch:
