@@ -9,6 +9,7 @@ from __future__ import annotations
 import ipaddress
 import math
 import re
+from collections.abc import Collection
 from pathlib import Path
 
 from turtlectl.cli.errors import BadInput
@@ -112,15 +113,25 @@ def publish_count(once: bool, rate: float | None, times: int | None) -> int | No
     return times if times is not None else (None if rate is not None else 1)
 
 
+#: log levels as ROS 2 spells them, by the name Python's logging gives them
+LEVEL_ALIASES = {"WARN": "WARNING", "FATAL": "CRITICAL"}
+
+
+def level_named(text: str, known: Collection[str], note: str = "") -> str:
+    """The log level ``text`` names (any case, ROS's spellings too), one of ``known``; BadInput
+    listing ``known`` (and ``note`` after them) when it is none."""
+    level = text.strip().upper()
+    level = LEVEL_ALIASES.get(level, level)
+    if level not in known:
+        raise BadInput(f"unknown log level {text!r} (known: {', '.join(known)}{note})")
+    return level
+
+
 def log_level(text: str) -> str:
     """A log level (any case) as the nodes take it: DEBUG, INFO, WARNING (or WARN) or ERROR."""
     from turtlectl.runtime.config import LOG_LEVELS
 
-    level = text.strip().upper()
-    level = {"WARN": "WARNING"}.get(level, level)  # as ROS 2 spells it
-    if level not in LOG_LEVELS:
-        raise BadInput(f"unknown log level {text!r} (known: {', '.join(LOG_LEVELS)})")
-    return level
+    return level_named(text, LOG_LEVELS)
 
 
 def exposure(

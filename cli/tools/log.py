@@ -19,16 +19,16 @@ from collections.abc import Iterator, Mapping
 
 import zenoh
 
+from turtlectl.cli.args import level_named
 from turtlectl.cli.errors import BadInput, Unreachable
-from turtlectl.cli.tools.client import ROUTER_CHECK, client_session, domain_hint, router_lost
-from turtlectl.cli.tools.services import RouterLost
-from turtlectl.cli.tools.topics import live_graph
+from turtlectl.cli.tools.client import client_session, domain_hint
+from turtlectl.cli.tools.topics import RouterWatch, live_graph
 from turtlectl.messages import DecodeError, Log, decode, to_json
 from turtlectl.messages.keys import LOG_KEYS
 
 #: the levels by name, as Python's logging and ROS number them (ROS's FATAL is CRITICAL)
 LEVELS = {"DEBUG": 10, "INFO": 20, "WARNING": 30, "ERROR": 40, "CRITICAL": 50}
-_ALIASES = {"WARN": "WARNING", "FATAL": "CRITICAL"}
+_NAMES = {number: name for name, number in LEVELS.items()}
 #: s every running node has to answer with its recent records
 RECENT_TIMEOUT = 2.0
 _DURATION = re.compile(r"(\d+(?:\.\d*)?|\.\d+)(ms|s|m|h|d)?")
@@ -41,17 +41,12 @@ _RESET = "\033[0m"
 
 def level_number(text: str) -> int:
     """A level as typed (any case): DEBUG, INFO, WARNING (WARN), ERROR, CRITICAL (FATAL)."""
-    name = text.strip().upper()
-    name = _ALIASES.get(name, name)
-    if name not in LEVELS:
-        raise BadInput(f"unknown log level {text!r} (known: {', '.join(LEVELS)}; WARN and FATAL as ROS spells them)")
-    return LEVELS[name]
+    return LEVELS[level_named(text, LEVELS, "; WARN and FATAL as ROS spells them")]
 
 
 def level_name(level: int) -> str:
     """A level's name (``Level 25`` for one between the named ones, as Python's logging says)."""
-    names = {number: name for name, number in LEVELS.items()}
-    return names.get(level, f"Level {level}")
+    return _NAMES.get(level, f"Level {level}")
 
 
 def since_seconds(text: str) -> float:
@@ -200,7 +195,7 @@ def read(connect: str, wanted: LogFilter, follow: bool = False) -> Iterator[Log 
                 if not matching and not problem:
                     yield Notice(_nothing(len(held), wanted))
                 return
-            next_check = time.monotonic() + ROUTER_CHECK
+            router = RouterWatch(session, connect, LOG_KEYS, what="log records")
             while True:
                 try:
                     payload = inbox.get(timeout=0.1)  # short waits keep Ctrl-C responsive
@@ -212,13 +207,7 @@ def read(connect: str, wanted: LogFilter, follow: bool = False) -> Iterator[Log 
                         shown.discard(ident)
                     elif wanted.wants(record):
                         yield record
-                now = time.monotonic()
-                if now >= next_check:
-                    next_check = now + ROUTER_CHECK
-                    if router_lost(session):
-                        raise RouterLost(
-                            f"lost the router at {connect}: no more log records (did `turtlectl launch` stop?)"
-                        )
+                router.check(time.monotonic())
         finally:
             if live is not None:
                 live.undeclare()

@@ -177,12 +177,14 @@ def _silence(session: zenoh.Session, connect: str, key: str, flowed: bool) -> Si
     return Silence(key, silence_reason(key, live_graph(session), connect, flowed))
 
 
-class _RouterWatch:
+class RouterWatch:
     """RouterLost (exit 3, as goto reports it) once the session has lost its router,
-    checked every ROUTER_CHECK s."""
+    checked every ROUTER_CHECK s; the message says there will be no more ``what`` (by
+    default: messages on ``key``)."""
 
-    def __init__(self, session: zenoh.Session, connect: str, key: str):
+    def __init__(self, session: zenoh.Session, connect: str, key: str, what: str | None = None):
         self.session, self.connect, self.key = session, connect, key
+        self.what = f"messages on {key}" if what is None else what
         self.next = time.monotonic() + ROUTER_CHECK
 
     def check(self, now: float) -> None:
@@ -190,9 +192,7 @@ class _RouterWatch:
             return
         self.next = now + ROUTER_CHECK
         if router_lost(self.session):
-            raise RouterLost(
-                f"lost the router at {self.connect}: no more messages on {self.key} (did `turtlectl launch` stop?)"
-            )
+            raise RouterLost(f"lost the router at {self.connect}: no more {self.what} (did `turtlectl launch` stop?)")
 
 
 def stream(connect: str, topic: str, count: int | None, timeout: float | None) -> Iterator[Received | Notice]:
@@ -210,7 +210,7 @@ def stream(connect: str, topic: str, count: int | None, timeout: float | None) -
         deadline = None if timeout is None else started + timeout
         received = 0
         quiet = Quiet(started)
-        router = _RouterWatch(session, connect, key)
+        router = RouterWatch(session, connect, key)
         while count is None or received < count:
             now = time.monotonic()
             if deadline is not None and now >= deadline:
@@ -264,7 +264,7 @@ def measure_rates(
         ]
         started = time.monotonic()
         rates = Rates(keys, window, started)
-        router = _RouterWatch(session, connect, ", ".join(keys))
+        router = RouterWatch(session, connect, ", ".join(keys))
         next_report = started + 1.0
         try:
             while duration is None or time.monotonic() - started < duration:
