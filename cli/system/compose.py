@@ -46,10 +46,12 @@ from turtlectl.cli.system.report import (
     Parts,
     Report,
     declared_below,
+    key_path,
     problem,
     raw_names,
     read_text,
     toml_text,
+    toml_value,
 )
 from turtlectl.runtime.loader import is_file, is_target, suggestion
 
@@ -125,7 +127,7 @@ def compose(text: str, source: str, given: dict[str, str] | None = None) -> tupl
     """The launch file ``text`` (read from ``source``, which names it in errors and whose folder its
     includes are relative to) and every file it includes, as pieces; with each argument's value.
     ``given``: the command line's ``--arg`` values (parse_args)."""
-    values = {name: (_toml_value(written), written) for name, written in (given or {}).items()}
+    values = {name: (toml_value(written), written) for name, written in (given or {}).items()}
 
     def error(name: str | None, what: str) -> LaunchFileError:
         return LaunchFileError(
@@ -191,14 +193,15 @@ class _Composer:
     ) -> None:
         """The ``i``-th ``[[include]]`` of the file at ``path`` (``sources``: where its values came from)."""
         target = path.parent / Path(include.file).expanduser()
+        resolved = target.resolve()
         pushed = include.namespace.strip("/")
         inner = f"{label} -> include[{i}] {f'({pushed}) ' if pushed else ''}{include.file}"
-        if target.resolve() in chain:
+        if resolved in chain:
             raise LaunchFileError(f"{inner}: include cycle (a file cannot include itself, nor through others)")
         if target.is_dir():
             raise report.error(["include", i, "file"], f"{include.file} is a folder: name a launch file in it")
         if not target.is_file():
-            raise report.error(["include", i, "file"], f"{include.file}: no such file ({target.resolve()})")
+            raise report.error(["include", i, "file"], f"{include.file}: no such file ({resolved})")
         text = read_text(target, inner)
         why = namespace_problem(pushed) if pushed else None
         if not why and namespace and pushed not in ("", namespace):
@@ -211,13 +214,9 @@ class _Composer:
 
         values = {n: (v, None) for n, v in include.args.items()}
         written = {n: f"include[{i}].args.{n}" for n in include.args}
-        origins = {
-            n: f"{sources[f'include[{i}].args.{n}']} through {w}"
-            for n, w in written.items()
-            if f"include[{i}].args.{n}" in sources
-        }
+        origins = {n: f"{sources[w]} through {w}" for n, w in written.items() if w in sources}
         given = _Given(values, f"include[{i}] of {label}", error, {**written, **origins})
-        self.file(text, inner, include.file, target, given, (*chain, target.resolve()), pushed or namespace)
+        self.file(text, inner, include.file, target, given, (*chain, resolved), pushed or namespace)
 
     def arguments(
         self, table: Any, report: Report, given: _Given, file: str, elsewhere: Callable[[str], str | None]
@@ -239,15 +238,15 @@ class _Composer:
                 raise report.error(["arg", name, *parts], what) from None
         names = list(declared)
         for name in given.values:
-            if name not in declared and (below := elsewhere(name)):
+            if name in declared:
+                continue
+            if below := elsewhere(name):
                 raise given.error(
                     name,
                     f"{name} is an argument of {below}, not of {file}: a file sees only its own arguments; "
                     f'pass it through that include\'s args, as args = {{ {name} = "$(arg ...)" }}',
                 )
-            if name not in declared:
-                listed = f"its arguments: {', '.join(names)}" if names else "it declares none: add [arg.NAME]"
-                raise given.error(name, f"{file} declares no argument {name}{suggestion(name, names)} ({listed})")
+            raise given.error(name, f"{file} declares no argument {name}{suggestion(name, names)} ({_listed(names)})")
         values: dict[str, Any] = {}
         origins: dict[str, str] = {}
         for name, argument in declared.items():
@@ -282,15 +281,6 @@ class _Composer:
                 )
             )
         return values, origins
-
-
-def _toml_value(text: str) -> Any:
-    """``text`` as a TOML value (2.5, true, "text", [1, 2]), or else the text itself."""
-    try:
-        document = tomllib.loads(f"v = {text}")
-    except tomllib.TOMLDecodeError:
-        return text
-    return document["v"] if len(document) == 1 else text
 
 
 def _kind(value: Any) -> str:
@@ -341,7 +331,7 @@ def _substitute(
         found = [m[0][2:-1].split() for m in SUBSTITUTION.finditer(value)]
         used = [w[1] for w in found if len(w) == 2 and w[0] == "arg" and trace and w[1] in trace[0]]
         if trace and used:
-            trace[1][_path(at)] = ", ".join(dict.fromkeys(trace[0][n] for n in used))
+            trace[1][key_path(at)] = ", ".join(dict.fromkeys(trace[0][n] for n in used))
         whole = SUBSTITUTION.fullmatch(value)
         if whole:
             return _lookup(whole[0], values, at, report, names)
@@ -363,11 +353,6 @@ def _substitute(
     return value
 
 
-def _path(parts: Parts) -> str:
-    """A key path as errors write it, without node names: ``node[1].params.rate``."""
-    return "".join(f"[{p}]" if isinstance(p, int) else f".{p}" for p in parts).lstrip(".")
-
-
 def _lookup(written: str, values: dict[str, Any], at: Parts, report: Report, names: list[str] | None) -> Any:
     """The value ``$(arg NAME)`` (``written``) stands for."""
     words = written[2:-1].split()
@@ -379,8 +364,14 @@ def _lookup(written: str, values: dict[str, Any], at: Parts, report: Report, nam
     names = list(values) if names is None else names
     if name in names:
         raise report.error(at, f"{written}: a default may use only the arguments declared above it")
-    listed = f"its arguments: {', '.join(names)}" if names else "it declares none: add [arg.NAME]"
-    raise report.error(at, f"{written}: the file declares no argument {name}{suggestion(name, names)} ({listed})")
+    raise report.error(
+        at, f"{written}: the file declares no argument {name}{suggestion(name, names)} ({_listed(names)})"
+    )
+
+
+def _listed(names: list[str]) -> str:
+    """A file's arguments as an unknown one's error lists them."""
+    return f"its arguments: {', '.join(names)}" if names else "it declares none: add [arg.NAME]"
 
 
 def _paths_from_top(data: dict[str, Any], folder: Path, top: Path) -> None:

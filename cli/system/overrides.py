@@ -8,7 +8,6 @@ what ``launch`` runs (``launch_plan``: the file, its ``--only``/``--exclude`` se
 from __future__ import annotations
 
 import copy
-import tomllib
 from pathlib import Path
 from typing import Any
 
@@ -23,6 +22,7 @@ from turtlectl.cli.system.launchfile import (
     suggestion,
     validate,
 )
+from turtlectl.cli.system.report import toml_value
 from turtlectl.messages.keys import namespace_of
 from turtlectl.messages.world import World
 from turtlectl.nodes.kinds import KINDS, KindError, kind_of
@@ -47,13 +47,7 @@ def parse_assignment(text: str, option: str, form: str) -> Assignment:
     keys = tuple(part.strip() for part in key.split("."))
     if not sep or not all(keys):
         raise LaunchFileError(f"{option} {text!r}: write it as {form}")
-    raw = raw.strip()
-    try:
-        document = tomllib.loads(f"v = {raw}")
-        value = document["v"] if len(document) == 1 else raw
-    except tomllib.TOMLDecodeError:
-        value = raw
-    return Assignment(text=text, keys=keys, value=value)
+    return Assignment(text=text, keys=keys, value=toml_value(raw.strip()))
 
 
 def _plan_data(plan: LaunchPlan) -> dict[str, Any]:

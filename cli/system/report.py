@@ -75,6 +75,20 @@ def raw_names(data: Any) -> list[str | None]:
     return [n["name"] if isinstance(n, dict) and isinstance(n.get("name"), str) else None for n in nodes]
 
 
+def key_path(parts: Parts) -> str:
+    """A key path as errors write it: ``node[1].params.rate`` (a text part as it is, an index in [])."""
+    return "".join(f"[{p}]" if isinstance(p, int) else f".{p}" for p in parts).lstrip(".")
+
+
+def toml_value(text: str) -> Any:
+    """``text`` as a TOML value (2.5, true, "text", [1, 2]), or else the text itself."""
+    try:
+        document = tomllib.loads(f"v = {text}")
+    except tomllib.TOMLDecodeError:
+        return text
+    return document["v"] if len(document) == 1 else text
+
+
 class Report:
     """Turns a key path into the text users read: ``node[1] (navigator).params.rate`` in a
     file, ``navigator.rate`` for an override of a node's parameter."""
@@ -99,9 +113,7 @@ class Report:
                 origin = self.origins[i] if i < len(self.origins) else f"node[{i}]"
                 text = origin + (f" ({name})" if name else "")
             parts = rest
-        for part in parts:
-            text += f"[{part}]" if isinstance(part, int) else f".{part}"
-        return text.lstrip(".")
+        return key_path([text, *parts] if text else parts)
 
     def place(self, j: int, i: int) -> str:
         """Where node ``j`` is written, as an error about node ``i`` names it: ``group[0].node[1]``,
@@ -120,7 +132,7 @@ class Report:
             sources = self.node_sources[i] if i < len(self.node_sources) else {}
             local = [self.origins[i], *parts[2:]]
         for n in range(len(local), 0, -1):  # the value, else the table that holds it
-            key = "".join(f"[{p}]" if isinstance(p, int) else f".{p}" for p in local[:n]).lstrip(".")
+            key = key_path(local[:n])
             if key in sources:
                 return f" (from {sources[key]})"
         return ""
