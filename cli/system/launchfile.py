@@ -206,7 +206,8 @@ def validate(
                 "the simulator serves every turtle of the world: it runs outside any namespace "
                 "(its turtles go in its params.turtles, or come with turtlectl spawn)",
             )
-        declared = interface_of(entry.name, kind.interface) if kind.interface is not None else None
+        # the node's keys, for its remap's FROMs (none: nothing to check them against)
+        declared = interface_of(entry.name, kind.interface) if entry.remap and kind.interface is not None else None
         wrong = remap_problem(entry.remap, entry.namespace, declared)
         if wrong:
             raise report.error(["node", i, "remap", f'"{wrong[0]}"'], wrong[1])

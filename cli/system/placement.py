@@ -43,24 +43,26 @@ def remap_problem(remap: dict[str, str], namespace: str, interface: Interface | 
     the node's ``interface`` (its kind's, resolved; None: a user's kind that declares none), FROM
     must be a key the node uses (ROS would ignore it silently: a typo here is an error)."""
     seen: dict[str, str] = {}
+    used = [] if interface is None else [k for f in interface.__struct_fields__ for k in getattr(interface, f)]
     for source, target in remap.items():
-        for key in (source, target):
-            why = key_problem(key)
-            if why is None and resolve(key, namespace).startswith("turtlectl/"):
-                why = f"{key} is one of the runtime's own keys (turtlectl/...): they are not remapped"
+        resolved: list[str] = []
+        for written in (source, target):
+            why = key_problem(written)
+            if why is None:
+                resolved.append(resolve(written, namespace))
+                if resolved[-1].startswith("turtlectl/"):
+                    why = f"{written} is one of the runtime's own keys (turtlectl/...): they are not remapped"
             if why:
                 return source, why
-        key = resolve(source, namespace)
+        key, to = resolved
         if key in seen:
             return source, f"{seen[key]} remaps the same key ({key})"
         seen[key] = source
-        types = (_type_of(key), _type_of(resolve(target, namespace)))
+        types = (_type_of(key), _type_of(to))
         if types[0] and types[1] and types[0] != types[1]:
             return source, (
-                f"{key} carries {types[0]} and {resolve(target, namespace)} carries {types[1]}: "
-                "a remap joins keys of one message type"
+                f"{key} carries {types[0]} and {to} carries {types[1]}: a remap joins keys of one message type"
             )
-        used = [] if interface is None else [k for f in interface.__struct_fields__ for k in getattr(interface, f)]
         if interface is not None and not any(includes(k, key) for k in used):
             hint = (
                 f"; write a key as the node's code does ({FIRST_TURTLE}/cmd_vel, robot/status: resolved in its "
