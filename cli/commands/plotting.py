@@ -6,8 +6,11 @@ The model (cli.tools.plot), the sources (cli.tools.plot_sources) and the drawing
 
 from __future__ import annotations
 
+import contextlib
 import signal
 import sys
+import threading
+from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
@@ -65,10 +68,11 @@ def plot(
     series = model.parse_all(fields, turtle)
     args.finite_option(window, "--window")
     args.finite_option(duration, "--duration")
-    kind = model.picture_format(output) if output is not None else ""
+    kind = ""
     if output is not None:
         from turtlectl.cli.tools.plot_draw import check_writable
 
+        kind = model.picture_format(output)
         check_writable(output)  # before collecting: nothing is lost to a folder that is not there
     if recording is not None:
         if duration is not None:
@@ -127,37 +131,55 @@ def _wrote(output: Path, collected: Any, seconds: float) -> str:
     return f"wrote {output}: {_samples(collected.count)} of {count} series over {seconds:.1f} s"
 
 
+@contextlib.contextmanager
+def _live(
+    series: list[Any], connect: str, stamps: bool, turtle: str, intro: str = "", signals: tuple[Any, ...] = ()
+) -> Iterator[tuple[Any, threading.Event]]:
+    """A running system's numbers (plot_sources.Live, closed after the block) and the event
+    Ctrl-C, SIGTERM and ``signals`` set; ``intro`` (if any) and the typo notes said first."""
+    from turtlectl.cli.sigint import stop_on_signals
+    from turtlectl.cli.tools import client, plot_sources
+
+    with client.client_session(connect) as session, stop_on_signals(signals) as stop:
+        live = plot_sources.Live(session, connect, series, stamps, turtle)
+        try:
+            if intro:
+                typer.echo(intro, err=True)
+            for note in live.typos.values():  # a typo said at once (the key is still waited for, as echo does)
+                typer.echo(f"note: {note}", err=True)
+            yield live, stop
+        finally:
+            live.close()
+
+
+def _nothing(live: Any, within: str) -> Unreachable:
+    """No message within ``within`` s at all, and why the keys are silent."""
+    return Unreachable(f"no message within {within} s: {live.why_silent()}")
+
+
 def _collect_live(
     series: list[Any], output: Path, kind: str, duration: float | None, connect: str, stamps: bool, turtle: str
 ) -> None:
     """A running system's numbers until --duration or Ctrl-C, then a picture of them."""
-    from turtlectl.cli.sigint import stop_on_signals
-    from turtlectl.cli.tools import client, plot_draw, plot_sources
+    from turtlectl.cli.tools import plot_draw
     from turtlectl.cli.tools.plot_window import Collected
 
     collected = Collected(series)
     told: set[str] = set()
     ends = f"for {duration:g} s" if duration is not None else "until Ctrl-C"
     labels = ", ".join(s.label for s in series)
-    with client.client_session(connect) as session, stop_on_signals() as stop:
-        live = plot_sources.Live(session, connect, series, stamps, turtle)
-        typer.echo(f"plotting {labels} into {output} {ends}", err=True)
-        for note in live.typos.values():  # a typo said at once (the key is still waited for, as echo does)
-            typer.echo(f"note: {note}", err=True)
-        try:
-            while not stop.is_set() and (duration is None or live.elapsed() < duration):
-                wait = 0.1 if duration is None else max(0.0, min(0.1, duration - live.elapsed()))
-                for s, t, value in live.poll(wait):
-                    collected.add(s, t, value)
-                for notice in live.notices:
-                    if notice not in told:
-                        told.add(notice)
-                        typer.echo(notice, err=True)
-            seconds = live.elapsed()
-            if not collected.count:
-                raise Unreachable(f"no message within {seconds:.1f} s: {live.why_silent()}")
-        finally:
-            live.close()
+    with _live(series, connect, stamps, turtle, f"plotting {labels} into {output} {ends}") as (live, stop):
+        while not stop.is_set() and (duration is None or live.elapsed() < duration):
+            wait = 0.1 if duration is None else max(0.0, min(0.1, duration - live.elapsed()))
+            for s, t, value in live.poll(wait):
+                collected.add(s, t, value)
+            for notice in live.notices:
+                if notice not in told:
+                    told.add(notice)
+                    typer.echo(notice, err=True)
+        seconds = live.elapsed()
+        if not collected.count:
+            raise _nothing(live, f"{seconds:.1f}")
     for s in collected.empty():
         typer.echo(f"warning: no number in {s.label} within {seconds:.1f} s", err=True)
     if stamps:
@@ -171,8 +193,7 @@ def _plot_live(
 ) -> None:
     """The live plot in this terminal, redrawn every FRAME s, until q, Ctrl-C or --duration;
     ended by --duration, its last frame is printed (the bottom line without "q quits")."""
-    from turtlectl.cli.sigint import stop_on_signals
-    from turtlectl.cli.tools import client, plot_draw, plot_sources
+    from turtlectl.cli.tools import plot_draw
     from turtlectl.cli.tools.plot_window import Window, status_line
 
     shown = Window(series, window)
@@ -180,36 +201,30 @@ def _plot_live(
     last = ""
     timed_out = False  # ended by --duration: its last frame stays in the terminal
     try:
-        with client.client_session(connect) as session, stop_on_signals((signal.SIGHUP,)) as stop:
-            live = plot_sources.Live(session, connect, series, stamps, turtle)
-            try:
-                for note in live.typos.values():  # on the terminal after the plot
-                    typer.echo(f"note: {note}", err=True)
-                with plot_draw.screen(sys.stdout) as screen:
-                    while not stop.is_set():
-                        for s, t, value in live.poll():
-                            shown.add(s, t, value)
-                        shown.advance(shown.now if stamps else live.elapsed())  # stamps: the latest
-                        cols, rows = screen.size()
-                        if cols < 30 or rows < 8:
-                            chart = ["terminal too small"]
-                            screen.show(chart)
-                        else:
-                            lines = _lines(series, shown)
-                            chart = plot_draw.chart(lines, cols, rows - 1, shown.x_limits(), shown.y_limits())
-                            screen.show([*chart, status_line(shown, cols, live.silent, live.router)])
-                        timed_out = duration is not None and live.elapsed() >= duration
-                        if timed_out or screen.key(plot_draw.FRAME).lower().startswith("q"):
-                            break
-                if timed_out:  # the last frame, its bottom line ended, before any error
-                    cols = plot_draw.Screen(sys.stdout).size()[0]
-                    bottom = status_line(shown, max(cols, 30), live.silent, live.router, quits=False)
-                    last = "\n".join([*chart, bottom])
-                    if not live.received:
-                        typer.echo(last)
-                        raise Unreachable(f"no message within {duration:g} s: {live.why_silent()}")
-            finally:
-                live.close()
+        with _live(series, connect, stamps, turtle, signals=(signal.SIGHUP,)) as (live, stop):
+            with plot_draw.screen(sys.stdout) as screen:  # the notes are on the terminal after the plot
+                while not stop.is_set():
+                    for s, t, value in live.poll():
+                        shown.add(s, t, value)
+                    shown.advance(shown.now if stamps else live.elapsed())  # stamps: the latest
+                    cols, rows = screen.size()
+                    if cols < 30 or rows < 8:
+                        chart = ["terminal too small"]
+                        screen.show(chart)
+                    else:
+                        lines = _lines(series, shown)
+                        chart = plot_draw.chart(lines, cols, rows - 1, shown.x_limits(), shown.y_limits())
+                        screen.show([*chart, status_line(shown, cols, live.silent, live.router)])
+                    timed_out = duration is not None and live.elapsed() >= duration
+                    if timed_out or screen.key(plot_draw.FRAME).lower().startswith("q"):
+                        break
+            if timed_out:  # the last frame, its bottom line ended, before any error
+                cols = plot_draw.Screen(sys.stdout).size()[0]
+                bottom = status_line(shown, max(cols, 30), live.silent, live.router, quits=False)
+                last = "\n".join([*chart, bottom])
+                if not live.received:
+                    typer.echo(last)
+                    raise _nothing(live, f"{duration:g}")
     except KeyboardInterrupt:  # before the screen was up: as echo, Ctrl-C ends it
         return
     if timed_out:
