@@ -85,7 +85,7 @@ def with_overrides(plan: LaunchPlan, assignments: list[Assignment], option: str)
             raise LaunchFileError(f"{option} {item.text!r}: name a key of {target}, as {target}.KEY=VALUE")
         _put(table, target, keys, item.value, option)
     changed = validate(data, plan.source, Report(option, list(names), override=True))
-    return msgspec.structs.replace(changed, remaps=plan.remaps, args=plan.args)  # what overrides cannot change
+    return msgspec.structs.replace(plan, launch=changed.launch, params=changed.params)  # what overrides change
 
 
 def _put(table: dict[str, Any], target: str, keys: list[str], value: Any, option: str) -> None:
@@ -165,10 +165,8 @@ def launch_plan(
     (``arguments``), its ``--only``/``--exclude`` selection, then its ``--set`` overrides
     (``settings``) and ``--time-scale`` (with_time_scale), all validated as the file is."""
     plan = select_nodes(load_launch(path, arguments), only, exclude)
-    changed = with_overrides(plan, [parse_assignment(item, "--set", SET_FORM) for item in settings], "--set")
-    if time_scale is not None:
-        changed = with_time_scale(changed, time_scale)
-    return msgspec.structs.replace(changed, elsewhere=plan.elsewhere)
+    plan = with_overrides(plan, [parse_assignment(item, "--set", SET_FORM) for item in settings], "--set")
+    return plan if time_scale is None else with_time_scale(plan, time_scale)
 
 
 def with_time_scale(plan: LaunchPlan, factor: float) -> LaunchPlan:
@@ -270,15 +268,11 @@ def select_nodes(plan: LaunchPlan, only: list[str], exclude: list[str]) -> Launc
     kept = [e for e in plan.launch.node if (not only or e.name in only) and e.name not in exclude]
     if not kept:
         raise LaunchFileError("--only/--exclude leave no node to run")
-    launch = msgspec.structs.replace(plan.launch, node=kept)
-    return LaunchPlan(
-        source=plan.source,
-        launch=launch,
+    return msgspec.structs.replace(
+        plan,
+        launch=msgspec.structs.replace(plan.launch, node=kept),
         params={e.name: plan.params[e.name] for e in kept},
         kinds={e.name: plan.kinds[e.name] for e in kept if e.name in plan.kinds},
         commands={e.name: plan.commands[e.name] for e in kept if e.name in plan.commands},
-        folder=plan.folder,
         elsewhere={n: k for n, k in plan.kinds.items() if n not in {e.name for e in kept}},
-        remaps=plan.remaps,
-        args=plan.args,
     )
