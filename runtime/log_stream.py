@@ -7,10 +7,10 @@ nodes publish theirs on ``/rosout``; the node also answers a get on that key wit
 once the node's session is open and removed before it closes: records from before (a bad
 configuration, no router) and after are in the process's stderr only (the launch output and
 its log file).  It takes what the node's log level lets through, from any thread (Zenoh's
-included): a record takes its sequence number and its place in the ring under a lock, and is
-encoded and published outside it (a Zenoh put from any thread is fine).  A record never fails
-the logging call: a publish that raises is dropped, and a record logged while this thread is
-publishing one (Zenoh, or anything it calls, logging) is not published again.
+included): a record is encoded and kept under a lock and published outside it (a Zenoh put
+from any thread is fine).  A record never fails the logging call: a publish that raises is
+dropped, and a record logged while this thread is publishing one (Zenoh, or anything it
+calls, logging) is not published again.
 
 ``runtime.fake.FakeNode`` installs none: a node class's unit test sees only what it publishes.
 """
@@ -76,8 +76,7 @@ class LogStream(logging.Handler):
         self.node_name = node.name
         self.key = log_key(node.name)
         self._encoding = sample_encoding(Log)
-        # (seq, encoded record), oldest first
-        self._recent: collections.deque[tuple[int, bytes]] = collections.deque(maxlen=recent)
+        self._recent: collections.deque[bytes] = collections.deque(maxlen=recent)  # encoded, oldest first
         self._seq = 0
         self._kept = threading.Lock()  # the ring and the sequence number
         self._publishing = threading.local()  # this thread is inside a publish: what it logs is not published
@@ -105,32 +104,16 @@ class LogStream(logging.Handler):
     def emit(self, record: logging.LogRecord) -> None:
         try:
             with self._kept:
-                seq = self._seq
+                payload = encode(to_log(record, self.node_name, self._seq))
                 self._seq += 1
-            payload = encode(to_log(record, self.node_name, seq))  # its text and traceback: outside the lock
-            with self._kept:
-                self._keep(seq, payload)
+                self._recent.append(payload)
             self._publisher.put(payload)
         except Exception:  # never into the logging call (a session closing, a payload refused)
             pass
 
-    def _keep(self, seq: int, payload: bytes) -> None:
-        """Into the ring (under ``_kept``) in seq order: a record of another thread encoded
-        meanwhile may have come in first, a place or two from the end."""
-        ring = self._recent
-        at = len(ring)
-        while at and ring[at - 1][0] > seq:
-            at -= 1
-        if len(ring) == ring.maxlen:
-            if not at:  # older than every record kept: the first the ring would drop
-                return
-            ring.popleft()
-            at -= 1
-        ring.insert(at, (seq, payload))
-
     def _on_query(self, query: zenoh.Query) -> None:  # Zenoh thread: answer from a copy of the ring
         with self._kept:
-            recent = [payload for _, payload in self._recent]
+            recent = list(self._recent)
         try:
             for payload in recent:
                 query.reply(self.key, payload, encoding=self._encoding)
