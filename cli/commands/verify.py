@@ -16,6 +16,12 @@ def verify(
     launch: Path | None = typer.Option(
         None, "--launch", help="Start this launch file on a free port for the check, and stop it after."
     ),
+    launch_file: Path | None = typer.Option(
+        None,
+        "--launch-file",
+        metavar="FILE",
+        help="The launch file the running system was started from: the parameters criterion compares with it.",
+    ),
     short: float | None = typer.Option(
         None,
         "--short",
@@ -48,15 +54,18 @@ def verify(
     table of what was required, what was measured and the verdict, the reason beside each
     failure.  Exit code 0 when all hold, 1 when one does not, 2 for a bad spec, 3 for no system.
     Long criteria run their full time unless --short says otherwise; --time-scale 5 runs them
-    in simulated time, five times as fast.
+    in simulated time, five times as fast.  The parameters criterion compares each node's
+    parameters with the launch file (--launch, or --launch-file for a system already running).
 
     Example: turtlectl verify docs/capstone.toml --launch launch.toml --time-scale 5
     """
     from turtlectl.cli.system.launched import LaunchedSystem
+    from turtlectl.cli.system.launchfile import LaunchPlan
     from turtlectl.cli.tools.api import Client
     from turtlectl.cli.verify import checks, report
+    from turtlectl.cli.verify.parameters import launch_file_plan
     from turtlectl.cli.verify.report import Verdict
-    from turtlectl.cli.verify.spec import load_spec
+    from turtlectl.cli.verify.spec import Parameters, load_spec
     from turtlectl.cli.verify.timebase import system_time
 
     loaded = load_spec(spec)
@@ -66,21 +75,25 @@ def verify(
 
     if time_scale is not None and launch is None:
         raise BadInput("--time-scale starts the system it checks faster: give --launch FILE (or --use-sim-time)")
+    if launch is not None and launch_file is not None:
+        raise BadInput("--launch-file names a running system's launch file: with --launch, that file is compared")
+    compares = any(isinstance(c, Parameters) for c in loaded.criterion)
 
-    def measured(client: Client) -> list[Verdict]:
+    def measured(client: Client, plan: LaunchPlan | None) -> list[Verdict]:
         clock = system_time(client, use_sim_time or time_scale is not None, progress)
         try:
-            return checks.verify(client, loaded, progress, short, clock)
+            return checks.verify(client, loaded, progress, short, clock, plan)
         finally:
             clock.close()
 
     if launch is not None:
         scale = ("--time-scale", f"{time_scale:g}") if time_scale is not None else ()
         with LaunchedSystem(launch, scale) as system, system.client() as client:
-            verdicts = measured(client)
+            verdicts = measured(client, launch_file_plan(launch, time_scale) if compares else None)
     else:
+        plan = launch_file_plan(launch_file) if compares and launch_file is not None else None
         with Client(connect) as client:
-            verdicts = measured(client)
+            verdicts = measured(client, plan)
     if junit is not None:
         report.write_junit(junit, str(spec), verdicts)
     result(report.as_json(verdicts) if json else report.table(verdicts))

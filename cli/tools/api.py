@@ -49,6 +49,7 @@ from turtlectl.messages.keys import (
     resolve,
     service_types,
 )
+from turtlectl.messages.world import World
 from turtlectl.runtime.endpoint import CONNECT_ENV, DEFAULT_ENDPOINT, default_domain
 from turtlectl.runtime.handles import Declaration
 
@@ -282,6 +283,16 @@ class Client:
         if not answer.ok:
             raise BadInput(answer.detail)
         return answer.detail
+
+    # the world ---------------------------------------------------------------------------------
+
+    def world(self) -> World:
+        """The world the simulator declares: its size and obstacles (m); the default world
+        when no simulator answers."""
+        from turtlectl.cli.tools.services import world
+
+        with self._hinted():
+            return world(self._session)
 
     # the live graph ----------------------------------------------------------------------------
 

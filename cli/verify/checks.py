@@ -9,12 +9,14 @@ import statistics
 from collections.abc import Callable
 
 from turtlectl.cli.errors import TurtlectlError, Unreachable
+from turtlectl.cli.system.launchfile import LaunchPlan
 from turtlectl.cli.tools.api import Client
 from turtlectl.cli.tools.graph import Graph
 from turtlectl.cli.verify import running
 from turtlectl.cli.verify.goals import goals
+from turtlectl.cli.verify.parameters import parameters
 from turtlectl.cli.verify.report import Verdict
-from turtlectl.cli.verify.spec import Criterion, Messages, NoErrors, Period, RoundTrip, Spec, label
+from turtlectl.cli.verify.spec import Criterion, Messages, NoErrors, Parameters, Period, RoundTrip, Spec, label
 from turtlectl.cli.verify.timebase import Timebase
 
 
@@ -148,10 +150,14 @@ def criterion(
     short: float | None = None,
     progress: Callable[[str], None] = lambda _: None,
     clock: Timebase | None = None,
+    plan: LaunchPlan | None = None,
 ) -> Verdict:
     """One criterion measured (``short``: s, the longest a long one may run; None: its full time)
-    on ``clock`` (the machine's by default; a system's simulated time: timebase.SimulatedTime)."""
+    on ``clock`` (the machine's by default; a system's simulated time: timebase.SimulatedTime);
+    ``plan``: the launch file the system was started from, when verify knows it."""
     clock = clock or Timebase()
+    if isinstance(c, Parameters):
+        return parameters(client, c, plan)
     if isinstance(c, Period):
         return _period(client, c, clock)
     if isinstance(c, Messages):
@@ -169,10 +175,12 @@ def verify(
     progress: Callable[[str], None] = lambda _: None,
     short: float | None = None,
     clock: Timebase | None = None,
+    plan: LaunchPlan | None = None,
 ) -> list[Verdict]:
     """Every interface and criterion of ``spec``, measured in the spec's order (``short``: s,
     the longest a long criterion may run, and its verdict says so; None: their full time) on
-    ``clock`` (the machine's by default)."""
+    ``clock`` (the machine's by default); ``plan``: the launch file the system was started
+    from (the ``parameters`` criterion compares with it), None when verify does not know it."""
     clock = clock or Timebase()
     graph = client.graph()
     require_nodes(client, graph, "nothing to verify")
@@ -180,5 +188,5 @@ def verify(
     out = interfaces(client, spec, graph, clock)
     for c in spec.criterion:
         progress(label(c))
-        out.append(criterion(client, c, short, progress, clock))
+        out.append(criterion(client, c, short, progress, clock, plan))
     return out

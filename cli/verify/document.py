@@ -1,6 +1,7 @@
 """A specification written out: as the capstone's Markdown template (``markdown``: intent,
-nodes with their inputs, outputs and purpose, interfaces, "✅" success criteria, "❌"
-non-goals) and as a TOML file ``parse_spec`` reads back (``to_toml``); and the skeleton of a
+nodes with their inputs, outputs and purpose, interfaces, success criteria as unchecked
+boxes "- [ ]" (a printed specification is no measured system: ``verify`` gives verdicts),
+non-goals as a list) and as a TOML file ``parse_spec`` reads back (``to_toml``); and the skeleton of a
 specification made from a live graph and the periods measured on it (``skeleton``).  Pure:
 strings in, strings out, no session."""
 
@@ -8,12 +9,13 @@ from __future__ import annotations
 
 import json
 import math
+import re
 from typing import Any
 
 import msgspec
 
 from turtlectl.cli.tools.graph import Graph, under
-from turtlectl.cli.verify.spec import NodeSpec, Period, ServiceSpec, Spec, TopicSpec, label
+from turtlectl.cli.verify.spec import Criterion, NodeSpec, Parameters, Period, ServiceSpec, Spec, TopicSpec, label
 
 #: what a skeleton says where a person must write
 INTENT_PLACEHOLDER = "TODO: what the system is for"
@@ -68,7 +70,8 @@ def _service(service: ServiceSpec) -> list[str]:
 def markdown(spec: Spec, title: str = "Specification") -> str:
     """``spec`` as the capstone's template: Intent, System Architecture (each node's input,
     output and purpose), Interfaces (each service and topic: types, frequency, who publishes
-    and who subscribes), Success Criteria ("✅" each, with its numbers), Non-Goals ("❌")."""
+    and who subscribes), Success Criteria (an unchecked box "- [ ]" each, with its numbers: no
+    verdict before ``verify`` has measured one), Non-Goals ("- " each)."""
     lines = [f"# {title}", "", "## Intent", spec.intent.strip(), "", "## System Architecture", ""]
     for node in spec.node:
         lines += [
@@ -88,9 +91,9 @@ def markdown(spec: Spec, title: str = "Specification") -> str:
     if not spec.service and not spec.topic:
         lines += ["No topics or services declared.", ""]
     lines += ["## Success Criteria", ""]
-    lines += [f"✅ {_numbers(c)}" for c in spec.criterion] or ["No criteria declared."]
+    lines += [f"- [ ] {_numbers(c)}" for c in spec.criterion] or ["No criteria declared."]
     lines += ["", "## Non-Goals", ""]
-    lines += [f"❌ {g}" for g in spec.non_goals] or ["None declared."]
+    lines += [f"- {g}" for g in spec.non_goals] or ["None declared."]
     return "\n".join(lines) + "\n"
 
 
@@ -152,8 +155,24 @@ def to_toml(spec: Spec) -> str:
     for name, items in tables:
         for item in items:
             lines += ["", f"[[{name}]]"]
-            lines += [f"{k} = {_value(v)}" for k, v in _fields(item)]
+            fields = _fields(item)
+            lines += [f"{k} = {_value(v)}" for k, v in fields if not _by_name(v)]
+            for k, v in fields:  # a table of tables (a parameters criterion's nodes): one sub-table each
+                if _by_name(v):
+                    for key, table in v.items():
+                        lines += ["", f"[{name}.{k}.{_key(key)}]"]
+                        lines += [f"{_key(sub)} = {_value(value)}" for sub, value in table.items()]
     return "\n".join(lines) + "\n"
+
+
+def _by_name(value: Any) -> bool:
+    """A non-empty table of tables (``params``: each node's parameters)."""
+    return isinstance(value, dict) and bool(value) and all(isinstance(v, dict) and v for v in value.values())
+
+
+def _key(name: str) -> str:
+    """A TOML key: bare when it can be, else a quoted string (``"turtle2/navigator"``)."""
+    return name if re.fullmatch(r"[A-Za-z0-9_-]+", name) else _string(name)
 
 
 # -- a skeleton from the live graph ------------------------------------------------------------
@@ -172,13 +191,17 @@ def rounded_period(mean_ms: float) -> float:
     return min(by_period, by_rate, key=lambda p: (abs(p - mean_ms), p))
 
 
-def skeleton(graph: Graph, periods: dict[str, tuple[float, float]]) -> Spec:
+def skeleton(
+    graph: Graph, periods: dict[str, tuple[float, float]], params: dict[str, dict[str, Any]] | None = None
+) -> Spec:
     """A specification to edit into a real one, from ``graph`` (without each node's own
-    services) and ``periods`` (a topic's key: its period and tolerance, ms, as measured):
+    services), ``periods`` (a topic's key: its period and tolerance, ms, as measured) and
+    ``params`` (each node's parameters as it runs with them):
     a placeholder intent, each node with what it takes in (keys it subscribes to or serves)
     and puts out (keys it publishes), each published topic with its type, its publisher
     (when there is one) and its period, each service with its request type and server, a
-    period criterion for each measured topic, no non-goals."""
+    period criterion for each measured topic, a parameters criterion with each node's values
+    (those TOML can write), no non-goals."""
     used = [t for t in graph.topics if not under(t.key)]  # not the runtime's own (parameter events)
     topics = [t for t in used if t.publishers]
     nodes = [
@@ -207,11 +230,15 @@ def skeleton(graph: Graph, periods: dict[str, tuple[float, float]]) -> Spec:
         ServiceSpec(key=s.key, request=s.type, server=s.servers[0] if len(s.servers) == 1 else "")
         for s in graph.services
     ]
-    criteria = [
+    criteria: list[Criterion] = [
         Period(key=t.key, period_ms=t.period_ms, tolerance_ms=t.tolerance_ms)
         for t in topic_specs
         if t.period_ms is not None
     ]
+    stated = {node: {k: v for k, v in values.items() if v is not None} for node, values in (params or {}).items()}
+    stated = {node: values for node, values in sorted(stated.items()) if values}
+    if stated:
+        criteria.append(Parameters(params=stated))
     return Spec(
         intent=INTENT_PLACEHOLDER,
         node=nodes,

@@ -11,6 +11,7 @@ import msgspec
 from turtlectl.cli.errors import TurtlectlError
 from turtlectl.cli.tools.api import Client
 from turtlectl.cli.tools.graph import under
+from turtlectl.cli.verify.driving import GoalDriver, goal_sequence
 from turtlectl.cli.verify.report import Verdict
 from turtlectl.cli.verify.spec import NoErrors, RoundTrip, label
 from turtlectl.cli.verify.timebase import Timebase
@@ -50,30 +51,41 @@ def no_errors(
 ) -> Verdict:
     clock = clock or Timebase()
     duration, cut = _duration(c, short)
-    required = f"{c.minutes:g} min alive, same process, no ERROR records{cut}"
+    driving = ", while goals are driven" if c.goals or c.random_goals else ""
+    required = f"{c.minutes:g} min alive, same process, no ERROR records{driving}{cut}"
     alive = {n.name: n.pid for n in client.nodes()}
     if c.node and c.node not in alive:
         running = ", ".join(sorted(alive)) or "none"
         return Verdict(label(c), required, "not running", False, f"no node named {c.node} runs (running: {running})")
     names = [c.node] if c.node else sorted(alive)
     before = _details(client, names)
+    driver = None
+    if c.goals or c.random_goals:
+        try:
+            goals = goal_sequence(c, client.world())
+        except ValueError as exc:
+            return Verdict(label(c), required, "no goals driven", False, str(exc))
+        driver = GoalDriver(client, goals).start()
     events: dict[str, str] = {}  # node -> what happened to it first (stopped, restarted)
     started = clock.now()
     told = started
-    while (now := clock.now()) - started < duration:
-        clock.sleep(min(LOOK_EVERY, duration - (now - started)))
-        seen = {n.name: n.pid for n in client.nodes()}
-        at = clock.now() - started
-        for name in names:
-            if name in events or name not in before:
-                continue
-            if name not in seen:
-                events[name] = f"{name} stopped at {at:.0f} s"
-            elif seen[name] != before[name].pid:
-                events[name] = f"{name} restarted at {at:.0f} s (pid {before[name].pid} -> {seen[name]})"
-        if clock.now() - told >= TELL_EVERY:
-            told = clock.now()
-            progress(f"{label(c)}: {told - started:.0f} of {duration:g} s")
+    try:
+        while (now := clock.now()) - started < duration:
+            clock.sleep(min(LOOK_EVERY, duration - (now - started)))
+            seen = {n.name: n.pid for n in client.nodes()}
+            at = clock.now() - started
+            for name in names:
+                if name in events or name not in before:
+                    continue
+                if name not in seen:
+                    events[name] = f"{name} stopped at {at:.0f} s"
+                elif seen[name] != before[name].pid:
+                    events[name] = f"{name} restarted at {at:.0f} s (pid {before[name].pid} -> {seen[name]})"
+            if clock.now() - told >= TELL_EVERY:
+                told = clock.now()
+                progress(f"{label(c)}: {told - started:.0f} of {duration:g} s")
+    finally:
+        outcomes = driver.stop() if driver is not None else None
     after = _details(client, [n for n in names if n not in events])
     problems = [events[n] for n in names if n in events]
     problems += [f"{n} did not say what it is" for n in names if n not in before]
@@ -87,6 +99,9 @@ def no_errors(
             problems.append(f"{name} logged {new} error{'s' * (new > 1)} (the last: {now_details.last_error})")
     measured = f"{clock.now() - started:.0f} s, {len(names)} node{'s' * (len(names) != 1)}, {errors} errors"
     measured += f", {len(events)} stopped or restarted"
+    if outcomes is not None:
+        measured += f"; {outcomes.summary()}"
+        problems += outcomes.problems()
     return Verdict(label(c), required, measured, not problems, "; ".join(problems))
 
 

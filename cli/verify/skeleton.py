@@ -1,5 +1,5 @@
 """A specification's skeleton from a running system (``turtlectl spec from-system``): the live
-graph, and each published topic's period measured over a short window, from the messages'
+graph, each node's parameters, and each published topic's period measured over a short window, from the messages'
 own stamps (as published) or, for a type without one, from their arrivals here.  The
 writing is pure (cli.verify.document); this module only measures, through a ``Client``."""
 
@@ -8,7 +8,9 @@ from __future__ import annotations
 import statistics
 import threading
 import time
+from typing import Any
 
+from turtlectl.cli.errors import TurtlectlError
 from turtlectl.cli.tools.api import Client
 from turtlectl.cli.tools.graph import Graph, without_node_services
 from turtlectl.cli.verify import document
@@ -71,7 +73,19 @@ def measure(client: Client, seconds: float = WINDOW) -> tuple[Graph, dict[str, t
     return graph, periods
 
 
+def running_params(client: Client, graph: Graph) -> dict[str, dict[str, Any]]:
+    """Each node's parameters as it runs with them (as ``param dump`` reads them); a node that
+    does not answer is left out."""
+    out = {}
+    for node in graph.nodes:
+        try:
+            out[node.name] = client.params(node.name)
+        except TurtlectlError:
+            continue  # no parameters to state (not a turtlectl node, or gone meanwhile)
+    return out
+
+
 def from_system(client: Client, seconds: float = WINDOW) -> Spec:
     """The skeleton of a specification of the system ``client`` talks to."""
     graph, periods = measure(client, seconds)
-    return document.skeleton(graph, periods)
+    return document.skeleton(graph, periods, running_params(client, graph))

@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import tomllib
 from pathlib import Path
-from typing import Annotated, Literal
+from typing import Annotated, Any, Literal
 
 import msgspec
 
@@ -114,10 +114,32 @@ class ReportedTime(_Check, tag="reported_time", kw_only=True):
 class NoErrors(_Check, tag="no_errors", kw_only=True):
     """``node`` (every node when empty) runs ``minutes`` without errors: alive throughout, the
     same process (no crash, no respawn), and no log record at ERROR or worse meanwhile.  A long
-    one: ``verify --short S`` runs it S seconds, and the table says so."""
+    one: ``verify --short S`` runs it S seconds, and the table says so.
+
+    Meanwhile goals are driven one after another through ``navigate_to``: ``goals`` (x m, y m,
+    theta degrees) in turn, over again, or with ``random_goals`` goals drawn with ``seed`` in the
+    world the simulator declares, clear of its walls and obstacles.  A goal that ends unreached
+    (refused, blocked, timed out) is counted, not failed; a goal whose call errs (no navigator,
+    no answer, a cancel nobody confirms) fails the criterion."""
 
     node: str = ""
     minutes: Minutes
+    goals: list[Pose] = []
+    random_goals: bool = False
+    seed: int = 0
+
+
+class Parameters(_Check, tag="parameters", kw_only=True):
+    """Each node runs with the parameters it was meant to: every node of the launch file (the
+    one ``verify --launch`` starts, or ``verify --launch-file`` names for a system already
+    running) runs, with the launch file's ``run`` as its kind, and its parameters equal the
+    launch file's (defaults filled in, as ``launch`` validates them); and each node in
+    ``params`` runs with those values (``{ navigator = { goal_timeout = 30.0 } }``: the keys
+    given, a table's too).  Read as ``turtlectl param dump`` reads them."""
+
+    params: dict[
+        str, Any
+    ] = {}  # node -> {parameter: value} (a table: a dict of its keys); parse_spec checks each names the node
 
 
 class RoundTrip(_Check, tag="round_trip", kw_only=True):
@@ -129,11 +151,11 @@ class RoundTrip(_Check, tag="round_trip", kw_only=True):
     within_s: Seconds = 5.0
 
 
-Criterion = Period | Goals | Messages | ReportedTime | NoErrors | RoundTrip
+Criterion = Period | Goals | Messages | ReportedTime | NoErrors | RoundTrip | Parameters
 #: each check by its name in a spec file
 CHECKS: dict[str, type[_Check]] = {
     c.__struct_config__.tag: c  # type: ignore[misc]
-    for c in (Period, Goals, Messages, ReportedTime, NoErrors, RoundTrip)
+    for c in (Period, Goals, Messages, ReportedTime, NoErrors, RoundTrip, Parameters)
 }
 
 
@@ -165,10 +187,25 @@ def parse_spec(text: str, source: str) -> Spec:
             raise SpecError(f"{source}: criterion[{i}]: no goals (give goals = [[x, y, theta], ...] or random = N)")
         if isinstance(c, Goals) and not (c.area[0] < c.area[2] and c.area[1] < c.area[3]):
             raise SpecError(f"{source}: criterion[{i}].area: not [x_min, y_min, x_max, y_max] with min < max")
+        if isinstance(c, NoErrors) and c.goals and c.random_goals:
+            raise SpecError(f"{source}: criterion[{i}]: goals and random_goals: give one of them")
+        if isinstance(c, Parameters):
+            _check_params(c, f"{source}: criterion[{i}].params")
         if c.name and c.name in named:
             raise SpecError(f"{source}: criterion[{i}].name: {c.name!r} is criterion[{named[c.name]}]'s name too")
         named.setdefault(c.name, i)
     return spec
+
+
+def _check_params(c: Parameters, where: str) -> None:
+    """Each node's values a table of parameter names (a node's own keys: no empty table)."""
+    for node, values in c.params.items():
+        if not node:
+            raise SpecError(f"{where}: a node's name is empty")
+        if not isinstance(values, dict):
+            raise SpecError(f"{where}.{node}: not a table of its parameters (give {{ NAME = VALUE }})")
+        if not values:
+            raise SpecError(f"{where}.{node}: no parameters (give {{ NAME = VALUE }}, or leave the node out)")
 
 
 _TABLES: dict[str, type[msgspec.Struct]] = {"node": NodeSpec, "topic": TopicSpec, "service": ServiceSpec}
@@ -215,7 +252,11 @@ def label(criterion: Criterion) -> str:
     if isinstance(criterion, Messages):
         return f"{criterion.count} messages on {criterion.key}, every node alive"
     if isinstance(criterion, NoErrors):
-        return f"{criterion.node or 'every node'} runs {criterion.minutes:g} min without errors"
+        driving = " while driving goals" if criterion.goals or criterion.random_goals else ""
+        return f"{criterion.node or 'every node'} runs {criterion.minutes:g} min without errors{driving}"
+    if isinstance(criterion, Parameters):
+        given = f" and {', '.join(sorted(criterion.params))}'s given values" if criterion.params else ""
+        return f"every node runs with its launch file's parameters{given}"
     if isinstance(criterion, RoundTrip):
         return f"message types round-trip on {', '.join(criterion.keys) if criterion.keys else 'every topic'}"
     return f"time_taken within {criterion.within_s:g} s of the client's clock"
