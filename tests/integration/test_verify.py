@@ -49,9 +49,15 @@ def test_the_capstone_spec_passes_on_the_default_system(tmp_path):
         timeout=300,
     )
     assert "measuring: 2. status messages every 100 ms" in done.stderr
-    assert "5 min alive, same process, no ERROR records; shortened to 5 s (--short)" in done.stdout, done.stdout
+    assert "5 min alive, same process, no ERROR records, while goals are driven; shortened to 5 s (--short)" in (
+        done.stdout
+    ), done.stdout
+    assert re.search(r"; [1-9]\d* goals? driven: ", done.stdout), done.stdout  # criterion 5 drives goals meanwhile
+    rows = {line.split("  ")[0]: line for line in done.stdout.splitlines()}
+    assert rows["4. the launch file starts every node with its parameters"].endswith("ok"), done.stdout
+    assert "4 nodes' parameters read, 0 differ" in done.stdout
     cases = ET.parse(junit).getroot().findall("testsuite/testcase")
-    assert len(cases) == 9 and cases[-1].get("name", "").startswith("every message type"), done.stdout
+    assert len(cases) == 10 and cases[-1].get("name", "").startswith("7. the status message"), done.stdout
     # Every check holds; criterion 1's 2 s (1.76 s typical here) once measured 2.83 s on a loaded CI
     # machine: a time only, then, with the goal reached (test_criterion_1 holds the 2 s strictly)
     failed = [line for line in done.stdout.splitlines() if line.endswith("FAIL")]
@@ -59,7 +65,7 @@ def test_the_capstone_spec_passes_on_the_default_system(tmp_path):
         assert "s too long" in done.stdout and "farthest 0.0" in done.stdout, done.stdout
         return
     assert done.returncode == 0, done.stdout + done.stderr
-    assert done.stdout.splitlines()[-1] == "9 of 9 hold", done.stdout
+    assert done.stdout.splitlines()[-1] == "10 of 10 hold", done.stdout
     assert all(case.find("failure") is None for case in cases)
 
 
@@ -289,3 +295,65 @@ def test_verify_at_5x_measures_in_simulated_time_and_finishes_sooner(tmp_path):
         timeout=60,
     )
     assert time_scale_alone.returncode == 2 and "--launch" in time_scale_alone.stderr
+
+
+PARAMETERS = """intent = "each node with the parameters it was meant to have"
+[[criterion]]
+check = "parameters"
+[criterion.params]
+navigator = { delay = 3.0 }
+status_monitor = { rate = 10.0 }
+"""
+
+
+def test_parameters_hold_for_a_users_nodes_and_a_difference_names_node_parameter_and_values(tmp_path):
+    """A student's system (their own navigator kind with its own parameter): the parameters
+    criterion holds against the launch file it was started from and the spec's values; a launch
+    file that gives the navigator another delay fails, one line naming node, parameter, expected
+    and running; a parameter changed while it runs fails against the spec; no launch file and
+    no values is a failure saying what to give."""
+    (tmp_path / "slow_navigator.py").write_text(SLOW_NAVIGATOR)
+    (tmp_path / "launch.toml").write_text(USER_SYSTEM)
+    (tmp_path / "other.toml").write_text(
+        USER_SYSTEM.replace(
+            'run = "./slow_navigator.py:SlowNavigator"',
+            'run = "./slow_navigator.py:SlowNavigator"\nparams = { delay = 2.0 }',
+        )
+    )
+    spec = tmp_path / "spec.toml"
+    spec.write_text(PARAMETERS)
+    bare = tmp_path / "bare.toml"
+    bare.write_text('intent = "i"\n[[criterion]]\ncheck = "parameters"\n')
+    with running_system(tmp_path / "launch.toml", ready=("sim", "status_monitor", "navigator"), cwd=tmp_path) as system:
+        held = system.run_cli("verify", str(spec), "--launch-file", str(tmp_path / "launch.toml"), timeout=60)
+        assert held.returncode == 0, held.stdout + held.stderr
+        assert "3 nodes' parameters read, 0 differ" in held.stdout, held.stdout
+        differs = system.run_cli("verify", str(spec), "--launch-file", str(tmp_path / "other.toml"), timeout=60)
+        assert differs.returncode == 1, differs.stdout + differs.stderr
+        assert "why: navigator.delay: the launch file 2.0, running 3.0" in differs.stdout, differs.stdout
+        assert system.run_cli("param", "set", "status_monitor", "rate", "5").returncode == 0
+        changed = system.run_cli("verify", str(spec), timeout=60)
+        assert changed.returncode == 1 and "status_monitor.rate: the spec 10.0, running 5.0" in changed.stdout
+        nothing = system.run_cli("verify", str(bare), timeout=60)
+        assert nothing.returncode == 1 and "no launch file to compare with" in nothing.stdout, nothing.stdout
+
+
+DRIVING = """intent = "no errors while goals are driven"
+[[criterion]]
+check = "no_errors"
+name = "quiet while driving"
+minutes = 1
+goals = [[3.0, 3.0, 0.0], [8.0, 8.0, 90.0]]
+"""
+
+
+def test_no_errors_drives_the_listed_goals_meanwhile_and_says_how_they_ended(tmp_path):
+    spec = tmp_path / "spec.toml"
+    spec.write_text(DRIVING)
+    with running_system() as system:
+        done = system.run_cli("verify", str(spec), "--short", "6", "--json", timeout=90)
+    assert done.returncode == 0, done.stdout + done.stderr
+    (verdict,) = json.loads(done.stdout)["verdicts"]
+    assert verdict["ok"] and "while goals are driven; shortened to 6 s" in verdict["required"], verdict
+    driven = re.search(r"(\d+) goals? driven: (\d+) reached", verdict["measured"])
+    assert driven and int(driven[2]) >= 1, verdict  # a 5 m goal takes about 2 s: one reached at least

@@ -11,7 +11,7 @@ import subprocess
 import pytest
 
 from tests.integration.harness import ROOT, running_system, turtlectl
-from turtlectl.cli.verify.spec import Period, label, load_spec
+from turtlectl.cli.verify.spec import Parameters, Period, label, load_spec
 
 pytestmark = pytest.mark.integration
 
@@ -30,6 +30,10 @@ def test_a_skeleton_from_the_default_system_verifies_against_it(tmp_path):
         assert obstacles.period_ms == pytest.approx(200.0, rel=0.05), text
         assert obstacles.tolerance_ms == pytest.approx(obstacles.period_ms / 10), text
         assert {c.key for c in loaded.criterion if isinstance(c, Period)} >= {"robot/status", "obstacles"}, text
+        # each node's parameters as it runs with them: the parameters criterion
+        (stated,) = [c for c in loaded.criterion if isinstance(c, Parameters)]
+        assert set(stated.params) == {"sim", "navigator", "status_monitor", "obstacle_detector"}, text
+        assert stated.params["navigator"]["goal_timeout"] == 30.0 and "[criterion.params.navigator]" in text
         verified = system.run_cli("verify", str(spec), "--json", timeout=180)
     assert verified.returncode in (0, 1), verified.stdout + verified.stderr
     verdicts = json.loads(verified.stdout)["verdicts"]
@@ -53,8 +57,8 @@ def test_spec_show_prints_the_capstone_as_markdown():
     )
     assert done.returncode == 0, done.stderr
     assert "## Intent\nA multi-node system" in done.stdout
-    assert "✅ 2. status messages every 100 ms (± 10 ms) (robot/status every 100 ± 10 ms)" in done.stdout
-    assert "❌ multiple turtles" in done.stdout
+    assert "- [ ] 2. status messages every 100 ms (± 10 ms) (robot/status every 100 ± 10 ms)" in done.stdout
+    assert "\n- multiple turtles\n" in done.stdout
 
 
 def test_spec_show_of_a_bad_file_is_exit_2_naming_the_key(tmp_path):
