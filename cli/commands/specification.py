@@ -22,8 +22,8 @@ def show(
 ) -> None:
     """Print a specification as the capstone's Markdown template: Intent, System Architecture
     (each node's input, output and purpose), Interfaces (each service and topic with its types,
-    frequency, publishers and subscribers), Success Criteria (✅, with their numbers) and
-    Non-Goals (❌).  A bad file is exit code 2, naming the key.
+    frequency, publishers and subscribers), Success Criteria (each an unchecked box, with its
+    numbers: `verify` gives the verdicts) and Non-Goals.  A bad file is exit code 2, naming the key.
 
     Example: turtlectl spec show docs/capstone.toml > SPEC.md
     """
@@ -41,14 +41,13 @@ def from_system(
     connect: str = ConnectOption,
     domain: str = DomainOption,
 ) -> None:
-    """Write a specification's skeleton from a running system (the `spec --from-system` of
-    issue 26): a placeholder intent; each node with the keys it subscribes to or serves
-    (inputs) and publishes (outputs); each published topic with its type, its publisher and
-    its period measured over 2 s (from the messages' stamps) with a 10 % tolerance (at least
-    5 ms); each
-    service with its request type and server; a period criterion for each measured topic; no
-    non-goals.  Edit it into a real specification; as written, `turtlectl verify` passes it
-    on the same system.
+    """Write a specification's skeleton from a running system: a placeholder intent; each node
+    with the keys it subscribes to or serves (inputs) and publishes (outputs); each published
+    topic with its type, its publisher and its period measured over 2 s (from the messages'
+    stamps) with a 10 % tolerance (at least 5 ms); each service with its request type and
+    server; a period criterion for each measured topic; a parameters criterion with each
+    node's parameters as it runs with them; no non-goals.  Edit it into a real specification;
+    as written, `turtlectl verify` passes it on the same system.
 
     Example: turtlectl spec from-system -o my_spec.toml && turtlectl verify my_spec.toml
     """
