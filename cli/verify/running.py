@@ -1,6 +1,7 @@
 """The criteria of a specification about a system as it runs, measured through a
 ``turtlectl.Client``: nodes running a while without errors (``no_errors``: alive, the same
-process, no log record at ERROR or worse) and message types round-tripping (``round_trip``)."""
+process, no log record at ERROR or worse; goals driven meanwhile when it lists them, through
+cli.verify.driving) and message types round-tripping (``round_trip``)."""
 
 from __future__ import annotations
 

@@ -1,7 +1,8 @@
 """A specification's skeleton from a running system (``turtlectl spec from-system``): the live
-graph, each node's parameters, and each published topic's period measured over a short window, from the messages'
-own stamps (as published) or, for a type without one, from their arrivals here.  The
-writing is pure (cli.verify.document); this module only measures, through a ``Client``."""
+graph, each node's parameters, and each published topic's period measured over a short
+window, from the messages' own stamps (as published) or, for a type without one, from their
+arrivals here.  The writing is pure (cli.verify.document); this module only measures,
+through a ``Client``."""
 
 from __future__ import annotations
 
