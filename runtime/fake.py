@@ -19,7 +19,7 @@ from __future__ import annotations
 import collections
 from collections.abc import Callable
 from types import SimpleNamespace
-from typing import Any, Generic
+from typing import Any, Generic, TypeVar
 
 import msgspec
 import zenoh
@@ -32,7 +32,7 @@ from turtlectl.runtime.entities import sample_encoding
 from turtlectl.runtime.node import Node, P
 from turtlectl.runtime.roles import interface_of
 
-__all__ = ["FakeNode", "FakeSession"]
+__all__ = ["FakeNode", "FakeSession", "unstamped"]
 
 _JSON = zenoh.Encoding.APPLICATION_JSON
 _EPSILON = 1e-9  # s: a deadline this close to where ``advance`` stops is reached (float rounding)
@@ -170,6 +170,22 @@ class FakeSession:
         for sub in list(self.liveliness_subscribers):
             if _matches(sub.key, key):
                 sub.target(_sample(key, b"", None, kind))
+
+
+M = TypeVar("M", bound=msgspec.Struct)
+
+
+def unstamped(message: M) -> M:
+    """``message`` with ``stamp`` and ``seq`` back at 0, so that it equals the message the node
+    code built: a publisher fills both in as it sends (the node's time in ns, its count), so
+    ``fake.published(key)[-1] == Twist(linear=1.0)`` never holds, and
+    ``unstamped(fake.published(key)[-1]) == Twist(linear=1.0)`` does.  A message without both
+    fields (the publisher stamps only those with both) comes back as it is; so do the messages
+    inside it (what the node built, stamps included)."""
+    fields = message.__struct_fields__
+    if "stamp" in fields and "seq" in fields:
+        return msgspec.structs.replace(message, stamp=0, seq=0)
+    return message
 
 
 def _decoded(data: bytes, encoding: Any) -> Any:
@@ -315,7 +331,8 @@ class FakeNode(Generic[P]):
 
     # -- what the node did ----------------------------------------------------
     def published(self, key: str) -> list[Message]:
-        """The messages the node published on ``key``, decoded, oldest first."""
+        """The messages the node published on ``key``, decoded, oldest first, each stamped by
+        its publisher (``unstamped(msg)`` compares it with a message built by hand)."""
         return [decode_any(data) for k, data in self.session.published if k == key]
 
     def published_all(self) -> list[tuple[str, Message]]:

@@ -1,7 +1,9 @@
 """A launch file's system started for a test: the real ``turtlectl launch`` on a free port,
-in its own process group, ready when the supervisor says every node is (liveliness tokens,
-never a sleep), failed at once when a node dies while starting (with that node's output),
-and always stopped: SIGINT to the group, then SIGKILL to whatever is left.
+in its own process group, ready when the supervisor says every node is (its ``READY=1``
+datagram in systemd's notify protocol, cli/system/supervisor/notify.py: never a sleep, never a
+log line read), failed at once when a node dies while starting (with that node's output),
+and always stopped: SIGINT to the group, then SIGKILL to whatever is left.  A node's exit
+once the system runs is kept too (``exits``), so a test sharing a system learns of it.
 
 ``turtlectl.testing`` and its pytest plugin (``turtlectl_system``, ``turtlectl_launch``) are
 thin over ``LaunchedSystem``.
@@ -10,7 +12,8 @@ thin over ``LaunchedSystem``.
 from __future__ import annotations
 
 import os
-import re
+import selectors
+import shutil
 import signal
 import socket
 import subprocess
@@ -20,17 +23,29 @@ import threading
 import time
 from collections.abc import Sequence
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, NamedTuple
 
 from turtlectl.cli.errors import CannotStart
+from turtlectl.cli.system.supervisor import notify
+from turtlectl.runtime.exitcodes import node_exit
 
 if TYPE_CHECKING:
     from turtlectl.cli.tools.api import Client
 
-READY = re.compile(r"^launch\s*\| (?:all )?\d+ nodes? ready in ")
-DIED = re.compile(r"^launch\s*\| (\S+) (exited with code \d+|was killed by \w+)")
 START_LIMIT = 120.0  # s: a start that takes longer than this has hung (only a bound against hanging)
 STOP_WAIT = 15.0  # s: after SIGINT, the supervisor's own shutdown (SIGINT -> SIGTERM -> SIGKILL to its nodes)
+
+
+class Exit(NamedTuple):
+    """A node's process ended: ``code`` (a signal: minus its number), ``ready``: after the
+    system was ready."""
+
+    node: str
+    code: int
+    ready: bool
+
+    def __str__(self) -> str:
+        return f"{self.node} {node_exit(self.code)}"
 
 
 class StartFailed(CannotStart):
@@ -60,11 +75,11 @@ class LaunchedSystem:
         self.endpoint = f"tcp/127.0.0.1:{self.port}"
         self.log_dir = Path(log_dir) if log_dir is not None else Path(tempfile.mkdtemp(prefix="turtlectl-test-logs-"))
         self.lines: list[str] = []
+        self.exits: list[Exit] = []  # every node's exit the supervisor told, in order
         self._changed = threading.Condition()
         self._ready = False
-        self._died: tuple[str, str] | None = None  # (node, how) of the first death before ready
         self._reading = True  # until the launch's output ends
-        self._proc: subprocess.Popen[str] | None = None
+        self._proc: subprocess.Popen[bytes] | None = None
         self._clients: list[Client] = []
 
     def start(self, timeout: float = START_LIMIT) -> LaunchedSystem:
@@ -75,6 +90,10 @@ class LaunchedSystem:
             raise StartFailed(f"no launch file {self.launch_file}")
         domain = ("--domain", self.domain) if self.domain else ()
         argv = [sys.executable, "-m", "turtlectl.cli", *domain, "launch", str(self.launch_file)]
+        folder = tempfile.mkdtemp(prefix="turtlectl-notify-")  # 0700: only we write to its socket
+        told = socket.socket(socket.AF_UNIX, socket.SOCK_DGRAM)
+        told.bind(os.path.join(folder, "notify"))
+        env = {**os.environ, "PYTHONUNBUFFERED": "1", "TURTLECTL_LOG_DIR": str(self.log_dir)}
         self._proc = subprocess.Popen(
             [*argv, "--port", str(self.port), *self.args],
             cwd=self.launch_file.parent,
@@ -82,49 +101,92 @@ class LaunchedSystem:
             stderr=subprocess.STDOUT,
             stdin=subprocess.DEVNULL,
             start_new_session=True,  # its own process group: stop() reaches every node
-            text=True,
-            env={**os.environ, "PYTHONUNBUFFERED": "1", "TURTLECTL_LOG_DIR": str(self.log_dir)},
+            env={**env, notify.NOTIFY_SOCKET: told.getsockname()},
         )
-        threading.Thread(target=self._read, daemon=True).start()
+        threading.Thread(target=self._read, args=(told, folder), daemon=True).start()
         deadline = time.monotonic() + timeout
         with self._changed:
-            while not self._ready:
-                if self._died is not None:
-                    name, how = self._died
-                    raise StartFailed(f"{name} {how} while the system started:\n{self.output_of(name)}")
-                if self._proc.poll() is not None and not self._reading:
-                    raise StartFailed(f"turtlectl launch ended (code {self._proc.returncode}):\n{self.output()}")
+            while True:
+                early = [e for e in self.exits if not e.ready]  # told before READY: its ready line may follow
+                if early:
+                    raise StartFailed(f"{early[0]} while the system started:\n{self._output_of(early[0].node)}")
+                if self._ready:
+                    break
+                if not self._reading:
+                    code = self._proc.wait()
+                    raise StartFailed(f"turtlectl launch ended (code {code}):\n{self._output()}")
                 left = deadline - time.monotonic()
                 if left <= 0:
-                    raise StartFailed(f"not ready within {timeout:g} s:\n{self.output()}")
+                    raise StartFailed(f"not ready within {timeout:g} s:\n{self._output()}")
                 self._changed.wait(left)
         return self
 
-    def _read(self) -> None:
+    def _read(self, told: socket.socket, folder: str) -> None:
+        """The launch's output and its notify datagrams, on one thread: before a datagram is
+        taken, the output written before it is read, so a node's exit comes with its last lines."""
         assert self._proc is not None and self._proc.stdout is not None
-        for line in self._proc.stdout:
-            line = line.rstrip("\n")
-            with self._changed:
-                self.lines.append(line)
-                if READY.match(line):
-                    self._ready = True
-                died = DIED.match(line)
-                if died and not self._ready and self._died is None:
-                    self._died = (died.group(1), died.group(2))
-                self._changed.notify_all()
+        out = self._proc.stdout.fileno()
+        os.set_blocking(out, False)
+        told.setblocking(False)
+        partial = b""
+        with selectors.DefaultSelector() as selector:
+            selector.register(out, selectors.EVENT_READ)
+            selector.register(told, selectors.EVENT_READ)
+            open_ = True
+            while open_:
+                selector.select()
+                chunks, open_ = _drain(out)
+                partial = self._take_lines(partial + b"".join(chunks))
+                while True:
+                    try:
+                        datagram = told.recv(4096)
+                    except BlockingIOError:
+                        break
+                    self._told(notify.parse(datagram))
+        told.close()
+        shutil.rmtree(folder, ignore_errors=True)
         with self._changed:
+            if partial:
+                self.lines.append(partial.decode(errors="replace"))
             self._reading = False
             self._changed.notify_all()
+
+    def _take_lines(self, data: bytes) -> bytes:
+        *whole, rest = data.split(b"\n")
+        if whole:
+            with self._changed:
+                self.lines.extend(line.decode(errors="replace") for line in whole)
+                self._changed.notify_all()
+        return rest
+
+    def _told(self, fields: dict[str, str]) -> None:
+        with self._changed:
+            if fields.get("READY") == "1":
+                self._ready = True
+            if notify.NODE in fields:
+                code = int(fields.get(notify.EXIT, "1"))
+                self.exits.append(Exit(fields[notify.NODE], code, self._ready))
+            self._changed.notify_all()
+
+    def running(self) -> bool:
+        """Whether the launch still runs."""
+        return self._proc is not None and self._proc.poll() is None
 
     def output(self) -> str:
         """Everything the launch printed so far (each node's lines prefixed with its name)."""
         with self._changed:
-            return "\n".join(self.lines)
+            return self._output()
 
     def output_of(self, node: str) -> str:
         """What ``node`` printed so far (its traceback, if it raised)."""
         with self._changed:
-            return "\n".join(line for line in self.lines if line.split("|", 1)[0].strip() == node)
+            return self._output_of(node)
+
+    def _output(self) -> str:
+        return "\n".join(self.lines)
+
+    def _output_of(self, node: str) -> str:
+        return "\n".join(line for line in self.lines if line.split("|", 1)[0].strip() == node)
 
     def client(self) -> Client:
         """A ``turtlectl.Client`` of this system (closed by ``stop``)."""
@@ -169,3 +231,16 @@ class LaunchedSystem:
 
     def __exit__(self, *exc: object) -> None:
         self.stop()
+
+
+def _drain(fd: int) -> tuple[list[bytes], bool]:
+    """What can be read from ``fd`` now, and whether it is still open."""
+    chunks = []
+    while True:
+        try:
+            chunk = os.read(fd, 65536)
+        except BlockingIOError:
+            return chunks, True
+        if not chunk:
+            return chunks, False
+        chunks.append(chunk)

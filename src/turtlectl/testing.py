@@ -10,6 +10,8 @@ its nodes (docs/how-to/test-your-system.md):
   ``launch.toml`` in the rootdir) and ``turtlectl_launch`` (a factory for more systems).
 * ``FakeNode(NodeClass, params)``: your node class without Zenoh: deliver messages and
   requests, advance a fake clock so timers fire, read what it published and answered.
+* ``unstamped(msg)``: a published message with its ``stamp`` and ``seq`` (filled in by the
+  publisher) at 0, to compare with one built by hand: ``unstamped(m) == Twist(linear=1.0)``.
 """
 
 from __future__ import annotations
@@ -20,14 +22,15 @@ from turtlectl import _lazy
 
 if TYPE_CHECKING:
     from turtlectl.cli.system.launched import LaunchedSystem, StartFailed
-    from turtlectl.runtime.fake import FakeNode
+    from turtlectl.runtime.fake import FakeNode, unstamped
 
-__all__ = ["FakeNode", "LaunchedSystem", "StartFailed"]
+__all__ = ["FakeNode", "LaunchedSystem", "StartFailed", "unstamped"]
 
 _HOME = {
     "FakeNode": "turtlectl.runtime.fake",
     "LaunchedSystem": "turtlectl.cli.system.launched",
     "StartFailed": "turtlectl.cli.system.launched",
+    "unstamped": "turtlectl.runtime.fake",
 }
 
 

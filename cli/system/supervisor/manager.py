@@ -29,6 +29,7 @@ from turtlectl.cli.system import access, credentials
 from turtlectl.cli.system.launchfile import LaunchPlan
 from turtlectl.cli.system.overrides import node_config
 from turtlectl.cli.system.supervisor import logs, zygote
+from turtlectl.cli.system.supervisor.notify import Notifier
 from turtlectl.cli.system.supervisor.printer import Printer
 from turtlectl.cli.system.supervisor.process import Child, ZygoteChild, node_command, program_command
 from turtlectl.cli.system.supervisor.router import join_router, open_router
@@ -83,7 +84,9 @@ class Supervisor:
         self.endpoint = f"{'tls' if tls else 'tcp'}/{host}:{port}" if port is not None else connect
         self.domain = domain
         self.printer = printer
-        self.supervision = Supervision(plan, printer, self._child, since=cli.STARTED)
+        self.supervision = Supervision(
+            plan, printer, self._child, since=cli.STARTED, notifier=Notifier.from_environment()
+        )
         self.zygote: zygote.Zygote | None = None
 
     # -- lifecycle ----------------------------------------------------------

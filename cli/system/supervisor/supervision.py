@@ -20,6 +20,8 @@ every rule is tested with fake children and a fake clock (tests/unit/cli/system/
   getting each signal once.  A child that has not announced itself yet is still importing
   and gets SIGTERM first: a SIGINT there raises KeyboardInterrupt inside an import (a
   traceback).
+* Readiness (the same line as printed), each exit and the stop are told to the Notifier
+  (cli.system.supervisor.notify: systemd's notify protocol), for whoever started the launch.
 
 Never prints directly: everything goes through the Printer.
 """
@@ -34,6 +36,7 @@ from typing import Protocol
 
 from turtlectl.cli.errors import ExitCode
 from turtlectl.cli.system.launchfile import LaunchPlan
+from turtlectl.cli.system.supervisor.notify import Notifier
 from turtlectl.cli.system.supervisor.printer import Printer
 from turtlectl.runtime.exitcodes import node_exit, respawn_can_help
 
@@ -77,12 +80,15 @@ class Supervision:
         clock: Callable[[], float] = time.monotonic,
         sleep: Callable[[float], None] = time.sleep,
         since: float | None = None,
+        notifier: Notifier | None = None,
     ):
-        """``since``: when the launch began, on ``clock`` (default: now), the start of "ready in"."""
+        """``since``: when the launch began, on ``clock`` (default: now), the start of "ready in".
+        ``notifier``: told of readiness, each exit and the stop (default: nobody)."""
         self.entries = {e.name: e for e in plan.launch.node}
         self.programs = set(plan.commands)  # cmd nodes: ready once started
         self.settings = plan.launch.supervisor
         self.printer = printer
+        self.notifier = notifier or Notifier()
         self.spawn = spawn
         self.clock = clock
         self.sleep = sleep
@@ -166,6 +172,7 @@ class Supervision:
         child.flush_output()
         entry = self.entries[name]
         how = node_exit(code)
+        self.notifier.exited(name, code, how)  # after its output: a listener has its last lines
         if now - self._started_at[name] >= STABLE_RUN:
             self._crashes[name] = 0
         crashes = self._crashes.get(name, 0)
@@ -222,9 +229,11 @@ class Supervision:
         count = len(self.entries)
         since = f"ready in {elapsed:.2f} s (since turtlectl started)"
         if missing:
-            self.printer.system(f"{count - len(missing)} of {count} nodes {since}; not running: {', '.join(missing)}")
+            line = f"{count - len(missing)} of {count} nodes {since}; not running: {', '.join(missing)}"
         else:
-            self.printer.system(f"{'all ' * (count > 1)}{count} node{'s' * (count != 1)} {since}")
+            line = f"{'all ' * (count > 1)}{count} node{'s' * (count != 1)} {since}"
+        self.printer.system(line)
+        self.notifier.ready(line)
 
     def ready(self, name: str) -> bool:
         """True once this very process of node ``name`` has announced itself (a cmd node: once started)."""
@@ -243,6 +252,7 @@ class Supervision:
         has installed its handler, stops it as SIGINT does.
         """
         self._drain_events()
+        self.notifier.stopping()
         steps = (
             (signal.SIGINT, self.settings.sigint_timeout),
             (signal.SIGTERM, self.settings.sigterm_timeout),

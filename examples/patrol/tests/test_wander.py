@@ -9,7 +9,7 @@ from test_system import poses_until
 from wander import Wanderer, WanderParams, command
 
 from turtlectl.messages import LaserScan, Twist
-from turtlectl.testing import FakeNode
+from turtlectl.testing import FakeNode, unstamped
 
 
 def scan(ahead: float) -> LaserScan:
@@ -36,13 +36,13 @@ def test_the_node_commands_at_its_rate_from_the_newest_scan_and_stops_at_shutdow
     fake = FakeNode(Wanderer, {"rate": 10.0, "clearance": 0.5})
     fake.deliver("obstacles", scan(3.0))
     fake.advance(0.3)
-    assert [t.linear for t in fake.published("turtle1/cmd_vel")] == [0.8, 0.8, 0.8]
+    # what it published carries its stamp and seq: unstamped() compares it with a Twist built here
+    assert [unstamped(t) for t in fake.published("turtle1/cmd_vel")] == [Twist(linear=0.8)] * 3
     fake.deliver("obstacles", scan(0.2))
     fake.advance(0.1)
-    assert fake.published("turtle1/cmd_vel")[-1].angular == 1.5
+    assert unstamped(fake.published("turtle1/cmd_vel")[-1]) == Twist(linear=0.0, angular=1.5)
     fake.shutdown()
-    last = fake.published("turtle1/cmd_vel")[-1]
-    assert (last.linear, last.angular) == (0.0, 0.0)
+    assert unstamped(fake.published("turtle1/cmd_vel")[-1]) == Twist(linear=0.0, angular=0.0)
 
 
 @pytest.mark.turtlectl_launch("../wander.toml", "--set", "wanderer.speed=1.0")

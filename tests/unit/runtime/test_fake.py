@@ -265,3 +265,25 @@ def test_a_declaration_outside_the_interface_is_refused_at_once():
         OutsideInterface, match=r"undeclared may not serve robot/reset_all: its Interface serves undeclared/\*\*"
     ):
         FakeNode(Undeclared)
+
+
+class Driver:
+    """Publishes one Twist a tick."""
+
+    Params = msgspec.defstruct("DriverParams", [])
+
+    def __init__(self, node: Node[Any]):
+        self.pub = node.publisher("turtle1/cmd_vel", Twist)
+        node.timer(0.1, lambda: self.pub.publish(Twist(linear=1.0, angular=0.5)))
+
+
+def test_a_published_message_equals_the_one_built_by_hand_once_unstamped():
+    from turtlectl.testing import unstamped  # the public name
+
+    fake = FakeNode(Driver)
+    fake.advance(0.2)
+    sent = fake.published("turtle1/cmd_vel")
+    assert sent[0] != Twist(linear=1.0, angular=0.5)  # the publisher filled in stamp and seq
+    assert [m.seq for m in sent] == [0, 1] and sent[0].stamp > 0
+    assert [unstamped(m) for m in sent] == [Twist(linear=1.0, angular=0.5)] * 2
+    assert unstamped(Ack(ok=True)) == Ack(ok=True)  # nothing to take out of an unstamped type
