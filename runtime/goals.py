@@ -31,10 +31,11 @@ from typing import TYPE_CHECKING, Any, Generic, TypeVar
 
 from turtlectl.messages import Ack, Cancel, Message
 from turtlectl.messages.keys import CLIENT_TOKEN_PREFIX
-from turtlectl.runtime.entities import Request
+from turtlectl.runtime.goal_reasons import CALLER_GONE, CANCELED, PREEMPTED, SHUT_DOWN, TIMEOUT
 from turtlectl.runtime.handles import Declaration
 
 if TYPE_CHECKING:
+    from turtlectl.runtime.entities import Request
     from turtlectl.runtime.node import Node
 
 __all__ = [
@@ -53,12 +54,6 @@ G = TypeVar("G", bound=Message)
 F = TypeVar("F", bound=Message)
 R = TypeVar("R", bound=Message)
 
-#: why the server ended a goal (``on_cancel``'s ``reason``); a ``Cancel``'s own reason is passed on as it is
-PREEMPTED = "preempted"  # a newer goal replaced it
-CANCELED = "canceled"  # KEY/cancel, without a reason of its own
-CALLER_GONE = "caller gone"  # its caller's liveliness token vanished
-TIMEOUT = "timeout"  # not finished within the server's timeout
-SHUT_DOWN = "shut down"  # the node stops, or the goal server is undeclared
 
 #: the graph's roles of a goal service's three types (liveliness tokens on KEY: ``turtlectl action list``)
 GOAL_ROLES = ("goal", "goal_feedback", "goal_result")
