@@ -25,6 +25,7 @@ import typer.core
 
 from turtlectl.cli import STOPPED_BY_CTRL_C
 from turtlectl.cli.commands import (
+    actions,
     driving,
     introspection,
     parameters,
@@ -59,7 +60,7 @@ COMMAND_GROUPS: dict[str, tuple[str, ...]] = {
     "System": ("launch", "router", "run", "new", "verify", "spec", "log-level", "certs"),
     "Goals and driving": ("goto", "cancel", "teleport", "reset", "teleop", "spawn", "kill"),
     "Topics": ("echo", "hz", "pub", "topic", "plot"),
-    "Services": ("call",),
+    "Services": ("call", "action"),
     "Parameters": ("param",),
     "Introspection": ("list", "node", "log", "interface", "view"),
     "Recording and Foxglove": ("record", "info", "play", "recover", "foxglove"),
@@ -142,6 +143,7 @@ GROUPS = (
     topics,
     plotting,
     services,
+    actions,
     parameters,
     introspection,
     recording,

@@ -260,6 +260,14 @@ def services_section() -> list[str]:
         "- **reset**: served by the sim (pose back to spawn) and the status monitor (battery full): one `Ack` from "
         "each, but only with `QueryTarget.ALL` and `ConsolidationMode.NONE` (both replies come on the same key, so "
         'the default consolidation keeps one). A running goal is canceled (reason "reset").',
+        "- **Goal services** (any node's, `Node.goal_server`; `navigate_to` is one): on `KEY`, a query carrying "
+        "the goal gets feedback replies while it runs, then exactly one result (a refused goal: the result alone). "
+        "`KEY/cancel`: `Cancel` -> `Ack` (the cancel's reason passed on to the result). `KEY/feedback`: the same "
+        "feedback for observers. The caller's token `@turtlectl/client/<id>` names the goal's caller: `<id>` in "
+        "the goal's `client` field when its type has one, else as the query's attachment (UTF-8). One goal at a "
+        'time: a newer one ends the running goal ("preempted"). The server also ends a goal "caller gone", '
+        '"timeout" (its own limit) and "shut down". In the graph, a goal service has one entity token per type: '
+        "`@turtlectl/entity/<node>/<pid>/goal|goal_feedback|goal_result/<Type>/KEY` (`turtlectl action list`).",
         "- **One navigator**: a second navigator refuses to start while one serves `navigate_to` (in the same domain).",
         "- **Liveliness**: `@turtlectl/node/<name>/<pid>/<host>/<start_ns>`, where host is the machine's name with "
         "`/ * $ # ?` and spaces replaced by `_` and start_ns the node's start, wall-clock ns. The selector "

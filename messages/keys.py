@@ -220,8 +220,13 @@ class NodeDetails(NodeInfo, frozen=True, forbid_unknown_fields=True):
     use_sim_time: bool = False
 
 
+#: an entity token's roles: publisher, subscriber, service, and a goal service's goal, feedback and result types
+ENTITY_ROLES = ("pub", "sub", "srv", "goal", "goal_feedback", "goal_result")
+
+
 class EntityInfo(msgspec.Struct, frozen=True):
-    """A publisher ("pub"), subscriber ("sub") or service ("srv") of a node, by its token."""
+    """A publisher ("pub"), subscriber ("sub") or service ("srv") of a node, by its token; a
+    goal service ("goal", "goal_feedback", "goal_result": one token for each of its types)."""
 
     node: str
     pid: int
@@ -265,7 +270,7 @@ def parse_entity_token(key: str) -> EntityInfo | None:
     if not key.startswith(prefix):
         return None
     parts = key[len(prefix) :].split("/", 4)
-    if len(parts) != 5 or not parts[1].isdigit() or parts[2] not in ("pub", "sub", "srv"):
+    if len(parts) != 5 or not parts[1].isdigit() or parts[2] not in ENTITY_ROLES:
         return None
     return EntityInfo(node=node_name(parts[0]), pid=int(parts[1]), role=parts[2], type_name=parts[3], key=parts[4])
 

@@ -7,12 +7,13 @@ A goal's lifecycle, as Nav2's NavigateToPose:
   reached (the turtle at rest within the tolerances: once the law is within them the
   driver stops the turtle and the goal is answered with the pose it comes to rest in), or
   not with a reason;
-* a new goal preempts the running one ("preempted"); a cancel ends it ("canceled", or the
-  reason the canceller gives: the simulator sends "teleported" and "reset"); a caller whose
-  liveliness token vanishes has its goal canceled ("caller gone"); no pose for
-  ``pose_timeout`` ends it ("no pose"), as do ``goal_timeout`` ("timeout") and
-  ``blocked_timeout`` blocked ("blocked", the driver's say); a navigator that stops ends it
-  ("navigator shut down").
+* no pose for ``pose_timeout`` ends it ("no pose"), as does ``blocked_timeout`` blocked
+  ("blocked", the driver's say);
+* the goal server (runtime.goals) ends it for the rest, and this machine says the answer
+  (``end``): a newer goal ("preempted"), a cancel ("canceled", or the reason the canceller
+  gives: the simulator sends "teleported" and "reset", teleop "teleop"), its caller gone
+  ("caller gone"), ``goal_timeout`` ("timeout"), the navigator stopping ("navigator shut
+  down").
 
 How a goal is driven is not this module's: each running goal has a ``Driver``
 (nodes.driver: the path, following it, the final run with the control law, slowing and
@@ -22,8 +23,9 @@ This machine hands it each pose and scan, carries out what it says (a command, a
 blocked), and keeps the rest: who asked, since when, the timeouts, the feedback, the answer.
 
 Events are methods, each with ``now`` (s, any monotonic clock) where time matters:
-``start``, ``cancel``, ``caller_gone``, ``pose``, ``scan``, ``status``, ``tick`` (the
-watchdog: timeouts and scan staleness), ``feedback`` and ``shutdown``.  Each returns what
+``refusal`` (whether a goal is refused, before it touches the running one), ``start``,
+``end``, ``pose``, ``scan``, ``status``, ``tick`` (the watchdog: no pose, scan staleness)
+and ``feedback``.  Each returns what
 the shell must do, in order: a ``Twist`` to publish on ``cmd_vel``, a ``Reply`` to a
 goal's caller, a ``Note`` to log.  No I/O, no clock, no zenoh: the navigator process
 (nodes.navigator) is the wiring, and tests script histories with a fake clock.
@@ -42,7 +44,6 @@ from typing import Generic, TypeVar
 import numpy as np
 
 from turtlectl.messages import (
-    Ack,
     GoalState,
     LaserScan,
     NavigateToFeedback,
@@ -54,13 +55,14 @@ from turtlectl.messages import (
     Twist,
 )
 from turtlectl.messages.angles import degrees_0_360, heading_degrees, heading_difference_degrees, heading_radians
-from turtlectl.messages.keys import CLIENT_TOKEN_PREFIX, FIRST_TURTLE, POSE
+from turtlectl.messages.keys import FIRST_TURTLE, POSE
 from turtlectl.messages.world import Limits, World
 from turtlectl.nodes.control import Pose2D
 from turtlectl.nodes.driver import Arrived, Blocked, Driver, Note
 from turtlectl.nodes.goal import goal_problem, no_way
 from turtlectl.nodes.params import NavigatorParams
 from turtlectl.nodes.surroundings import Surroundings
+from turtlectl.runtime.goal_reasons import CALLER_GONE, CANCELED, PREEMPTED, SHUT_DOWN, TIMEOUT
 
 __all__ = ["Action", "Goal", "GoalMachine", "Note", "Reply"]
 
@@ -86,7 +88,6 @@ class Goal(Generic[C]):
         self.caller = caller
         self.theta_deg = degrees_0_360(request.theta)  # reduced in degrees, exactly, before anything else
         self.target = Pose2D(request.x, request.y, heading_radians(self.theta_deg))
-        self.client = f"{CLIENT_TOKEN_PREFIX}/{request.client}" if request.client else ""
         self.start = now
         self.driver = driver(self.target)
 
@@ -96,8 +97,15 @@ class Goal(Generic[C]):
         return self.driver.state
 
 
-#: the detail of a goal canceled with a reason of its own
-CANCEL_DETAILS = {"canceled": "", "teleop": "the keyboard took over (turtlectl teleop)"}
+#: the reason and detail of a goal the goal server ends, by the server's reason (runtime.goals);
+#: another reason is a canceller's own (the simulator's "teleported", "reset")
+ENDINGS = {
+    PREEMPTED: (PREEMPTED, "a new goal replaced it"),
+    CANCELED: (CANCELED, ""),
+    "teleop": ("teleop", "the keyboard took over (turtlectl teleop)"),
+    CALLER_GONE: (CALLER_GONE, "its caller went away: Ctrl-C, killed, or its own --timeout"),
+    SHUT_DOWN: ("navigator shut down", "the navigator was stopped"),
+}
 
 
 class GoalMachine(Generic[C]):
@@ -125,8 +133,9 @@ class GoalMachine(Generic[C]):
             self.goal.driver.set_params(params)
 
     # -- events -------------------------------------------------------------
-    def start(self, request: NavigateToRequest, caller: C, now: float) -> list[Action]:
-        """A new goal from ``caller``: refused at once, or run (preempting the running one)."""
+    def refusal(self, request: NavigateToRequest) -> tuple[NavigateToResponse, Note] | None:
+        """Whether ``request`` is refused at once (invalid, unreachable, battery low): the
+        answer and the line to log; None: it may run.  The running goal is not touched."""
         p, around = self.params, self.surroundings
         problem, detail = None, goal_problem(request, self.world, around.keep)
         if detail is not None:
@@ -142,42 +151,43 @@ class GoalMachine(Generic[C]):
                 f"battery at {self.battery:.1f} %, below the navigator's min_battery {p.min_battery:g} %: "
                 "`turtlectl reset` recharges it"
             )
-        if problem is not None:
-            theta = degrees_0_360(request.theta)
-            self._note(
-                logging.INFO, f"refused goal ({request.x:g}, {request.y:g}, {theta:.1f} deg): {problem}: {detail}"
-            )
-            where = {}
-            if here is not None:
-                where = {"x": here.x, "y": here.y, "theta": heading_degrees(here.theta)}
-            response = NavigateToResponse(
-                success=False, time_taken=0.0, reason=problem, refused=True, detail=detail, **where
-            )
-            self._out.append(Reply(caller, response))
-            return self._flush()
-        self._finish(now, False, "preempted", "a new goal replaced it")
-        goal = self.goal = Goal(request, caller, now, lambda target: Driver(target, around, p, self.limits))
+        if problem is None:
+            return None
+        theta = degrees_0_360(request.theta)
+        note = Note(logging.INFO, f"refused goal ({request.x:g}, {request.y:g}, {theta:.1f} deg): {problem}: {detail}")
+        where = {}
+        if here is not None:
+            where = {"x": here.x, "y": here.y, "theta": heading_degrees(here.theta)}
+        return NavigateToResponse(
+            success=False, time_taken=0.0, reason=problem, refused=True, detail=detail, **where
+        ), note
+
+    def start(self, request: NavigateToRequest, caller: C, now: float) -> list[Action]:
+        """A goal from ``caller``, accepted (``refusal`` said None): driven from now on.  The
+        goal server has ended the one that ran (preemption is its: ``end``)."""
+        if self.goal is not None:
+            raise RuntimeError("a goal is running: the goal server ends it first (end)")
+        goal = self.goal = Goal(
+            request, caller, now, lambda target: Driver(target, self.surroundings, self.params, self.limits)
+        )
         self._note(logging.INFO, f"goal ({request.x:.3f}, {request.y:.3f}, {goal.theta_deg:.1f} deg)")
         if not self.scans_fresh(now):
             self._note(logging.WARNING, "no recent scan: avoiding only the declared obstacles of the world")
         self._step(now)
         return self._flush()
 
-    def cancel(self, reason: str, now: float) -> tuple[Ack, list[Action]]:
-        """End the running goal with ``reason`` (empty: "canceled"); the Ack is for the canceller."""
+    def end(self, reason: str, now: float) -> list[Action]:
+        """The goal server ends the running goal with ``reason`` (runtime.goals: "preempted",
+        "canceled", "caller gone", "timeout", "shut down", or a canceller's own): stop the
+        turtle, then its answer."""
         goal = self.goal
         if goal is None:
-            return Ack(ok=False, detail="no goal is running"), []
-        reason = reason or "canceled"
-        detail = CANCEL_DETAILS.get(reason, f"the turtle was {reason} while it drove")  # teleported, reset
-        self._finish(now, False, reason, detail)
-        target = goal.target
-        return Ack(detail=f"canceled the goal ({target.x:g}, {target.y:g}, {goal.theta_deg:g} deg)"), self._flush()
-
-    def caller_gone(self, key: str, now: float) -> list[Action]:
-        """The liveliness token ``key`` vanished: if it is the running goal's caller's, end that goal."""
-        if self.goal is not None and self.goal.client and key == self.goal.client:
-            self._finish(now, False, "caller gone", "its caller went away: Ctrl-C, killed, or its own --timeout")
+            return []
+        if reason == TIMEOUT:
+            why, detail = TIMEOUT, f"not there after the navigator's goal_timeout of {self.params.goal_timeout:g} s"
+        else:
+            why, detail = ENDINGS.get(reason, (reason, f"the turtle was {reason} while it drove"))
+        self._finish(now, False, why, detail)
         return self._flush()
 
     def pose(self, pose: Pose, now: float) -> list[Action]:
@@ -207,15 +217,13 @@ class GoalMachine(Generic[C]):
         return self._flush()
 
     def tick(self, now: float) -> list[Action]:
-        """The watchdog, while a goal runs: goal_timeout, pose_timeout, and saying when scans
-        stop (and come back)."""
+        """The watchdog, while a goal runs: pose_timeout, and saying when scans stop (and come
+        back).  goal_timeout is the goal server's deadline (runtime.goals)."""
         goal = self.goal
         if goal is None:
             return []
         p = self.params
-        if now - goal.start > p.goal_timeout:
-            self._finish(now, False, "timeout", f"not there after the navigator's goal_timeout of {p.goal_timeout:g} s")
-        elif now - max(self.pose_time, goal.start) > p.pose_timeout:
+        if now - max(self.pose_time, goal.start) > p.pose_timeout:
             self._finish(now, False, "no pose", f"no {POSE} for {p.pose_timeout:g} s: is the simulator running?")
         stale = not self.scans_fresh(now)
         if self.scans_stale is None:  # before the first scan nothing has stopped; the first one is no news
@@ -228,14 +236,14 @@ class GoalMachine(Generic[C]):
                 self._note(logging.INFO, "scans are back")
         return self._flush()
 
-    def feedback(self, now: float) -> tuple[C, NavigateToFeedback] | None:
-        """Progress of the running goal and its caller; None while idle or without a pose."""
+    def feedback(self, now: float) -> NavigateToFeedback | None:
+        """Progress of the running goal; None while idle or without a pose."""
         goal, pose = self.goal, self.latest_pose
         if goal is None or pose is None:
             return None
         target, driver = goal.target, goal.driver
         along, eta = driver.remaining(pose)
-        return goal.caller, NavigateToFeedback(
+        return NavigateToFeedback(
             state=goal.state,
             distance_remaining=along,
             heading_remaining=heading_difference_degrees(target.theta, pose.theta),
@@ -251,11 +259,6 @@ class GoalMachine(Generic[C]):
             path=driver.outline,
             replans=driver.replans,
         )
-
-    def shutdown(self, now: float) -> list[Action]:
-        """The navigator stops: end the running goal (the turtle is told to stop)."""
-        self._finish(now, False, "navigator shut down", "the navigator was stopped")
-        return self._flush()
 
     # -- queries ------------------------------------------------------------
     def turtles(self, msg: Turtles, now: float) -> None:

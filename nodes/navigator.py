@@ -1,18 +1,21 @@
 """The navigator process: serves ``navigate_to`` and drives the turtle there.
 
-The goal lifecycle (accepted or refused, feedback, reached, preempted, canceled, caller
-gone, no pose, timeout, blocked, teleported, reset) is nodes.goal_machine, and the
-driving of a goal (path, control law, obstacles, arriving at rest) nodes.driver, both pure
-and tested with a fake clock; this module is their wiring to Zenoh.  Each input (a goal, a
-cancel, a pose, a scan, a status, a caller's liveliness token going away, the watchdog
-and feedback timers, shutdown) becomes an event of the machine with ``self.node.clock()``,
-and what the machine returns is carried out: ``turtle1/cmd_vel`` published, callers
-answered, lines logged.  It publishes ``turtle1/cmd_vel`` only while a goal runs, and
-refuses to start while another navigator serves ``navigate_to``.
+``navigate_to`` is a goal service (``Node.goal_server``, runtime.goals), as any user's
+navigator's would be: the server does preemption, ``navigate_to/cancel``, the caller going
+away, ``goal_timeout``, feedback at ``feedback_rate`` (to the caller and on
+``navigate_to/feedback``), shutdown and exactly one answer per goal.  The rest of a goal's
+lifecycle (refused, driven, reached, no pose, blocked, and each answer's content) is
+nodes.goal_machine, and the driving of a goal (path, control law, obstacles, arriving at
+rest) nodes.driver, both pure and tested with a fake clock; this module is their wiring.
+Each input (a goal, a pose, a scan, a status, the watchdog timer, the server ending a goal)
+becomes an event of the machine with ``self.node.clock()``, and what the machine returns is
+carried out: ``turtle1/cmd_vel`` published, goals finished, lines logged.  It publishes
+``turtle1/cmd_vel`` only while a goal runs, and refuses to start while another navigator
+serves ``navigate_to``.
 
 Only a running goal needs every pose (each one is a control step): while one runs, each
-``turtle1/pose`` is an event, and while none does no pose wakes this process, nor do the
-watchdog and feedback timers (paused: their events do nothing without a goal).  The pose
+``turtle1/pose`` is an event, and while none does no pose wakes this process, nor does the
+watchdog (paused: its events do nothing without a goal).  The pose
 and ``robot/status`` are kept by Zenoh (``Node.latest``) and handed to the machine when it
 needs them: before a goal starts (where from, battery) and before a scan (its origin).
 """
@@ -20,8 +23,6 @@ needs them: before a goal starts (where from, battery) and before a scan (its or
 from __future__ import annotations
 
 from turtlectl.messages import (
-    Ack,
-    Cancel,
     LaserScan,
     NavigateToFeedback,
     NavigateToRequest,
@@ -31,11 +32,9 @@ from turtlectl.messages import (
     TurtleStatus,
     Twist,
 )
+from turtlectl.messages.angles import degrees_0_360
 from turtlectl.messages.keys import (
-    CANCEL,
-    CLIENT_TOKEN_PREFIX,
     CMD_VEL,
-    FEEDBACK,
     NAVIGATE_TO,
     OBSTACLES,
     POSE,
@@ -44,7 +43,11 @@ from turtlectl.messages.keys import (
 )
 from turtlectl.nodes.goal_machine import Action, GoalMachine, Reply
 from turtlectl.nodes.params import NavigatorParams
-from turtlectl.runtime import Node, Request, run_main
+from turtlectl.runtime import Node, run_main
+from turtlectl.runtime.goals import GoalHandle
+
+#: a goal of navigate_to, as the goal server hands it over
+NavigateGoal = GoalHandle[NavigateToRequest, NavigateToFeedback, NavigateToResponse]
 
 WATCHDOG_PERIOD = 0.05  # s
 
@@ -52,50 +55,58 @@ WATCHDOG_PERIOD = 0.05  # s
 class Navigator:
     def __init__(self, node: Node[NavigatorParams]):
         self.node = node
-        self.machine: GoalMachine[Request[NavigateToRequest]] = GoalMachine(
-            node.params, node.world, node.limits, node.turtle
-        )
+        self.machine: GoalMachine[NavigateGoal] = GoalMachine(node.params, node.world, node.limits, node.turtle)
         self.cmd_pub = node.publisher(CMD_VEL, Twist)
-        self.feedback_pub = node.publisher(FEEDBACK, NavigateToFeedback)
         self.pose = node.latest(POSE, Pose, follow=True)  # every pose (self.on_pose) only while a goal runs
         self.status = node.latest(STATUS, TurtleStatus)
         self.turtles = node.latest(f"/{TURTLES}", Turtles)  # the others (nodes.traffic), read at each control step
         self.turtles_seen: Turtles | None = None
         node.subscribe(OBSTACLES, LaserScan, self.on_scan)
-        node.serve(NAVIGATE_TO, NavigateToRequest, NavigateToResponse, self.on_goal)
-        node.serve(CANCEL, Cancel, Ack, self.on_cancel)
-        node.watch_liveliness(f"{CLIENT_TOKEN_PREFIX}/**", self.on_client)
-        self.goal_timers = [  # their events do nothing while no goal runs: paused then
-            node.timer(WATCHDOG_PERIOD, self.watchdog),
-            node.timer(1.0 / node.params.feedback_rate, self.feedback),
-        ]
+        self.server = node.goal_server(
+            NAVIGATE_TO,
+            NavigateToRequest,
+            NavigateToFeedback,
+            NavigateToResponse,
+            refuse=self.refuse,
+            execute=self.on_goal,
+            on_cancel=self.on_end,
+            feedback=lambda goal: self.machine.feedback(self.node.clock()),
+            feedback_rate=node.params.feedback_rate,
+            timeout=node.params.goal_timeout,
+        )
+        self.watchdog_timer = node.timer(WATCHDOG_PERIOD, self.watchdog)  # does nothing while no goal runs: paused
         node.on_params(self.on_params)
-        node.on_shutdown(lambda: self.carry_out(self.machine.shutdown(self.node.clock())))
         self.follow_goal()
 
     # -- inputs -------------------------------------------------------------
-    def on_goal(self, request: Request[NavigateToRequest]) -> None:
+    def refuse(self, request: NavigateToRequest) -> NavigateToResponse | None:
         self.catch_up()
-        self.carry_out(self.machine.start(request.body, request, self.node.clock()))
-        goal = self.machine.goal
-        path = goal.driver.path if goal is not None else None
-        if goal is not None and path is not None:
-            how = "straight" if path.direct else f"round obstacles, {len(goal.driver.outline)} points"
+        refused = self.machine.refusal(request)
+        if refused is None:
+            return None
+        response, note = refused
+        self.node.log.log(note.level, note.text)
+        return response
+
+    def on_goal(self, goal: NavigateGoal) -> None:
+        target = goal.request
+        goal.summary = f"({target.x:g}, {target.y:g}, {degrees_0_360(target.theta):g} deg)"
+        self.carry_out(self.machine.start(target, goal, self.node.clock()))
+        running = self.machine.goal
+        path = running.driver.path if running is not None else None
+        if running is not None and path is not None:
+            how = "straight" if path.direct else f"round obstacles, {len(running.driver.outline)} points"
             self.node.log.debug("planned %.2f m %s", path.length, how)
 
-    def on_cancel(self, request: Request[Cancel]) -> None:
-        ack, actions = self.machine.cancel(request.body.reason, self.node.clock())
-        self.carry_out(actions)
-        request.respond(ack)
+    def on_end(self, goal: NavigateGoal, reason: str) -> None:
+        """The goal server ends the goal (preempted, canceled, caller gone, timeout, shut
+        down): the machine stops the turtle and finishes it with its answer."""
+        self.carry_out(self.machine.end(reason, self.node.clock()))
 
     def on_params(self, params: NavigatorParams) -> None:
         self.machine.set_params(params)
-        self.goal_timers[1].retime(1.0 / params.feedback_rate)
-        self.follow_goal()  # a retimed timer ticks again: paused once more while no goal runs
-
-    def on_client(self, key: str, alive: bool) -> None:
-        if not alive:
-            self.carry_out(self.machine.caller_gone(key, self.node.clock()))
+        self.server.feedback_rate = params.feedback_rate
+        self.server.timeout = params.goal_timeout
 
     def on_pose(self, pose: Pose) -> None:
         now = self.node.clock()
@@ -120,13 +131,6 @@ class Navigator:
             self.machine.pose_heard(now)  # its control step is still queued: behind, not without poses
         self.carry_out(self.machine.tick(now))
 
-    def feedback(self) -> None:
-        progress = self.machine.feedback(self.node.clock())
-        if progress is not None:
-            caller, fb = progress
-            stamped = self.feedback_pub.publish(fb)  # for observers
-            caller.respond(stamped, final=False)  # the same, stamped, to the caller
-
     def catch_up(self) -> None:
         """Hand the machine the newest status, and while no goal runs the newest pose (while
         one runs, each pose is already an event).  While idle a pose only updates where the
@@ -148,20 +152,19 @@ class Navigator:
             if isinstance(action, Twist):
                 self.cmd_pub.publish(action)
             elif isinstance(action, Reply):
-                action.to.respond(action.response)
+                action.to.finish(action.response)
             else:
                 self.node.log.log(action.level, action.text)
         self.follow_goal()
 
     def follow_goal(self) -> None:
-        """While a goal runs: every pose, the watchdog and feedback; while none does, none of them."""
+        """While a goal runs: every pose and the watchdog; while none does, neither."""
         running = self.machine.goal is not None
         self.pose.each(self.on_pose if running else None)
-        for timer in self.goal_timers:
-            if running:
-                timer.resume()
-            else:
-                timer.pause()
+        if running:
+            self.watchdog_timer.resume()
+        else:
+            self.watchdog_timer.pause()
 
 
 def main() -> None:

@@ -174,6 +174,12 @@ class Request(Generic[M]):
         self._query = query
         self.done = False
 
+    @property
+    def attachment(self) -> bytes | None:
+        """The query's attachment, if it has one (a goal's caller id: runtime.goals)."""
+        attachment = getattr(self._query, "attachment", None)
+        return None if attachment is None else attachment.to_bytes()
+
     def respond(self, response: Message, final: bool = True) -> None:
         """Send ``response`` to the caller (its encoding names its own type, feedback
         included); with final=True the call ends."""

@@ -24,15 +24,15 @@ from typing import Any, Generic, TypeVar
 import msgspec
 import zenoh
 
-from turtlectl.messages import Message, SetParameter, decode_any, encode
-from turtlectl.messages.keys import param_set_key
+from turtlectl.messages import Cancel, Message, SetParameter, decode_any, encode
+from turtlectl.messages.keys import client_token, param_set_key
 from turtlectl.messages.world import Limits, World
 from turtlectl.runtime.config import Interface, NodeConfig
 from turtlectl.runtime.entities import sample_encoding
 from turtlectl.runtime.node import Node, P
 from turtlectl.runtime.roles import interface_of
 
-__all__ = ["FakeNode", "FakeSession", "unstamped"]
+__all__ = ["FakeGoal", "FakeNode", "FakeSession", "unstamped"]
 
 _JSON = zenoh.Encoding.APPLICATION_JSON
 _EPSILON = 1e-9  # s: a deadline this close to where ``advance`` stops is reached (float rounding)
@@ -51,9 +51,10 @@ class _Query:
     """What a queryable callback reads and calls of a ``zenoh.Query``: replies are kept, an
     error one (``reply_err``) as any other (its payload is an ``ErrorReply``)."""
 
-    def __init__(self, key: str, data: bytes | None, encoding: Any, replies: list[tuple[bytes, Any]]):
+    def __init__(self, key: str, data: bytes | None, encoding: Any, replies: _Raw, attachment: bytes | None = None):
         self.key_expr, self.encoding, self.replies = key, encoding, replies
         self.payload = None if data is None else zenoh.ZBytes(data)
+        self.attachment = None if attachment is None else zenoh.ZBytes(attachment)
         self.dropped = False
 
     def reply(self, key: str, payload: bytes, encoding: Any = None) -> None:
@@ -64,6 +65,13 @@ class _Query:
 
     def drop(self) -> None:
         self.dropped = True
+        self.replies.ended = True
+
+
+class _Raw(list[tuple[bytes, Any]]):
+    """One query's raw replies, as they come; ``ended``: a queryable ended the call (its final reply)."""
+
+    ended = False
 
 
 class _Entity:
@@ -157,12 +165,12 @@ class FakeSession:
             if _matches(sub.key, key):
                 sub.target(_sample(key, data, encoding))
 
-    def query(self, key: str, data: bytes | None, encoding: Any = None) -> list[tuple[bytes, Any]]:
+    def query(self, key: str, data: bytes | None, encoding: Any = None, attachment: bytes | None = None) -> _Raw:
         """Query every matching queryable; their replies, as they come (the list grows)."""
-        replies: list[tuple[bytes, Any]] = []
+        replies = _Raw()
         for queryable in list(self.queryables):
             if _matches(queryable.key, key):
-                queryable.target(_Query(key, data, encoding, replies))
+                queryable.target(_Query(key, data, encoding, replies, attachment))
         return replies
 
     def token(self, key: str, alive: bool) -> None:
@@ -199,9 +207,14 @@ def _decoded(data: bytes, encoding: Any) -> Any:
 class _Replies(list[Any]):
     """The decoded replies of one request, growing as the handler answers (later ones too)."""
 
-    def __init__(self, raw: list[tuple[bytes, Any]]):
+    def __init__(self, raw: _Raw):
         super().__init__()
         self._raw = raw
+
+    @property
+    def ended(self) -> bool:
+        """Whether the call ended (its final reply came: a goal's result)."""
+        return self._raw.ended
 
     def refresh(self) -> _Replies:
         for data, encoding in self._raw[len(self) :]:
@@ -269,15 +282,15 @@ class FakeNode(Generic[P]):
             self.session.deliver(key, encode(message), sample_encoding(type(message)))
         self._ran()
 
-    def request(self, key: str, request: Message | bytes | None = None) -> list[Any]:
+    def request(self, key: str, request: Message | bytes | None = None, attachment: bytes | None = None) -> list[Any]:
         """Call the node's service ``key`` with ``request`` (bytes: a raw payload; None: no
         payload): its replies so far, decoded (an error reply as ``ErrorReply``, a JSON answer
         as its document; none: nobody serves ``key``).  The list grows with replies sent
-        later (a goal's feedback and result, after ``advance``)."""
+        later (a goal's feedback and result, after ``advance``); ``attachment``: the query's."""
         if request is None or isinstance(request, bytes):
-            raw = self.session.query(key, request)
+            raw = self.session.query(key, request, attachment=attachment)
         else:
-            raw = self.session.query(key, encode(request), sample_encoding(type(request)))
+            raw = self.session.query(key, encode(request), sample_encoding(type(request)), attachment)
         replies = _Replies(raw)
         self._pending.append(replies)
         self._ran()
@@ -304,6 +317,13 @@ class FakeNode(Generic[P]):
             self.node._fire_due(self.now)
             self._ran()
         self.now = max(self.now, until)
+
+    def send_goal(self, key: str, goal: Message, client: str = "caller") -> FakeGoal:
+        """Send ``goal`` to the node's goal service ``key`` (``Node.goal_server``), as a caller
+        holding the token ``@turtlectl/client/<client>`` (named by the query's attachment):
+        its ``feedback`` and ``result`` grow as the node runs (``advance``)."""
+        self.liveliness(client_token(client), True)
+        return FakeGoal(self, key, self.request(key, goal, attachment=client.encode()), client)
 
     def answer(self, key: str, fn: Callable[[Message], list[Message]]) -> None:
         """What a service the node calls (``Node.call``) on ``key`` answers: ``fn(request)``'s
@@ -344,6 +364,44 @@ class FakeNode(Generic[P]):
 
     def __exit__(self, *_: object) -> None:
         self.shutdown()
+
+
+class FakeGoal:
+    """A goal sent to a node under test (``FakeNode.send_goal``): what came back so far."""
+
+    def __init__(self, fake: FakeNode[Any], key: str, replies: _Replies, client: str):
+        self.key, self.client = key, client
+        self._fake = fake
+        self._replies = replies
+
+    @property
+    def replies(self) -> list[Any]:
+        """Every reply so far, decoded, oldest first: feedback, then the result."""
+        return list(self._replies.refresh())
+
+    @property
+    def feedback(self) -> list[Any]:
+        """The feedback replies so far, oldest first."""
+        replies = self.replies
+        return replies[:-1] if self._replies.ended else replies
+
+    @property
+    def result(self) -> Any:
+        """The goal's result (a refused goal's too); None while it runs."""
+        replies = self.replies
+        return replies[-1] if self._replies.ended and replies else None
+
+    def cancel(self, reason: str = "") -> Message:
+        """``KEY/cancel``, as ``turtlectl cancel`` asks: the server's ``Ack``."""
+        replies = self._fake.request(f"{self.key}/cancel", Cancel(reason=reason))
+        if not replies:
+            raise RuntimeError(f"nothing serves {self.key}/cancel")
+        answer: Message = replies[0]
+        return answer
+
+    def caller_gone(self) -> None:
+        """The caller goes away (Ctrl-C, killed): its liveliness token vanishes."""
+        self._fake.liveliness(client_token(self.client), False)
 
 
 def _params(node_class: Any, params_type: Any, params: Any) -> msgspec.Struct:

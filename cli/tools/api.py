@@ -22,10 +22,10 @@ from typing import Any
 import zenoh
 
 from turtlectl.cli.args import endpoint, turtle_name
-from turtlectl.cli.errors import BadInput, Failed
+from turtlectl.cli.errors import BadInput, Failed, Unreachable
 from turtlectl.cli.tools import params as _params
 from turtlectl.cli.tools.client import check_key, client_session, require
-from turtlectl.cli.tools.graph import Graph, NodeRow, ServiceRow, TopicRow
+from turtlectl.cli.tools.graph import GoalRow, Graph, NodeRow, ServiceRow, TopicRow
 from turtlectl.cli.tools.services import NO_LIMIT, Raw, Rejected, hinted, replies, run_goal
 from turtlectl.cli.tools.topics import Received, decode_sample, learn, live_graph
 from turtlectl.cli.tools.typebook import TypeBook
@@ -39,6 +39,7 @@ from turtlectl.messages import (
     encode,
     encoding_for,
 )
+from turtlectl.messages.codec import type_name
 from turtlectl.messages.keys import (
     CANCEL,
     NAVIGATE_TO,
@@ -51,6 +52,7 @@ from turtlectl.messages.keys import (
 )
 from turtlectl.messages.world import World
 from turtlectl.runtime.endpoint import CONNECT_ENV, DEFAULT_ENDPOINT, default_domain
+from turtlectl.runtime.futures import Future
 from turtlectl.runtime.handles import Declaration
 
 CALL_TIMEOUT = 5.0  # s: a service call's default
@@ -187,12 +189,53 @@ class Client:
             key = self._key(NAVIGATE_TO)
             return run_goal(self._session, key, request, NO_LIMIT if timeout is None else timeout, on_feedback)
 
-    def cancel(self) -> Ack:
-        """Cancel the running goal; the navigator's Ack (``ok`` false: no goal was running)."""
-        answer = self.call(CANCEL, Cancel())
+    def cancel(self, service: str = NAVIGATE_TO, reason: str = "") -> Ack:
+        """Cancel the running goal of the goal service ``service`` (default ``navigate_to``);
+        the server's Ack (``ok`` false: no goal was running)."""
+        cancel_key = CANCEL if service == NAVIGATE_TO else f"{service}/cancel"
+        answer = self.call(cancel_key, Cancel(reason=reason))
         if not isinstance(answer, Ack):
-            raise Failed(f"{self._key(CANCEL)} answered {type(answer).__name__}, not Ack")
+            raise Failed(f"{self._key(cancel_key)} answered {type(answer).__name__}, not Ack")
         return answer
+
+    def send_goal(
+        self,
+        service: str,
+        goal: Message,
+        on_feedback: Callable[[Message], None] | None = None,
+        *,
+        timeout: float | None = None,
+    ) -> Future[Message]:
+        """Send ``goal`` to the goal service ``service`` (any node's ``Node.goal_server``:
+        ``turtlectl action list``) without waiting: a ``Future`` of its result (``result(timeout)``
+        waits; a refused goal's result too).  ``on_feedback`` gets each feedback on the goal's
+        own thread.  While it waits the client holds a caller token (the goal ends if the
+        script goes away); after ``timeout`` s (default: the server's own) the goal is canceled
+        and the future ends with ``Failed`` (or ``CancelUnconfirmed``); ``cancel(service)``
+        cancels it meanwhile."""
+        key = check_key(self._key(service))
+        result_name = next((row.result for row in self.goals() if row.key == key), None)
+        if result_name is None:
+            raise Unreachable(f"no goal service {key} is running (`turtlectl action list` lists them)")
+        self._book.learn_all()  # its feedback and result types, as the nodes describe them
+        future: Future[Message] = Future()
+
+        def is_result(message: Message | Raw) -> bool:
+            return isinstance(message, Message) and type_name(type(message)) == result_name
+
+        def run() -> None:
+            try:
+                with self._hinted():
+                    future.set_result(
+                        run_goal(
+                            self._session, key, goal, NO_LIMIT if timeout is None else timeout, on_feedback, is_result
+                        )
+                    )
+            except BaseException as exc:  # the script's to see, through the future
+                future.set_exception(exc)
+
+        threading.Thread(target=run, name=f"goal {key}", daemon=True).start()
+        return future
 
     def _key(self, key: str) -> str:
         """``key`` as a node of this client's turtle writes it (messages.keys.resolve)."""
@@ -311,6 +354,10 @@ class Client:
     def services(self) -> list[ServiceRow]:
         """The services served now: key, request type, servers."""
         return self.graph().services
+
+    def goals(self) -> list[GoalRow]:
+        """The goal services served now: key, goal, feedback and result types, servers."""
+        return self.graph().goals
 
     def _hinted(self) -> contextlib.AbstractContextManager[None]:
         return hinted(self.connect, self.domain)

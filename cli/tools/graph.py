@@ -43,6 +43,14 @@ class ServiceRow(msgspec.Struct):
     servers: list[str]
 
 
+class GoalRow(msgspec.Struct):
+    key: str
+    goal: str  # the goal's type
+    feedback: str  # its feedback's
+    result: str  # its result's
+    servers: list[str]
+
+
 class Graph(msgspec.Struct):
     nodes: list[NodeRow]
     topics: list[TopicRow]
@@ -52,7 +60,11 @@ class Graph(msgspec.Struct):
     hidden_services: int = 0  # each node's own services left out (``list`` without --all)
     hidden_topics: int = 0  # each node's own log topic left out (``list`` without --all)
     conflicts: list[str] = msgspec.field(default_factory=list)  # a type name two nodes describe differently
+    goals: list[GoalRow] = msgspec.field(default_factory=list)  # the goal services (``turtlectl action list``)
 
+
+#: a goal service's token roles -> the GoalRow field each names
+GOAL_FIELDS = {"goal": "goal", "goal_feedback": "feedback", "goal_result": "result"}
 
 #: where the services every node has live (parameters, node info, log level)
 NODE_SERVICE_ROOTS = ("turtlectl/params/", "turtlectl/nodes/")
@@ -119,8 +131,14 @@ def build_graph(keys: list[str], now_ns: int) -> Graph:
             )
     topics: dict[str, TopicRow] = {}
     services: dict[str, ServiceRow] = {}
+    goals: dict[str, GoalRow] = {}
     for e in sorted(entities, key=lambda e: (e.key, e.node)):
-        if e.role == "srv":
+        if e.role in GOAL_FIELDS:
+            goal = goals.setdefault(e.key, GoalRow(key=e.key, goal="", feedback="", result="", servers=[]))
+            setattr(goal, GOAL_FIELDS[e.role], e.type_name)
+            if e.role == "goal":
+                goal.servers.append(e.node)
+        elif e.role == "srv":
             row = services.setdefault(e.key, ServiceRow(key=e.key, type=e.type_name, servers=[]))
             row.servers.append(e.node)
         else:
@@ -141,6 +159,7 @@ def build_graph(keys: list[str], now_ns: int) -> Graph:
         topics=list(topics.values()),
         services=list(services.values()),
         domains=sorted(domains),
+        goals=list(goals.values()),
     )
 
 

@@ -17,6 +17,7 @@ import contextlib
 import queue
 import time
 from collections.abc import Callable, Iterator
+from typing import Any
 
 import msgspec
 import zenoh
@@ -119,7 +120,12 @@ def router_lost_soon(session: zenoh.Session, lasted: float) -> bool:
 
 
 def replies(
-    session: zenoh.Session, key: str, request: Message | bytes, timeout: float, everyone: bool = False
+    session: zenoh.Session,
+    key: str,
+    request: Message | bytes,
+    timeout: float,
+    everyone: bool = False,
+    attachment: bytes | None = None,
 ) -> Iterator[Message | Raw]:
     """Send ``request`` to the queryable(s) at ``key``; yield each reply, decoded, as it arrives.
 
@@ -127,7 +133,8 @@ def replies(
     before its answer; ``everyone`` asks every matching queryable, not just one.
     Raises NobodyServes (Unreachable) if nobody serves ``key``, RouterLost
     (Unreachable) if the router goes away, NoAnswer (Failed) when ``timeout`` s pass
-    before the replies end, BadInput if the service rejects the request.
+    before the replies end, BadInput if the service rejects the request.  ``attachment``:
+    bytes the query carries beside the request (a goal's caller id).
     """
     require("call", key)
     inbox: queue.SimpleQueue[zenoh.Reply | None] = queue.SimpleQueue()
@@ -145,6 +152,7 @@ def replies(
         consolidation=zenoh.ConsolidationMode.NONE,
         target=zenoh.QueryTarget.ALL if everyone else zenoh.QueryTarget.BEST_MATCHING,
         timeout=timeout + ZENOH_GRACE,
+        attachment=attachment,
     )
     answered = False
     while True:
@@ -207,11 +215,15 @@ def is_goal_service(key: str) -> bool:
 CANCEL_WAIT = 2.0  # s for navigate_to/cancel to confirm the cancel of a goal given up on
 
 
-def cancel_goal(session: zenoh.Session, key: str) -> Ack | str:
+def cancel_goal(session: zenoh.Session, key: str, generic: bool = False) -> Ack | str:
     """Ask the ``navigate_to/cancel`` beside ``key`` (``lab1/navigate_to/cancel`` in domain lab1,
-    ``turtle2/navigate_to/cancel`` in namespace turtle2) to stop the running goal: its Ack, or
-    why nobody confirmed within CANCEL_WAIT s (nothing serves it, an error, silence)."""
-    cancel_key = f"{key}/cancel" if key.endswith(NAVIGATE_TO) else domain_prefix(key) + CANCEL
+    ``turtle2/navigate_to/cancel`` in namespace turtle2), or any goal service's ``KEY/cancel``
+    (``generic``), to stop the running goal: its Ack, or why nobody confirmed within
+    CANCEL_WAIT s (nothing serves it, an error, silence)."""
+    if generic or key.endswith(NAVIGATE_TO):
+        cancel_key = f"{key}/cancel"
+    else:
+        cancel_key = domain_prefix(key) + CANCEL
     try:
         for reply in replies(session, cancel_key, Cancel(), CANCEL_WAIT):
             if isinstance(reply, Ack):
@@ -241,37 +253,48 @@ def given_up(why: str, answer: Ack | str, interrupted: bool) -> TurtlectlError:
     return Interrupted(lead + said) if interrupted else Failed(lead + said)
 
 
+def is_navigate_result(message: Message | Raw) -> bool:
+    return isinstance(message, NavigateToResponse)
+
+
 def run_goal(
     session: zenoh.Session,
     key: str,
-    goal: NavigateToRequest,
+    goal: Message,
     timeout: float,
-    on_feedback: Callable[[NavigateToFeedback], None] | None = None,
-) -> NavigateToResponse:
-    """Send a goal and wait for its NavigateToResponse, handing each feedback to
-    ``on_feedback`` as it arrives, while holding a client token (released when this ends,
-    however it ends: the navigator then cancels a goal still running).
+    on_feedback: Callable[[Any], None] | None = None,
+    is_result: Callable[[Message | Raw], bool] = is_navigate_result,
+) -> Any:
+    """Send a goal to the goal service ``key`` (``navigate_to``, or any: runtime.goals' wire)
+    and wait for its result (what ``is_result`` says is one: a NavigateToResponse by default),
+    handing each feedback to ``on_feedback`` as it arrives, while holding a client token
+    (released when this ends, however it ends: the server then ends a goal still running).
+    The token is named in the goal's ``client`` field when its type has one, else in the
+    query's attachment.
 
     A goal given up on before its response (``timeout`` s, or Ctrl-C anywhere in here,
     ``on_feedback`` included) is canceled through ``navigate_to/cancel`` and the answer
     checked (``given_up``).  Raises Failed if the navigator stops answering; RouterLost if
     the router goes away."""
+    generic = not key.endswith(NAVIGATE_TO)
     with caller_token(session, key) as client_id:
-        request = msgspec.structs.replace(goal, client=goal.client or client_id)
+        request = goal
+        if "client" in type(goal).__struct_fields__ and not getattr(goal, "client", ""):
+            request = msgspec.structs.replace(goal, client=client_id)  # type: ignore[call-arg]
         try:
-            for message in replies(session, key, request, timeout):
-                if isinstance(message, NavigateToResponse):
+            for message in replies(session, key, request, timeout, attachment=client_id.encode()):
+                if is_result(message):
                     return message
-                if isinstance(message, NavigateToFeedback) and on_feedback is not None:
+                if on_feedback is not None:
                     on_feedback(message)
         except NoAnswer as exc:
             why = f"the goal did not end within --timeout {timeout:g} s" if exc.answered else exc.message
             with sigint_deferred():  # bounded (CANCEL_WAIT): a Ctrl-C must not skip the check
-                answer = cancel_goal(session, key)
+                answer = cancel_goal(session, key, generic)
             raise given_up(why, answer, interrupted=False) from None
         except KeyboardInterrupt:
             with sigint_deferred():
-                answer = cancel_goal(session, key)
+                answer = cancel_goal(session, key, generic)
             raise given_up("interrupted", answer, interrupted=True) from None
         except RouterLost:
             raise RouterLost("lost the router before the goal ended (did `turtlectl launch` stop?)") from None

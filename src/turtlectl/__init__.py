@@ -9,8 +9,9 @@ The public API, the only names a user's code needs (typed; ``py.typed``)::
     from turtlectl import Client                  # a running system from a script (goto, topics, ...)
     from turtlectl import Error                   # what goes wrong; .exit_code is the command line's
 
-``Publisher``, ``Latest``, ``Request``, ``Timer`` and ``Declaration`` are what a node's
-declarations return, ``Subscription`` what a client's ``subscribe`` returns (each can be
+``Publisher``, ``Latest``, ``Request``, ``Timer``, ``Declaration``, ``GoalServer`` (its running
+goal a ``GoalHandle``) and ``GoalClient`` are what a node's declarations return; ``Future`` what
+``Node.call`` returns (``GoalFuture``: a goal's result; ``GoalFailed``: a goal without one), ``Subscription`` what a client's ``subscribe`` returns (each can be
 undeclared).  ``Error``'s subclasses: ``BadInput`` (exit 2), ``Unreachable`` (3),
 ``Failed`` (1), ``Interrupted`` (130), ``CancelUnconfirmed`` (5), ``CannotStart`` (4).  Everything else (``turtlectl.cli``,
 ``turtlectl.runtime``, ``turtlectl.nodes``, ``turtlectl.sim``) is private: it may change
@@ -46,6 +47,9 @@ if TYPE_CHECKING:
     from turtlectl.messages.types import Message
     from turtlectl.runtime.config import Claim, Interface
     from turtlectl.runtime.entities import Latest, Publisher, Request, Timer
+    from turtlectl.runtime.futures import Future
+    from turtlectl.runtime.goal_client import GoalClient, GoalFailed, GoalFuture
+    from turtlectl.runtime.goals import GoalHandle, GoalServer
     from turtlectl.runtime.handles import Declaration
     from turtlectl.runtime.lifecycle import run_main
     from turtlectl.runtime.node import Node
@@ -59,6 +63,12 @@ __all__ = [
     "Declaration",
     "Error",
     "Failed",
+    "Future",
+    "GoalClient",
+    "GoalFailed",
+    "GoalFuture",
+    "GoalHandle",
+    "GoalServer",
     "Interface",
     "Interrupted",
     "Latest",
@@ -84,6 +94,12 @@ _HOME = {
     "Unreachable": "turtlectl.cli.errors",
     "Claim": "turtlectl.runtime.config",
     "Declaration": "turtlectl.runtime.handles",
+    "Future": "turtlectl.runtime.futures",
+    "GoalClient": "turtlectl.runtime.goal_client",
+    "GoalFailed": "turtlectl.runtime.goal_client",
+    "GoalFuture": "turtlectl.runtime.goal_client",
+    "GoalHandle": "turtlectl.runtime.goals",
+    "GoalServer": "turtlectl.runtime.goals",
     "Interface": "turtlectl.runtime.config",
     "Latest": "turtlectl.runtime.entities",
     "Message": "turtlectl.messages.types",

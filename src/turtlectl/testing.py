@@ -9,7 +9,8 @@ its nodes (docs/how-to/test-your-system.md):
   ``turtlectl_launch`` marker's file, else the ini option ``turtlectl_launch``, else
   ``launch.toml`` in the rootdir) and ``turtlectl_launch`` (a factory for more systems).
 * ``FakeNode(NodeClass, params)``: your node class without Zenoh: deliver messages and
-  requests, advance a fake clock so timers fire, read what it published and answered.
+  requests, advance a fake clock so timers fire, read what it published and answered;
+  ``send_goal`` gives a goal server a goal (a ``FakeGoal``: its feedback, result, cancel).
 * ``unstamped(msg)``: a published message with its ``stamp`` and ``seq`` (filled in by the
   publisher) at 0, to compare with one built by hand: ``unstamped(m) == Twist(linear=1.0)``.
 """
@@ -22,11 +23,12 @@ from turtlectl import _lazy
 
 if TYPE_CHECKING:
     from turtlectl.cli.system.launched import LaunchedSystem, StartFailed
-    from turtlectl.runtime.fake import FakeNode, unstamped
+    from turtlectl.runtime.fake import FakeGoal, FakeNode, unstamped
 
-__all__ = ["FakeNode", "LaunchedSystem", "StartFailed", "unstamped"]
+__all__ = ["FakeGoal", "FakeNode", "LaunchedSystem", "StartFailed", "unstamped"]
 
 _HOME = {
+    "FakeGoal": "turtlectl.runtime.fake",
     "FakeNode": "turtlectl.runtime.fake",
     "LaunchedSystem": "turtlectl.cli.system.launched",
     "StartFailed": "turtlectl.cli.system.launched",

@@ -29,6 +29,8 @@ PURE = [
     "runtime.params",
     "runtime.exitcodes",
     "runtime.handles",
+    "runtime.futures",
+    "runtime.goal_reasons",
     "runtime.loader",
     "runtime.roles",
     "sim.kinematics",

@@ -10,7 +10,7 @@ import msgspec
 import numpy as np
 import pytest
 
-from turtlectl.messages import Ack, GoalState, LaserScan, NavigateToRequest, Pose, TurtleStatus, Twist
+from turtlectl.messages import GoalState, LaserScan, NavigateToRequest, Pose, TurtleStatus, Twist
 from turtlectl.messages.world import Limits, Obstacle, World
 from turtlectl.nodes.goal_machine import GoalMachine, Note, Reply
 from turtlectl.nodes.params import NavigatorParams
@@ -66,10 +66,21 @@ def only_reply(actions) -> Reply:
     return reply
 
 
+def submit(m: GoalMachine[str], request: NavigateToRequest, caller: str = "caller", now: float = 0.0) -> list:
+    """A goal as the goal server (runtime.goals, tested in tests/unit/runtime/test_goals.py)
+    hands it to the navigator: the machine's refusal is its only answer, else the running goal
+    ends "preempted" and the new one starts."""
+    refused = m.refusal(request)
+    if refused is not None:
+        response, note = refused
+        return [note, Reply(caller, response)]
+    return m.end("preempted", now) + m.start(request, caller, now)
+
+
 def running(m: GoalMachine[str], now: float = 0.0, request=None, caller="caller") -> list:
     """Start a goal from (2, 5) facing it, with a pose known."""
     m.pose(pose(), now)
-    actions = m.start(request or goal(), caller, now)
+    actions = submit(m, request or goal(), caller, now)
     assert m.goal is not None, actions
     return actions
 
@@ -78,7 +89,7 @@ def running(m: GoalMachine[str], now: float = 0.0, request=None, caller="caller"
 def test_a_goal_is_accepted_and_driven_at_once_from_the_latest_pose():
     m = machine()
     m.pose(pose(), 0.0)
-    actions = m.start(goal(), "caller", 0.0)
+    actions = submit(m, goal(), "caller", 0.0)
     assert m.goal is not None and m.goal.caller == "caller" and m.goal.start == 0.0
     assert notes(actions) == [
         "goal (8.000, 5.000, 0.0 deg)",
@@ -90,7 +101,7 @@ def test_a_goal_is_accepted_and_driven_at_once_from_the_latest_pose():
 
 def test_a_goal_without_a_pose_waits_for_one():
     m = machine()
-    actions = m.start(goal(), "caller", 0.0)
+    actions = submit(m, goal(), "caller", 0.0)
     assert m.goal is not None and twists(actions) == []
     assert m.feedback(0.1) is None  # nothing to say without a pose
     assert twists(m.pose(pose(), 0.1))[0].linear > 0.0
@@ -100,7 +111,7 @@ def test_with_a_recent_scan_no_warning_at_the_start():
     m = machine()
     m.pose(pose(), 0.0)
     m.scan(scan(False, pose()), 0.0)
-    assert notes(m.start(goal(), "caller", 0.5)) == ["goal (8.000, 5.000, 0.0 deg)"]
+    assert notes(submit(m, goal(), "caller", 0.5)) == ["goal (8.000, 5.000, 0.0 deg)"]
 
 
 @pytest.mark.parametrize(
@@ -113,7 +124,7 @@ def test_with_a_recent_scan_no_warning_at_the_start():
 )
 def test_an_invalid_goal_is_refused_at_once(request_, starts):
     m = machine()
-    actions = m.start(request_, "caller", 3.0)
+    actions = submit(m, request_, "caller", 3.0)
     reply = only_reply(actions)
     assert reply.to == "caller" and reply.response.refused and not reply.response.success
     assert reply.response.time_taken == 0.0
@@ -127,7 +138,7 @@ def test_a_goal_walled_in_by_declared_obstacles_is_refused_with_the_pose():
     ring = [Obstacle(x=8.0 + 1.2 * math.cos(a), y=5.0 + 1.2 * math.sin(a), radius=0.3) for a in range(0, 7)]
     m = machine(World(size=11.0, obstacles=ring))
     m.pose(pose(theta=math.pi / 2), 0.0)
-    reply = only_reply(m.start(goal(), "caller", 0.0))
+    reply = only_reply(submit(m, goal(), "caller", 0.0))
     assert reply.response.refused and reply.response.reason == "unreachable"
     assert reply.response.detail.startswith("no way from (2.00, 5.00)")
     assert reply.response.detail.endswith("the goal is walled in by obstacles")
@@ -140,7 +151,7 @@ def test_a_turtle_walled_in_is_told_so_not_that_the_goal_is():
     ring = [Obstacle(x=2.0 + 1.2 * math.cos(a), y=5.0 + 1.2 * math.sin(a), radius=0.3) for a in range(0, 7)]
     m = machine(World(size=11.0, obstacles=ring))
     m.pose(pose(), 0.0)  # (2, 5): the ring's centre
-    reason = only_reply(m.start(goal(), "caller", 0.0)).response.detail
+    reason = only_reply(submit(m, goal(), "caller", 0.0)).response.detail
     assert reason.endswith("the turtle is walled in by obstacles"), reason
     assert "the goal is" not in reason
 
@@ -153,14 +164,14 @@ def test_a_pocket_between_an_obstacle_and_a_corner_is_told_as_walling_in_what_is
     walled in": the pocket holds a corner of the world, which counted as reaching out."""
     m = machine(World(size=11.0, obstacles=[Obstacle(x=1.0, y=1.0, radius=0.6)]))
     m.pose(pose(*turtle), 0.0)
-    reason = only_reply(m.start(goal(*target), "caller", 0.0)).response.detail
+    reason = only_reply(submit(m, goal(*target), "caller", 0.0)).response.detail
     assert reason.endswith(f"the {walled} is walled in by obstacles"), reason
 
 
 def test_a_goal_behind_a_declared_obstacle_gets_a_path_round_it():
     m = machine(World(size=11.0, obstacles=[Obstacle(x=5.0, y=5.0, radius=0.5)]))
     running(m)
-    fb = m.feedback(0.0)[1]
+    fb = m.feedback(0.0)
     assert len(fb.path) > 3 and fb.path[0] == pytest.approx((2.0, 5.0)) and fb.path[-1] == pytest.approx((8.0, 5.0))
     assert max(abs(y - 5.0) for _, y in fb.path) >= 0.95 - 1e-9  # round it, 0.45 m clear of it
     assert fb.distance_remaining > 6.0 and fb.replans == 0
@@ -170,7 +181,7 @@ def test_battery_low_refuses_and_a_refusal_leaves_the_running_goal_alone():
     m = machine()
     running(m)
     m.status(TurtleStatus(x=2, y=5, theta=0, vel_x=0, vel_y=0, battery=3.0))
-    actions = m.start(goal(x=3.0), "second", 1.0)
+    actions = submit(m, goal(x=3.0), "second", 1.0)
     reply = only_reply(actions)
     assert reply.to == "second" and reply.response.reason == "battery low"
     assert reply.response.detail == (
@@ -184,7 +195,7 @@ def test_the_goal_heading_is_reduced_in_degrees():
     m = machine()
     running(m, request=goal(theta=1e16))
     assert m.goal.theta_deg == pytest.approx(280.0)
-    _, fb = m.feedback(0.0)
+    fb = m.feedback(0.0)
     assert fb.goal_theta == pytest.approx(280.0)
 
 
@@ -264,7 +275,7 @@ def test_closed_loop_with_a_late_command_rests_within_the_tolerances_where_it_sa
     m = machine()
     now, outcome, pending = 0.0, None, [Twist()]
     s = TurtleState(x=7.99, y=5.0, theta=math.radians(40.0), w=-LIMITS.max_angular_speed)
-    m.start(goal(x=8.0, theta=0.0), "caller", now)
+    submit(m, goal(x=8.0, theta=0.0), "caller", now)
     for _ in range(2000):
         pose = Pose(x=s.x, y=s.y, theta=s.theta, linear_velocity=s.v, angular_velocity=s.w)
         actions = m.pose(pose, now) if m.goal is not None else []
@@ -286,7 +297,7 @@ def test_closed_loop_with_a_late_command_rests_within_the_tolerances_where_it_sa
 def test_a_goal_where_the_turtle_stands_is_reached_on_start():
     m = machine()
     m.pose(pose(x=8.0), 0.0)
-    actions = m.start(goal(), "caller", 0.0)
+    actions = submit(m, goal(), "caller", 0.0)
     assert only_reply(actions).response.success and m.goal is None
 
 
@@ -294,12 +305,12 @@ def test_closed_loop_on_the_kinematics_reaches_the_goal_turning_then_driving():
     """The machine against the simulator's kinematics, a pose every 16 ms of fake time."""
     m = machine()
     s, now = TurtleState(x=2.0, y=5.0, theta=math.pi), 0.0
-    m.start(goal(theta=90.0), "caller", now)
+    submit(m, goal(theta=90.0), "caller", now)
     states, outcome = [], None
     while outcome is None and now < 5.0:
         actions = m.pose(Pose(x=s.x, y=s.y, theta=s.theta), now)
         if m.goal is not None:
-            states.append(m.feedback(now)[1].state)
+            states.append(m.feedback(now).state)
         outcome = next(iter(replies(actions)), None)
         cmd = twists(actions)[-1]
         v, w = effective_command(cmd.linear, cmd.angular, 0.0, LIMITS)
@@ -315,7 +326,7 @@ def test_closed_loop_on_the_kinematics_reaches_the_goal_turning_then_driving():
 def test_a_new_goal_preempts_the_running_one():
     m = machine()
     running(m, caller="first")
-    actions = m.start(goal(x=3.0, y=3.0, theta=-180.0), "second", 2.0)
+    actions = submit(m, goal(x=3.0, y=3.0, theta=-180.0), "second", 2.0)
     old = only_reply(actions)
     assert old.to == "first" and old.response.reason == "preempted" and old.response.time_taken == 2.0
     assert old.response.detail == "a new goal replaced it"
@@ -329,11 +340,10 @@ def test_a_new_goal_preempts_the_running_one():
     ]
 
 
-def test_cancel_ends_the_goal_and_acknowledges():
+def test_a_goal_ended_canceled_stops_then_answers():
     m = machine()
     running(m)
-    ack, actions = m.cancel("", 1.5)
-    assert ack == Ack(detail="canceled the goal (8, 5, 0 deg)")
+    actions = m.end("canceled", 1.5)
     assert actions[0] == Twist()
     reply = only_reply(actions)
     assert reply.response.reason == "canceled" and reply.response.detail == "" and reply.response.time_taken == 1.5
@@ -341,51 +351,41 @@ def test_cancel_ends_the_goal_and_acknowledges():
     assert m.goal is None
 
 
-def test_cancel_without_a_goal_says_so():
-    ack, actions = machine().cancel("", 0.0)
-    assert ack == Ack(ok=False, detail="no goal is running") and actions == []
+def test_ending_without_a_goal_does_nothing():
+    assert machine().end("canceled", 0.0) == []
 
 
 @pytest.mark.parametrize("how", ["teleported", "reset"])
 def test_teleport_and_reset_cancel_with_their_reason(how):
     m = machine()
     running(m)
-    ack, actions = m.cancel(how, 1.0)
-    assert ack.ok
-    reply = only_reply(actions)
+    reply = only_reply(m.end(how, 1.0))
     assert reply.response.reason == how and reply.response.detail == f"the turtle was {how} while it drove"
 
 
-def test_a_caller_that_goes_away_has_its_goal_canceled():
+def test_a_caller_that_goes_away_is_told_in_the_answer():
     m = machine()
     running(m, request=goal(client="abc"))
-    assert m.caller_gone("@turtlectl/client/other", 1.0) == []
-    actions = m.caller_gone("@turtlectl/client/abc", 1.0)
+    actions = m.end("caller gone", 1.0)
     reply = only_reply(actions)
     assert reply.response.reason == "caller gone"
     assert reply.response.detail == "its caller went away: Ctrl-C, killed, or its own --timeout"
     assert actions[0] == Twist() and m.goal is None
 
 
-def test_a_goal_without_a_client_is_not_tied_to_any_token():
-    m = machine()
-    running(m)
-    assert m.caller_gone("@turtlectl/client/", 1.0) == [] and m.goal is not None
-
-
 def test_shutdown_ends_the_goal_and_stops_the_turtle():
     m = machine()
     running(m)
-    actions = m.shutdown(0.2)
+    actions = m.end("shut down", 0.2)
     assert actions[0] == Twist()
     assert only_reply(actions).response.reason == "navigator shut down"
-    assert machine().shutdown(0.0) == []
+    assert machine().end("shut down", 0.0) == []
 
 
 # -- no pose, timeout ---------------------------------------------------------
 def test_no_pose_for_pose_timeout_ends_the_goal():
     m = machine()
-    m.start(goal(), "caller", 10.0)
+    submit(m, goal(), "caller", 10.0)
     assert m.tick(10.5) == []  # pose_timeout 0.5 s, counted from the start
     actions = m.tick(10.51)
     reply = only_reply(actions)
@@ -416,16 +416,15 @@ def test_a_pose_heard_but_not_yet_stepped_keeps_the_goal_alive():
     assert only_reply(m.tick(1.36)).response.reason == "no pose"  # 0.5 s after it, nothing more: silent
 
 
-def test_goal_timeout():
+def test_goal_timeout_is_the_servers_deadline_and_the_answer_says_it():
     m = machine(goal_timeout=2.0)
     running(m)
     t = 0.0
-    while t < 2.0:  # poses keep coming, the turtle never gets there
+    while t < 3.0:  # poses keep coming, the turtle never gets there: the watchdog does not end it
         t = round(t + 0.05, 2)
         m.pose(pose(), t)
         assert m.tick(t) == []
-    actions = m.tick(2.01)
-    reply = only_reply(actions)
+    reply = only_reply(m.end("timeout", 2.01))
     assert reply.response.reason == "timeout" and reply.response.time_taken == 2.01
     assert reply.response.detail == "not there after the navigator's goal_timeout of 2 s"
 
@@ -464,11 +463,11 @@ def walled_in():
 def test_something_seen_on_the_way_is_planned_round():
     m = machine()
     running(m)
-    assert m.feedback(0.0)[1].path == [pytest.approx((2.0, 5.0)), pytest.approx((8.0, 5.0))]
+    assert m.feedback(0.0).path == [pytest.approx((2.0, 5.0)), pytest.approx((8.0, 5.0))]
     actions = m.scan(one_hit(2.0), 0.0)  # something at (4, 5), on the straight way
     (note,) = notes(actions)
     assert note.startswith("planned again (something the scan sees at (4.0") and note.endswith("m to go")
-    fb = m.feedback(0.1)[1]
+    fb = m.feedback(0.1)
     assert fb.replans == 1 and max(abs(y - 5.0) for _, y in fb.path) > 0.45
     cmd = twists(m.pose(pose(), 0.1))[0]
     assert cmd.linear > 0.0 and m.goal.state is GoalState.DRIVING  # off it goes, round it
@@ -478,14 +477,14 @@ def test_something_seen_on_the_way_is_planned_round():
 def test_a_scan_that_sees_nothing_in_the_way_changes_nothing():
     m = machine()
     running(m)
-    assert m.scan(scan(False, pose()), 0.0) == [] and m.feedback(0.0)[1].replans == 0
+    assert m.scan(scan(False, pose()), 0.0) == [] and m.feedback(0.0).replans == 0
 
 
 def test_walled_in_by_what_the_scan_sees_it_stops_and_replans_with_each_scan():
     m, actions = walled_in()
     assert notes(actions) == ["no way round what the scan sees: waiting, planning again with each scan"]
     assert {(a.linear, a.angular) for a in twists(actions)} == {(0.0, 0.0)} and replies(actions) == []
-    fb = m.feedback(0.1)[1]
+    fb = m.feedback(0.1)
     assert fb.state is GoalState.REPLANNING and fb.path == []
 
 
@@ -575,7 +574,7 @@ def _drive(m: GoalMachine[str], start: TurtleState, world: World, until: float =
 def test_a_turtle_within_an_obstacles_margin_finds_its_way_out_and_round():
     world = World(size=11.0, obstacles=[Obstacle(x=2.4, y=5.0, radius=0.1)])
     m = machine(world)
-    m.start(goal(), "caller", 0.0)  # no pose yet: nothing to judge the way from
+    submit(m, goal(), "caller", 0.0)  # no pose yet: nothing to judge the way from
     outcome, states = _drive(m, TurtleState(x=2.0, y=5.0, theta=0.0), world)
     assert outcome is not None and outcome.response.success, outcome
     assert min(math.hypot(s.x - 2.4, s.y - 5.0) for s in states) > 0.4 - 0.03  # never nearer than it started
@@ -584,7 +583,7 @@ def test_a_turtle_within_an_obstacles_margin_finds_its_way_out_and_round():
 def test_round_a_declared_obstacle_in_one_go_and_exactly_there():
     world = World(size=11.0, obstacles=[Obstacle(x=5.0, y=5.0, radius=0.5)])
     m = machine(world)
-    m.start(goal(theta=90.0), "caller", 0.0)
+    submit(m, goal(theta=90.0), "caller", 0.0)
     outcome, states = _drive(m, TurtleState(x=2.0, y=5.0, theta=0.0), world)
     assert outcome is not None and outcome.response.success, outcome
     assert outcome.response.position_error <= PARAMS.position_tolerance
@@ -609,11 +608,11 @@ def test_a_stale_scan_is_forgotten_and_the_feedback_says_so():
     # review of issue 9: the first scan said "scans are back" though nothing had said they stopped
     assert notes(m.tick(0.05)) == []
     assert m.tick(0.1) == []
-    assert m.feedback(1.0)[1].scan_stale is False
+    assert m.feedback(1.0).scan_stale is False
     actions = m.pose(pose(), 1.01)  # only the declared obstacles now: none
     assert notes(actions) == ["planned again (a way is open): 6.00 m to go", "way clear: resuming"]
     assert m.goal.state is GoalState.DRIVING
-    assert m.feedback(1.01)[1].scan_stale is True
+    assert m.feedback(1.01).scan_stale is True
     assert notes(m.tick(1.05)) == ["scans stopped: avoiding only the declared obstacles of the world"]
     assert notes(m.tick(1.10)) == []  # said once
     m.scan(scan(False, pose()), 1.2)
@@ -649,8 +648,7 @@ def test_feedback_tells_the_caller_how_it_goes():
     m = machine()
     running(m, now=1.0, request=goal(theta=-90.0), caller="me")
     m.pose(pose(x=4.0, theta=math.pi / 2), 1.4)
-    caller, fb = m.feedback(1.5)
-    assert caller == "me"
+    fb = m.feedback(1.5)
     assert fb.distance_remaining == pytest.approx(4.0) and fb.elapsed == pytest.approx(0.5)
     assert (fb.x, fb.y, fb.theta) == pytest.approx((4.0, 5.0, 90.0))
     assert (fb.goal_x, fb.goal_y, fb.goal_theta) == (8.0, 5.0, 270.0)
@@ -661,7 +659,7 @@ def test_feedback_tells_the_caller_how_it_goes():
 def test_log_levels_say_success_and_trouble():
     m = machine()
     running(m)
-    ack, actions = m.cancel("", 1.0)
+    actions = m.end("canceled", 1.0)
     assert [a.level for a in actions if isinstance(a, Note)] == [logging.WARNING]
     running(m)
     m.pose(pose(x=8.0), 1.9)  # there: stopped
@@ -671,7 +669,7 @@ def test_log_levels_say_success_and_trouble():
 def test_no_scan_yet_is_not_scans_stopping_and_the_first_scan_is_not_scans_coming_back():
     m = GoalMachine(NavigatorParams(goal_timeout=100.0), WORLD, LIMITS)
     m.pose(pose(), 0.0)
-    m.start(NavigateToRequest(x=9.0, y=5.0, theta=0.0), "caller", 0.0)
+    submit(m, NavigateToRequest(x=9.0, y=5.0, theta=0.0), "caller", 0.0)
     for t in (0.05, 3.0):  # no scan ever: the goal's start said so once, the watchdog says nothing
         m.pose(pose(), t)
         assert notes(m.tick(t)) == []
@@ -716,7 +714,7 @@ def test_a_goal_walled_in_by_what_only_the_scan_sees_ends_blocked_not_timeout():
     seen = World(size=11.088889, obstacles=ring)
     m = machine(World(size=11.088889), blocked_timeout=5.0, goal_timeout=30.0)
     m.pose(Pose(x=5.5, y=5.0, theta=math.pi / 2), 0.0)
-    m.start(goal(x=5.5, y=8.8, theta=90.0), "caller", 0.0)
+    submit(m, goal(x=5.5, y=8.8, theta=90.0), "caller", 0.0)
     outcome, states = _drive_with_scans(m, TurtleState(x=5.5, y=5.0, theta=math.pi / 2), seen, 31.0)
     assert outcome is not None and outcome.response.reason == "blocked", outcome
     gaps = [min(math.hypot(s.x - o.x, s.y - o.y) - o.radius for o in ring) for s in states]
@@ -736,7 +734,7 @@ def test_an_undeclared_obstacle_near_a_wall_is_passed_on_the_open_side_at_a_safe
     seen = World(size=11.088889, obstacles=[rock])
     m = machine(World(size=11.088889), goal_timeout=30.0)
     m.pose(Pose(x=start_x, y=start_y, theta=0.0), 0.0)
-    m.start(goal(x=8.0, y=start_y, theta=0.0), "caller", 0.0)
+    submit(m, goal(x=8.0, y=start_y, theta=0.0), "caller", 0.0)
     outcome, states = _drive_with_scans(m, TurtleState(x=start_x, y=start_y, theta=0.0), seen, 31.0)
     assert outcome is not None and outcome.response.success, outcome
     gap = min(math.hypot(s.x - rock.x, s.y - rock.y) - rock.radius for s in states)
@@ -751,7 +749,7 @@ def test_a_goal_just_beyond_the_margin_of_something_only_the_scan_sees_is_reache
     rock = Obstacle(x=5.5, y=rock_y, radius=0.4)
     m = machine(World(size=11.088889), goal_timeout=30.0)
     m.pose(Pose(x=5.5, y=5.0, theta=math.pi / 2), 0.0)
-    m.start(goal(x=5.5, y=goal_y, theta=90.0), "caller", 0.0)
+    submit(m, goal(x=5.5, y=goal_y, theta=90.0), "caller", 0.0)
     outcome, states = _drive_with_scans(
         m, TurtleState(x=5.5, y=5.0, theta=math.pi / 2), World(size=11.088889, obstacles=[rock]), 31.0
     )
@@ -765,10 +763,10 @@ def test_a_goal_canceled_by_teleop_says_the_keyboard_took_over():
     """Issue 13: `turtlectl teleop` cancels a running goal with reason "teleop"."""
     m = machine()
     m.pose(pose(x=2.0), 0.0)
-    m.start(NavigateToRequest(x=8.0, y=5.0, theta=0.0), "caller", 0.0)
-    ack, actions = m.cancel("teleop", 0.1)
+    submit(m, NavigateToRequest(x=8.0, y=5.0, theta=0.0), "caller", 0.0)
+    actions = m.end("teleop", 0.1)
     reply = next(a for a in actions if isinstance(a, Reply))
-    assert ack.ok and (reply.response.reason, reply.response.detail) == (
+    assert (reply.response.reason, reply.response.detail) == (
         "teleop",
         "the keyboard took over (turtlectl teleop)",
     )

@@ -1,0 +1,79 @@
+"""Goal services from the command line, as ``ros2 action``: list them with their types, and
+send a goal to any of them (runtime.goals' wire).  Nothing here prints."""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from typing import Any
+
+from turtlectl.cli.errors import Unreachable
+from turtlectl.cli.tools import build
+from turtlectl.cli.tools.client import check_key
+from turtlectl.cli.tools.graph import GoalRow
+from turtlectl.cli.tools.services import Raw, run_goal, service_session
+from turtlectl.cli.tools.topics import graph, live_graph
+from turtlectl.cli.tools.typebook import TypeBook
+from turtlectl.messages import Message
+from turtlectl.messages.codec import type_name
+
+NO_LIMIT = 24 * 3600.0  # s: the server's own timeout decides
+
+
+def goal_services(connect: str) -> list[GoalRow]:
+    """Every goal service running now, by key."""
+    return graph(connect).goals
+
+
+def goal_service(connect: str, key: str) -> GoalRow:
+    """The goal service ``key``; Unreachable naming those that run when it does not."""
+    key = check_key(key)
+    rows = goal_services(connect)
+    for row in rows:
+        if row.key == key:
+            return row
+    running = ", ".join(r.key for r in rows) or "none"
+    raise Unreachable(f"no goal service {key} is running (running: {running})")
+
+
+def rows_text(rows: list[GoalRow]) -> str:
+    """One line per goal service: its key and its three types."""
+    if not rows:
+        return "no goal services"
+    width = max(len(r.key) for r in rows)
+    return "\n".join(f"{r.key.ljust(width)}  [{r.goal} -> {r.feedback} -> {r.result}]" for r in rows)
+
+
+def row_text(row: GoalRow) -> str:
+    """``action info``: the key, who serves it, its types."""
+    return "\n".join(
+        [
+            f"Goal service: {row.key}",
+            f"Servers: {', '.join(row.servers)}",
+            f"Goal: {row.goal}",
+            f"Feedback: {row.feedback}",
+            f"Result: {row.result}",
+            f"Cancel: {row.key}/cancel (Cancel -> Ack); feedback for observers: {row.key}/feedback",
+        ]
+    )
+
+
+def send_goal(
+    connect: str, key: str, text: str, timeout: float | None, on_feedback: Callable[[Any], None] | None
+) -> Message | Raw:
+    """Send the goal ``text`` (JSON) to the goal service ``key`` and wait for its result, feedback
+    handed to ``on_feedback``; a --timeout or Ctrl-C cancels it and checks the Ack (services.run_goal)."""
+    key = check_key(key)
+    with service_session(connect) as session:
+        row = next((r for r in live_graph(session).goals if r.key == key), None)
+        if row is None:
+            raise Unreachable(f"no goal service {key} is running (`turtlectl action list` lists them)")
+        TypeBook(session).learn_all()  # a user's types, as the nodes describe them
+        goal = build.message_from_json(text, build.type_named(row.goal))
+
+        def is_result(message: Message | Raw) -> bool:
+            return isinstance(message, Message) and type_name(type(message)) == row.result
+
+        result: Message | Raw = run_goal(
+            session, key, goal, NO_LIMIT if timeout is None else timeout, on_feedback, is_result
+        )
+        return result
