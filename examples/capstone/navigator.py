@@ -13,7 +13,15 @@ from typing import Annotated
 import msgspec
 
 from turtlectl import Interface, Node, run_main
-from turtlectl.messages import GoalState, LaserScan, NavigateToFeedback, NavigateToRequest, NavigateToResponse, Pose, Twist
+from turtlectl.messages import (
+    GoalState,
+    LaserScan,
+    NavigateToFeedback,
+    NavigateToRequest,
+    NavigateToResponse,
+    Pose,
+    Twist,
+)
 
 
 class NavigatorParams(msgspec.Struct, forbid_unknown_fields=True, kw_only=True):
