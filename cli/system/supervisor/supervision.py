@@ -215,7 +215,8 @@ class Supervision:
         elif entry.respawn and (entry.respawn_max == 0 or crashes < entry.respawn_max):
             self._crashes[name] = crashes + 1
             delay = respawn_delay(entry.respawn_delay, entry.respawn_delay_max, crashes + 1)
-            self.printer.system(f"{name} {how}; respawning in {delay:g} s (respawn {crashes + 1})")
+            tries = f", start {failures + 1} of {entry.start_tries}" if failures and entry.start_tries else ""
+            self.printer.system(f"{name} {how}; respawning in {delay:g} s (respawn {crashes + 1}{tries})")
             self._respawn_at[name] = now + delay
             if not started:
                 self._check_ready()  # its next tries do not hold back the others' ready line

@@ -528,6 +528,10 @@ def test_a_node_that_fails_while_starting_start_tries_times_in_a_row_is_not_resp
     system.stop_at(20.0)
     system.run()
     assert len(patrol.starts) == 3  # then never again, although respawn_max has no limit
+    assert [line for line in system.lines() if "respawning in" in line] == [
+        "patrol exited with code 1; respawning in 0.2 s (respawn 1, start 2 of 3)",
+        "patrol exited with code 1; respawning in 0.4 s (respawn 2, start 3 of 3)",
+    ]
     assert patrol.quiet_starts == [False, True, True]  # its output (the traceback) on the terminal once
     given_up = [line for line in system.lines() if "not respawning" in line]
     assert given_up == [
