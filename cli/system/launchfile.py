@@ -148,7 +148,7 @@ def validate(
         try:
             launch = msgspec.convert(piece.data, LaunchFile, strict=True)
         except msgspec.ValidationError as exc:
-            raise own.error(*problem(exc, LaunchFile)) from None
+            raise own.error(*problem(exc, LaunchFile, piece.data)) from None
         more, written = _flattened(launch, own, piece.namespace)
         entries, origins = entries + more, origins + written
         labels += [piece.label if files else ""] * len(more)
@@ -236,7 +236,7 @@ def validate(
         try:
             typed = msgspec.convert(entry.params, kind.params, strict=True)
         except msgspec.ValidationError as exc:
-            parts, what = problem(exc, kind.params)
+            parts, what = problem(exc, kind.params, entry.params)
             raise report.error(["node", i, "params", *parts], what) from None
         params[entry.name] = msgspec.to_builtins(typed)
 
