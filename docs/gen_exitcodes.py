@@ -30,7 +30,7 @@ MEANINGS: dict[ExitCode, str] = {
         "success: goal reached, messages printed, system stopped on request (Ctrl-C / SIGTERM); Ctrl-C on a command that runs until stopped (`echo`, `hz`, `view`, `pub --rate` without `--times`)"
     ),
     ExitCode.FAILED: (
-        "ran but did not succeed: goal refused by the navigator (invalid, battery low) or not reached (the line says why), an answer that says no (`cancel` with no goal running, `call` getting `ok: false` or `success: false`), a required node died, every node exited; on a `--secure` system, an action the client's role is not permitted. A node: its own code raised (a crash; respawned if its launch entry says so)"
+        'ran but did not succeed: goal refused by the navigator (invalid, battery low) or not reached (the line says why), an answer that says no (`cancel` with no goal running, `call` getting `ok: false` or `success: false`), a required node died, every node exited, `launch` stopped (Ctrl-C, SIGTERM) with a node that failed to start (the system was incomplete: its last line names the node, "stopped (received SIGINT; patrol never started); exit code 1"); on a `--secure` system, an action the client\'s role is not permitted. A node: its own code raised (a crash; respawned if its launch entry says so)'
     ),
     ExitCode.BAD_INPUT: (
         'bad input: arguments (NaN, text for a number, a type that is not the key\'s) or launch file (the message names the file and key path): nothing was sent or started; or a request the service rejected as invalid (a teleport into an obstacle or out of the world: "turtle1/teleport_absolute rejected the request: …"). A node: its configuration cannot be used, or it declared something outside its interface (never respawned)'

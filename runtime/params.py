@@ -145,19 +145,35 @@ def refusal(name: str, value: Any, error: str) -> str:
     what, path = validation_parts(error)
     path = path.removeprefix(".")
     where = path if path.startswith(name) else name
-    got = f" (got {msgspec.json.encode(value).decode()})" if where == name else ""
+    words = in_words(what)
+    return (
+        f"{where} {words}{got(value)}"
+        if words and where == name
+        else f"{where} {words}"
+        if words
+        else f"{where}: {what}"
+    )
+
+
+def got(value: Any) -> str:
+    """`` (got "fast")``: the value a user gave, as JSON, after what is wrong with it."""
+    return f" (got {msgspec.json.encode(value).decode()})"
+
+
+def in_words(what: str) -> str | None:
+    """msgspec's complaint about one value (without its place) in a user's words, the one
+    wording of parameters set at run time and of launch files: ``must be a number``, ``must be
+    <= 50``, ``must have at most 3 items``; None when it is none of those."""
     if bound := _BOUND.match(what):
         limit = float(bound["bound"])
-        if abs(limit) >= BIG:
-            return f"{where} must be a finite number{got}"
-        return f"{where} must be {bound['op']} {limit:g}{got}"
+        return "must be a finite number" if abs(limit) >= BIG else f"must be {bound['op']} {limit:g}"
     if length := _LENGTH.match(what):
         most = "at most" if length["op"].startswith("<") else "at least"
         items = "characters" if length["type"] == "str" else "items"
-        return f"{where} must have {most} {length['count']} {items}{got}"
+        return f"must have {most} {length['count']} {items}"
     if kind := _TYPE.match(what):
-        return f"{where} must be {_KINDS.get(kind['type'], kind['type'])}{got}"
-    return f"{where}: {what}"
+        return f"must be {_KINDS.get(kind['type'], kind['type'])}"
+    return None
 
 
 def describe(node: str, kind: str, params: msgspec.Struct, infos: list[ParamInfo] | None = None) -> ParamDescription:

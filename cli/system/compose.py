@@ -172,7 +172,7 @@ class _Composer:
         try:
             includes = msgspec.convert(includes, list[Include], strict=True)
         except msgspec.ValidationError as exc:
-            parts, what = problem(exc, list[Include])
+            parts, what = problem(exc, list[Include], includes)
             raise report.error(["include", *parts], what) from None
         if len(chain) > 1:
             _paths_from_top(data, path.parent, chain[0].parent)
@@ -234,7 +234,7 @@ class _Composer:
             try:
                 declared[name] = msgspec.convert(spec, Argument, strict=True)
             except msgspec.ValidationError as exc:
-                parts, what = problem(exc, Argument)
+                parts, what = problem(exc, Argument, spec)
                 raise report.error(["arg", name, *parts], what) from None
         names = list(declared)
         for name in given.values:

@@ -62,10 +62,11 @@ Remaps = dict[str, str]  # a key as the node's code writes it -> the key it uses
 
 
 class NodeEntry(msgspec.Struct, forbid_unknown_fields=True, kw_only=True):
-    """One process to run.  A node that exits for good (no respawn, or its respawns used up)
-    stops the system if it is required (exit code 1).  An exit with code 2 (its configuration
-    cannot be used) or 4 (another process holds what it claims) is never respawned:
-    respawning cannot help (see the exit codes)."""
+    """One process to run.  A node that exits for good (no respawn, its respawns used up, or
+    start_tries starts in a row that failed before it was ready) stops the system if it is
+    required (exit code 1).  An exit with code 2 (its configuration cannot be used) or 4
+    (another process holds what it claims) is never respawned: respawning cannot help (see the
+    exit codes)."""
 
     name: str  # -: letters, digits, _ and -; unique in its namespace (its full name, namespace/name, in the system)
     namespace: str = ""  # -: the turtle it drives, its keys' prefix, e.g. "turtle2": navigate_to is turtle2/navigate_to and turtle1/pose is turtle2/pose (in a [[group]]: the group's)
@@ -79,6 +80,7 @@ class NodeEntry(msgspec.Struct, forbid_unknown_fields=True, kw_only=True):
     respawn_delay: Delay = 1.0  # s: before the first respawn; twice as long after each crash in a row
     respawn_delay_max: Delay = 30.0  # s: the longest wait between respawns
     respawn_max: Respawns = 5  # -: respawns in a row at most (0: no limit); a run of 10 s restarts the count
+    start_tries: Respawns = 3  # -: starts in a row that may fail before it is ready (a constructor that raises, a module that cannot import), then it is not respawned (0: no limit); systemd's start limit
 
 
 class SupervisorSettings(msgspec.Struct, forbid_unknown_fields=True, kw_only=True):
@@ -146,7 +148,7 @@ def validate(
         try:
             launch = msgspec.convert(piece.data, LaunchFile, strict=True)
         except msgspec.ValidationError as exc:
-            raise own.error(*problem(exc, LaunchFile)) from None
+            raise own.error(*problem(exc, LaunchFile, piece.data)) from None
         more, written = _flattened(launch, own, piece.namespace)
         entries, origins = entries + more, origins + written
         labels += [piece.label if files else ""] * len(more)
@@ -234,7 +236,7 @@ def validate(
         try:
             typed = msgspec.convert(entry.params, kind.params, strict=True)
         except msgspec.ValidationError as exc:
-            parts, what = problem(exc, kind.params)
+            parts, what = problem(exc, kind.params, entry.params)
             raise report.error(["node", i, "params", *parts], what) from None
         params[entry.name] = msgspec.to_builtins(typed)
 

@@ -20,7 +20,7 @@ import msgspec.inspect as mi
 
 from turtlectl.cli.errors import BadInput
 from turtlectl.runtime.loader import suggestion
-from turtlectl.runtime.params import validation_parts
+from turtlectl.runtime.params import got, in_words, validation_parts
 
 
 class LaunchFileError(BadInput, ValueError):
@@ -32,6 +32,7 @@ _FIELD = re.compile(r"^Object (?P<problem>contains unknown|missing required) fie
 _PART = re.compile(r"\.([^.\[\]]+)|\[(\d+)\]")
 
 Parts = list[str | int]
+_NONE: Any = object()  # no data given to ``problem``
 
 
 def _keys_at(root: type, parts: Parts) -> list[str]:
@@ -53,8 +54,10 @@ def _keys_at(root: type, parts: Parts) -> list[str]:
     return [f.encode_name for f in info.fields] if isinstance(info, mi.StructType) else []
 
 
-def problem(exc: msgspec.ValidationError, root: Any) -> tuple[Parts, str]:
-    """Key path (below ``root``, a type) and what is wrong, from msgspec's message."""
+def problem(exc: msgspec.ValidationError, root: Any, data: Any = _NONE) -> tuple[Parts, str]:
+    """Key path (below ``root``, a type) and what is wrong, from msgspec's message; a value of the
+    wrong type or out of range in the words `param set` uses (``must be a number (got "fast")``,
+    runtime.params.in_words), with the value from ``data`` (what was validated) when given."""
     what, path = validation_parts(exc)
     parts: Parts = [m[1] if m[1] else int(m[2]) for m in _PART.finditer(path)]
     field = _FIELD.match(what)
@@ -64,7 +67,19 @@ def problem(exc: msgspec.ValidationError, root: Any) -> tuple[Parts, str]:
         else:
             what = "missing required key"
         parts.append(field["key"])
+    elif words := in_words(what):
+        what = words + _given(data, parts)
     return parts, what
+
+
+def _given(data: Any, parts: Parts) -> str:
+    """`` (got VALUE)`` for the value at ``parts`` in ``data``; "" if there is none."""
+    for part in parts:
+        try:
+            data = data[part]
+        except (KeyError, IndexError, TypeError):
+            return ""
+    return "" if data is _NONE else got(data)
 
 
 def raw_names(data: Any) -> list[str | None]:
@@ -140,12 +155,13 @@ class Report:
     def error(self, parts: Parts, what: str) -> LaunchFileError:
         where = self.where(parts)
         what += self.source(parts)
+        sep = " " if what.startswith("must ") else ": "  # a sentence: "goal_timeout must be a number"
         if self.override:
-            return LaunchFileError(f"{self.label} {where}: {what}" if where else f"{self.label}: {what}")
+            return LaunchFileError(f"{self.label} {where}{sep}{what}" if where else f"{self.label}: {what}")
         label = self.label
         if len(parts) >= 2 and parts[0] == "node" and isinstance(parts[1], int) and parts[1] < len(self.files):
             label = self.files[parts[1]] or label
-        return LaunchFileError(f"{label}: {where}: {what}" if where else f"{label}: {what}")
+        return LaunchFileError(f"{label}: {where}{sep}{what}" if where else f"{label}: {what}")
 
 
 def positional_arg_problem(file: Path | None, extra: list[str]) -> str | None:

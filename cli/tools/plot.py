@@ -79,7 +79,17 @@ def parse_series(text: str, turtle: str = "") -> Series:
 
 
 def parse_all(texts: Iterable[str], turtle: str = "") -> list[Series]:
-    """Every series typed, each once, in the order typed."""
+    """Every series typed, each once, in the order typed.  A recording typed as a series (``plot
+    run.mcap robot/status.battery`` reads as key ``run``, field ``mcap``) is BadInput saying to
+    use --input."""
+    texts = list(texts)
+    for text in texts:
+        recording = text.endswith(".mcap")
+        if recording or Path(text).is_file():
+            rest = [t for t in texts if t != text and not t.endswith(".mcap")] or ["robot/status.battery"]
+            what = "a recording" if recording else "a file"
+            how = "plot it with --input" if recording else "plot a recording with --input"
+            raise BadInput(f"{text} is {what}, not KEY.FIELD: {how}, as turtlectl plot {' '.join(rest)} --input {text}")
     return list(dict.fromkeys(parse_series(text, turtle) for text in texts))
 
 

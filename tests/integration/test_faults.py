@@ -9,6 +9,7 @@ import os
 import re
 import signal
 import subprocess
+import textwrap
 import time
 from pathlib import Path
 
@@ -342,3 +343,65 @@ def test_a_second_navigator_that_finds_navigate_to_served_is_not_respawned(syste
     ) in out
     assert "already serves navigate_to" in out
     assert "ready in" not in out, out  # the running system's navigator is not the one started here
+
+
+NEVER_STARTS = textwrap.dedent(
+    """
+    import msgspec
+
+    from turtlectl import Node
+
+
+    class PatrolParams(msgspec.Struct, forbid_unknown_fields=True, kw_only=True):
+        side: float = 2.0
+
+
+    class Patrol:
+        Params = PatrolParams
+
+        def __init__(self, node: Node[PatrolParams]):
+            raise RuntimeError("the patrol cannot start")
+    """
+)
+
+WITH_A_NODE_THAT_NEVER_STARTS = """
+[[node]]
+name = "sim"
+run = "sim"
+[[node]]
+name = "status_monitor"
+run = "status_monitor"
+[[node]]
+name = "patrol"
+run = "./patrol.py:Patrol"
+respawn = true
+"""
+
+
+def test_a_node_whose_constructor_always_raises_hits_its_start_limit_and_the_launch_says_so(tmp_path):
+    """A student's node that raised in its constructor was respawned 1+2+4+8+16 s with its
+    traceback printed six times, the launch said "3 of 4 nodes ready in 33.21 s", and Ctrl-C
+    then exited 0."""
+    (tmp_path / "patrol.py").write_text(NEVER_STARTS)
+    (tmp_path / "launch.toml").write_text(WITH_A_NODE_THAT_NEVER_STARTS)
+    began = time.monotonic()
+    with running_system(tmp_path / "launch.toml", ready=("sim", "status_monitor"), cwd=tmp_path) as system:
+        system.wait_line(r"patrol failed \d+ starts in a row", 30.0)
+        given_up_after = time.monotonic() - began
+        out = system.output()
+        error = "RuntimeError: the patrol cannot start"
+        assert out.count("Traceback") == 1, out  # its output on the terminal for the first start only
+        ready = re.search(r"2 of 3 nodes ready in (\S+) s \(since turtlectl started\); patrol never started: (.*)", out)
+        assert ready and ready[2] == error, out
+        assert float(ready[1]) < 10.0, out  # not after its respawns: the others were ready long before
+        given_up = re.search(
+            rf"patrol failed 3 starts in a row \(start_tries = 3\), each exiting before it was ready; "
+            rf"not respawning it; last: exited with code 1: {error}; full log: (\S+)$",
+            out,
+            re.MULTILINE,
+        )
+        assert given_up, out
+        assert Path(given_up[1]).read_text().count("Traceback") == 3  # every start's output is in its log
+        assert given_up_after < 20.0, out  # the old backoff took 33 s and never gave up
+        assert system.stop(signal.SIGINT) == 1
+        assert "stopped (received SIGINT; patrol never started); exit code 1" in system.all_output()

@@ -202,7 +202,7 @@ def test_run_one_node_in_the_foreground_with_overrides(tmp_path):
     only_sim.write_text('[[node]]\nname = "sim"\nrun = "sim"\n')
     with running_system(only_sim, ready=("sim",)) as system:
         bad = system.run_cli("run", "navigator", "--file", str(file), "-p", "goal_timeout=-1")
-        assert bad.returncode == 2 and "--param navigator.goal_timeout: Expected `float` >= 0.1" in bad.stderr
+        assert bad.returncode == 2 and "--param navigator.goal_timeout must be >= 0.1" in bad.stderr
         node = subprocess.Popen(
             [
                 *turtlectl(),

@@ -35,7 +35,12 @@ class Printer:
         for name in [SYSTEM, *names]:
             self._logs[name] = open(folder / f"{name_chunk(name)}.log", "a", encoding="utf-8", buffering=1)  # noqa: SIM115
 
-    def line(self, name: str, text: str) -> None:
+    def log_path(self, name: str) -> Path | None:
+        """Where node ``name``'s lines are kept (None: no log files)."""
+        return None if self.folder is None else self.folder / f"{name_chunk(name)}.log"
+
+    def line(self, name: str, text: str, terminal: bool = True) -> None:
+        """``terminal`` False: into the log file only (a node's output that was shown once already)."""
         text = text.rstrip()
         label = name.ljust(self.width)
         if self.colour:
@@ -43,8 +48,9 @@ class Printer:
             label = f"\033[{code}m{label}\033[0m"
         with self._lock:
             try:
-                self.stream.write(f"{label} | {text}\n")
-                self.stream.flush()
+                if terminal:
+                    self.stream.write(f"{label} | {text}\n")
+                    self.stream.flush()
             except (BrokenPipeError, ValueError):  # our reader went away: keep the log files going
                 pass
             log = self._logs.get(name)

@@ -40,6 +40,10 @@ class Child:
         self.proc: subprocess.Popen[bytes] | None = None
         self._reader: threading.Thread | None = None
         self._group_killed = False
+        #: its output goes to its log file only, not the terminal (set by the supervision: a start
+        #: after one that failed before it was ready, whose traceback was shown already)
+        self.quiet = False
+        self.last_line = ""  # the last non-blank line of the current start's output (its error, after a failure)
 
     @property
     def pid(self) -> int | None:
@@ -63,13 +67,17 @@ class Child:
     def _read_output(self, out: BinaryIO) -> None:
         """Stream the new child's output (a pipe) to the printer, on a thread of its own."""
         self._group_killed = False
+        self.last_line = ""
         self._reader = threading.Thread(target=self._pump, args=(out,), name=f"out-{self.name}", daemon=True)
         self._reader.start()
 
     def _pump(self, out: BinaryIO) -> None:
         with out:
             for raw in out:
-                self.printer.line(self.name, raw.decode("utf-8", "replace"))
+                text = raw.decode("utf-8", "replace")
+                if text.strip():
+                    self.last_line = text.strip()
+                self.printer.line(self.name, text, terminal=not self.quiet)
 
     def poll(self) -> int | None:
         """The exit code if the child has exited (reaping it), else None."""

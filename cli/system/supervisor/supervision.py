@@ -9,11 +9,18 @@ every rule is tested with fake children and a fake clock (tests/unit/cli/system/
   the next start would repeat (runtime.exitcodes.respawn_can_help: 2, its configuration
   cannot be used; 4, another process holds what it claims): given up on at once, one line
   saying why.
-* A child that exits for good (no respawn, or respawns used up) is given up on; if it is
-  required the system stops, exit code FAILED.  So does a system whose every node has exited.
+* A start limit, as systemd's: a child that exits before it is ready (its constructor raises,
+  its module cannot import) start_tries times in a row is not respawned again, one line saying
+  why (how many tries, its last line of output, its log file).  Only the first of those starts
+  shows its output on the terminal (the traceback once); the others go to its log file.
+* A child that exits for good (no respawn, respawns used up, its start limit) is given up on;
+  if it is required the system stops, exit code FAILED.  So does a system whose every node has
+  exited.  A system stopped on request while a node has failed to start (given up on, or still
+  being retried) exits FAILED too, its stop reason naming the node: the system was incomplete.
 * Readiness comes from outside (``announce``, from any thread): a child is ready once this
   very process (its pid) has announced itself; a ``cmd`` node (any program: it announces
-  nothing) is ready once started.  An announcement under a node's name from
+  nothing) is ready once started.  The ready line comes once every node is ready or has failed
+  to start (not waiting out its respawns), naming those that never started.  An announcement under a node's name from
   any other pid (another system's node joined through --connect, an earlier start) counts
   for nothing: not towards "ready", nor against it when it goes away.
 * Shutdown escalates SIGINT -> SIGTERM -> SIGKILL with the launch file's waits, each child
@@ -63,6 +70,13 @@ class ChildProcess(Protocol):
 
     def flush_output(self, timeout: float = 1.0) -> None: ...
 
+    #: its output kept off the terminal (its log file only) from its next start on
+    quiet: bool
+
+    @property
+    def last_line(self) -> str:
+        """The last non-blank line of its current start's output ("" for none)."""
+
 
 def respawn_delay(first: float, cap: float, attempt: int) -> float:
     """Delay (s) before respawn number ``attempt`` (1, 2, …): doubling from ``first``, at most ``cap``."""
@@ -98,6 +112,8 @@ class Supervision:
         self._started_at: dict[str, float] = {}
         self._respawn_at: dict[str, float] = {}
         self._crashes: dict[str, int] = {}  # respawns in a row, per node
+        self._start_failures: dict[str, int] = {}  # starts in a row that exited before they were ready
+        self._announced: dict[str, int] = {}  # node name -> the pid of its start that announced itself
         self._given_up: set[str] = set()  # nodes that exited for good: no longer watched
         self._events: queue.SimpleQueue[tuple[bool, str, int]] = queue.SimpleQueue()
         self._alive: dict[str, int] = {}  # node name -> pid announced
@@ -123,7 +139,21 @@ class Supervision:
             self.watch()
         finally:
             self.shutdown()
+        missing = self.never_started()
+        if missing and self.exit_code == ExitCode.OK and self.stop_reason is not None:
+            self.stop_reason += "; " + ", ".join(f"{name} {how}" for name, how in missing.items())
+            self.exit_code = ExitCode.FAILED
         return self.exit_code
+
+    def never_started(self) -> dict[str, str]:
+        """The nodes whose last start failed before it was ready (given up on, or to be tried
+        again), each with "never started" or, if an earlier start of it was ready, "did not
+        start again"."""
+        return {
+            name: "did not start again" if name in self._announced else "never started"
+            for name, failures in self._start_failures.items()
+            if failures and not self.ready(name)
+        }
 
     def start_all(self) -> None:
         for name in self.entries:
@@ -161,6 +191,7 @@ class Supervision:
     # -- children -------------------------------------------------------------
     def _start(self, name: str) -> None:
         child = self.children.get(name) or self.children.setdefault(name, self.spawn(name))
+        child.quiet = self._start_failures.get(name, 0) > 0  # its traceback was shown once already
         child.start()
         self._started_at[name] = self.clock()
         self.printer.system(f"started {name} (pid {child.pid})")
@@ -176,17 +207,31 @@ class Supervision:
         if now - self._started_at[name] >= STABLE_RUN:
             self._crashes[name] = 0
         crashes = self._crashes.get(name, 0)
+        started = name in self.programs or self._announced.get(name) == child.pid
+        failures = 0 if started else self._start_failures.get(name, 0) + 1
+        self._start_failures[name] = failures
         hopeless = entry.respawn and not respawn_can_help(code)
+        limited = entry.respawn and not started and 0 < entry.start_tries <= failures
         if hopeless:
-            how += "; not respawning: respawning cannot help"
+            how += "; not respawning: respawning cannot help" + self._last_words(name, child, "; last: ")
+        elif limited:
+            how = (
+                f"failed {failures} starts in a row (start_tries = {entry.start_tries}), each exiting before it"
+                f" was ready; not respawning it; last: {how}{self._last_words(name, child)}"
+            )
         elif entry.respawn and (entry.respawn_max == 0 or crashes < entry.respawn_max):
             self._crashes[name] = crashes + 1
             delay = respawn_delay(entry.respawn_delay, entry.respawn_delay_max, crashes + 1)
-            self.printer.system(f"{name} {how}; respawning in {delay:g} s (respawn {crashes + 1})")
+            tries = f", start {failures + 1} of {entry.start_tries}" if failures and entry.start_tries else ""
+            self.printer.system(f"{name} {how}; respawning in {delay:g} s (respawn {crashes + 1}{tries})")
             self._respawn_at[name] = now + delay
+            if not started:
+                self._check_ready()  # its next tries do not hold back the others' ready line
             return
+        elif not started:
+            how += " before it was ready" + self._last_words(name, child)
         self._given_up.add(name)
-        if entry.respawn and not hopeless:
+        if entry.respawn and not hopeless and not limited:
             how += f", after {crashes} respawns in a row; giving up on it"
         if entry.required:
             self.printer.system(f"{name} {how}; it is required, stopping the system")
@@ -194,6 +239,12 @@ class Supervision:
         else:
             self.printer.system(f"{name} {how}")
             self._check_ready()  # the others may be all that will be ready
+
+    def _last_words(self, name: str, child: ChildProcess, lead: str = ": ") -> str:
+        """A node's last line of output and where its log is, for the line that gives up on it."""
+        said = f"{lead}{child.last_line}" if child.last_line else ""
+        path = self.printer.log_path(name)
+        return said + (f"; full log: {path}" if path is not None else "")
 
     def _drain_events(self) -> None:
         while True:
@@ -212,6 +263,14 @@ class Supervision:
                 continue
             if alive:
                 self._alive[name] = pid
+                self._announced[name] = pid
+                failed = self._start_failures.pop(name, 0)
+                child.quiet = False
+                if failed:
+                    self.printer.system(
+                        f"{name} ready after {failed} failed start{'s' * (failed != 1)}"
+                        f" (its output meanwhile is in its log)"
+                    )
             else:
                 self._alive.pop(name, None)
             self._check_ready()
@@ -222,14 +281,18 @@ class Supervision:
         if self._ready_reported:
             return
         missing = [n for n in self.entries if not self.ready(n)]
-        if any(n not in self._given_up for n in missing) or len(missing) == len(self.entries):
+        failed = self.never_started()
+        if any(n not in self._given_up and n not in failed for n in missing) or len(missing) == len(self.entries):
             return
         self._ready_reported = True
         elapsed = self.clock() - self._t0
         count = len(self.entries)
         since = f"ready in {elapsed:.2f} s (since turtlectl started)"
         if missing:
-            line = f"{count - len(missing)} of {count} nodes {since}; not running: {', '.join(missing)}"
+            why = [f"{n} {failed[n]}" + (f": {last}" if (last := self.children[n].last_line) else "") for n in failed]
+            gone = [n for n in missing if n not in failed]
+            why += [f"not running: {', '.join(gone)}"] if gone else []
+            line = f"{count - len(missing)} of {count} nodes {since}; {'; '.join(why)}"
         else:
             line = f"{'all ' * (count > 1)}{count} node{'s' * (count != 1)} {since}"
         self.printer.system(line)

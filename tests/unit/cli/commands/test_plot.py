@@ -238,3 +238,25 @@ def test_the_screen_ends_its_last_line_before_leaving():
     with plot_draw.screen(out) as shown:
         shown.show(["a", "bottom line"])
     assert out.getvalue().endswith("bottom line\x1b[K\x1b[J\r\n\x1b[?25h\x1b[?1049l")
+
+
+@pytest.mark.parametrize("first", ["run.mcap", "elsewhere.mcap"])
+def test_a_recording_given_as_the_first_argument_says_to_use_input(rec, first):
+    """`plot run.mcap robot/status.battery` read the file as a key (run, field mcap) and said
+    there was no turtlectl system."""
+    code, text = run(first, "robot/status.battery")
+    assert (code, text) == (
+        ExitCode.BAD_INPUT,
+        f"turtlectl: error: {first} is a recording, not KEY.FIELD: plot it with --input, "
+        f"as turtlectl plot robot/status.battery --input {first}",
+    )
+
+
+def test_an_existing_file_given_as_a_series_says_to_use_input(rec):
+    (rec / "run.bag").write_bytes(b"")
+    code, text = run("run.bag")
+    assert code == ExitCode.BAD_INPUT
+    assert text == (
+        "turtlectl: error: run.bag is a file, not KEY.FIELD: plot a recording with --input, "
+        "as turtlectl plot robot/status.battery --input run.bag"
+    )

@@ -196,7 +196,7 @@ def test_an_argument_without_a_default_must_be_given(tmp_path):
         # errors inside an included file name the chain of files, then the key path
         (
             {"launch": SIM + '[[include]]\nfile = "t.toml"\nargs = { robot = "r", timeout = 0.0 }\n', "t": TURTLE},
-            "launch.toml -> include[0] t.toml: node[0] (navigator).params.goal_timeout: Expected `float` >= 0.1",
+            "launch.toml -> include[0] t.toml: node[0] (navigator).params.goal_timeout must be >= 0.1",
         ),
         (
             {
@@ -215,7 +215,7 @@ def test_an_argument_without_a_default_must_be_given(tmp_path):
                 "launch": SIM + '[[include]]\nfile = "t.toml"\n',
                 "t": '[[node]]\nname = "n"\nrun = "navigator"\nrespawn = "yes"\n',
             },
-            "launch.toml -> include[0] t.toml: node[0] (n).respawn: Expected `bool`, got `str`",
+            "launch.toml -> include[0] t.toml: node[0] (n).respawn must be true or false",
         ),
         # the system has one world, written in any one of its files
         (
@@ -392,8 +392,8 @@ def test_the_chain_names_the_include_and_its_namespace_in_check_and_in_errors(tm
     with pytest.raises(LaunchFileError) as err:
         load_launch(top, ["t2_timeout=0"])
     assert str(err.value).startswith(
-        f"{top} -> include[1] (turtle2) robots/robot.toml: node[0] (turtle2/navigator).params.goal_timeout: "
-        "Expected `float` >= 0.1"
+        f"{top} -> include[1] (turtle2) robots/robot.toml: node[0] (turtle2/navigator).params.goal_timeout "
+        "must be >= 0.1 (got 0.0)"
     ), str(err.value)
 
 
@@ -402,7 +402,7 @@ def test_a_value_error_says_which_argument_the_value_came_from(tmp_path):
     with pytest.raises(LaunchFileError) as err:
         load_launch(top, ["speed=0"])
     assert str(err.value).startswith(
-        f"{top} -> include[0] robots/robot.toml: node[1] (limiter).params.rate: Expected `float` "
+        f"{top} -> include[0] robots/robot.toml: node[1] (limiter).params.rate must be >= 0.1 (got 0.0)"
     ) and str(err.value).endswith(" (from --arg speed through include[0].args.max_speed)"), str(err.value)
     with pytest.raises(LaunchFileError) as err:
         parse_launch("[arg.t]\ndefault = 0.0\n" + SIM + '[node.params]\ncmd_timeout = "$(arg t)"\n', "f.toml")

@@ -35,19 +35,19 @@ def test_defaults_are_filled_in():
     "text, message",
     [
         (MINIMAL + "colour = 1\n", "f.toml: node[0] (sim).colour: unknown key"),
-        (MINIMAL + "[node.params]\nx = 'left'\n", "f.toml: node[0] (sim).params.x: Expected `float`, got `str`"),
+        (MINIMAL + "[node.params]\nx = 'left'\n", "f.toml: node[0] (sim).params.x must be a number"),
         (
             MINIMAL + "[node.params]\ncmd_timeout = -1\n",
-            "f.toml: node[0] (sim).params.cmd_timeout: Expected `float` >= 0.05",
+            "f.toml: node[0] (sim).params.cmd_timeout must be >= 0.05",
         ),
         (MINIMAL + "[node.params]\nspeed = 3\n", "f.toml: node[0] (sim).params.speed: unknown key"),
-        (MINIMAL + "respawn = 'yes'\n", "f.toml: node[0] (sim).respawn: Expected `bool`, got `str`"),
-        ("[world]\nsize = 0\n" + MINIMAL, "f.toml: world.size: Expected `float` > 0.0"),
+        (MINIMAL + "respawn = 'yes'\n", "f.toml: node[0] (sim).respawn must be true or false"),
+        ("[world]\nsize = 0\n" + MINIMAL, "f.toml: world.size must be > 0"),
         (
             "[world]\nobstacles = [{x = 1, y = 1}]\n" + MINIMAL,
             "f.toml: world.obstacles[0].radius: missing required key",
         ),
-        ("[limits]\nmax_linear_speed = 'fast'\n" + MINIMAL, "f.toml: limits.max_linear_speed: Expected `float`"),
+        ("[limits]\nmax_linear_speed = 'fast'\n" + MINIMAL, "f.toml: limits.max_linear_speed must be a number"),
         ('[[node]]\nname = "a"\n', "f.toml: node[0] (a): neither run nor cmd: give run (a node kind or class)"),
         ('[[node]]\nname = "a"\nrun = "turtle"\n', "f.toml: node[0] (a).run: unknown node kind 'turtle'"),
         (MINIMAL + MINIMAL, "f.toml: node[1] (sim).name: duplicate node name 'sim'"),
@@ -57,7 +57,7 @@ def test_defaults_are_filled_in():
         ("[[node]\n", "f.toml: not valid TOML"),
         (
             '[[node]]\nname = "n"\nrun = "navigator"\n[node.params.gains]\nk_linear = "x"\n',
-            "f.toml: node[0] (n).params.gains.k_linear: Expected `float`, got `str`",
+            "f.toml: node[0] (n).params.gains.k_linear must be a number",
         ),
     ],
 )
@@ -109,49 +109,49 @@ DETECTOR = '[[node]]\nname = "obstacle_detector"\nrun = "obstacle_detector"\n'
         # rates and times within sane ranges (a node at 1e9 Hz spins a CPU)
         (
             STATUS + "[node.params]\nrate = 1e9\n",
-            "f.toml: node[0] (status_monitor).params.rate: Expected `float` <= 100.0",
+            "f.toml: node[0] (status_monitor).params.rate must be <= 100",
         ),
         (
             STATUS + "[node.params]\nrate = 0.0\n",
-            "f.toml: node[0] (status_monitor).params.rate: Expected `float` >= 0.1",
+            "f.toml: node[0] (status_monitor).params.rate must be >= 0.1",
         ),
         (
             NAV + "[node.params]\nfeedback_rate = 1e9\n",
-            "f.toml: node[0] (navigator).params.feedback_rate: Expected `float` <= 100.0",
+            "f.toml: node[0] (navigator).params.feedback_rate must be <= 100",
         ),
         (
             DETECTOR + "[node.params]\nrate = 1000\n",
-            "f.toml: node[0] (obstacle_detector).params.rate: Expected `float` <= 100.0",
+            "f.toml: node[0] (obstacle_detector).params.rate must be <= 100",
         ),
         (
             DETECTOR + "[node.params]\nbeams = 100000\n",
-            "f.toml: node[0] (obstacle_detector).params.beams: Expected `int` <= 3600",
+            "f.toml: node[0] (obstacle_detector).params.beams must be <= 3600",
         ),
         (
             DETECTOR + "[node.params]\nphantom_rate = 1e6\n",
-            "f.toml: node[0] (obstacle_detector).params.phantom_rate: Expected `float` <= 100.0",
+            "f.toml: node[0] (obstacle_detector).params.phantom_rate must be <= 100",
         ),
         (
             NAV + "[node.params]\ngoal_timeout = 1e9\n",
-            "f.toml: node[0] (navigator).params.goal_timeout: Expected `float` <= 3600.0",
+            "f.toml: node[0] (navigator).params.goal_timeout must be <= 3600",
         ),
         (
             NAV + "[node.params]\npose_timeout = 0.001\n",
-            "f.toml: node[0] (navigator).params.pose_timeout: Expected `float` >= 0.05",
+            "f.toml: node[0] (navigator).params.pose_timeout must be >= 0.05",
         ),
         (
             MINIMAL + "[node.params]\ncmd_timeout = 1e9\n",
-            "f.toml: node[0] (sim).params.cmd_timeout: Expected `float` <= 60.0",
+            "f.toml: node[0] (sim).params.cmd_timeout must be <= 60",
         ),
         (
             "[supervisor]\nsigint_timeout = 1e9\n" + MINIMAL,
-            "f.toml: supervisor.sigint_timeout: Expected `float` <= 60.0",
+            "f.toml: supervisor.sigint_timeout must be <= 60",
         ),
         (
             MINIMAL + "respawn = true\nrespawn_delay = 1e9\n",
-            "f.toml: node[0] (sim).respawn_delay: Expected `float` <= 3600.0",
+            "f.toml: node[0] (sim).respawn_delay must be <= 3600",
         ),
-        ("[supervisor]\nkeep_logs = -1\n" + MINIMAL, "f.toml: supervisor.keep_logs: Expected `int` >= 0"),
+        ("[supervisor]\nkeep_logs = -1\n" + MINIMAL, "f.toml: supervisor.keep_logs must be >= 0"),
         # one node of each kind: the keys are fixed
         (
             MINIMAL + '[[node]]\nname = "sim2"\nrun = "sim"\n',
@@ -243,11 +243,11 @@ def test_set_takes_spaces_tables_and_nested_keys():
     "item, message",
     [
         ("navigator.goal_timeot=60", "--set navigator.goal_timeot: unknown key; did you mean goal_timeout?"),
-        ("navigator.goal_timeout=-1", "--set navigator.goal_timeout: Expected `float` >= 0.1"),
-        ("navigator.goal_timeout=soon", "--set navigator.goal_timeout: Expected `float`, got `str`"),
+        ("navigator.goal_timeout=-1", "--set navigator.goal_timeout must be >= 0.1"),
+        ("navigator.goal_timeout=soon", "--set navigator.goal_timeout must be a number"),
         ("navigator.gains.k_linaer=1", "--set navigator.gains.k_linaer: unknown key; did you mean k_linear?"),
-        ("status_monitor.rate=1e9", "--set status_monitor.rate: Expected `float` <= 100.0"),
-        ("world.size=-3", "--set world.size: Expected `float` > 0.0"),
+        ("status_monitor.rate=1e9", "--set status_monitor.rate must be <= 100"),
+        ("world.size=-3", "--set world.size must be > 0"),
         ("world.sise=3", "--set world.sise: unknown key; did you mean size?"),
         (
             "world.size=5",
@@ -535,3 +535,26 @@ def test_time_scale_puts_every_node_on_the_simulators_clock_and_check_says_so():
     assert plan_notes(launch_plan(ROOT / "launch.toml", [], [], [])) == []
     with pytest.raises(LaunchFileError, match="real_time_factor"):
         launch_plan(ROOT / "launch.toml", [], [], [], 50.0)
+
+
+@pytest.mark.parametrize(
+    "text, message",
+    [
+        (
+            '[[node]]\nname = "navigator"\nrun = "navigator"\nparams = { goal_timeout = "fast" }\n',
+            'f.toml: node[0] (navigator).params.goal_timeout must be a number (got "fast")',
+        ),
+        (
+            MINIMAL + "[node.params]\ncmd_timeout = 0.01\n",
+            "f.toml: node[0] (sim).params.cmd_timeout must be >= 0.05 (got 0.01)",
+        ),
+        (MINIMAL + "respawn = 'yes'\n", 'f.toml: node[0] (sim).respawn must be true or false (got "yes")'),
+        (MINIMAL + "respawn_max = 1.5\n", "f.toml: node[0] (sim).respawn_max must be a whole number (got 1.5)"),
+    ],
+)
+def test_a_value_of_the_wrong_type_or_range_reads_as_param_set_says_it(text, message):
+    """A launch file said ``Expected `float`, got `str` `` where `param set` says
+    ``goal_timeout must be a number (got "fast")``: one wording, in the user's terms."""
+    with pytest.raises(LaunchFileError) as err:
+        parse_launch(text, source="f.toml")
+    assert str(err.value) == message

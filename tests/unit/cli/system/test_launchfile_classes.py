@@ -74,7 +74,7 @@ def test_a_node_class_by_file_runs_beside_the_builtins_with_its_params_validated
     ("params", "error"),
     [
         ("{ sidee = 3.0 }", "node[1] (patrol).params.sidee: unknown key; did you mean side?"),
-        ("{ side = -1.0 }", "node[1] (patrol).params.side: Expected `float` > 0.0"),
+        ("{ side = -1.0 }", "node[1] (patrol).params.side must be > 0"),
         ("{ gains = { trun = 1.0 } }", "node[1] (patrol).params.gains.trun: unknown key; did you mean turn?"),
     ],
 )

@@ -51,8 +51,8 @@ def test_a_bare_program_name_comes_from_path(tmp_path: Path) -> None:
         ('name = "d"\n', "node[1] (d): neither run nor cmd: give run"),
         ('name = "d"\ncmd = []\n', "node[1] (d): neither run nor cmd: give run"),
         ('name = "d"\ncmd = [""]\n', "node[1] (d).cmd: name a program"),
-        ('name = "d"\ncmd = "./driver"\n', "node[1] (d).cmd: Expected `array`, got `str`"),
-        ('name = "d"\ncmd = ["./driver", 3]\n', "node[1] (d).cmd[1]: Expected `str`, got `int`"),
+        ('name = "d"\ncmd = "./driver"\n', "node[1] (d).cmd must be a list"),
+        ('name = "d"\ncmd = ["./driver", 3]\n', "node[1] (d).cmd[1] must be text"),
         ('name = "d"\ncmd = ["./nothing"]\n', "node[1] (d).cmd: ./nothing does not exist"),
         (
             'name = "d"\ncmd = ["no-such-program-here"]\n',

@@ -99,3 +99,28 @@ def test_a_child_that_exits_takes_its_own_children_with_it():
     finally:
         if grandchild is not None and _alive(grandchild):
             os.kill(grandchild, signal.SIGKILL)
+
+
+def _run_to_the_end(child: Child) -> None:
+    child.start()
+    deadline = time.monotonic() + 10
+    while child.poll() is None:
+        assert time.monotonic() < deadline, "the child never exited"
+        time.sleep(0.02)  # pacing: polling process state under a deadline
+    child.flush_output()
+
+
+def test_a_quiet_start_writes_the_node_s_output_to_its_log_only_and_keeps_its_last_line(tmp_path):
+    """A start after one that failed before it was ready: its traceback was on the terminal once."""
+    script = "print('starting'); print('RuntimeError: the patrol cannot start'); print()"
+    terminal = io.StringIO()
+    printer = Printer(["patrol"], stream=terminal)
+    printer.log_to(tmp_path, ["patrol"])
+    child = Child("patrol", [sys.executable, "-c", script], dict(os.environ), printer)
+    _run_to_the_end(child)
+    assert child.last_line == "RuntimeError: the patrol cannot start"  # the last line that is not blank
+    child.quiet = True
+    _run_to_the_end(child)
+    assert terminal.getvalue().count("RuntimeError") == 1
+    assert printer.log_path("patrol") == tmp_path / "patrol.log"
+    assert (tmp_path / "patrol.log").read_text().count("RuntimeError: the patrol cannot start") == 2

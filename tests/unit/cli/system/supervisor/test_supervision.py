@@ -14,6 +14,7 @@ import math
 import re
 import signal
 from collections.abc import Callable
+from pathlib import Path
 
 import pytest
 
@@ -80,8 +81,14 @@ class FakeProcess:
         code: int = 1,
         ready_after: float | None = 0.5,
         stops_on: dict[signal.Signals, float] | None = None,
+        says: str = "",
     ):
+        """``says``: the last line of its output at each start ("" for none)."""
         self.name, self.system, self.runs, self.code, self.ready_after = name, system, runs, code, ready_after
+        self.says = says
+        self.last_line = ""
+        self.quiet = False
+        self.quiet_starts: list[bool] = []  # whether each start's output was kept off the terminal
         self.stops_on = {INT: 0.1, TERM: 0.1} if stops_on is None else stops_on
         self.pid: int | None = None
         self.starts: list[float] = []
@@ -94,6 +101,8 @@ class FakeProcess:
         assert not self.running(), f"{self.name} started while still running"
         self.pid = next(_pids)
         self.starts.append(clock.now)
+        self.quiet_starts.append(self.quiet)
+        self.last_line = self.says
         self._exit_at = clock.now + self.runs[min(len(self.starts), len(self.runs)) - 1]
         self._exit_code = self.code
         if self.ready_after is not None:
@@ -129,7 +138,12 @@ class System:
     """A Supervision of ``nodes`` (launch-file [[node]] tables) on a fake clock."""
 
     def __init__(
-        self, nodes: str, sigint_timeout: float = 2.0, sigterm_timeout: float = 1.0, since: float | None = None
+        self,
+        nodes: str,
+        sigint_timeout: float = 2.0,
+        sigterm_timeout: float = 1.0,
+        since: float | None = None,
+        logs: Path | None = None,
     ):
         text = f"[supervisor]\nsigint_timeout = {sigint_timeout}\nsigterm_timeout = {sigterm_timeout}\n{nodes}"
         plan = parse_launch(text)
@@ -139,6 +153,8 @@ class System:
         self.spawned: list[str] = []
         names = [e.name for e in plan.launch.node]
         printer = Printer(names, self.out, colour=False)
+        if logs is not None:
+            printer.log_to(logs, names)
         self.supervision = Supervision(
             plan, printer, self._spawn, clock=self.clock, sleep=self.clock.sleep, since=since
         )
@@ -161,9 +177,15 @@ class System:
         return [line.partition(" | ")[2] for line in self.out.getvalue().splitlines()]
 
 
-def node(name: str, **keys) -> str:
+def node(name: str, run: str = "", **keys) -> str:
+    """A [[node]] table; ``run`` defaults to ``name`` (a built-in kind)."""
     body = "".join(f"{k} = {str(v).lower() if isinstance(v, bool) else v}\n" for k, v in keys.items())
-    return f'[[node]]\nname = "{name}"\nrun = "{name}"\n{body}'
+    return f'[[node]]\nname = "{name}"\nrun = "{run or name}"\n{body}'
+
+
+def patrol_node(**keys) -> str:
+    """A node of the user's, "patrol" (a built-in kind stands in: the policy sees no difference)."""
+    return node("patrol", run="status_monitor", **keys)
 
 
 def gaps(times: list[float]) -> list[float]:
@@ -178,12 +200,12 @@ def test_respawn_delay_doubles_from_the_first_delay_up_to_the_cap():
 
 def test_a_crashing_node_is_respawned_after_delays_doubling_up_to_respawn_delay_max():
     system = System(node("sim", respawn=True, respawn_delay=1.0, respawn_delay_max=4.0, respawn_max=0))
-    sim = system.process("sim", runs=(0.0,), code=3)
-    system.stop_at(16.0)
+    sim = system.process("sim", runs=(0.3,), code=3, ready_after=0.1)  # ready, then it crashes
+    system.stop_at(17.0)
     assert system.run() == ExitCode.OK
     assert len(sim.starts) == 6
     for gap, delay in zip(gaps(sim.starts), [1.0, 2.0, 4.0, 4.0, 4.0], strict=True):
-        assert delay <= gap <= delay + LAG
+        assert delay <= gap - 0.3 <= delay + LAG
     said = [line for line in system.lines() if "respawning" in line]
     assert said[:4] == [
         "sim exited with code 3; respawning in 1 s (respawn 1)",
@@ -196,7 +218,7 @@ def test_a_crashing_node_is_respawned_after_delays_doubling_up_to_respawn_delay_
 @pytest.mark.parametrize("long_run, reset", [(STABLE_RUN, True), (STABLE_RUN - 0.5, False)])
 def test_a_run_of_STABLE_RUN_starts_the_respawn_count_and_its_backoff_again(long_run, reset):
     system = System(node("sim", respawn=True, respawn_delay=1.0, respawn_max=3))
-    sim = system.process("sim", runs=(0.5, 0.5, long_run, 0.5, 0.5, math.inf))
+    sim = system.process("sim", runs=(0.5, 0.5, long_run, 0.5, 0.5, math.inf), ready_after=0.2)
     system.stop_at(40.0)
     system.run()
     said = [
@@ -224,7 +246,7 @@ def test_a_run_of_STABLE_RUN_starts_the_respawn_count_and_its_backoff_again(long
 def test_a_node_is_given_up_on_after_the_launch_file_s_max_respawns_and_the_rest_runs_on():
     system = System(node("sim") + node("status_monitor", respawn=True, respawn_delay=0.2, respawn_max=2))
     sim = system.process("sim")
-    monitor = system.process("status_monitor", runs=(0.1,), code=-int(KILL))
+    monitor = system.process("status_monitor", runs=(0.1,), code=-int(KILL), ready_after=0.05)
     system.stop_at(10.0)
     assert system.run() == ExitCode.OK  # it was optional: the system stops only when asked to
     assert len(monitor.starts) == 3  # the first run and 2 respawns, then nothing
@@ -247,7 +269,7 @@ def test_a_required_node_gone_for_good_stops_the_system_with_exit_code_failed():
 
 def test_a_required_node_that_used_up_its_respawns_stops_the_system():
     system = System(node("sim", required=True, respawn=True, respawn_delay=0.2, respawn_max=2) + node("navigator"))
-    sim = system.process("sim", runs=(0.3,), code=-int(KILL))
+    sim = system.process("sim", runs=(0.3,), code=-int(KILL), ready_after=0.1)
     system.process("navigator")
     assert system.run() == ExitCode.FAILED
     assert len(sim.starts) == 3
@@ -395,9 +417,10 @@ def test_children_are_stopped_even_when_starting_one_fails():
 def test_a_configuration_error_or_a_conflict_is_given_up_on_at_once_with_one_line_saying_why(code, why):
     system = System(node("sim") + node("navigator", respawn=True, respawn_delay=0.2, respawn_max=0))
     system.process("sim")
-    navigator = system.process("navigator", runs=(0.5,), code=code)
+    navigator = system.process("navigator", runs=(0.5,), code=code, ready_after=None)
     system.stop_at(10.0)
-    assert system.run() == ExitCode.OK  # optional: the rest runs on until asked to stop
+    assert system.run() == ExitCode.FAILED  # optional: the rest runs on until asked to stop, incomplete
+    assert system.supervision.stop_reason == "received SIGINT; navigator never started"
     assert len(navigator.starts) == 1  # never started again, although respawn has no limit
     said = [line for line in system.lines() if line.startswith("navigator ")]
     assert said == [f"navigator {why}; not respawning: respawning cannot help"]
@@ -486,5 +509,119 @@ def test_when_an_optional_node_dies_while_starting_the_rest_is_reported_ready_wi
     system.run()
     ready = [line for line in system.lines() if "ready in" in line]
     assert len(ready) == 1, system.lines()
-    match = re.fullmatch(r"2 of 3 nodes ready in (\S+) s \(since turtlectl started\); not running: broken", ready[0])
+    match = re.fullmatch(r"2 of 3 nodes ready in (\S+) s \(since turtlectl started\); broken never started", ready[0])
     assert match and 0.8 <= float(match[1]) <= 0.8 + LAG, ready
+
+
+# -- start failures: a start limit, as systemd's --------------------------------------
+BOOM = "RuntimeError: the patrol cannot start"
+
+
+def test_a_node_that_fails_while_starting_start_tries_times_in_a_row_is_not_respawned(tmp_path):
+    """A constructor that always raises was respawned 1+2+4+8+16 s (respawn_max), its traceback
+    printed at every start, and nothing said why it never came up."""
+    system = System(
+        node("sim") + patrol_node(respawn=True, respawn_delay=0.2, respawn_max=0, start_tries=3), logs=tmp_path
+    )
+    system.process("sim", ready_after=0.1)
+    patrol = system.process("patrol", runs=(0.3,), code=1, ready_after=None, says=BOOM)
+    system.stop_at(20.0)
+    system.run()
+    assert len(patrol.starts) == 3  # then never again, although respawn_max has no limit
+    assert [line for line in system.lines() if "respawning in" in line] == [
+        "patrol exited with code 1; respawning in 0.2 s (respawn 1, start 2 of 3)",
+        "patrol exited with code 1; respawning in 0.4 s (respawn 2, start 3 of 3)",
+    ]
+    assert patrol.quiet_starts == [False, True, True]  # its output (the traceback) on the terminal once
+    given_up = [line for line in system.lines() if "not respawning" in line]
+    assert given_up == [
+        f"patrol failed 3 starts in a row (start_tries = 3), each exiting before it was ready; not respawning it; "
+        f"last: exited with code 1: {BOOM}; full log: {tmp_path / 'patrol.log'}"
+    ]
+
+
+def test_the_ready_line_names_a_node_that_never_started_without_waiting_out_its_backoff():
+    system = System(node("sim") + node("navigator") + patrol_node(respawn=True, respawn_delay=30.0))
+    system.process("sim", ready_after=0.4)
+    system.process("navigator", ready_after=0.6)
+    system.process("patrol", runs=(0.3,), code=1, ready_after=None, says=BOOM)
+    system.stop_at(5.0)
+    system.run()
+    ready = [line for line in system.lines() if "ready in" in line]
+    assert len(ready) == 1, system.lines()
+    match = re.fullmatch(
+        rf"2 of 3 nodes ready in (\S+) s \(since turtlectl started\); patrol never started: {BOOM}", ready[0]
+    )
+    assert match and 0.6 <= float(match[1]) <= 0.6 + LAG, ready
+
+
+def test_a_stop_with_a_node_that_never_started_exits_failed_and_says_which():
+    system = System(node("sim") + patrol_node(respawn=True, respawn_delay=0.2, start_tries=2))
+    system.process("sim")
+    system.process("patrol", runs=(0.3,), code=1, ready_after=None, says=BOOM)
+    system.stop_at(5.0)
+    assert system.run() == ExitCode.FAILED
+    assert system.supervision.stop_reason == "received SIGINT; patrol never started"
+
+
+def test_a_stop_while_a_node_is_still_being_retried_also_says_it_never_started():
+    system = System(node("sim") + patrol_node(respawn=True, respawn_delay=10.0))
+    system.process("sim")
+    system.process("patrol", runs=(0.3,), code=1, ready_after=None)
+    system.stop_at(2.0)
+    assert system.run() == ExitCode.FAILED
+    assert system.supervision.stop_reason == "received SIGINT; patrol never started"
+
+
+def test_a_stop_before_a_node_had_time_to_start_is_not_a_failure():
+    system = System(node("sim") + patrol_node())
+    system.process("sim")
+    system.process("patrol", ready_after=None)  # still importing when Ctrl-C comes
+    system.stop_at(0.3)
+    assert system.run() == ExitCode.OK
+
+
+def test_a_node_that_starts_at_its_second_try_counts_as_started_and_speaks_again():
+    system = System(node("sim") + patrol_node(respawn=True, respawn_delay=0.2, start_tries=3))
+    system.process("sim")
+    patrol = system.process("patrol", runs=(0.3, math.inf), code=1, ready_after=0.5, says=BOOM)
+    seen: list[bool] = []
+    system.clock.at(3.0, lambda: seen.append(patrol.quiet))
+    system.stop_at(4.0)
+    assert system.run() == ExitCode.OK
+    assert len(patrol.starts) == 2 and patrol.quiet_starts == [False, True] and seen == [False]
+    assert "patrol ready after 1 failed start (its output meanwhile is in its log)" in system.lines()
+
+
+def test_start_failures_count_in_a_row_a_ready_start_begins_the_count_again():
+    """Crashes after it was ready are respawned by respawn_max's rule, not the start limit."""
+    system = System(patrol_node(respawn=True, respawn_delay=0.2, respawn_max=0, start_tries=2) + node("sim"))
+    system.process("sim")
+    # fails to start, then starts and crashes later, then fails to start, then runs
+    patrol = system.process("patrol", runs=(0.2, 1.0, 0.2, math.inf), code=1, ready_after=0.5)
+    system.stop_at(10.0)
+    assert system.run() == ExitCode.OK
+    assert len(patrol.starts) == 4
+    assert not any("not respawning" in line for line in system.lines())
+
+
+def test_a_required_node_that_never_starts_stops_the_system_at_its_start_limit():
+    """required means: when it exits for good the system stops (exit 1); a start limit reached
+    is such an exit."""
+    system = System(node("sim") + patrol_node(required=True, respawn=True, respawn_delay=0.2, start_tries=2))
+    system.process("sim")
+    patrol = system.process("patrol", runs=(0.3,), code=1, ready_after=None, says=BOOM)
+    assert system.run() == ExitCode.FAILED
+    assert len(patrol.starts) == 2
+    assert system.supervision.stop_reason.startswith("required node patrol failed 2 starts in a row")
+    assert any(line.endswith(f"{BOOM}; it is required, stopping the system") for line in system.lines())
+
+
+def test_a_node_without_respawn_that_fails_while_starting_says_its_last_error_and_log(tmp_path):
+    system = System(node("sim") + patrol_node(), logs=tmp_path)
+    system.process("sim")
+    system.process("patrol", runs=(0.3,), code=1, ready_after=None, says=BOOM)
+    system.stop_at(2.0)
+    assert system.run() == ExitCode.FAILED
+    said = [line for line in system.lines() if line.startswith("patrol ")]
+    assert said == [f"patrol exited with code 1 before it was ready: {BOOM}; full log: {tmp_path / 'patrol.log'}"]
