@@ -40,6 +40,10 @@ _decoders: dict[type, msgspec.msgpack.Decoder] = {}
 _any_decoder: list[msgspec.msgpack.Decoder] = []  # of every known type, made again when one is added
 
 
+class TypeClash(ValueError):
+    """Two different classes under one full name in one process: neither can be told apart on the wire."""
+
+
 class DecodeError(ValueError):
     """A payload that is not a valid message of the expected type."""
 
@@ -58,13 +62,13 @@ def register(msg_type: type[Message]) -> type[Message]:
     """Know ``msg_type`` by its name from now on (``type_from_encoding``, ``decode_any``).
     A class of the user's own takes the place of one a tool rebuilt from the wire under its
     name (a script that learnt ``WallState`` through the client, then uses its own); otherwise
-    ValueError if another class already goes by that name in this process."""
+    TypeClash if another class already goes by that name in this process."""
     name = type_name(msg_type)
     known = TYPES_BY_NAME.setdefault(name, msg_type)
     if known is not msg_type and getattr(known, REBUILT, False) and not getattr(msg_type, REBUILT, False):
         TYPES_BY_NAME[name] = known = msg_type
     if known is not msg_type:
-        raise ValueError(
+        raise TypeClash(
             f"two message types named {name!r}: {known.__module__}.{known.__qualname__} and "
             f"{msg_type.__module__}.{msg_type.__qualname__}"
         )
