@@ -27,6 +27,7 @@ import generated  # noqa: E402
 
 from turtlectl.messages import ALL_TYPES, keys  # noqa: E402
 from turtlectl.messages.codec import MEDIA_TYPE  # noqa: E402
+from turtlectl.messages.codec import type_name as full_name  # noqa: E402
 from turtlectl.messages.described import FieldDescription, TypeDescription  # noqa: E402
 from turtlectl.messages.fieldtext import default_text, doc, struct_fields, type_name  # noqa: E402
 from turtlectl.messages.key_reference import KEYS  # noqa: E402
@@ -48,15 +49,16 @@ def _row(*cells: str) -> str:
 def types_section() -> list[str]:
     out = ["## Message types", ""]
     out.append(
-        "Every type below travels as a msgpack map with a `type` member naming it, and the sample's encoding is "
-        f"`{MEDIA_TYPE};<Type>`. `required` fields must be sent; the others may be left out (their default is used)."
+        "Every type below travels as a msgpack map with a `type` member naming it by its full name, "
+        f"`turtlectl/<Type>`, and the sample's encoding is `{MEDIA_TYPE};turtlectl/<Type>` (see *Type names*). "
+        "`required` fields must be sent; the others may be left out (their default is used)."
     )
     for cls in ALL_TYPES:
         name = cls.__name__
-        out += ["", f"### {name}", "", "```text", doc(cls), "```", ""]
+        out += ["", f"### {name}", "", f"Full name `{full_name(cls)}`.", "", "```text", doc(cls), "```", ""]
         fields = struct_fields(cls)
         if not fields:
-            out.append(f'No fields: the map is `{{"type": "{name}"}}` (or empty).')
+            out.append(f'No fields: the map is `{{"type": "{full_name(cls)}"}}` (or empty).')
             continue
         out.append(_row("field", "type", "default", "unit", "range", "meaning"))
         out.append(_row(*["---"] * 6))
@@ -192,21 +194,21 @@ def conventions_section() -> list[str]:
         "- **Transport**: Eclipse Zenoh 1.x. `turtlectl launch` runs a router on `tcp/127.0.0.1:7447` (`--port`); "
         "open a session in `client` mode with `connect/endpoints` set to it and multicast scouting off. Nodes are "
         "peers that find each other through the router.",
-        f"- **Payloads**: msgpack maps, one per sample, each with a `type` member naming its type; the sample's "
-        f"encoding says the same: `{MEDIA_TYPE};<Type>`. The queryables of parameters, node "
+        f"- **Payloads**: msgpack maps, one per sample, each with a `type` member naming its type by its full name "
+        f"(`turtlectl/Pose`: *Type names* below); the sample's encoding says the same: `{MEDIA_TYPE};<package/Type>`. The queryables of parameters, node "
         "details and the world answer JSON instead (`application/json`): `turtlectl/params/<node>`, "
         "`turtlectl/params/<node>/describe`, `turtlectl/nodes/<node>` and `turtlectl/world`.",
         "- **Requests**: the `type` member may be left out; if present it must name the request type. An unknown "
         "field or a missing required one is an error; integers are accepted where floats are expected. Send the "
-        f"encoding `{MEDIA_TYPE};<Type>` (the services decode by the key's request type whatever it says).",
+        f"encoding `{MEDIA_TYPE};<package/Type>` (the services decode by the key's request type whatever it says).",
         "- **JSON**: wherever turtlectl writes a message as JSON (`echo --json` and every `--json`, recordings, the "
         'Foxglove server), a non-finite float is the string `"Infinity"`, `"-Infinity"` or `"NaN"` (JSON has '
         "none, and `null` could not tell an `inf` range from a NaN origin); turtlectl reads them back as floats. "
         "msgpack carries them as floats.",
         "- **Replies**: each reply's encoding names its own type (a `navigate_to` feedback reply is "
-        f"`{MEDIA_TYPE};NavigateToFeedback`); the payload's `type` member always does, so dispatch on it. A request "
-        "that cannot be used gets a Zenoh *error* reply (`reply.err`) whose payload is an `ErrorReply` (encoding "
-        f"`{MEDIA_TYPE};ErrorReply`).",
+        f"`{MEDIA_TYPE};turtlectl/NavigateToFeedback`); the payload's `type` member always does, so dispatch on it. "
+        "A request that cannot be used gets a Zenoh *error* reply (`reply.err`) whose payload is an `ErrorReply` "
+        f"(encoding `{MEDIA_TYPE};turtlectl/ErrorReply`).",
         "- **Units**: SI (m, s, rad, m/s, rad/s) unless a field says degrees. Headings meant for people "
         "(`TurtleStatus`, the `navigate_to` request, feedback and response) are degrees, reported in [0, 360); "
         "`Pose`, `Twist`, `LaserScan` and `TeleportAbsolute` keep turtlesim's radians. `stamp` is wall-clock ns "
@@ -230,6 +232,33 @@ def conventions_section() -> list[str]:
         "stay as written. A namespaced node's name is `turtle2/navigator`, written `turtle2.navigator` where it is "
         f"one key chunk (`{keys.node_key('turtle2/navigator')}`, `{keys.NODE_TOKEN_PREFIX}/turtle2.navigator/...`). "
         "A goal's caller token is the same `@turtlectl/client/<id>` for every navigator.",
+    ]
+
+
+def names_section() -> list[str]:
+    """How message types are named (messages.naming): by package, as ROS names them."""
+    return [
+        "## Type names",
+        "",
+        "Every message type has a full name `package/Name`, as ROS names a type by its package "
+        "(`turtlesim/msg/Pose`), and that full name is its wire tag: the `type` member of every payload and the "
+        f"schema in the sample encoding (`{MEDIA_TYPE};turtlectl/Pose`). turtlectl's own types are package "
+        '`turtlectl`. A user\'s type declared as `class TurtleStatus(Message, tag="TurtleStatus")` takes its '
+        "package from where it is declared: the top-level package or module of its Python module "
+        "(`capstone_msgs.py` or `capstone_msgs/...` give `capstone_msgs/TurtleStatus`; a script run as a program "
+        'or loaded from a file, its file\'s stem); a tag with a package (`tag="capstone_interfaces/TurtleStatus"`) '
+        "is taken as it is. Both parts are identifiers (letters, digits, `_`, not starting with a digit); the "
+        "package `turtlectl` is turtlectl's own. So a user's `TurtleStatus` and turtlectl's coexist in one system "
+        "and one recording. Where a full name must be one key chunk (the liveliness tokens, type descriptions) "
+        f"its slash is written as a dot, as a namespaced node's name is: `capstone_msgs.TurtleStatus` "
+        f"(`{keys.type_key('capstone_msgs/TurtleStatus', 'monitor')}`). The tools accept a short name "
+        "(`TurtleStatus`) wherever only one known type has it, and refuse an ambiguous one with the full names to "
+        "choose from (exit code 2).",
+        "",
+        "**Recordings made before types were named by package** tag turtlectl's own types bare (`Pose`, "
+        "`TurtleStatus`): `info`, `play` and `plot` read those as `turtlectl/Pose`, ..., and `play` sends them under "
+        "their full names. A user's type recorded under a bare name keeps that name (it is read and replayed as it "
+        "was recorded). A client written for bare names must now send and expect full names.",
     ]
 
 
@@ -300,7 +329,7 @@ SAMPLE_OUTPUT = """\
 4 nodes: navigator (pid 9745), obstacle_detector (pid 9749), sim (pid 9743), status_monitor (pid 9747)
 status: x 4.26 m, y 1.00 m, heading 0.0 deg, battery 97.1 %
 world: 11.089 m square, 3 obstacles
-teleport: {'type': 'Ack', 'ok': True, 'detail': 'teleported to (2, 2, 1.5708 rad)'}
+teleport: {'type': 'turtlectl/Ack', 'ok': True, 'detail': 'teleported to (2, 2, 1.5708 rad)'}
 feedback: driving, 3.00 m to go, eta 1.6 s
 goal reached in 1.32 s after 13 feedback replies: (5.000, 2.000, 359.8 deg), error 0.0001 m
 reset: 2 acks: battery full; turtle back at its spawn pose
@@ -324,6 +353,7 @@ def render() -> str:
     for section in (
         conventions_section(),
         keys_section(),
+        names_section(),
         services_section(),
         types_section(),
         params_section(),

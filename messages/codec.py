@@ -1,6 +1,7 @@
 """Encoding and decoding of wire messages: msgpack via msgspec.
 
-Every sample carries an encoding string ``application/msgpack;<TypeName>`` so a generic tool
+Every sample carries an encoding string ``application/msgpack;<package/Name>`` (the type's full
+name, messages.naming) so a generic tool
 (``turtlectl echo``) can decode any topic without knowing it in advance.  The types known by
 name are the built-ins and every type this process has used (``register``: a node registers
 the types it declares, a tool the ones it learnt from their descriptions); a decoder is built
@@ -13,6 +14,7 @@ from typing import TypeVar, Union
 
 import msgspec
 
+from turtlectl.messages.naming import REBUILT, lookup, short_name
 from turtlectl.messages.types import ALL_TYPES, Message
 
 MEDIA_TYPE = "application/msgpack"
@@ -21,8 +23,14 @@ M = TypeVar("M", bound=Message)
 
 
 def type_name(msg_type: type[Message]) -> str:
-    """The name a message type travels under: its explicit wire tag, never the class name."""
+    """The full name a message type travels under, ``package/Name`` (its wire tag, never the
+    class name): ``turtlectl/Pose``, ``capstone_msgs/TurtleStatus``."""
     return str(msg_type.__struct_config__.tag)
+
+
+def type_short_name(msg_type: type[Message]) -> str:
+    """The name without its package: ``TurtleStatus`` for ``capstone_msgs/TurtleStatus``."""
+    return short_name(type_name(msg_type))
 
 
 TYPES_BY_NAME: dict[str, type[Message]] = {type_name(t): t for t in ALL_TYPES}
@@ -30,6 +38,10 @@ TYPES_BY_NAME: dict[str, type[Message]] = {type_name(t): t for t in ALL_TYPES}
 _encoder = msgspec.msgpack.Encoder()
 _decoders: dict[type, msgspec.msgpack.Decoder] = {}
 _any_decoder: list[msgspec.msgpack.Decoder] = []  # of every known type, made again when one is added
+
+
+class TypeClash(ValueError):
+    """Two different classes under one full name in one process: neither can be told apart on the wire."""
 
 
 class DecodeError(ValueError):
@@ -42,30 +54,33 @@ def encode(msg: Message) -> bytes:
 
 
 def encoding_for(msg_type: type[Message]) -> str:
-    """The sample encoding string that names ``msg_type``, e.g. ``application/msgpack;Pose``."""
+    """The sample encoding string that names ``msg_type``, e.g. ``application/msgpack;turtlectl/Pose``."""
     return f"{MEDIA_TYPE};{type_name(msg_type)}"
-
-
-#: the attribute a class rebuilt from a description (messages.described.struct_from) carries
-REBUILT = "__turtlectl_rebuilt__"
 
 
 def register(msg_type: type[Message]) -> type[Message]:
     """Know ``msg_type`` by its name from now on (``type_from_encoding``, ``decode_any``).
     A class of the user's own takes the place of one a tool rebuilt from the wire under its
     name (a script that learnt ``WallState`` through the client, then uses its own); otherwise
-    ValueError if another class already goes by that name in this process."""
+    TypeClash if another class already goes by that name in this process."""
     name = type_name(msg_type)
     known = TYPES_BY_NAME.setdefault(name, msg_type)
     if known is not msg_type and getattr(known, REBUILT, False) and not getattr(msg_type, REBUILT, False):
         TYPES_BY_NAME[name] = known = msg_type
     if known is not msg_type:
-        raise ValueError(
+        raise TypeClash(
             f"two message types named {name!r}: {known.__module__}.{known.__qualname__} and "
             f"{msg_type.__module__}.{msg_type.__qualname__}"
         )
     _any_decoder.clear()
     return msg_type
+
+
+def named(name: str) -> type[Message] | None:
+    """The known type a user's ``name`` means: a full name, or a short name only one known type
+    has (messages.naming.lookup); None for none; AmbiguousType when several have it."""
+    found = lookup(name, TYPES_BY_NAME)
+    return None if found is None else TYPES_BY_NAME[found]
 
 
 def decode(payload: bytes, msg_type: type[M]) -> M:

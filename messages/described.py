@@ -21,7 +21,7 @@ from typing import Any, Union
 
 import msgspec
 
-from turtlectl.messages.codec import REBUILT
+from turtlectl.messages.naming import REBUILT, is_full, short_name
 from turtlectl.messages.types import ALL_TYPES, Message
 
 HASH_PREFIX = "TH01_"  # a type hash: version 1 of this scheme, then sha256 of name and schema
@@ -48,9 +48,9 @@ class TypeDescription(msgspec.Struct, frozen=True, forbid_unknown_fields=True):
 
 
 def describable(name: str) -> bool:
-    """Whether a type could be described under ``name`` (``turtlectl/types/<name>/<node>``): one
-    key chunk, no wildcard.  A raw payload's encoding may name anything (``a//b``, ``**``)."""
-    return bool(name) and not name.startswith("@") and not any(c in "/*$?#" for c in name)
+    """Whether a type could be described under ``name`` (``turtlectl/types/<package.Name>/<node>``):
+    a full name, ``package/Name``.  A raw payload's encoding may name anything (``a//b``, ``**``)."""
+    return is_full(name)
 
 
 def type_hash(name: str, schema: dict[str, Any]) -> str:
@@ -83,7 +83,7 @@ def _unit_meaning(cls: type[Message], field: str, comments: dict[str, str]) -> t
     if cls in ALL_TYPES:
         from turtlectl.messages.reference import FIELDS
 
-        unit, _, meaning = FIELDS.get(cls.__struct_config__.tag, {}).get(field, ("", "", ""))  # type: ignore[arg-type]
+        unit, _, meaning = FIELDS.get(short_name(str(cls.__struct_config__.tag)), {}).get(field, ("", "", ""))  # type: ignore[arg-type]
         return unit, meaning
     unit, colon, meaning = comments.get(field, "").partition(":")
     return (unit.strip(), meaning.strip()) if colon else ("", unit.strip())
@@ -178,13 +178,20 @@ def struct_from(description: TypeDescription) -> type[Message]:
             else:
                 fields.append((key, Union[of(prop), None], None))  # noqa: UP007
         if name == root:
-            made[name] = msgspec.defstruct(name, fields, bases=(Message,), tag=description.name, kw_only=True)
-            setattr(made[name], REBUILT, True)  # the user's own class of this name may take its place
+            made[name] = _message_class(name, fields, description.name)  # the user's own class may take its place
         else:
             made[name] = msgspec.defstruct(name, fields, kw_only=True, frozen=True)
         return made[name]
 
     return struct(root)
+
+
+def _message_class(name: str, fields: list[tuple[Any, ...]], tag: str) -> type[Message]:
+    """A Message subclass with ``fields`` (as msgspec.defstruct takes them) and the full name
+    ``tag``, as it is: made through Message's own metaclass (defstruct does not take a subclass of it)."""
+    namespace: dict[str, Any] = {"__module__": __name__, REBUILT: True, "__annotations__": {f[0]: f[1] for f in fields}}
+    namespace.update({f[0]: f[2] for f in fields if len(f) == 3})
+    return type(Message)(name, (Message,), namespace, tag=tag, kw_only=True)  # type: ignore[no-any-return]
 
 
 def _as(value: Any, kind: Any) -> Any:

@@ -138,7 +138,8 @@ def message_class(name: str, schema: dict[str, Any]) -> type[Message]:
         raise DescriptionError(f"{name}: not the JSON Schema of a message")
     plain = _plain_numbers(schema)
     defs = dict(plain.pop("$defs", {}))
-    root = name if name not in defs else f"{name}_"
+    short = name.rpartition("/")[2]  # a $defs key: the full name's slash would split its $ref
+    root = short if short not in defs else f"{short}_"
     defs[root] = {k: v for k, v in plain.items() if k not in ("$schema", "title")} | {"title": root}
     rebuilt = {"$ref": f"#/$defs/{root}", "$defs": defs}
     description = TypeDescription(name=name, hash=type_hash(name, rebuilt), doc="", fields=[], schema=rebuilt)

@@ -168,7 +168,7 @@ KEYS: dict[str, tuple[str, str, str, str, str]] = {
         "-",
         "each node -> anyone (turtlectl list)",
         "while the entity exists",
-        f"liveliness get on `{keys.ENTITY_TOKEN_PREFIX}/**`; role is pub, sub or srv; Type the message type (a service's request type; JSON for the JSON queryables); key may contain /",
+        f"liveliness get on `{keys.ENTITY_TOKEN_PREFIX}/**`; role is pub, sub or srv; Type the message type's full name with a dot for its slash (turtlectl.Pose, capstone_msgs.TurtleStatus; a service's request type; JSON for the JSON queryables); key may contain /",
     ),
     f"{keys.CLIENT_TOKEN_PREFIX}/<id>": (
         "liveliness token",

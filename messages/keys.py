@@ -149,6 +149,17 @@ def node_name(chunk: str) -> str:
     return chunk.replace(".", "/")
 
 
+def type_chunk(name: str) -> str:
+    """A message type's full name as one key chunk, as a node's: ``capstone_msgs/TurtleStatus``
+    -> ``capstone_msgs.TurtleStatus`` (type names have no '.'; ``type_from_chunk`` undoes it)."""
+    return name_chunk(name)
+
+
+def type_from_chunk(chunk: str) -> str:
+    """The full name written by ``type_chunk``: ``turtlectl.Pose`` -> ``turtlectl/Pose``."""
+    return node_name(chunk)
+
+
 CMD_VEL = cmd_vel_key(FIRST_TURTLE)
 POSE = pose_key(FIRST_TURTLE)
 STATUS = "robot/status"
@@ -261,8 +272,10 @@ def parse_node_token(key: str) -> NodeInfo | None:
 
 
 def entity_token(entity: EntityInfo) -> str:
-    """Liveliness key announcing an entity: ``@turtlectl/entity/<node>/<pid>/<role>/<Type>/<key...>``."""
-    return f"{ENTITY_TOKEN_PREFIX}/{name_chunk(entity.node)}/{entity.pid}/{entity.role}/{entity.type_name}/{entity.key}"
+    """Liveliness key announcing an entity: ``@turtlectl/entity/<node>/<pid>/<role>/<package.Type>/<key...>``
+    (the type's full name as one chunk, ``turtlectl.Pose``; ``JSON`` for a JSON queryable)."""
+    chunk = type_chunk(entity.type_name)
+    return f"{ENTITY_TOKEN_PREFIX}/{name_chunk(entity.node)}/{entity.pid}/{entity.role}/{chunk}/{entity.key}"
 
 
 def parse_entity_token(key: str) -> EntityInfo | None:
@@ -272,7 +285,9 @@ def parse_entity_token(key: str) -> EntityInfo | None:
     parts = key[len(prefix) :].split("/", 4)
     if len(parts) != 5 or not parts[1].isdigit() or parts[2] not in ENTITY_ROLES:
         return None
-    return EntityInfo(node=node_name(parts[0]), pid=int(parts[1]), role=parts[2], type_name=parts[3], key=parts[4])
+    return EntityInfo(
+        node=node_name(parts[0]), pid=int(parts[1]), role=parts[2], type_name=type_from_chunk(parts[3]), key=parts[4]
+    )
 
 
 def client_token(client_id: str) -> str:
@@ -323,9 +338,10 @@ TYPES = "turtlectl/types"  # every node: the description of each message type it
 
 def type_key(type_name: str, node: str) -> str:
     """Queryable on which ``node`` describes the message type ``type_name`` it uses (JSON
-    TypeDescription, messages.described); ``turtlectl/types/<name>/*`` asks every node that
-    uses it, ``turtlectl/types/*/*`` every type in use."""
-    return f"{TYPES}/{type_name}/{name_chunk(node)}"
+    TypeDescription, messages.described), its full name as one chunk:
+    ``turtlectl/types/capstone_msgs.TurtleStatus/<node>``; ``turtlectl/types/<chunk>/*`` asks every
+    node that uses it, ``turtlectl/types/*/*`` every type in use."""
+    return f"{TYPES}/{type_chunk(type_name)}/{name_chunk(node)}"
 
 
 def log_level_key(name: str) -> str:

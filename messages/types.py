@@ -3,9 +3,10 @@
 Rules (the reference for clients is docs/interfaces.md, generated from here):
 
 * every Struct is strict (``forbid_unknown_fields``), keyword-only and frozen;
-* every Struct names its wire tag explicitly (``class Pose(Message, tag="Pose")``;
-  ``"type": "Pose"`` in the encoded map), so a payload names its own type on the wire
-  and renaming a class never changes it;
+* every Struct names its wire tag explicitly (``class Pose(Message, tag="Pose")``), and
+  the tag on the wire is the type's full name, its package's and its own
+  (``"type": "turtlectl/Pose"`` in the encoded map: messages.naming), so a payload names its
+  own type and renaming a class never changes it;
 * fields added later get defaults, so old senders stay valid.
 
 Units are SI unless a field says otherwise: metres, seconds, radians, except
@@ -23,11 +24,27 @@ from typing import Any
 
 import msgspec
 
+from turtlectl.messages.naming import REBUILT, full_name
 
-class Message(msgspec.Struct, forbid_unknown_fields=True, kw_only=True, frozen=True, tag_field="type"):
+
+class _Named(msgspec.StructMeta):
+    """Gives every subclass of Message its full name as its msgspec tag (messages.naming):
+    ``tag="Pose"`` declared in ``turtlectl.messages`` is ``turtlectl/Pose`` on the wire."""
+
+    def __new__(mcls, name: str, bases: tuple[type, ...], namespace: dict[str, Any], **kwargs: Any) -> Any:
+        if any(isinstance(base, _Named) for base in bases) and not namespace.get(REBUILT):
+            kwargs["tag"] = full_name(str(kwargs.get("tag", name)), str(namespace.get("__module__", "")))
+        return super().__new__(mcls, name, bases, namespace, **kwargs)
+
+
+class Message(
+    msgspec.Struct, metaclass=_Named, forbid_unknown_fields=True, kw_only=True, frozen=True, tag_field="type"
+):
     """Base of every wire type: frozen (build a new one with ``msgspec.structs.replace``), and
     each subclass names its wire tag explicitly (``class Pose(Message, tag="Pose")``), so that
-    renaming a class can never change the wire format."""
+    renaming a class can never change the wire format.  The tag becomes the type's full name,
+    ``package/Name``: the package is where the class is declared (its top-level module, or a
+    script's file stem) unless the tag names one (``tag="capstone_interfaces/TurtleStatus"``)."""
 
 
 class Twist(Message, tag="Twist"):

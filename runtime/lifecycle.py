@@ -31,6 +31,7 @@ from typing import Any, NoReturn
 import msgspec
 import zenoh
 
+from turtlectl.messages.codec import TypeClash
 from turtlectl.messages.keys import NodeInfo, node_token
 from turtlectl.runtime import log_stream
 from turtlectl.runtime.config import ENV_VAR, SUPERVISOR_PID_VAR, decode_config
@@ -150,6 +151,10 @@ def run(node_class: Callable[[Node[P]], Any], params_type: type[P]) -> int:
             log.error("%s", exc)
             node.shutdown()
             return ExitCode.CANNOT_START
+        except TypeClash as exc:  # two classes under one type name: starting again cannot help
+            node.log.error('%s (give one of them another name or package: tag="package/Name")', exc)
+            node.shutdown()
+            return ExitCode.BAD_INPUT
         except OutsideInterface as exc:  # its declaration and its code disagree: starting again cannot help
             at = where(exc)
             node.log.error("%s%s", exc, f" ({at})" if at else "")

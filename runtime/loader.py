@@ -151,3 +151,28 @@ def _why(exc: BaseException) -> str:
     mine = [f for f in frames if Path(f.filename).resolve() != Path(__file__).resolve()]
     where = f" ({Path(mine[-1].filename).name}, line {mine[-1].lineno})" if mine else ""
     return f"{type(exc).__name__}: {exc}{where}"
+
+
+def type_clash(folder: Path) -> str | None:
+    """Two different message classes under one full name among those declared in modules under
+    ``folder`` (a launch file's project): what a node using both would die of at its start
+    (codec.TypeClash), said before anything starts; None when there is none."""
+    from turtlectl.messages import Message
+    from turtlectl.messages.codec import type_name
+    from turtlectl.messages.naming import REBUILT
+
+    root = folder.resolve()
+    by_name: dict[str, list[type]] = {}
+    todo = list(Message.__subclasses__())
+    while todo:
+        cls = todo.pop()
+        todo.extend(cls.__subclasses__())
+        file = getattr(sys.modules.get(cls.__module__), "__file__", None)
+        if getattr(cls, REBUILT, False) or not file or not Path(file).resolve().is_relative_to(root):
+            continue
+        by_name.setdefault(type_name(cls), []).append(cls)
+    for name, classes in sorted(by_name.items()):
+        if len(classes) > 1:
+            where = " and ".join(sorted(f"{c.__module__}.{c.__qualname__}" for c in classes))
+            return f'two message types named {name!r}: {where} (give one another name or package: tag="package/Name")'
+    return None

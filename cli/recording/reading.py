@@ -3,7 +3,9 @@ in log-time order, with what it holds; one that was never closed is read as far 
 whole (what a recording holds, and why it may not be closed: cli.recording.bag).  A type
 turtlectl was not built with (a user's own) is known from the JSON Schema the file holds for it
 (messages.jsonform.message_class), so ``info`` names it and ``play`` sends it as it was sent.
-No Zenoh here."""
+A recording made before types were named by package names turtlectl's own types bare (``Pose``):
+they are read as ``turtlectl/Pose`` (``full_name``, the one place); a user's type recorded under a
+bare name keeps it.  No Zenoh here."""
 
 from __future__ import annotations
 
@@ -15,6 +17,7 @@ from typing import Any
 
 from turtlectl.cli.recording.bag import JSON, JSON_SCHEMA, PROTOBUF, WORLD, Record, RecordingError
 from turtlectl.messages.codec import TYPES_BY_NAME
+from turtlectl.messages.naming import BUILTIN_PACKAGE
 
 
 @dataclasses.dataclass(frozen=True)
@@ -95,7 +98,7 @@ class Recording:
         for schema, channel in self._channels():
             if channel.message_encoding == PROTOBUF and schema is not None and schema.name.startswith("foxglove."):
                 continue  # the scene of record --scene
-            unknown = schema is None or (schema.name not in TYPES_BY_NAME and not _learn(schema))
+            unknown = schema is None or (full_name(schema.name) not in TYPES_BY_NAME and not _learn(schema))
             if channel.message_encoding == PROTOBUF or (channel.message_encoding == JSON and unknown):
                 name = schema.name if schema is not None else "no schema"
                 known = ", ".join(sorted(TYPES_BY_NAME))
@@ -175,7 +178,7 @@ class Recording:
         topics = [
             TopicInfo(
                 key=channel.topic,
-                type_name=schema.name if schema is not None else "",
+                type_name=full_name(schema.name) if schema is not None else "",
                 encoding=channel.message_encoding,
                 count=counts.get(cid, 0),
                 rate=counts.get(cid, 0) / span if span > 0 else 0.0,
@@ -211,15 +214,42 @@ def _learn(schema: Any) -> bool:
     return True
 
 
+def full_name(name: str) -> str:
+    """A recorded schema's type name as turtlectl names it: a built-in's bare name from a
+    recording made before types were named by package (``Pose``) is ``turtlectl/Pose``; any other
+    as it is."""
+    builtin = f"{BUILTIN_PACKAGE}/{name}"
+    return builtin if "/" not in name and builtin in TYPES_BY_NAME else name
+
+
+def _retagged(data: bytes, name: str) -> bytes:
+    """A legacy built-in's recorded JSON with its ``type`` member the full name (as is if it is no JSON object)."""
+    import json
+
+    try:
+        value = json.loads(data)
+    except ValueError:
+        return data
+    if not isinstance(value, dict) or "type" not in value:
+        return data
+    return json.dumps({**value, "type": name}, separators=(",", ":")).encode()
+
+
 def _record(schema: Any, channel: Any, message: Any) -> Record:
+    typed = schema is not None and channel.message_encoding == JSON
+    name = full_name(schema.name) if typed else ""
+    encoding = channel.metadata.get("zenoh_encoding", channel.message_encoding)
+    data = message.data
+    if typed and name != schema.name:  # a legacy built-in: its tag and encoding as they are now
+        data, encoding = _retagged(data, name), encoding.replace(f";{schema.name}", f";{name}")
     return Record(
         key=channel.topic,
-        type_name=schema.name if schema is not None and channel.message_encoding == JSON else "",
-        encoding=channel.metadata.get("zenoh_encoding", channel.message_encoding),
+        type_name=name,
+        encoding=encoding,
         log_time=message.log_time,
         publish_time=message.publish_time,
         sequence=message.sequence,
-        data=message.data,
+        data=data,
         scene=channel.message_encoding == PROTOBUF,
     )
 

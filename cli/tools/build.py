@@ -6,6 +6,7 @@ BadInput naming the field.
 
 from __future__ import annotations
 
+from collections.abc import Iterable
 from typing import Any
 
 import msgspec
@@ -14,7 +15,9 @@ from turtlectl.cli.errors import BadInput
 from turtlectl.cli.system.launchfile import validation_parts
 from turtlectl.messages import Message
 from turtlectl.messages.codec import TYPES_BY_NAME
+from turtlectl.messages.codec import type_name as name_of
 from turtlectl.messages.keys import TOPICS, service_types
+from turtlectl.messages.naming import AmbiguousType, lookup
 
 
 def _problem(exc: msgspec.ValidationError) -> str:
@@ -23,9 +26,21 @@ def _problem(exc: msgspec.ValidationError) -> str:
     return f"{path}: {what}" if path else what
 
 
+def which_type(name: str, known: Iterable[str]) -> str | None:
+    """The full name among ``known`` that a name a user typed means: a full name (any case), or
+    a short name only one known type has; None for none.  BadInput naming the full names to
+    choose from for a short name several types have (``TurtleStatus``: turtlectl's and a user's)."""
+    try:
+        return lookup(name, known)
+    except AmbiguousType as exc:
+        raise BadInput(str(exc)) from None
+
+
 def type_named(name: str) -> type[Message]:
-    """The message type called ``name`` (any case); BadInput naming the known ones otherwise."""
-    found = {n.lower(): t for n, t in TYPES_BY_NAME.items()}.get(name.lower())
+    """The message type called ``name`` (full, or short where unambiguous; any case); BadInput
+    naming the known ones otherwise."""
+    full = which_type(name, TYPES_BY_NAME)
+    found = None if full is None else TYPES_BY_NAME[full]
     if found is None:
         names = ", ".join(sorted(TYPES_BY_NAME))
         raise BadInput(f"unknown message type {name!r} (known: {names}; `turtlectl interface show TYPE` for fields)")
@@ -40,7 +55,7 @@ def message_type(key: str, type_name: str | None, table: dict[str, Any], verb: s
     if type_name is not None:
         found = type_named(type_name)
         if known is not None and found is not known:
-            raise BadInput(f"{key} {verb} {known.__name__}, not {found.__name__}")
+            raise BadInput(f"{key} {verb} {name_of(known)}, not {name_of(found)}")
         return found
     if known is None:
         raise BadInput(f"no known message type for {key!r}: give one with --type")
@@ -52,7 +67,7 @@ def message_from_json(text: str, msg_type: type[Message]) -> Message:
     try:
         return msgspec.json.decode(text.encode(), type=msg_type)
     except msgspec.ValidationError as exc:
-        raise BadInput(f"not a valid {msg_type.__name__}: {_problem(exc)}") from None
+        raise BadInput(f"not a valid {name_of(msg_type)}: {_problem(exc)}") from None
     except msgspec.DecodeError as exc:
         raise BadInput(f"not valid JSON: {exc}") from None
 

@@ -8,18 +8,21 @@ from __future__ import annotations
 from typing import Any
 
 from turtlectl.cli.errors import BadInput, Unreachable
+from turtlectl.cli.tools.build import which_type
 from turtlectl.cli.tools.interface_live import Live, keys_by_type, live_description, nested_description
 from turtlectl.cli.tools.typebook import conflict
 from turtlectl.messages import ALL_TYPES
-from turtlectl.messages.codec import encoding_for, type_name
+from turtlectl.messages.codec import encoding_for, type_name, type_short_name
 from turtlectl.messages.fieldtext import default_text, doc, struct_fields
 from turtlectl.messages.fieldtext import type_name as field_type
 from turtlectl.messages.key_reference import KEYS
 from turtlectl.messages.reference import FIELDS
 
 
-def _keys_of(name: str) -> list[str]:
-    """The keys (topics and services) whose payload is the type ``name``."""
+def _keys_of(cls: type) -> list[str]:
+    """The keys (topics and services) whose payload is the built-in type ``cls`` (the key
+    reference names them short)."""
+    name = type_short_name(cls)
     return [key for key, (kind, payload, *_) in KEYS.items() if kind != "queryable" and name in payload.split()]
 
 
@@ -47,6 +50,7 @@ def live_types(connect: str, domain: str | None = None) -> tuple[Live, Keys]:
 
 
 def is_builtin(name: str) -> bool:
+    """Whether ``name`` is a built-in's full name (a short one may also be a running node's type)."""
     return any(type_name(t).lower() == name.lower() for t in ALL_TYPES)
 
 
@@ -54,7 +58,7 @@ def listing(live: Live | None = None, keys: Keys | None = None) -> list[dict[str
     """Every message type: its name, the keys that carry it, and its summary; then the types
     the running nodes use besides (``live``), with those nodes, any conflict and the keys that
     carry them in the live graph (``keys``)."""
-    rows = [{"type": type_name(t), "keys": _keys_of(type_name(t)), "summary": summary(t)} for t in ALL_TYPES]
+    rows = [{"type": type_name(t), "keys": _keys_of(t), "summary": summary(t)} for t in ALL_TYPES]
     builtin = {r["type"] for r in rows}
     for name, said in sorted((live or {}).items()):
         if name in builtin:
@@ -84,10 +88,11 @@ def description(name: str, live: Live | None = None, keys: Keys | None = None) -
     every field (type, default, unit, range, meaning).  A type the running nodes use (``live``)
     from its description, its keys from the live graph (``keys``); a Struct nested in one from
     its definition.  BadInput naming the built-ins and the live types for a name that is no type."""
-    builtin = next((t for t in ALL_TYPES if type_name(t).lower() == name.lower()), None)
-    said = next(((n, s) for n, s in (live or {}).items() if n.lower() == name.lower()), None)
-    if builtin is None and said is not None:
-        return live_description(said[1], (keys or {}).get(said[0], []), conflict(said[1]))
+    builtins = {type_name(t): t for t in ALL_TYPES}
+    full = which_type(name, [*builtins, *(live or {})])  # BadInput: a short name several types have
+    builtin = builtins.get(full or "")
+    if builtin is None and full is not None and live:
+        return live_description(live[full], (keys or {}).get(full, []), conflict(live[full]))
     if builtin is None:
         nested = nested_description(name, live or {})
         if nested is None:
@@ -96,7 +101,7 @@ def description(name: str, live: Live | None = None, keys: Keys | None = None) -
     tag = type_name(builtin)
     fields = []
     for f in struct_fields(builtin):
-        unit, span, meaning = FIELDS[tag][f.name]
+        unit, span, meaning = FIELDS[type_short_name(builtin)][f.name]
         fields.append(
             {
                 "name": f.name,
@@ -110,7 +115,7 @@ def description(name: str, live: Live | None = None, keys: Keys | None = None) -
     return {
         "type": tag,
         "encoding": encoding_for(builtin),
-        "keys": _keys_of(tag),
+        "keys": _keys_of(builtin),
         "doc": doc(builtin),
         "fields": fields,
     }

@@ -315,9 +315,13 @@ def learn_type(connect: str, key: str, type_name: str | None) -> str | None:
     does not know (``type_name``, or else the one the live graph says ``key`` carries) is learnt
     from the nodes that use it, so it is validated and encoded as a built-in is.  Returns the
     type's name to build with (``type_name``, or the graph's), None when there is none.  Nothing
-    to ask for a known type; nothing learnt if no node describes it (build says it is unknown)."""
-    if type_name is not None and type_name.lower() in {n.lower() for n in TYPES_BY_NAME}:
-        return type_name
+    to ask for a known type's full name; a short name is looked up among the built-ins and the
+    system's types (BadInput for one several of them have); nothing learnt if no node describes
+    it (build says it is unknown)."""
+    from turtlectl.cli.tools.build import which_type
+
+    if type_name is not None and "/" in type_name and which_type(type_name, TYPES_BY_NAME) is not None:
+        return which_type(type_name, TYPES_BY_NAME)  # a full name known here (a short one may be the system's too)
     if type_name is None and (key in TOPICS or key in SERVICES):
         return None
     try:
@@ -326,14 +330,15 @@ def learn_type(connect: str, key: str, type_name: str | None) -> str | None:
             if type_name is None:
                 current = live_graph(session)
                 from_graph = next((r.type for r in [*current.topics, *current.services] if r.key == key), None)
-            for name in TypeBook(session).learn_all():  # every type in use: a service's answer types too
-                if type_name is not None and name.lower() == type_name.lower():
-                    type_name = name
+            learnt = TypeBook(session).learn_all()  # every type in use: a service's answer types too
+            if type_name is not None:
+                type_name = which_type(type_name, [*TYPES_BY_NAME, *learnt]) or type_name
+                return type_name
             if from_graph is not None and from_graph in TYPES_BY_NAME:  # a message type, not "JSON"
                 type_name = from_graph
     except Unreachable:
         pass  # no system: build says what it can without one
-    return type_name
+    return type_name if type_name is None else which_type(type_name, TYPES_BY_NAME) or type_name
 
 
 def live_graph(session: zenoh.Session, domain: str | None = None) -> Graph:

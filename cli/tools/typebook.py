@@ -16,7 +16,7 @@ import zenoh
 from turtlectl.messages import Message
 from turtlectl.messages.codec import TYPES_BY_NAME, register
 from turtlectl.messages.described import DescriptionError, TypeDescription, describable, struct_from
-from turtlectl.messages.keys import type_key
+from turtlectl.messages.keys import type_from_chunk, type_key
 
 ASK_TIMEOUT = 2.0  # s: how long the nodes have to describe a type
 RETRY = 5.0  # s: an undescribed type is asked about again after this (its node may start meanwhile)
@@ -40,7 +40,7 @@ def descriptions(session: zenoh.Session, name: str = "*") -> dict[str, dict[str,
             described = msgspec.json.decode(reply.ok.payload.to_bytes(), type=TypeDescription)
         except msgspec.DecodeError:
             continue
-        found.setdefault(parts[-2], {})[parts[-1]] = described
+        found.setdefault(type_from_chunk(parts[-2]), {})[parts[-1]] = described
     return found
 
 

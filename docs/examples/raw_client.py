@@ -38,7 +38,7 @@ def pack(type_name: str, **fields) -> tuple[bytes, zenoh.Encoding]:
 
 
 def unpack(sample: zenoh.Sample) -> dict:
-    """Any turtlectl payload: a msgpack map whose "type" names it."""
+    """Any turtlectl payload: a msgpack map whose "type" names it by package (turtlectl/Ack)."""
     return msgspec.msgpack.decode(sample.payload.to_bytes())
 
 
@@ -61,7 +61,7 @@ with zenoh.open(conf) as session:
     print(f"world: {world['size']:.3f} m square, {len(world['obstacles'])} obstacles")
 
     # 4. teleport: theta in radians, as turtlesim; the Ack comes once the new pose is out
-    payload, encoding = pack("TeleportAbsolute", x=2.0, y=2.0, theta=math.radians(90.0))
+    payload, encoding = pack("turtlectl/TeleportAbsolute", x=2.0, y=2.0, theta=math.radians(90.0))
     for reply in session.get("turtle1/teleport_absolute", payload=payload, encoding=encoding, timeout=5):
         answer = unpack(reply.ok) if reply.ok else msgspec.msgpack.decode(reply.err.payload.to_bytes())
         print("teleport:", answer)
@@ -70,7 +70,7 @@ with zenoh.open(conf) as session:
     #    goal if this program goes away; keep every reply (ConsolidationMode.NONE).
     client_id = f"{os.getpid()}-{secrets.token_hex(4)}"
     token = session.liveliness().declare_token(f"@turtlectl/client/{client_id}")
-    payload, encoding = pack("NavigateToRequest", x=5.0, y=2.0, theta=0.0, client=client_id)
+    payload, encoding = pack("turtlectl/NavigateToRequest", x=5.0, y=2.0, theta=0.0, client=client_id)
     feedback = 0
     for reply in session.get(
         "navigate_to", payload=payload, encoding=encoding, consolidation=zenoh.ConsolidationMode.NONE, timeout=60
@@ -79,13 +79,13 @@ with zenoh.open(conf) as session:
             print("error:", msgspec.msgpack.decode(reply.err.payload.to_bytes())["error"])
             break
         message = unpack(reply.ok)
-        if message["type"] == "NavigateToFeedback":
+        if message["type"] == "turtlectl/NavigateToFeedback":
             feedback += 1
             if feedback == 1:
                 print(
                     f"feedback: {message['state']}, {message['distance_remaining']:.2f} m to go, eta {message['eta']:.1f} s"
                 )
-        elif message["type"] == "NavigateToResponse":
+        elif message["type"] == "turtlectl/NavigateToResponse":
             outcome = "reached" if message["success"] else f"not reached ({message['reason']})"
             print(
                 f"goal {outcome} in {message['time_taken']:.2f} s after {feedback} feedback replies: "
@@ -95,7 +95,7 @@ with zenoh.open(conf) as session:
 
     # 6. reset: served by the sim and the status monitor; both Acks need QueryTarget.ALL
     #    and ConsolidationMode.NONE (the default consolidation keeps one reply per key)
-    payload, encoding = pack("Reset")
+    payload, encoding = pack("turtlectl/Reset")
     acks = [
         unpack(r.ok)["detail"]
         for r in session.get(
@@ -111,6 +111,6 @@ with zenoh.open(conf) as session:
     print(f"reset: {len(acks)} acks:", "; ".join(sorted(acks)))
 
     # 7. cancel with no goal running: Ack ok=false
-    payload, encoding = pack("Cancel")
+    payload, encoding = pack("turtlectl/Cancel")
     ack = unpack(next(r.ok for r in session.get("navigate_to/cancel", payload=payload, encoding=encoding) if r.ok))
     print(f"cancel: ok={ack['ok']} ({ack['detail']})")

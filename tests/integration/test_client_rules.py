@@ -79,13 +79,13 @@ def test_call_navigate_to_prints_each_reply_as_it_arrives(system):
     call = cli(system, "call", "navigate_to", '{"x": 10, "y": 5.5, "theta": 0}', "--json")
     first = json.loads(read_line(call.stdout, 10.0))
     first_at = time.monotonic()
-    assert first["type"] == "NavigateToFeedback"
+    assert first["type"] == "turtlectl/NavigateToFeedback"
     rest, err = call.communicate(timeout=20)
     ended_at = time.monotonic()
     assert call.returncode == 0, err
     assert ended_at - first_at > 0.5, "the feedback came only with the outcome"
     last = json.loads(rest.splitlines()[-1])
-    assert last["type"] == "NavigateToResponse" and last["success"]
+    assert last["type"] == "turtlectl/NavigateToResponse" and last["success"]
 
 
 def test_call_navigate_to_timeout_after_feedback_cancels_the_goal(system):
@@ -120,7 +120,7 @@ def test_call_exits_1_when_the_answer_says_no(system):
 
 def test_a_known_key_keeps_its_type_and_wildcard_json_names_keys(system):
     wrong = system.run_cli("pub", "turtle1/cmd_vel", '{"x": 1, "y": 1, "theta": 0}', "--type", "Pose")
-    assert wrong.returncode == 2 and "turtle1/cmd_vel carries Twist, not Pose" in wrong.stderr
+    assert wrong.returncode == 2 and "turtle1/cmd_vel carries turtlectl/Twist, not turtlectl/Pose" in wrong.stderr
     lines = system.run_cli("echo", "**", "--json", "--count", "5").stdout.splitlines()
     assert len(lines) == 5 and all(json.loads(line)["key"] for line in lines), lines
 
@@ -287,7 +287,7 @@ def test_the_raw_client_of_the_interface_reference_runs(system):
     )
     assert result.returncode == 0, result.stdout + result.stderr
     out = result.stdout
-    assert out.startswith("4 nodes: navigator (pid ") and "teleport: {'type': 'Ack', 'ok': True" in out
+    assert out.startswith("4 nodes: navigator (pid ") and "teleport: {'type': 'turtlectl/Ack', 'ok': True" in out
     assert re.search(r"goal reached in [\d.]+ s after \d+ feedback replies", out), out
     assert "reset: 2 acks: battery full; turtle back at its spawn pose" in out
     assert "cancel: ok=False (no goal is running)" in out
@@ -345,7 +345,7 @@ def test_a_client_without_domain_sees_every_domain_and_is_told_which_to_use(rout
         )
 
         status = plain("echo", "alpha/robot/status", "--once", "--json", endpoint=router.endpoint)
-        assert status.returncode == 0 and json.loads(status.stdout)["type"] == "TurtleStatus"
+        assert status.returncode == 0 and json.loads(status.stdout)["type"] == "turtlectl/TurtleStatus"
         silent = plain("echo", "robot/status", "--timeout", "4", endpoint=router.endpoint)
         assert (
             silent.returncode == 3

@@ -244,7 +244,7 @@ def test_goto_cli_reaches_and_prints_json(system):
     result = system.run_cli("goto", "4", "6", "-90", "--json")
     assert result.returncode == 0, result.stderr
     response = json.loads(result.stdout)
-    assert response["type"] == "NavigateToResponse" and response["success"] is True
+    assert response["type"] == "turtlectl/NavigateToResponse" and response["success"] is True
     assert abs(response["theta"] - 270.0) <= 1.0
 
 
@@ -292,7 +292,11 @@ def test_malformed_payloads_are_dropped_and_every_node_keeps_running(system):
     pids = dict(system.wait_ready())
     session = system.session
     for key in ("turtle1/cmd_vel", "turtle1/pose", "obstacles", "robot/status"):
-        for payload in (b"\xc1\xc1", b"not msgpack", msgspec.msgpack.encode({"type": "Twist", "linear": "x"})):
+        for payload in (
+            b"\xc1\xc1",
+            b"not msgpack",
+            msgspec.msgpack.encode({"type": "turtlectl/Twist", "linear": "x"}),
+        ):
             session.put(key, payload)
     replies = system.call(NAVIGATE_TO, TurtleStatus(x=1, y=1, theta=0, vel_x=0, vel_y=0, battery=1))
     assert len(replies) == 1 and replies[0].err is not None

@@ -178,7 +178,13 @@ def test_kill_9_a_helper_mid_goal_does_not_fail_the_goal(system, victim):
     system.wait_until(lambda: system.alive.get(victim, old) != old, 10.0, f"{victim} respawned")
 
 
-GARBAGE = [b"", b"\xc1", b"not msgpack", msgspec.msgpack.encode({"type": "Twist", "linear": "x"}), b"\x00" * 4096]
+GARBAGE = [
+    b"",
+    b"\xc1",
+    b"not msgpack",
+    msgspec.msgpack.encode({"type": "turtlectl/Twist", "linear": "x"}),
+    b"\x00" * 4096,
+]
 
 
 def test_garbage_on_every_key_is_dropped_and_logged_once_per_key(system):

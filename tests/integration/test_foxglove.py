@@ -199,7 +199,7 @@ def test_foxglove_sees_the_topics_the_scene_and_sends_a_goal():
     scan = scan_class.FromString(got["scene/scan"][0])
     assert scan.frame_id == "world" and len(scan.ranges) > 0
 
-    assert response["type"] == "NavigateToResponse" and response["success"] is True, response
+    assert response["type"] == "turtlectl/NavigateToResponse" and response["success"] is True, response
     assert abs(response["x"] - 8.0) < 0.05 and abs(response["y"] - 5.0) < 0.05
 
     assert client.channels["log"]["schemaName"] == "foxglove.Log"

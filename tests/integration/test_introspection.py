@@ -16,21 +16,21 @@ def test_node_info_and_topic_info_describe_the_running_graph(system):
     assert result.returncode == 0, result.stderr
     info = json.loads(result.stdout)
     assert (info["kind"], info["pid"]) == ("navigator", system.alive["navigator"]) and info["uptime"] > 0
-    assert {"key": "turtle1/cmd_vel", "type": "Twist"} in info["publishers"]
-    assert {"key": "turtle1/pose", "type": "Pose"} in info["subscribers"]
-    assert {"key": "navigate_to", "type": "NavigateToRequest"} in info["services"]
+    assert {"key": "turtle1/cmd_vel", "type": "turtlectl/Twist"} in info["publishers"]
+    assert {"key": "turtle1/pose", "type": "turtlectl/Pose"} in info["subscribers"]
+    assert {"key": "navigate_to", "type": "turtlectl/NavigateToRequest"} in info["services"]
     assert info["parameters"]["goal_timeout"] == 30.0
     text = system.run_cli("node", "info", "sim").stdout
     assert "kind sim" in text and "PUBLISHERS" in text and "turtle1/pose" in text and "cmd_timeout = 1.0" in text
     topic = system.run_cli("topic", "info", "turtle1/pose", "-v", "--json")
     assert topic.returncode == 0, topic.stderr
     pose = json.loads(topic.stdout)
-    assert pose["type"] == "Pose" and [p["node"] for p in pose["publishers"]] == ["sim"]
+    assert pose["type"] == "turtlectl/Pose" and [p["node"] for p in pose["publishers"]] == ["sim"]
     assert {s["node"] for s in pose["subscribers"]} == {"navigator", "obstacle_detector", "status_monitor"}
     assert pose["publishers"][0]["pid"] == system.alive["sim"]
     assert 30 < pose["rate"] < 100 and pose["messages"] > 30, pose  # 62.5 Hz measured over a second
     plain = json.loads(system.run_cli("topic", "info", "robot/status", "--json").stdout)
-    assert plain["rate"] is None and plain["type"] == "TurtleStatus"
+    assert plain["rate"] is None and plain["type"] == "turtlectl/TurtleStatus"
     missing = system.run_cli("node", "info", "ghost")
     assert missing.returncode == ExitCode.UNREACHABLE and "no node named 'ghost' answers (running: " in missing.stderr
     nowhere = system.run_cli("topic", "info", "no/such")
@@ -62,4 +62,4 @@ def test_log_level_changes_what_a_running_node_writes(system):
 def test_topic_info_on_a_service_says_it_is_one(system):
     result = system.run_cli("topic", "info", "navigate_to")
     assert result.returncode == ExitCode.BAD_INPUT
-    assert "navigate_to is a service (NavigateToRequest, served by navigator), not a topic" in result.stderr
+    assert "navigate_to is a service (turtlectl/NavigateToRequest, served by navigator), not a topic" in result.stderr

@@ -130,8 +130,8 @@ def test_every_reply_names_its_own_type(no_scans):
     replies = no_scans.call(NAVIGATE_TO, NavigateToRequest(x=6.0, y=2.5, theta=0.0))
     encodings = {type(decode_any(r.ok.payload.to_bytes())).__name__: str(r.ok.encoding) for r in replies}
     assert encodings == {
-        "NavigateToFeedback": "application/msgpack;NavigateToFeedback",
-        "NavigateToResponse": "application/msgpack;NavigateToResponse",
+        "NavigateToFeedback": "application/msgpack;turtlectl/NavigateToFeedback",
+        "NavigateToResponse": "application/msgpack;turtlectl/NavigateToResponse",
     }
 
 

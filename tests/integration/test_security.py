@@ -138,7 +138,7 @@ def login(system, role: str) -> zenoh.Session:
 def test_a_viewer_watches_but_its_goto_is_not_permitted(secure):
     viewer = {"TURTLECTL_ROLE": "viewer"}
     status, _ = run_as(secure, viewer, "echo", "robot/status", "--once", "--json")
-    assert status.returncode == 0 and json.loads(status.stdout)["type"] == "TurtleStatus", status.stderr
+    assert status.returncode == 0 and json.loads(status.stdout)["type"] == "turtlectl/TurtleStatus", status.stderr
     goal, _ = run_as(secure, viewer, "goto", "5", "5", "0")
     assert goal.returncode == ExitCode.FAILED
     assert goal.stderr.strip() == (

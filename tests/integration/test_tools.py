@@ -33,17 +33,17 @@ def test_list_shows_the_live_graph(system):
     assert {name: n["pid"] for name, n in nodes.items()} == system.alive
     assert all(n["host"] and n["uptime"] > 0 for n in nodes.values())
     topics = {t["key"]: t for t in graph["topics"]}
-    assert topics["turtle1/pose"]["type"] == "Pose" and topics["turtle1/pose"]["publishers"] == ["sim"]
+    assert topics["turtle1/pose"]["type"] == "turtlectl/Pose" and topics["turtle1/pose"]["publishers"] == ["sim"]
     assert set(topics["turtle1/pose"]["subscribers"]) == {"navigator", "obstacle_detector", "status_monitor"}
     assert topics["turtle1/cmd_vel"] == {
         "key": "turtle1/cmd_vel",
-        "type": "Twist",
+        "type": "turtlectl/Twist",
         "publishers": ["navigator"],
         "subscribers": ["sim"],
     }
     services = {s["key"]: s for s in graph["services"]}
     assert services["reset"]["servers"] == ["sim", "status_monitor"]
-    assert services["navigate_to"]["type"] == "NavigateToRequest"
+    assert services["navigate_to"]["type"] == "turtlectl/NavigateToRequest"
     text = system.run_cli("list").stdout
     assert "NODES" in text and "turtle1/pose" in text and "served by navigator" in text
 
@@ -109,7 +109,7 @@ def test_echo_field_csv_and_short_arrays(system):
     missing = system.run_cli("echo", "robot/status", "--once", "--field", "speed")
     assert missing.returncode == 2 and "TurtleStatus has no field 'speed'" in missing.stderr
     slash = system.run_cli("echo", "/robot/status", "--once", "--json")  # ROS habit: leading slash
-    assert slash.returncode == 0 and json.loads(slash.stdout)["type"] == "TurtleStatus"
+    assert slash.returncode == 0 and json.loads(slash.stdout)["type"] == "turtlectl/TurtleStatus"
     bad = system.run_cli("echo", "robot//status", "--once")
     assert bad.returncode == 2 and "not a valid key expression" in bad.stderr
 

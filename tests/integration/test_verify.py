@@ -221,7 +221,7 @@ def test_each_kind_of_criterion_fails_with_its_reason_on_a_system_made_to_miss_i
 
         def junk() -> None:  # a TurtleStatus that is not one, 10 times a second
             while not stop.wait(0.1):
-                system.session.put("junk/state", b"not msgpack", encoding="application/msgpack;TurtleStatus")
+                system.session.put("junk/state", b"not msgpack", encoding="application/msgpack;turtlectl/TurtleStatus")
 
         feeder = threading.Thread(target=junk, daemon=True)
         feeder.start()

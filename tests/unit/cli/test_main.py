@@ -214,13 +214,22 @@ def test_pub_refuses_wildcards_and_internal_keys(key):
 @pytest.mark.parametrize(
     "argv, message",
     [
-        (("pub", "turtle1/cmd_vel", '{"linear": "x"}'), "not a valid Twist: linear: Expected `float`, got `str`"),
+        (
+            ("pub", "turtle1/cmd_vel", '{"linear": "x"}'),
+            "not a valid turtlectl/Twist: linear: Expected `float`, got `str`",
+        ),
         (("pub", "turtle1/cmd_vel", "{"), "not valid JSON: "),
-        (("pub", "turtle1/cmd_vel", "{}", "--type", "Pose"), "turtle1/cmd_vel carries Twist, not Pose"),
+        (
+            ("pub", "turtle1/cmd_vel", "{}", "--type", "Pose"),
+            "turtle1/cmd_vel carries turtlectl/Twist, not turtlectl/Pose",
+        ),
         (("pub", "some/key", "{}"), "no known message type for 'some/key': give one with --type"),
         (("pub", "some/key", "{}", "--type", "Nope"), "unknown message type 'Nope' (known: "),
         (("call", "turtle1/teleport_absolute", '{"x": 1}'), "missing required field `y`"),
-        (("call", "navigate_to/cancel", "{}", "--type", "Pose"), "navigate_to/cancel takes Cancel, not Pose"),
+        (
+            ("call", "navigate_to/cancel", "{}", "--type", "Pose"),
+            "navigate_to/cancel takes turtlectl/Cancel, not turtlectl/Pose",
+        ),
         (("call", "any/key", "{"), "not valid JSON: "),
     ],
 )

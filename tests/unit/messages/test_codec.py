@@ -27,17 +27,17 @@ def test_round_trip(msg):
 
 
 def test_type_name_travels_on_the_wire():
-    assert msgspec.msgpack.decode(encode(Twist(linear=1.0)))["type"] == "Twist"
-    assert encoding_for(TurtleStatus) == "application/msgpack;TurtleStatus"
+    assert msgspec.msgpack.decode(encode(Twist(linear=1.0)))["type"] == "turtlectl/Twist"
+    assert encoding_for(TurtleStatus) == "application/msgpack;turtlectl/TurtleStatus"
 
 
 @pytest.mark.parametrize(
     "payload, expected",
     [
         (b"\xc1garbage", "not a valid Twist"),
-        (msgspec.msgpack.encode({"type": "Twist", "linear": "fast"}), "Expected `float`, got `str`"),
-        (msgspec.msgpack.encode({"type": "Twist", "linear": 1.0, "boost": 2}), "unknown field `boost`"),
-        (encode(Pose(x=1, y=2, theta=0)), "Invalid value 'Pose'"),
+        (msgspec.msgpack.encode({"type": "turtlectl/Twist", "linear": "fast"}), "Expected `float`, got `str`"),
+        (msgspec.msgpack.encode({"type": "turtlectl/Twist", "linear": 1.0, "boost": 2}), "unknown field `boost`"),
+        (encode(Pose(x=1, y=2, theta=0)), "Invalid value 'turtlectl/Pose'"),
         (b"", "not a valid Twist"),
     ],
 )
@@ -49,7 +49,7 @@ def test_malformed_payload_is_rejected_with_a_reason(payload, expected):
 
 def test_missing_required_field_is_named():
     with pytest.raises(DecodeError, match="missing required field `theta`"):
-        decode(msgspec.msgpack.encode({"type": "NavigateToRequest", "x": 1.0, "y": 2.0}), NavigateToRequest)
+        decode(msgspec.msgpack.encode({"type": "turtlectl/NavigateToRequest", "x": 1.0, "y": 2.0}), NavigateToRequest)
 
 
 def test_unknown_encoding_names_no_type():

@@ -34,7 +34,7 @@ class RecordedState(Message, tag="RecordedState"):
 
 def test_the_class_from_a_recorded_schema_sends_the_same_bytes():
     recorded = json.loads(json.dumps(json_schema(RecordedState)))  # as the file holds it
-    rebuilt = message_class("RecordedState", recorded)
+    rebuilt = message_class("tests/RecordedState", recorded)
     original = RecordedState(distance=math.inf, spots=[Spot(1.0, 2.0)], maybe=3.0, stamp=5, seq=3)
     again = from_json(to_json(original), rebuilt)
     assert encode(again) == encode(original)

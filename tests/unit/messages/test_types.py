@@ -21,6 +21,7 @@ from turtlectl.messages import (
     encoding_for,
     to_json,
 )
+from turtlectl.messages.codec import type_name, type_short_name
 
 
 def test_samples_cover_every_type():
@@ -33,7 +34,7 @@ def test_scan_origin_defaults_to_unknown():
 
 
 def test_new_fields_have_defaults_so_old_senders_stay_valid():
-    old = msgspec.msgpack.encode({"type": "NavigateToRequest", "x": 1.0, "y": 2.0, "theta": 0.0})
+    old = msgspec.msgpack.encode({"type": "turtlectl/NavigateToRequest", "x": 1.0, "y": 2.0, "theta": 0.0})
     assert decode(old, NavigateToRequest).client == ""
 
 
@@ -41,15 +42,16 @@ def test_every_message_is_frozen_and_names_its_wire_tag_explicitly():
     """Issue 9: a renamed class must never change the wire format, and a reply is built, not mutated."""
     for t in ALL_TYPES:
         assert t.__struct_config__.frozen, t
-        assert f'tag="{t.__struct_config__.tag}"' in inspect.getsource(t).splitlines()[0], t
+        assert f'tag="{type_short_name(t)}"' in inspect.getsource(t).splitlines()[0], t
+        assert type_name(t) == f"turtlectl/{type_short_name(t)}", t
     with pytest.raises(AttributeError):
         Pose(x=1.0, y=2.0, theta=0.0).x = 3.0  # type: ignore[misc]
 
     class RenamedTwist(Message, tag="Twist"):
         linear: float = 0.0
 
-    assert encoding_for(RenamedTwist) == "application/msgpack;Twist"
-    assert b"Twist" in encode(RenamedTwist(linear=1.0)) and b"Renamed" not in encode(RenamedTwist())
+    assert encoding_for(RenamedTwist) == "application/msgpack;tests/Twist"  # declared in the package tests
+    assert b"tests/Twist" in encode(RenamedTwist(linear=1.0)) and b"Renamed" not in encode(RenamedTwist())
 
 
 def feedback(state) -> NavigateToFeedback:

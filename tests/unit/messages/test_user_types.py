@@ -163,7 +163,7 @@ def test_a_users_own_class_takes_the_place_of_one_rebuilt_from_the_wire():
         n: int  # -: a count
 
     register(struct_from(describe(Seen)))
-    assert register(Seen) is Seen and TYPES_BY_NAME["UnitSeenType"] is Seen
+    assert register(Seen) is Seen and TYPES_BY_NAME["tests/UnitSeenType"] is Seen
     assert decode_any(encode(Seen(n=2))) == Seen(n=2)
-    with pytest.raises(ValueError, match="two message types named 'UnitSeenType'"):
+    with pytest.raises(ValueError, match="two message types named 'tests/UnitSeenType'"):
         register(struct_from(describe(Seen)))  # a rebuilt class never replaces a real one

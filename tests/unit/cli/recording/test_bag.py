@@ -63,7 +63,7 @@ def test_info_counts_each_topic_with_its_type_rate_and_encoding(tmp_path):
     assert info.closed and info.count == 64 and info.size == path.stat().st_size
     assert info.start == T0 and info.end == T0 + 62 * 16_000_000
     topics = {t.key: t for t in info.topics}
-    assert topics["turtle1/pose"].type_name == "Pose" and topics["turtle1/pose"].count == 63
+    assert topics["turtle1/pose"].type_name == "turtlectl/Pose" and topics["turtle1/pose"].count == 63
     assert topics["turtle1/pose"].encoding == "json"
     assert topics["turtle1/pose"].rate == pytest.approx(63 / 0.992)
 
@@ -79,8 +79,8 @@ def test_the_schema_in_the_file_is_the_types_json_schema(tmp_path):
         summary = make_reader(f).get_summary()
     (schema,) = summary.schemas.values()
     (channel,) = summary.channels.values()
-    assert (schema.name, schema.encoding, channel.message_encoding) == ("LaserScan", "jsonschema", "json")
-    assert json.loads(schema.data)["title"] == "LaserScan"
+    assert (schema.name, schema.encoding, channel.message_encoding) == ("turtlectl/LaserScan", "jsonschema", "json")
+    assert json.loads(schema.data)["title"] == "turtlectl/LaserScan"
     assert channel.topic == "obstacles"
 
 
@@ -152,7 +152,9 @@ def test_a_channel_of_an_unknown_type_is_refused_naming_it(tmp_path):
         channel = writer.register_channel("odom", "json", schema)
         writer.add_message(channel, log_time=T0, publish_time=T0, data=b"{}")
         writer.finish()
-    with pytest.raises(RecordingError, match=r"channel odom has an unknown type \(Odometry\); turtlectl knows Ack"):
+    with pytest.raises(
+        RecordingError, match=r"channel odom has an unknown type \(Odometry\); turtlectl knows turtlectl/Ack"
+    ):
         Recording(path)
 
 

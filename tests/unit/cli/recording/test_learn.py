@@ -19,18 +19,18 @@ class FakeBook:
 def test_an_unknown_type_is_asked_about_and_a_known_or_foreign_one_is_not():
     book = FakeBook()
     for encoding in (
-        "application/msgpack;SomeoneElsesType",
-        "application/msgpack;Pose",  # a built-in
+        "application/msgpack;someone/ElsesType",
+        "application/msgpack;turtlectl/Pose",  # a built-in
         "application/json",
         "text/plain;WallState",
         "application/msgpack",
     ):
         learn(book, encoding)  # type: ignore[arg-type]
-    assert book.asked == ["SomeoneElsesType"]
+    assert book.asked == ["someone/ElsesType"]
 
 
 def test_a_name_no_node_could_describe_is_not_asked_about():
     book = FakeBook()
-    for name in ("a//b", "a/b", "a*b", "**", "a$b", "a?b", "a#b", "@x", ""):
+    for name in ("a//b", "a/b/c", "Bare", "a*b", "**", "a$b", "a?b", "a#b", "@x", ""):
         learn(book, f"application/msgpack;{name}")  # type: ignore[arg-type]
     assert book.asked == []

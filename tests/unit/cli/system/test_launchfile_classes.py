@@ -135,3 +135,51 @@ def test_run_puts_a_node_class_in_a_namespace(tmp_path):
     assert config.name == "turtle2/patrol"
     with pytest.raises(LaunchFileError, match="is not a namespace"):
         class_plan("./patrol.py:Patrol", [], tmp_path, namespace="a b")
+
+
+def project(folder: Path, package: str, imports: str) -> Path:
+    """A student's project: ``package`` with two modules each declaring its own ``TurtleStatus``,
+    and a node class whose module runs ``imports``; its launch file."""
+    (folder / package).mkdir()
+    (folder / package / "__init__.py").write_text("")
+    status = "from turtlectl import Message\n\nclass TurtleStatus(Message, tag='TurtleStatus'):\n    x: float = 0.0\n"
+    (folder / package / "status.py").write_text(status)
+    (folder / package / "more.py").write_text(status.replace("x: float", "mood: str"))
+    node = (
+        "import msgspec\n"
+        + imports
+        + "\n\nclass Monitor:\n    Params = msgspec.Struct\n\n    def __init__(self, node):\n        pass\n"
+    )
+    (folder / "monitor.py").write_text(node)
+    (folder / "launch.toml").write_text(SIM + '[[node]]\nname = "monitor"\nrun = "./monitor.py:Monitor"\n')
+    return folder / "launch.toml"
+
+
+@pytest.fixture
+def projects(tmp_path, monkeypatch):
+    """Where the projects go, on sys.path (as the loader finds a project's own modules)."""
+    import sys
+
+    monkeypatch.setattr(sys, "modules", dict(sys.modules))  # the projects' modules go with the test
+    for name in ("ok", "clash"):
+        (tmp_path / name).mkdir()
+        monkeypatch.syspath_prepend(str(tmp_path / name))
+    return tmp_path
+
+
+def test_two_classes_under_one_type_name_are_found_by_the_check_not_by_a_crash_loop(projects):
+    """Two modules of one package each declaring its own ``TurtleStatus`` are both
+    ``capstone_msgs/TurtleStatus``: a node using both could never start.  A user's TurtleStatus
+    beside turtlectl's is no clash (another package)."""
+    fine = project(
+        projects / "ok",
+        "ok_msgs",
+        "from ok_msgs.status import TurtleStatus\nfrom turtlectl.messages import TurtleStatus as Theirs",
+    )
+    assert load_launch(fine).kinds["monitor"]
+    clash = project(projects / "clash", "capstone_msgs", "import capstone_msgs.more\nimport capstone_msgs.status")
+    with pytest.raises(LaunchFileError) as err:
+        load_launch(clash)
+    message = str(err.value)
+    assert "node[1] (monitor).run: two message types named 'capstone_msgs/TurtleStatus'" in message, message
+    assert "capstone_msgs.more.TurtleStatus and capstone_msgs.status.TurtleStatus" in message

@@ -33,8 +33,11 @@ def test_a_known_key_keeps_its_type():
     assert type(topic_message("some/topic", '{"x": 1, "y": 2, "theta": 0}', "Pose")) is Pose
     with pytest.raises(TurtlectlError) as err:
         topic_message("turtle1/cmd_vel", '{"x": 1, "y": 2, "theta": 0}', "Pose")
-    assert exit_code(err.value) == ExitCode.BAD_INPUT and "turtle1/cmd_vel carries Twist, not Pose" in err.value.message
-    with pytest.raises(TurtlectlError, match="navigate_to/cancel takes Cancel, not Pose"):
+    assert (
+        exit_code(err.value) == ExitCode.BAD_INPUT
+        and "turtle1/cmd_vel carries turtlectl/Twist, not turtlectl/Pose" in err.value.message
+    )
+    with pytest.raises(TurtlectlError, match="navigate_to/cancel takes turtlectl/Cancel, not turtlectl/Pose"):
         service_request("navigate_to/cancel", '{"x": 1, "y": 2, "theta": 0}', "Pose")
     assert type(service_request("navigate_to/cancel", "{}", "Cancel")) is Cancel
 

@@ -77,7 +77,7 @@ def test_the_progress_line_keeps_what_fits_and_drops_the_least_useful_first():
 
 def test_wildcard_json_names_the_key():
     line = json.loads(message_json(Twist(linear=1.0), "turtle1/cmd_vel"))
-    assert line["type"] == "Twist" and line["key"] == "turtle1/cmd_vel" and line["linear"] == 1.0
+    assert line["type"] == "turtlectl/Twist" and line["key"] == "turtle1/cmd_vel" and line["linear"] == 1.0
     assert "key" not in json.loads(message_json(Twist()))
     scan = LaserScan(angle_min=0, angle_max=0, angle_increment=0, range_min=0, range_max=1, ranges=[math.inf])
     assert json.loads(message_json(scan, "obstacles"))["ranges"] == ["Infinity"]  # as in recordings (one rule)

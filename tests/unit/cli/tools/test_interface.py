@@ -36,13 +36,13 @@ def test_list_names_every_type_with_the_keys_that_carry_it():
     code, text = invoke("interface", "list")
     assert code == 0
     for t in ALL_TYPES:
-        assert any(line.startswith(t.__name__ + " ") for line in text.splitlines()), t.__name__
+        assert any(line.startswith(f"turtlectl/{t.__name__} ") for line in text.splitlines()), t.__name__
     code, out = invoke("interface", "list", "--json")
     rows = {r["type"]: r for r in json.loads(out)}
-    assert rows["Twist"]["keys"] == ["turtle1/cmd_vel", "<turtle>/cmd_vel"] and rows["TurtleStatus"]["keys"] == [
-        "robot/status"
-    ]
-    assert set(rows) == {t.__name__ for t in ALL_TYPES}
+    assert rows["turtlectl/Twist"]["keys"] == ["turtle1/cmd_vel", "<turtle>/cmd_vel"] and rows[
+        "turtlectl/TurtleStatus"
+    ]["keys"] == ["robot/status"]
+    assert set(rows) == {f"turtlectl/{t.__name__}" for t in ALL_TYPES}
 
 
 @pytest.mark.parametrize("msg_type", ALL_TYPES, ids=lambda t: t.__name__)
@@ -53,14 +53,14 @@ def test_show_gives_every_field_with_its_unit_and_default(msg_type):
     names = [f.name for f in msgspec.inspect.type_info(msg_type).fields]
     assert [f["name"] for f in shown["fields"]] == names
     assert all(f["unit"] and f["meaning"] for f in shown["fields"])
-    assert shown["encoding"] == f"application/msgpack;{msg_type.__name__}"
-    assert shown["type"] == msg_type.__name__ and shown["doc"]
+    assert shown["encoding"] == f"application/msgpack;turtlectl/{msg_type.__name__}"
+    assert shown["type"] == f"turtlectl/{msg_type.__name__}" and shown["doc"]
 
 
 def test_show_is_readable_and_case_does_not_matter():
     code, text = invoke("interface", "show", "twist")
     assert code == 0
-    assert text.startswith('Twist: msgpack map tagged "type": "Twist"')
+    assert text.startswith('turtlectl/Twist: msgpack map tagged "type": "turtlectl/Twist"')
     assert "linear   float  0        m/s" in text and "keys: turtle1/cmd_vel" in text
     assert Twist.__name__ in text
 
@@ -68,7 +68,9 @@ def test_show_is_readable_and_case_does_not_matter():
 def test_an_unknown_type_is_one_line_naming_the_known_ones_exit_2():
     done = turtlectl("interface", "show", "Odometry")
     assert done.returncode == ExitCode.BAD_INPUT, done
-    assert done.stderr.strip().startswith("turtlectl: error: unknown message type 'Odometry' (known: Ack,"), done.stderr
+    assert done.stderr.strip().startswith("turtlectl: error: unknown message type 'Odometry' (known: turtlectl/Ack,"), (
+        done.stderr
+    )
     assert "Traceback" not in done.stderr and done.stdout == ""
 
 

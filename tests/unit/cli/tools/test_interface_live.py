@@ -128,6 +128,6 @@ def test_an_unknown_name_lists_the_built_ins_then_the_live_types():
     with pytest.raises(BadInput) as caught:
         interface.description("Odometry", LIVE)
     message = str(caught.value)
-    assert message.startswith("unknown message type 'Odometry' (known: Ack,"), message
+    assert message.startswith("unknown message type 'Odometry' (known: turtlectl/Ack,"), message
     assert "Twist" in message and "Survey" in message
     assert message.index("Twist") < message.index("Survey"), message

@@ -133,7 +133,7 @@ def test_colour_on_a_terminal_unless_no_color_or_a_dumb_terminal():
 def test_json_is_the_message_as_echo_writes_it():
     written = json.loads(json_of(record(30)))
     assert written == {
-        "type": "Log",
+        "type": "turtlectl/Log",
         "level": 30,
         "node": "navigator",
         "message": "goal reached",

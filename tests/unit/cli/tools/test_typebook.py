@@ -23,14 +23,14 @@ class OtherSurvey(Message, tag="ReviewSurvey"):
 
 def book_of(**by_node: type[Message]) -> TypeBook:
     book = TypeBook(None)  # type: ignore[arg-type]  # no session: the descriptions are handed over
-    book._learnt("ReviewSurvey", {node: describe(cls) for node, cls in by_node.items()})
+    book._learnt("tests/ReviewSurvey", {node: describe(cls) for node, cls in by_node.items()})
     return book
 
 
 def test_one_name_two_ways_each_message_by_the_description_it_fits():
     book = book_of(surveyor=Survey, mapper=OtherSurvey)
-    assert "described 2 ways" in book.conflict("ReviewSurvey")
-    encoding = "application/msgpack;ReviewSurvey"
+    assert "described 2 ways" in book.conflict("tests/ReviewSurvey")
+    encoding = "application/msgpack;tests/ReviewSurvey"
     mine = learn(decode_sample("s/survey", encode(Survey(count=3, mood="busy")), encoding), book)
     theirs = learn(decode_sample("m/survey", encode(OtherSurvey(count=1.5)), encoding), book)
     assert (mine.message.count, mine.message.mood) == (3, "busy")
@@ -39,8 +39,8 @@ def test_one_name_two_ways_each_message_by_the_description_it_fits():
 
 def test_a_payload_naming_a_known_type_that_is_not_one_stays_skipped():
     book = book_of(surveyor=Survey)
-    spoof = msgspec.msgpack.encode({"type": "ReviewSurvey", "count": "nope"})
-    item = learn(decode_sample("raw/spoof", spoof, "application/msgpack;ReviewSurvey"), book)
+    spoof = msgspec.msgpack.encode({"type": "tests/ReviewSurvey", "count": "nope"})
+    item = learn(decode_sample("raw/spoof", spoof, "application/msgpack;tests/ReviewSurvey"), book)
     assert item.message is None and item.generic is None and "not a valid" in item.problem
 
 
