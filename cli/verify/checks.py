@@ -18,6 +18,7 @@ from turtlectl.cli.verify.parameters import parameters
 from turtlectl.cli.verify.report import Verdict
 from turtlectl.cli.verify.spec import Criterion, Messages, NoErrors, Parameters, Period, RoundTrip, Spec, label
 from turtlectl.cli.verify.timebase import Timebase
+from turtlectl.messages.naming import AmbiguousType, lookup
 
 
 def _arrivals(client: Client, key: str, count: int, within: float, clock: Timebase) -> list[tuple[float, float | None]]:
@@ -67,10 +68,19 @@ def _declared(
     if found is None:
         return required, "absent", [absent]
     got, owners = found
-    problems = [f"its {kind} is {got}"] if got != want else []
+    problems = [] if same_type(want, got) else [f"its {kind} is {got}"]
     if owner and owner not in owners:
         problems.append(f"{wrong_by} {', '.join(owners) or 'nobody'}")
     return required, f"{got} {by} {', '.join(owners) or 'nobody'}", problems
+
+
+def same_type(want: str, got: str) -> bool:
+    """Whether the type a spec names (``package/Name``, or a short ``Name``: any package's) is
+    ``got``, the full name the graph says."""
+    try:
+        return lookup(want, [got]) == got
+    except AmbiguousType:  # one known name: never ambiguous
+        return False
 
 
 def require_nodes(client: Client, graph: Graph, doing: str = "") -> None:

@@ -33,28 +33,65 @@ EXPECTED = {
 }
 
 
+#: the capstone's sections (8 and 9), run in a copy of examples/capstone beside its own system
+CAPSTONE_EXPECTED = {
+    "turtlectl goto 8.5 5.5 180": "reached at",
+    "turtlectl echo robot/status --once": "# capstone_msgs/TurtleStatus",
+    "turtlectl interface show capstone_msgs/TurtleStatus": "battery",
+    "turtlectl action list": "navigate_to",
+    "pytest -q": " passed",
+    "turtlectl verify capstone.toml --launch launch.toml --short 10": "10 of 10 hold",
+}
+
+CAPSTONE_SECTIONS = "## 8. "
+
+
+def page_parts() -> tuple[str, str]:
+    """The page before the capstone's sections, and those sections."""
+    text = TUTORIAL.read_text()
+    at = text.index(CAPSTONE_SECTIONS)
+    return text[:at], text[at:]
+
+
+def commands_of(text: str) -> list[str]:
+    """The turtlectl commands of ``text``'s ```sh blocks, and its ``pytest -q`` lines, in order."""
+    lines = [line.split(" #", 1)[0].strip() for line in text.splitlines()]
+    wanted = set(tutorial_commands(text)) | {"pytest -q"}
+    return [line for line in lines if line in wanted]
+
+
+def run_commands(project: Path, expected: dict[str, str], env: dict[str, str]) -> None:
+    """Each command in ``project`` (``pytest`` as the page says: the console script, as python -m
+    pytest would put the folder on sys.path): exit 0 and the phrase the page promises."""
+    pytest_script = str(Path(sys.executable).parent / "pytest")
+    for command, phrase in expected.items():
+        args = shlex.split(command)
+        argv = (
+            [pytest_script, *args[1:], "-p", "no:cacheprovider"] if args[0] == "pytest" else [*turtlectl(), *args[1:]]
+        )
+        done = subprocess.run(argv, cwd=project, env=env, capture_output=True, text=True, timeout=600, check=False)
+        assert done.returncode == 0, (command, done.stdout, done.stderr)
+        assert phrase in done.stdout, (command, done.stdout)
+
+
 def test_every_command_of_the_tutorial_has_its_expected_output_here():
-    commands = tutorial_commands(TUTORIAL.read_text()) + [
-        line.strip() for line in TUTORIAL.read_text().splitlines() if line.strip() == "pytest -q"
-    ]
-    assert commands == list(EXPECTED)
+    own_node, capstone = page_parts()
+    assert sorted(commands_of(own_node)) == sorted(EXPECTED)
+    assert commands_of(capstone) == list(CAPSTONE_EXPECTED)
+
+
+def test_the_capstone_sections_run_in_a_project_folder_of_their_own(tmp_path):
+    project = tmp_path / "capstone"
+    shutil.copytree(ROOT / "examples" / "capstone", project, ignore=shutil.ignore_patterns("__pycache__"))
+    ready = ("sim", "navigator", "obstacle_detector")  # status_monitor's status is the project's own type
+    with running_system(project / "launch.toml", ready=ready, cwd=project) as system:
+        run_commands(project, CAPSTONE_EXPECTED, {**os.environ, "TURTLECTL_CONNECT": system.endpoint})
+        assert system.stop() == 0
 
 
 def test_the_tutorial_runs_in_a_project_folder_of_its_own(tmp_path):
     project = tmp_path / "patrol"
     shutil.copytree(ROOT / "examples" / "patrol", project, ignore=shutil.ignore_patterns("__pycache__"))
     with running_system(project / "launch.toml", ready=("sim", "navigator", "patrol"), cwd=project) as system:
-        env = {**os.environ, "TURTLECTL_CONNECT": system.endpoint}
-        for command, expected in EXPECTED.items():
-            args = shlex.split(command)
-            # `pytest` as the page says: the console script (python -m pytest would put the folder on sys.path)
-            pytest_script = str(Path(sys.executable).parent / "pytest")
-            argv = (
-                [pytest_script, *args[1:], "-p", "no:cacheprovider"]
-                if args[0] == "pytest"
-                else [*turtlectl(), *args[1:]]
-            )
-            done = subprocess.run(argv, cwd=project, env=env, capture_output=True, text=True, timeout=600, check=False)
-            assert done.returncode == 0, (command, done.stdout, done.stderr)
-            assert expected in done.stdout, (command, done.stdout)
+        run_commands(project, EXPECTED, {**os.environ, "TURTLECTL_CONNECT": system.endpoint})
         assert system.stop() == 0

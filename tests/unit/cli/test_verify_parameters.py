@@ -30,10 +30,18 @@ def test_the_capstone_spec_holds_all_six_criteria_of_the_lesson_and_its_type_onc
     assert isinstance(driving, NoErrors) and driving.random_goals and driving.minutes == 5
     # a student's copy changes one value: the status topic's type
     text = CAPSTONE.read_text()
-    assert text.count('"TurtleStatus"') == 1 and 'type = "TurtleStatus"' in text
+    assert text.count('"turtlectl/TurtleStatus"') == 1 and 'type = "turtlectl/TurtleStatus"' in text
     assert "test_criteria" not in text  # nothing points into turtlectl's own tests
-    renamed = parse_spec(text.replace('"TurtleStatus"', '"capstone_msgs/TurtleStatus"'), "copy.toml")
+    renamed = parse_spec(text.replace('"turtlectl/TurtleStatus"', '"capstone_msgs/TurtleStatus"'), "copy.toml")
     assert renamed.criterion == spec.criterion and renamed.topic[0].type == "capstone_msgs/TurtleStatus"
+
+
+def test_the_example_capstone_projects_spec_is_the_capstones_but_for_its_types_name():
+    ours = [line for line in CAPSTONE.read_text().splitlines() if "TurtleStatus" not in line]
+    example = ROOT / "examples" / "capstone" / "capstone.toml"
+    theirs = [line for line in example.read_text().splitlines() if "TurtleStatus" not in line]
+    assert ours == theirs
+    assert load_spec(example).topic[0].type == "capstone_msgs/TurtleStatus"
 
 
 def test_parameters_are_given_by_node_and_checked_as_tables():
