@@ -31,7 +31,10 @@ def test_the_capstone_as_markdown_has_its_template_and_numbers():
     for node in ("navigator", "status_monitor", "obstacle_detector"):
         assert f"### {node}\nInput: " in text
     assert "### navigator\nInput: `navigate_to`, `turtle1/pose`, `obstacles`\nOutput: `turtle1/cmd_vel`\n" in text
-    assert "### Topic: robot/status\nMessage Type: turtlectl/TurtleStatus\nFrequency: 10 Hz, every 100 ms (± 10 ms)\n" in text
+    assert (
+        "### Topic: robot/status\nMessage Type: turtlectl/TurtleStatus\nFrequency: 10 Hz, every 100 ms (± 10 ms)\n"
+        in text
+    )
     assert "Publishers: obstacle_detector\nSubscribers: navigator\n" in text  # the nodes that declare it an input
     assert "### Service: navigate_to\nRequest: NavigateToRequest\n" in text
     checks = [line for line in text.splitlines() if line.startswith("- [ ] ")]
