@@ -1,0 +1,117 @@
+"""Start-up of this checkout against another (the code before a change), alternated in one run:
+launch-to-ready (``turtlectl launch`` of the default launch file until each of its four nodes
+holds its liveliness token) and ``turtlectl --help`` to its end.  Each checkout runs its own
+``.venv/bin/turtlectl`` from its own folder; readiness is watched the same way for both, from a
+zenoh session of this process.  Prints medians and percentiles per checkout and the ratio of
+medians (this / before): machines here are shared and noisy, compare ratios.
+
+Usage: python bench/startup.py --before ../before [--launches 10] [--helps 15]
+(``--before``: a checkout of the code before, e.g. ``git worktree add ../before HEAD~5`` then
+``make bytecode`` there.)
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import signal
+import socket
+import subprocess
+import sys
+import threading
+import time
+from pathlib import Path
+
+import zenoh
+
+ROOT = Path(__file__).resolve().parent.parent
+sys.path.insert(0, str(ROOT))
+
+from bench.system import machine, summary  # noqa: E402
+from turtlectl.runtime.session import close_session, peer_config  # noqa: E402
+
+NODES = {"sim", "navigator", "status_monitor", "obstacle_detector"}
+TOKENS = "@turtlectl/node/**"
+
+
+def free_port() -> int:
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return int(s.getsockname()[1])
+
+
+def launch_to_ready(checkout: Path, timeout: float = 30.0) -> float:
+    """Seconds from starting ``checkout``'s ``turtlectl launch`` to every node's token, then stopped."""
+    port = free_port()
+    endpoint = f"tcp/127.0.0.1:{port}"
+    seen: set[str] = set()
+    done = threading.Event()
+
+    def on_token(sample: zenoh.Sample) -> None:
+        if sample.kind == zenoh.SampleKind.PUT:
+            seen.add(str(sample.key_expr).split("/")[2])
+            if NODES <= seen:
+                done.set()
+
+    started = time.monotonic()
+    proc = subprocess.Popen(
+        [str(checkout / ".venv" / "bin" / "turtlectl"), "launch", "--port", str(port)],
+        cwd=checkout,
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.DEVNULL,
+        start_new_session=True,
+    )
+    try:
+        session = None
+        while session is None and time.monotonic() - started < timeout:
+            try:  # the router listens once launch has started it
+                session = zenoh.open(peer_config(endpoint))
+            except zenoh.ZError:
+                time.sleep(0.005)  # pacing: retrying the connection
+        if session is None:
+            raise RuntimeError(f"{checkout}: no router at {endpoint}")
+        try:
+            token_sub = session.liveliness().declare_subscriber(TOKENS, on_token, history=True)
+            if not done.wait(timeout):
+                raise RuntimeError(f"{checkout}: not ready in {timeout:g} s (seen {sorted(seen)})")
+            elapsed = time.monotonic() - started
+            token_sub.undeclare()
+        finally:
+            close_session(session)
+        return elapsed
+    finally:
+        os.killpg(proc.pid, signal.SIGINT)
+        try:
+            proc.wait(10)
+        except subprocess.TimeoutExpired:
+            os.killpg(proc.pid, signal.SIGKILL)
+            proc.wait()
+
+
+def help_time(checkout: Path) -> float:
+    started = time.monotonic()
+    subprocess.run([str(checkout / ".venv" / "bin" / "turtlectl"), "--help"], cwd=checkout, capture_output=True)
+    return time.monotonic() - started
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--before", type=Path, required=True, help="a checkout of the code before, with its .venv")
+    ap.add_argument("--launches", type=int, default=10, help="launches of each checkout, alternated")
+    ap.add_argument("--helps", type=int, default=15, help="runs of --help of each checkout, alternated")
+    args = ap.parse_args()
+    checkouts = {"this": ROOT, "before": args.before.resolve()}
+    print(f"machine: {machine()}")
+    for what, measure, runs in (("launch-to-ready", launch_to_ready, args.launches), ("--help", help_time, args.helps)):
+        times: dict[str, list[float]] = {name: [] for name in checkouts}
+        for _ in range(runs):
+            for name, checkout in checkouts.items():  # alternated: the machine's noise falls on both
+                times[name].append(measure(checkout))
+        for name in checkouts:
+            print(f"{what} {name:>6}: {summary(times[name], 'ms', 1e3)}")
+        ratio = sorted(times["this"])[runs // 2] / sorted(times["before"])[runs // 2]
+        print(f"{what} ratio of medians this/before: {ratio:.3f}")
+
+
+if __name__ == "__main__":
+    main()
