@@ -20,7 +20,8 @@ class ExitCode(enum.IntEnum):
     #: what it was given cannot be used, nothing was sent or started: a command's arguments or
     #: launch file; a node's configuration, or a declaration outside its interface
     BAD_INPUT = 2
-    #: nothing to talk to: no router, nobody serving or publishing what was asked for; a node:
+    #: nothing to talk to: no router, nobody serving or publishing what was asked for, a node that
+    #: runs but does not answer (its thread busy or blocked); a node:
     #: no Zenoh session to the router
     UNREACHABLE = 3
     #: could not start: a port or a role another process already holds (launch's port, a second

@@ -12,7 +12,7 @@ import msgspec
 from turtlectl.cli import args
 from turtlectl.cli.errors import BadInput, Failed
 from turtlectl.cli.tools.graph import Graph
-from turtlectl.cli.tools.services import NobodyServes, Raw, call_service
+from turtlectl.cli.tools.services import NoAnswer, NobodyServes, Raw, call_service
 from turtlectl.messages import Ack, SetLogLevel
 from turtlectl.messages.keys import NodeDetails, log_level_key, node_key
 
@@ -61,8 +61,23 @@ def parse_details(node: str, answers: list[Any]) -> NodeDetails:
         raise Failed(f"{node} sent an unreadable answer: {exc}") from None
 
 
+def _asked(connect: str, node: str, key: str, request: Any, what: str) -> list[Any]:
+    """``node``'s answers on ``key``; one that runs but does not answer ``what`` is said to run
+    (params.silent: Silent, exit 3), one that does not run is named with those that do."""
+    from turtlectl.cli.tools.params import silent
+
+    try:
+        return list(call_service(connect, key, request, TIMEOUT))
+    except NobodyServes as exc:
+        raise silent(connect, node, what, exc) from None
+    except NoAnswer as exc:
+        if exc.answered:
+            raise
+        raise silent(connect, node, what, exc) from None
+
+
 def _details(connect: str, node: str) -> NodeDetails:
-    return parse_details(node, list(call_service(connect, node_key(node), b"", TIMEOUT)))
+    return parse_details(node, _asked(connect, node, node_key(node), b"", "what it is"))
 
 
 def node_report(connect: str, node: str) -> NodeReport:
@@ -206,12 +221,7 @@ def topic_text(report: TopicReport) -> str:
 def set_log_level(connect: str, node: str, level: str) -> str:
     """Make ``node`` log ``level`` and above from now on; returns its answer."""
     level = args.log_level(level)
-    try:
-        answers = list(call_service(connect, log_level_key(node), SetLogLevel(level=level), TIMEOUT))
-    except NobodyServes:
-        from turtlectl.cli.tools import topics
-
-        raise _no_node(node, topics.graph(connect)) from None
+    answers = _asked(connect, node, log_level_key(node), SetLogLevel(level=level), "to set its log level")
     acks = [a for a in answers if isinstance(a, Ack)]
     if not acks:
         raise Failed(f"{node} did not confirm its log level")

@@ -14,8 +14,18 @@ from typing import Any
 
 import msgspec
 
-from turtlectl.cli.errors import BadInput, Failed
-from turtlectl.cli.tools.services import NobodyServes, Raw, Rejected, call_service, replies, service_session, world
+from turtlectl.cli.errors import BadInput, Failed, Unreachable
+from turtlectl.cli.tools.graph import Graph
+from turtlectl.cli.tools.services import (
+    NoAnswer,
+    NobodyServes,
+    Raw,
+    Rejected,
+    call_service,
+    replies,
+    service_session,
+    world,
+)
 from turtlectl.messages import Ack, SetParameter
 from turtlectl.messages.keys import NodeDetails, node_key, node_name, param_describe_key, param_set_key, params_key
 from turtlectl.messages.params import ParamDescription, ParamInfo
@@ -43,24 +53,59 @@ def no_node(node: str, running: list[str], hint: str = "") -> NobodyServes:
     return NobodyServes(f"no node named {node!r} answers{where} ({found}){'; ' + hint if hint and not running else ''}")
 
 
+class Silent(Unreachable):
+    """A node that runs (its liveliness token is in the graph) gave no answer: its thread is
+    busy or blocked, or it is stopping (exit code 3, as a node that does not run)."""
+
+
+def unanswered(node: str, graph: Graph, what: str, waited: float | None = None, after: str = "") -> Unreachable:
+    """Why ``node`` gave no answer ``what`` (``with its parameters``): it does not run
+    (NobodyServes naming the live nodes), or it runs (Silent, with its pid and host from
+    ``graph``) and did not answer within ``waited`` s (None: nothing served the key, the
+    query ended at once).  ``after``: what the user should know besides (a change that may
+    still apply)."""
+    row = next((n for n in graph.nodes if n.name == node), None)
+    if row is None:
+        return no_node(node, [n.name for n in graph.nodes], graph.hint)
+    within = f" within {waited:g} s" if waited is not None else ""
+    why = (
+        "its thread is busy or blocked (a callback that has not returned?)"
+        if waited is not None
+        else "it serves nothing there now (is it stopping?)"
+    )
+    return Silent(
+        f"{node} runs (pid {row.pid}, host {row.host}) but did not answer {what}{within}: {why}"
+        f"{'; ' + after if after else ''}; `turtlectl log --node {node}` shows its last lines"
+    )
+
+
+def silent(connect: str, node: str, what: str, exc: Unreachable | NoAnswer, after: str = "") -> Unreachable:
+    """``unanswered`` for a call that raised ``exc``, against the live graph now."""
+    from turtlectl.cli.tools import topics
+
+    waited = exc.timeout if isinstance(exc, NoAnswer) else None
+    return unanswered(node, topics.graph(connect), what, waited, after)
+
+
 def _served(connect: str, key: str, node: str, what: str) -> bytes:
     """``node``'s JSON answer on ``key``.  NobodyServes (exit 3) naming the live nodes if no
-    node of that name answers."""
+    node of that name runs; Silent (exit 3) if it runs but does not answer."""
     try:
         answers = list(call_service(connect, key, b"", TIMEOUT))
-    except NobodyServes:
-        from turtlectl.cli.tools import topics
-
-        graph = topics.graph(connect)
-        raise no_node(node, [n.name for n in graph.nodes], graph.hint) from None
+    except NobodyServes as exc:
+        raise silent(connect, node, f"with {what}", exc) from None
+    except NoAnswer as exc:
+        if exc.answered:
+            raise
+        raise silent(connect, node, f"with {what}", exc) from None
     if not answers or not isinstance(answers[-1], Raw):
-        raise Failed(f"{node} sent no {what}")
+        raise Failed(f"{node} answered, but not {what}")
     return answers[-1].payload
 
 
 def fetch(connect: str, node: str) -> dict[str, Any]:
     """The parameters ``node`` runs with (NobodyServes naming the live nodes)."""
-    return parse_params(node, _served(connect, params_key(node), node, "parameters"))
+    return parse_params(node, _served(connect, params_key(node), node, "its parameters"))
 
 
 def parse_params(node: str, payload: bytes) -> dict[str, Any]:
@@ -79,7 +124,7 @@ def description(connect: str, node: str) -> ParamDescription:
     live nodes)."""
     try:
         return msgspec.json.decode(
-            _served(connect, param_describe_key(node), node, "description of its parameters"), type=ParamDescription
+            _served(connect, param_describe_key(node), node, "its parameters' description"), type=ParamDescription
         )
     except (msgspec.DecodeError, msgspec.ValidationError) as exc:
         raise Failed(f"{node} sent an unreadable description of its parameters: {exc}") from None
@@ -144,12 +189,16 @@ class Running(msgspec.Struct):
 
 
 def _answers(session: Any, key: str) -> dict[str, bytes]:
-    """Each node's JSON answer on ``key`` (ending in ``*``), by node name; none: {}."""
+    """Each node's JSON answer on ``key`` (ending in ``*``), by node name; none: {}.  A node
+    that does not answer in time (its thread busy) is left out, the others kept."""
+    got: dict[str, bytes] = {}
     try:
-        found = replies(session, key, b"", TIMEOUT, everyone=True)
-        return {node_name(a.key.rsplit("/", 1)[-1]): a.payload for a in found if isinstance(a, Raw)}
-    except NobodyServes:
-        return {}
+        for answer in replies(session, key, b"", TIMEOUT, everyone=True):
+            if isinstance(answer, Raw):
+                got[node_name(answer.key.rsplit("/", 1)[-1])] = answer.payload
+    except (NobodyServes, NoAnswer):
+        pass
+    return got
 
 
 def running(connect: str) -> Running:
@@ -252,6 +301,11 @@ def set_value(connect: str, node: str, name: str, text: str, timeout: float = TI
         answers = list(call_service(connect, param_set_key(node), request, timeout))
     except Rejected as exc:  # the node's own check (runtime.params): its one line, as _check_value's
         raise BadInput(exc.reason) from None
+    except (NobodyServes, NoAnswer) as exc:
+        if isinstance(exc, NoAnswer) and exc.answered:
+            raise
+        # the request waits in its queue: its thread applies it once free
+        raise silent(connect, node, f"to set {name}", exc, "the change may still apply once it does") from None
     acks = [a for a in answers if isinstance(a, Ack)]
     if not acks:
         raise Failed(f"{node} did not confirm the change")

@@ -58,11 +58,13 @@ ZENOH_GRACE = 1.0  # s: Zenoh's own query timeout is ours plus this; our deadlin
 
 
 class NoAnswer(Failed):
-    """The call's time ran out; ``answered``: the service had sent replies (feedback) by then."""
+    """The call's time ran out after ``timeout`` s; ``answered``: the service had sent replies
+    (feedback) by then."""
 
-    def __init__(self, message: str, answered: bool = False):
+    def __init__(self, message: str, answered: bool = False, timeout: float | None = None):
         super().__init__(message)
         self.answered = answered
+        self.timeout = timeout
 
 
 class NobodyServes(Unreachable):
@@ -159,8 +161,8 @@ def replies(
         remaining = deadline - time.monotonic()
         if remaining <= 0.0:
             if answered:
-                raise NoAnswer(f"{key} answered but did not finish within {timeout:g} s", True)
-            raise NoAnswer(f"{key} did not answer within {timeout:g} s")
+                raise NoAnswer(f"{key} answered but did not finish within {timeout:g} s", True, timeout)
+            raise NoAnswer(f"{key} did not answer within {timeout:g} s", timeout=timeout)
         try:
             reply = inbox.get(timeout=min(0.1, remaining))  # short waits keep Ctrl-C responsive
         except queue.Empty:
@@ -199,7 +201,7 @@ def _read_reply(reply: zenoh.Reply, key: str, timeout: float) -> Message | Raw:
         raise Rejected(key, decode(payload, ErrorReply).error)
     # not the service's word but Zenoh's: the query timed out or the route broke
     if payload == b"Timeout":
-        raise NoAnswer(f"{key} did not answer within {timeout:g} s")
+        raise NoAnswer(f"{key} did not answer within {timeout:g} s", timeout=timeout)
     raise Failed(f"{key} failed: {payload.decode('utf-8', 'replace') or 'unknown error'}")
 
 

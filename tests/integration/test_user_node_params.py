@@ -12,7 +12,7 @@ import textwrap
 
 import pytest
 
-from tests.integration.harness import ROOT
+from tests.integration.harness import ROOT, running_system
 from turtlectl.cli.errors import ExitCode
 from turtlectl.runtime.config import ENV_VAR, NodeConfig, encode_config
 
@@ -132,3 +132,51 @@ def test_list_describe_set_and_get_work_on_a_node_kind_the_command_line_does_not
     # the built-in nodes keep the launch file's checks beside it
     slow_scan = system.run_cli("param", "set", "obstacle_detector", "rate", "0.5")
     assert slow_scan.returncode == ExitCode.BAD_INPUT and "is not longer than the scan period" in slow_scan.stderr
+
+
+#: a user's node whose thread blocks for good in its first timer callback, after saying so
+STUCK = textwrap.dedent(
+    """
+    import threading
+
+    import msgspec
+
+    from turtlectl import Node
+
+
+    class StuckParams(msgspec.Struct, forbid_unknown_fields=True, kw_only=True):
+        speed: float = 0.5  # m/s: how fast it patrols
+
+
+    class Stuck:
+        Params = StuckParams
+
+        def __init__(self, node: Node[StuckParams]):
+            self.log = node.log
+            node.timer(0.2, self.tick)
+
+        def tick(self):
+            self.log.info("blocking the node's thread")
+            threading.Event().wait()
+    """
+)
+
+
+def test_a_node_that_runs_but_does_not_answer_is_said_to_run_with_its_pid(tmp_path):
+    """`param set patrol speed 1` on a node listed as running said "no node named 'patrol'
+    answers (running: patrol)"; `log-level` asks it the same way (its parameters and details are
+    answered off its thread: `param get` and `node info` still work)."""
+    (tmp_path / "stuck.py").write_text(STUCK)
+    (tmp_path / "launch.toml").write_text('[[node]]\nname = "patrol"\nrun = "./stuck.py:Stuck"\n')
+    with running_system(tmp_path / "launch.toml", ready=("patrol",), cwd=tmp_path) as system:
+        system.wait_line(r"patrol \| INFO blocking the node's thread", 30.0)
+        pid = system.alive["patrol"]
+        got = system.run_cli("param", "set", "patrol", "speed", "1")
+        assert got.returncode == ExitCode.UNREACHABLE, got.stderr
+        assert f"patrol runs (pid {pid}, host " in got.stderr, got.stderr
+        assert "did not answer to set speed within 3 s: its thread is busy or blocked" in got.stderr, got.stderr
+        assert "no node named" not in got.stderr
+        assert system.run_cli("param", "get", "patrol", "speed").stdout.strip() == "0.5"
+        got = system.run_cli("log-level", "patrol", "debug")
+        assert got.returncode == ExitCode.UNREACHABLE, got.stderr
+        assert f"patrol runs (pid {pid}, host " in got.stderr, got.stderr

@@ -16,7 +16,9 @@ every rule is tested with fake children and a fake clock (tests/unit/cli/system/
 * A child that exits for good (no respawn, respawns used up, its start limit) is given up on;
   if it is required the system stops, exit code FAILED.  So does a system whose every node has
   exited.  A system stopped on request while a node has failed to start (given up on, or still
-  being retried) exits FAILED too, its stop reason naming the node: the system was incomplete.
+  being retried), or has been lost for good (it ran, then exited with an error or a signal and
+  was given up on: no respawn, respawns used up), exits FAILED too, its stop reason naming the
+  node: the system was incomplete.  A node that ended its work (exit 0) is not lost.
 * Readiness comes from outside (``announce``, from any thread): a child is ready once this
   very process (its pid) has announced itself; a ``cmd`` node (any program: it announces
   nothing) is ready once started.  The ready line comes once every node is ready or has failed
@@ -115,6 +117,7 @@ class Supervision:
         self._start_failures: dict[str, int] = {}  # starts in a row that exited before they were ready
         self._announced: dict[str, int] = {}  # node name -> the pid of its start that announced itself
         self._given_up: set[str] = set()  # nodes that exited for good: no longer watched
+        self._lost: dict[str, str] = {}  # given up on after an exit other than 0: how it ended
         self._events: queue.SimpleQueue[tuple[bool, str, int]] = queue.SimpleQueue()
         self._alive: dict[str, int] = {}  # node name -> pid announced
         self._ready_reported = False
@@ -140,8 +143,11 @@ class Supervision:
         finally:
             self.shutdown()
         missing = self.never_started()
-        if missing and self.exit_code == ExitCode.OK and self.stop_reason is not None:
-            self.stop_reason += "; " + ", ".join(f"{name} {how}" for name, how in missing.items())
+        lost = {name: how for name, how in self._lost.items() if name not in missing}
+        if (missing or lost) and self.exit_code == ExitCode.OK and self.stop_reason is not None:
+            said = [f"{name} {how}" for name, how in missing.items()]
+            said += [f"{name} lost: it {how}" for name, how in lost.items()]
+            self.stop_reason += "; " + ", ".join(said)
             self.exit_code = ExitCode.FAILED
         return self.exit_code
 
@@ -231,6 +237,8 @@ class Supervision:
         elif not started:
             how += " before it was ready" + self._last_words(name, child)
         self._given_up.add(name)
+        if code != 0:  # the system is incomplete without it (a node that ended its work is not lost)
+            self._lost[name] = node_exit(code) + (f" after {crashes} respawns" if entry.respawn and crashes else "")
         if entry.respawn and not hopeless and not limited:
             how += f", after {crashes} respawns in a row; giving up on it"
         if entry.required:

@@ -126,3 +126,97 @@ class _Mine(msgspec.Struct):
     """A user's own node kind's parameters."""
 
     rate: Annotated[float, msgspec.Meta(gt=0, le=50)] = 10.0
+
+
+# -- a node that runs but does not answer: said as it is -------------------------------
+def _graph_with_patrol():
+    from turtlectl.cli.tools.graph import Graph, NodeRow
+
+    return Graph(nodes=[NodeRow(name="patrol", pid=4242, host="vm", uptime=12.0)], topics=[], services=[])
+
+
+@pytest.fixture
+def silent_patrol(monkeypatch):
+    """``patrol`` in the graph (its liveliness token there), its services silent: its thread
+    blocked, each query running out of time."""
+    from turtlectl.cli.tools import introspect, params, services, topics
+
+    monkeypatch.setattr(topics, "graph", lambda connect: _graph_with_patrol())
+
+    def no_answer(connect, key, request, timeout):
+        raise services.NoAnswer(f"{key} did not answer within {timeout:g} s", timeout=timeout)
+        yield  # a generator, as call_service is
+
+    monkeypatch.setattr(params, "call_service", no_answer)
+    monkeypatch.setattr(introspect, "call_service", no_answer)
+
+
+SILENT = (
+    "patrol runs (pid 4242, host vm) but did not answer {what} within 3 s: its thread is busy or blocked "
+    "(a callback that has not returned?); `turtlectl log --node patrol` shows its last lines"
+)
+
+
+@pytest.mark.parametrize(
+    ("command", "what"),
+    [
+        (lambda p: p.fetch("tcp/127.0.0.1:1", "patrol"), "with its parameters"),
+        (lambda p: p.describe("tcp/127.0.0.1:1", "patrol", "speed"), "with its parameters' description"),
+    ],
+)
+def test_a_running_node_that_does_not_answer_is_said_to_run_not_to_be_missing(silent_patrol, command, what):
+    """`param set patrol speed 1` on a node listed as running said "no node named 'patrol'
+    answers (running: patrol)"."""
+    from turtlectl.cli.errors import Unreachable
+    from turtlectl.cli.tools import params
+
+    with pytest.raises(Unreachable) as silent:
+        command(params)
+    assert silent.value.message == SILENT.format(what=what)
+    assert exit_code(silent.value) == ExitCode.UNREACHABLE
+
+
+def test_a_change_a_running_node_does_not_confirm_may_still_apply(silent_patrol, monkeypatch):
+    from turtlectl.cli.errors import Unreachable
+    from turtlectl.cli.tools import params
+
+    monkeypatch.setattr(params, "description", lambda connect, node: _described(node, "mine", _Mine()))
+    with pytest.raises(Unreachable) as silent:
+        params.set_value("tcp/127.0.0.1:1", "patrol", "rate", "1")
+    assert silent.value.message == (
+        SILENT.format(what="to set rate").replace(
+            "; `turtlectl log", "; the change may still apply once it does; `turtlectl log"
+        )
+    )
+
+
+def test_node_info_and_log_level_of_a_silent_node_say_it_runs(silent_patrol):
+    from turtlectl.cli.errors import Unreachable
+    from turtlectl.cli.tools import introspect
+
+    with pytest.raises(Unreachable) as silent:
+        introspect.node_report("tcp/127.0.0.1:1", "patrol")
+    assert silent.value.message == SILENT.format(what="what it is")
+    with pytest.raises(Unreachable) as silent:
+        introspect.set_log_level("tcp/127.0.0.1:1", "patrol", "debug")
+    assert silent.value.message.startswith("patrol runs (pid 4242, host vm) but did not answer to set its log level")
+
+
+def test_a_node_listed_as_running_whose_service_is_gone_is_not_said_to_be_missing(monkeypatch):
+    """Nothing serves its key (it is stopping, or not yet serving): it runs, named with its pid."""
+    from turtlectl.cli.errors import Unreachable
+    from turtlectl.cli.tools import params, services, topics
+
+    monkeypatch.setattr(topics, "graph", lambda connect: _graph_with_patrol())
+
+    def nobody(connect, key, request, timeout):
+        raise services.NobodyServes(f"nothing serves {key} (is the node running?)")
+        yield
+
+    monkeypatch.setattr(params, "call_service", nobody)
+    with pytest.raises(Unreachable) as silent:
+        params.fetch("tcp/127.0.0.1:1", "patrol")
+    assert silent.value.message.startswith("patrol runs (pid 4242, host vm) but did not answer with its parameters:")
+    assert "no node named" not in silent.value.message
+    with pytest.raises(Unreachable, match=r"no node named 'patrl' answers \(running: patrol\)"):
+        params.fetch("tcp/127.0.0.1:1", "patrl")

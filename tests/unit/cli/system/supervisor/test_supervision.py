@@ -244,15 +244,37 @@ def test_a_run_of_STABLE_RUN_starts_the_respawn_count_and_its_backoff_again(long
 
 
 def test_a_node_is_given_up_on_after_the_launch_file_s_max_respawns_and_the_rest_runs_on():
+    """It was optional: the system runs on and stops only when asked to, then exits FAILED
+    naming it (the system was incomplete), as one that never started."""
     system = System(node("sim") + node("status_monitor", respawn=True, respawn_delay=0.2, respawn_max=2))
     sim = system.process("sim")
     monitor = system.process("status_monitor", runs=(0.1,), code=-int(KILL), ready_after=0.05)
     system.stop_at(10.0)
-    assert system.run() == ExitCode.OK  # it was optional: the system stops only when asked to
+    assert system.run() == ExitCode.FAILED
     assert len(monitor.starts) == 3  # the first run and 2 respawns, then nothing
     assert "status_monitor was killed by SIGKILL, after 2 respawns in a row; giving up on it" in system.lines()
-    assert system.supervision.stop_reason == "received SIGINT"
+    assert system.supervision.stop_reason == (
+        "received SIGINT; status_monitor lost: it was killed by SIGKILL after 2 respawns"
+    )
     assert sim.got and sim.got[0][0] == pytest.approx(10.0, abs=LAG)
+
+
+def test_a_node_without_respawn_that_crashes_after_it_was_ready_leaves_the_system_incomplete():
+    system = System(node("sim") + patrol_node())
+    system.process("sim")
+    system.process("patrol", runs=(1.0,), code=1, ready_after=0.1)
+    system.stop_at(3.0)
+    assert system.run() == ExitCode.FAILED
+    assert system.supervision.stop_reason == "received SIGINT; patrol lost: it exited with code 1"
+
+
+def test_a_node_that_ends_its_work_with_exit_code_0_is_not_lost():
+    system = System(node("sim") + node("setup", run="status_monitor"))
+    system.process("sim")
+    system.process("setup", runs=(1.0,), code=0, ready_after=0.1)
+    system.stop_at(3.0)
+    assert system.run() == ExitCode.OK
+    assert system.supervision.stop_reason == "received SIGINT"
 
 
 # -- required ----------------------------------------------------------------------
