@@ -60,6 +60,7 @@ def send_goal(
     """Send the goal ``text`` (JSON) to the goal service ``key`` and wait for its result, feedback
     handed to ``on_feedback``; a --timeout or Ctrl-C cancels it and checks the Ack (goals.run_goal)."""
     key = check_key(key)
+    build.json_text(text)  # bad JSON is said before any system is asked
     with service_session(connect) as session:
         row = next((r for r in live_graph(session).goals if r.key == key), None)
         if row is None:
