@@ -31,7 +31,6 @@ already queued.
 
 from __future__ import annotations
 
-import itertools
 import logging
 import os
 import queue
@@ -45,25 +44,20 @@ import zenoh
 from turtlectl.messages import (
     Message,
     decode,
-    decode_any,
-    encode,
 )
 from turtlectl.messages.codec import type_name
 from turtlectl.messages.keys import (
     EntityInfo,
-    client_token,
     entity_token,
     namespace_of,
     resolve,
     turtle_of,
 )
 from turtlectl.messages.world import Limits, World
+from turtlectl.runtime.calls import NodeCalls
 from turtlectl.runtime.claims import entities_on_router
 from turtlectl.runtime.config import Claim, Interface, NodeConfig
-from turtlectl.runtime.entities import RING, Latest, Publisher, Request, Timer, sample_encoding
-from turtlectl.runtime.futures import Future
-from turtlectl.runtime.goal_client import GoalClient
-from turtlectl.runtime.goals import GOAL_ROLES, GoalHandle, GoalServer
+from turtlectl.runtime.entities import RING, Latest, Publisher, Request, Timer
 from turtlectl.runtime.handles import Declaration
 from turtlectl.runtime.interface import check
 from turtlectl.runtime.loop import NodeLoop
@@ -72,10 +66,6 @@ from turtlectl.runtime.simtime import SimClock, follow_clock
 
 P = TypeVar("P", bound=msgspec.Struct)
 M = TypeVar("M", bound=Message)
-G = TypeVar("G", bound=Message)
-F = TypeVar("F", bound=Message)
-R = TypeVar("R", bound=Message)
-_client_ids = itertools.count(1)
 
 __all__ = ["Latest", "Node", "NodeConflict", "Publisher", "Request", "Timer"]  # the entities are runtime.entities'
 
@@ -84,7 +74,7 @@ class NodeConflict(Exception):
     """Another running node already does what this one claims to do alone."""
 
 
-class Node(NodeLoop, Generic[P]):
+class Node(NodeLoop, NodeCalls, Generic[P]):
     """A running node, handed to a node class's constructor (``def __init__(self, node)``);
     the runtime makes it, a node's code never does.
 
@@ -249,96 +239,6 @@ class Node(NodeLoop, Generic[P]):
                     f"(stop it first, or run this one in another --domain)"
                 )
 
-    def call(
-        self,
-        key: str,
-        request: Message,
-        on_done: Callable[[list[Message]], None] | None = None,
-        timeout: float = 1.0,
-        *,
-        on_reply: Callable[[Message], None] | None = None,
-        attachment: bytes | None = None,
-    ) -> Future[list[Message]]:
-        """Query ``key`` with ``request`` without waiting: a ``Future`` of the replies that
-        decoded (an error reply as ``ErrorReply``), done on the node thread once every server
-        has answered (at once when nobody serves ``key``), bounded by ``timeout`` s.  Chain it
-        (``then``, ``add_done_callback``: on the node thread), or give ``on_done(replies)``.
-        ``on_reply(message)`` runs on the node thread for each reply as it comes (a goal's
-        feedback); ``attachment``: bytes the query carries beside the request."""
-        key = self.resolve(key)
-        check(self.name, self.interface, "call", key)
-        self._own.uses(type(request))
-        replies: list[Message] = []
-        future: Future[list[Message]] = Future.of_node()
-        if on_done is not None:
-            future.add_done_callback(lambda done: on_done(done.result()))
-
-        def on_zenoh_reply(reply: zenoh.Reply) -> None:  # Zenoh thread: decode and collect only
-            sample = reply.ok if reply.ok is not None else reply.err
-            try:
-                message = decode_any(sample.payload.to_bytes())
-            except (ValueError, AttributeError):
-                return
-            if on_reply is not None:
-                self._queue.put((on_reply, (message,)))
-            replies.append(message)
-
-        self.session.get(
-            key,
-            zenoh.handlers.Callback(on_zenoh_reply, lambda: self._queue.put((future.set_result, (replies,)))),
-            payload=encode(request),
-            encoding=sample_encoding(type(request)),
-            target=zenoh.QueryTarget.ALL,
-            consolidation=zenoh.ConsolidationMode.NONE,
-            timeout=timeout,
-            attachment=attachment,
-        )
-        return future
-
-    def goal_server(
-        self,
-        key: str,
-        goal_type: type[G],
-        feedback_type: type[F],
-        result_type: type[R],
-        *,
-        execute: Callable[[GoalHandle[G, F, R]], None],
-        refuse: Callable[[G], R | None] | None = None,
-        on_cancel: Callable[[GoalHandle[G, F, R], str], R | None] | None = None,
-        feedback: Callable[[GoalHandle[G, F, R]], F | None] | None = None,
-        feedback_rate: float = 10.0,
-        timeout: float | None = None,
-    ) -> GoalServer[G, F, R]:
-        """Serve goals on ``key``, as a ROS 2 action server (runtime.goals: the wire, and what the
-        server does for you).  ``refuse(goal)``: a result refuses the goal (its only reply; the
-        running goal is untouched), None accepts it.  ``execute(handle)``: an accepted goal
-        starts (a newer one first ends the running goal, "preempted"); drive it from any
-        callback, then ``handle.finish(result)``.  ``on_cancel(handle, reason)``: the server
-        ends the goal (reason "preempted", "canceled" or a ``Cancel``'s own, "caller gone",
-        "timeout", "shut down"): return its result (default: the result type's
-        ``success=False``, ``reason``).  ``feedback(handle)``: the progress to send,
-        ``feedback_rate`` Hz while a goal runs (None: nothing this time).  ``timeout``: s a goal
-        may run (None: no limit; ``server.timeout`` changes it while running)."""
-        types = (goal_type, feedback_type, result_type)
-        declared = Declaration(self._entities, "goal service", self.resolve(key))
-        server = GoalServer(self, declared, key, types, execute, refuse, on_cancel, feedback, feedback_rate, timeout)
-        for role, msg_type in zip(GOAL_ROLES, types, strict=True):  # the goal service in the graph (action list)
-            declared.add(self._announce(role, msg_type, declared.key))
-        return server
-
-    def goal_client(
-        self, key: str, goal_type: type[G], feedback_type: type[F], result_type: type[R]
-    ) -> GoalClient[G, F, R]:
-        """A client of the goal service ``key`` (runtime.goal_client): ``send(goal,
-        on_feedback=...)`` returns a future of the result, ``cancel()`` cancels the running goal.
-        It holds a caller token while it is declared: its goals end if this node goes away."""
-        self.resolve(key)
-        check(self.name, self.interface, "call", self.resolve(key))
-        declared = Declaration(self._entities, "goal client", self.resolve(key))
-        client_id = f"{self.name.replace('/', '.')}.{os.getpid()}.{next(_client_ids)}"
-        declared.add(self.session.liveliness().declare_token(client_token(client_id)))
-        return GoalClient(self, declared, key, (goal_type, feedback_type, result_type), client_id)
-
     def answer_json(self, key: str, document: bytes | Callable[[], bytes]) -> Declaration:
         """Answer every query on ``key`` with a JSON ``document``, or what ``document()``
         returns then (read-only: answered right on the Zenoh thread; a callable must only
@@ -391,6 +291,18 @@ class Node(NodeLoop, Generic[P]):
         self._on_shutdown.append(callback)
 
     # -- internals ----------------------------------------------------------
+    def _post(self, fn: Callable[..., None], *args: Any) -> None:
+        """Run ``fn(*args)`` on the node's thread, after what is queued already (from any thread)."""
+        self._queue.put((fn, args))
+
+    def _declaration(self, what: str, key: str) -> Declaration:
+        """A new declaration (``what`` on ``key``, resolved) among the node's, undeclared with it."""
+        return Declaration(self._entities, what, key)
+
+    def _uses(self, msg_type: type[Message]) -> None:
+        """The node uses ``msg_type``: its own services describe it (runtime.own_services)."""
+        self._own.uses(msg_type)
+
     def _queuing(
         self, key: str, msg_type: type[M], callback: Callable[[M], None], declared: Declaration
     ) -> Callable[[zenoh.Sample], None]:

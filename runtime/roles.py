@@ -4,7 +4,9 @@ supervisor hands a node its interface, the node's runtime (and runtime.fake) ref
 
 * ``viewer``: echo, hz, list, view, record, log, node/topic info, param get (subscribe to
   everything, read the JSON answers and the nodes' recent log records, follow the graph);
-* ``operator``: also goto, cancel, teleport (any turtle), reset, spawn, kill, call, param set, log-level;
+* ``operator``: also goto, cancel, teleport (any turtle), reset, spawn, kill, call, param set, log-level,
+  and send goals to and cancel the goals of every goal service the system's nodes serve
+  (``GOAL_SENDERS``, ``client_rights``);
 * ``teleop``: also publishes every turtle's ``<turtle>/cmd_vel`` (teleop, pub).
 """
 
@@ -63,6 +65,27 @@ ROLES: dict[str, dict[str, tuple[str, ...]]] = {
     "operator": OPERATOR,
     "teleop": {**OPERATOR, "publish": (cmd_vel_key("*"),)},  # every turtle's (turtle1's among them)
 }
+
+#: the roles that may send a goal to every goal service the system's nodes serve, and cancel it
+GOAL_SENDERS = ("operator", "teleop")
+
+
+def goal_services(interface: Interface) -> tuple[str, ...]:
+    """The goal services ``interface`` serves: each key expression ``KEY`` it serves together
+    with ``KEY/cancel`` (a goal server serves both: runtime.goals).  A node class that declares
+    no Interface serves ``<name>/**``: every service under its name may be one."""
+    return tuple(key for key in interface.serves if any(includes(other, f"{key}/cancel") for other in interface.serves))
+
+
+def client_rights(role: str, goals: tuple[str, ...] | list[str] = ()) -> dict[str, tuple[str, ...]]:
+    """What a client of ``role`` may do on a system whose nodes serve the goal services
+    ``goals`` (``goal_services`` of each node's interface): its role's table, and for the
+    ``GOAL_SENDERS`` a call on each ``KEY`` and ``KEY/cancel``."""
+    rights = ROLES[role]
+    if role not in GOAL_SENDERS or not goals:
+        return rights
+    calls = (*rights["call"], *(k for key in goals for k in (key, f"{key}/cancel")))
+    return {**rights, "call": tuple(dict.fromkeys(calls))}
 
 
 def undeclared(name: str) -> Interface:

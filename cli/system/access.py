@@ -9,7 +9,8 @@ under its own name (``<name>/**``); nothing else (``UNDECLARED``).  Clients log 
 
 * ``viewer``: echo, hz, list, view, record, log, node/topic info, param get (subscribe to
   everything, read the JSON answers and the nodes' recent log records, follow the graph);
-* ``operator``: also goto, cancel, teleport, reset, call, param set, log-level;
+* ``operator``: also goto, cancel, teleport, reset, call, param set, log-level, and send goals
+  to and cancel the goals of every goal service the launch's nodes serve (``client_rights``);
 * ``teleop``: also publishes ``turtle1/cmd_vel`` (teleop, pub).
 
 Zenoh drops a denied message silently, so the command line checks its role first and says
@@ -37,12 +38,33 @@ from turtlectl.messages.keys import (
     params_key,
     type_key,
 )
-from turtlectl.runtime.roles import GRAPH_KEYS, OPERATOR, ROLES, VIEWER, interface_of, undeclared
+from turtlectl.runtime.roles import (
+    GOAL_SENDERS,
+    GRAPH_KEYS,
+    OPERATOR,
+    ROLES,
+    VIEWER,
+    client_rights,
+    goal_services,
+    interface_of,
+    undeclared,
+)
 
 if TYPE_CHECKING:  # the clients' check (``permitted``) needs no node kind
     from turtlectl.nodes.kinds import NodeKind
 
-__all__ = ["GRAPH_KEYS", "OPERATOR", "ROLES", "VIEWER", "access_control", "node_rights", "permitted", "undeclared"]
+__all__ = [
+    "GRAPH_KEYS",
+    "OPERATOR",
+    "ROLES",
+    "VIEWER",
+    "access_control",
+    "client_rights",
+    "launch_goal_services",
+    "node_rights",
+    "permitted",
+    "undeclared",
+]
 
 #: a verb -> the Zenoh messages it takes, each with its direction at the router
 #: (ingress: from the session; egress: to it)
@@ -101,6 +123,18 @@ def node_rights(name: str, kind: NodeKind, remaps: dict[str, str] | None = None)
     }
 
 
+def launch_goal_services(kinds: dict[str, NodeKind], remaps: dict[str, dict[str, str]]) -> list[str]:
+    """The goal services the nodes ``kinds`` (name -> kind) serve, each in its namespace with
+    its launch file's ``remaps`` (roles.goal_services of its interface): what the roles that
+    send goals may call, with each one's ``/cancel`` (``client_rights``)."""
+    keys = [
+        key
+        for name, kind in kinds.items()
+        for key in goal_services(interface_of(name, kind.interface, remaps.get(name)))
+    ]
+    return list(dict.fromkeys(keys))
+
+
 def access_control(users: dict[str, dict[str, tuple[str, ...]]], domain: str = "") -> dict[str, Any]:
     """The router's ``access_control`` section: deny by default; each user (a login name) may
     do what its rights name (verb -> key expressions), in ``domain`` if given."""
@@ -134,11 +168,15 @@ def access_control(users: dict[str, dict[str, tuple[str, ...]]], domain: str = "
     }
 
 
-def permitted(role: str, verb: str, key: str) -> bool:
-    """Whether a client of ``role`` may ``verb`` (publish, call, ...) on ``key``."""
+def permitted(role: str, verb: str, key: str, goal_service: bool = False) -> bool:
+    """Whether a client of ``role`` may ``verb`` (publish, call, ...) on ``key``;
+    ``goal_service``: ``key`` is a goal service or its ``/cancel``, which the ``GOAL_SENDERS``
+    may call (the router's rules name each one the launch's nodes serve)."""
+    if goal_service and verb == "call" and role in GOAL_SENDERS:
+        return True
     wanted = zenoh.KeyExpr(key)
     return any(zenoh.KeyExpr(k).includes(wanted) for k in ROLES.get(role, {}).get(verb, ()))
 
 
-def who_may(verb: str, key: str) -> list[str]:
-    return [role for role in ROLES if permitted(role, verb, key)]
+def who_may(verb: str, key: str, goal_service: bool = False) -> list[str]:
+    return [role for role in ROLES if permitted(role, verb, key, goal_service)]

@@ -7,16 +7,13 @@ from collections.abc import Callable
 from typing import Any
 
 from turtlectl.cli.errors import Unreachable
-from turtlectl.cli.tools import build
+from turtlectl.cli.tools import build, goals
 from turtlectl.cli.tools.client import check_key
 from turtlectl.cli.tools.graph import GoalRow
-from turtlectl.cli.tools.services import Raw, run_goal, service_session
+from turtlectl.cli.tools.services import service_session
 from turtlectl.cli.tools.topics import graph, live_graph
 from turtlectl.cli.tools.typebook import TypeBook
 from turtlectl.messages import Message
-from turtlectl.messages.codec import type_name
-
-NO_LIMIT = 24 * 3600.0  # s: the server's own timeout decides
 
 
 def goal_services(connect: str) -> list[GoalRow]:
@@ -59,21 +56,19 @@ def row_text(row: GoalRow) -> str:
 
 def send_goal(
     connect: str, key: str, text: str, timeout: float | None, on_feedback: Callable[[Any], None] | None
-) -> Message | Raw:
+) -> Message:
     """Send the goal ``text`` (JSON) to the goal service ``key`` and wait for its result, feedback
-    handed to ``on_feedback``; a --timeout or Ctrl-C cancels it and checks the Ack (services.run_goal)."""
+    handed to ``on_feedback``; a --timeout or Ctrl-C cancels it and checks the Ack (goals.run_goal)."""
     key = check_key(key)
+    build.json_text(text)  # bad JSON is said before any system is asked
     with service_session(connect) as session:
         row = next((r for r in live_graph(session).goals if r.key == key), None)
         if row is None:
             raise Unreachable(f"no goal service {key} is running (`turtlectl action list` lists them)")
         TypeBook(session).learn_all()  # a user's types, as the nodes describe them
         goal = build.message_from_json(text, build.type_named(row.goal))
-
-        def is_result(message: Message | Raw) -> bool:
-            return isinstance(message, Message) and type_name(type(message)) == row.result
-
-        result: Message | Raw = run_goal(
-            session, key, goal, NO_LIMIT if timeout is None else timeout, on_feedback, is_result
+        service = goals.GoalService(key, row.result, tuple(row.servers))
+        result: Message = goals.run_goal(
+            session, service, goal, goals.NO_LIMIT if timeout is None else timeout, on_feedback
         )
         return result

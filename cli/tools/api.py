@@ -23,10 +23,11 @@ import zenoh
 
 from turtlectl.cli.args import endpoint, turtle_name
 from turtlectl.cli.errors import BadInput, Failed, Unreachable
+from turtlectl.cli.tools import goals
 from turtlectl.cli.tools import params as _params
 from turtlectl.cli.tools.client import check_key, client_session, require
 from turtlectl.cli.tools.graph import GoalRow, Graph, NodeRow, ServiceRow, TopicRow
-from turtlectl.cli.tools.services import NO_LIMIT, Raw, Rejected, hinted, replies, run_goal
+from turtlectl.cli.tools.services import Raw, Rejected, hinted, replies
 from turtlectl.cli.tools.topics import Received, decode_sample, learn, live_graph
 from turtlectl.cli.tools.typebook import TypeBook
 from turtlectl.messages import (
@@ -39,9 +40,7 @@ from turtlectl.messages import (
     encode,
     encoding_for,
 )
-from turtlectl.messages.codec import type_name
 from turtlectl.messages.keys import (
-    CANCEL,
     NAVIGATE_TO,
     NodeDetails,
     node_key,
@@ -186,16 +185,18 @@ class Client:
         ``Interrupted`` (130), or ``CancelUnconfirmed`` (5: the turtle may still drive)."""
         request = NavigateToRequest(x=float(x), y=float(y), theta=float(theta))
         with self._hinted():
-            key = self._key(NAVIGATE_TO)
-            return run_goal(self._session, key, request, NO_LIMIT if timeout is None else timeout, on_feedback)
+            service = goals.navigate_to(self._key(NAVIGATE_TO))
+            return goals.run_goal(self._session, service, request, _limit(timeout), on_feedback)
 
     def cancel(self, service: str = NAVIGATE_TO, reason: str = "") -> Ack:
         """Cancel the running goal of the goal service ``service`` (default ``navigate_to``);
         the server's Ack (``ok`` false: no goal was running)."""
-        cancel_key = CANCEL if service == NAVIGATE_TO else f"{service}/cancel"
-        answer = self.call(cancel_key, Cancel(reason=reason))
+        cancel_key = f"{check_key(self._key(service))}/cancel"
+        with self._hinted():
+            answers = list(replies(self._session, cancel_key, Cancel(reason=reason), CALL_TIMEOUT, goal=True))
+        answer = answers[-1] if answers else None
         if not isinstance(answer, Ack):
-            raise Failed(f"{self._key(cancel_key)} answered {type(answer).__name__}, not Ack")
+            raise Failed(f"{cancel_key} answered {type(answer).__name__}, not Ack")
         return answer
 
     def send_goal(
@@ -214,23 +215,17 @@ class Client:
         and the future ends with ``Failed`` (or ``CancelUnconfirmed``); ``cancel(service)``
         cancels it meanwhile."""
         key = check_key(self._key(service))
-        result_name = next((row.result for row in self.goals() if row.key == key), None)
-        if result_name is None:
+        row = next((row for row in self.goals() if row.key == key), None)
+        if row is None:
             raise Unreachable(f"no goal service {key} is running (`turtlectl action list` lists them)")
         self._book.learn_all()  # its feedback and result types, as the nodes describe them
         future: Future[Message] = Future()
-
-        def is_result(message: Message | Raw) -> bool:
-            return isinstance(message, Message) and type_name(type(message)) == result_name
+        goal_service = goals.GoalService(key, row.result, tuple(row.servers))
 
         def run() -> None:
             try:
                 with self._hinted():
-                    future.set_result(
-                        run_goal(
-                            self._session, key, goal, NO_LIMIT if timeout is None else timeout, on_feedback, is_result
-                        )
-                    )
+                    future.set_result(goals.run_goal(self._session, goal_service, goal, _limit(timeout), on_feedback))
             except BaseException as exc:  # the script's to see, through the future
                 future.set_exception(exc)
 
@@ -361,6 +356,11 @@ class Client:
 
     def _hinted(self) -> contextlib.AbstractContextManager[None]:
         return hinted(self.connect, self.domain)
+
+
+def _limit(timeout: float | None) -> float:
+    """s to wait for a goal's result: ``timeout``, or as long as its server lets it run."""
+    return goals.NO_LIMIT if timeout is None else timeout
 
 
 __all__ = ["Client", "Subscription"]

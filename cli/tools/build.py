@@ -72,6 +72,14 @@ def message_from_json(text: str, msg_type: type[Message]) -> Message:
         raise BadInput(f"not valid JSON: {exc}") from None
 
 
+def json_text(text: str) -> None:
+    """BadInput if ``text`` is not JSON at all (its fields are checked against a type later)."""
+    try:
+        msgspec.json.decode(text.encode())
+    except msgspec.DecodeError as exc:
+        raise BadInput(f"not valid JSON: {exc}") from None
+
+
 def topic_message(key: str, text: str, type_name: str | None = None) -> Message:
     return message_from_json(text, message_type(key, type_name, TOPICS))
 
@@ -80,10 +88,7 @@ def service_request(key: str, text: str, type_name: str | None = None) -> Messag
     """The request for ``key``: a typed message for a known service, else the JSON text as bytes."""
     types = service_types(key)
     if type_name is None and types is None:
-        try:
-            msgspec.json.decode(text.encode())
-        except msgspec.DecodeError as exc:
-            raise BadInput(f"not valid JSON: {exc}") from None
+        json_text(text)
         return text.encode()
     table = {} if types is None else {key: types}
     return message_from_json(text, message_type(key, type_name, table, verb="takes"))

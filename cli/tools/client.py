@@ -83,17 +83,20 @@ def logged_in_as() -> str | None:
     return _ROLE[0] if _ROLE else None
 
 
-def require(verb: str, key: str) -> None:
+def require(verb: str, key: str, goal_service: bool = False) -> None:
     """NotPermitted (exit 1) if this process logged in with a role that may not ``verb``
-    (publish, call, token) on ``key``: the router would drop it without a word."""
+    (publish, call, token) on ``key``: the router would drop it without a word.
+    ``goal_service``: ``key`` is a goal service or its ``/cancel``, which the roles that send
+    goals may call whichever node serves it (the router's rules name each one the launch's
+    nodes serve)."""
     if not _ROLE:
         return
     from turtlectl.cli.system import access
 
     role = _ROLE[0]
     plain = base_key(key)  # lab1/navigate_to from outside domain lab1: the rules are lab1's own
-    if not access.permitted(role, verb, plain):
-        who = access.who_may(verb, plain)
+    if not access.permitted(role, verb, plain, goal_service):
+        who = access.who_may(verb, plain, goal_service)
         how = f"may: {', '.join(who)}; TURTLECTL_ROLE chooses the role" if who else "no client role may"
         raise NotPermitted(f"not permitted: the {role} role may not {verb} {key} on this --secure system ({how})")
 

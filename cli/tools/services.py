@@ -3,12 +3,10 @@
 Nothing here prints; functions return data or raise a TurtlectlError (cli.errors).
 
 The rules every call follows (``goto``, ``cancel``, ``teleport``, ``reset`` and ``call``
-alike): replies are handed on as they arrive; a ``navigate_to`` caller holds a client
-token, so its goal is canceled when it goes away; one that gives up (--timeout, Ctrl-C)
-also asks ``navigate_to/cancel`` and checks the answer (none within CANCEL_WAIT s: exit
-code 5, the turtle may still drive); an answer that says no (``Ack.ok`` false,
+alike): replies are handed on as they arrive; an answer that says no (``Ack.ok`` false,
 ``NavigateToResponse.success`` false) is exit code 1; nobody serving the key is exit
-code 3, with a hint when systems run in other domains.
+code 3, with a hint when systems run in other domains.  A goal (its caller token, its
+cancel when given up on) is cli.tools.goals', built on ``replies``.
 """
 
 from __future__ import annotations
@@ -17,26 +15,21 @@ import contextlib
 import queue
 import time
 from collections.abc import Callable, Iterator
-from typing import Any
 
 import msgspec
 import zenoh
 
-from turtlectl.cli.errors import BadInput, CancelUnconfirmed, ExitCode, Failed, Interrupted, TurtlectlError, Unreachable
-from turtlectl.cli.sigint import sigint_deferred
+from turtlectl.cli.errors import BadInput, ExitCode, Failed, Unreachable
 from turtlectl.cli.tools.client import (
     base_key,
-    caller_token,
     check_key,
     client_session,
     domain_hint,
-    domain_prefix,
     require,
     router_lost,
 )
 from turtlectl.messages import (
     Ack,
-    Cancel,
     DecodeError,
     ErrorReply,
     Message,
@@ -50,7 +43,7 @@ from turtlectl.messages import (
     type_from_encoding,
 )
 from turtlectl.messages.codec import MEDIA_TYPE
-from turtlectl.messages.keys import CANCEL, NAVIGATE_TO, WORLD_KEY
+from turtlectl.messages.keys import NAVIGATE_TO, WORLD_KEY
 from turtlectl.messages.world import World
 from turtlectl.runtime.endpoint import default_domain
 
@@ -128,6 +121,7 @@ def replies(
     timeout: float,
     everyone: bool = False,
     attachment: bytes | None = None,
+    goal: bool = False,
 ) -> Iterator[Message | Raw]:
     """Send ``request`` to the queryable(s) at ``key``; yield each reply, decoded, as it arrives.
 
@@ -136,9 +130,10 @@ def replies(
     Raises NobodyServes (Unreachable) if nobody serves ``key``, RouterLost
     (Unreachable) if the router goes away, NoAnswer (Failed) when ``timeout`` s pass
     before the replies end, BadInput if the service rejects the request.  ``attachment``:
-    bytes the query carries beside the request (a goal's caller id).
+    bytes the query carries beside the request (a goal's caller id); ``goal``: ``key`` is a goal
+    service or its ``/cancel`` (a --secure role's check: cli.tools.client.require).
     """
-    require("call", key)
+    require("call", key, goal_service=goal)
     inbox: queue.SimpleQueue[zenoh.Reply | None] = queue.SimpleQueue()
     started = time.monotonic()
     deadline = started + timeout
@@ -205,122 +200,7 @@ def _read_reply(reply: zenoh.Reply, key: str, timeout: float) -> Message | Raw:
     raise Failed(f"{key} failed: {payload.decode('utf-8', 'replace') or 'unknown error'}")
 
 
-NO_LIMIT = 24 * 3600.0  # s: wait for the navigator's own goal_timeout
 CALL_TIMEOUT = 5.0  # s: default of `call` for services other than navigate_to
-
-
-def is_goal_service(key: str) -> bool:
-    """True for ``navigate_to`` (also ``lab1/navigate_to`` from a client without --domain)."""
-    return base_key(key) == NAVIGATE_TO
-
-
-CANCEL_WAIT = 2.0  # s for navigate_to/cancel to confirm the cancel of a goal given up on
-
-
-def cancel_goal(session: zenoh.Session, key: str, generic: bool = False) -> Ack | str:
-    """Ask the ``navigate_to/cancel`` beside ``key`` (``lab1/navigate_to/cancel`` in domain lab1,
-    ``turtle2/navigate_to/cancel`` in namespace turtle2), or any goal service's ``KEY/cancel``
-    (``generic``), to stop the running goal: its Ack, or why nobody confirmed within
-    CANCEL_WAIT s (nothing serves it, an error, silence)."""
-    if generic or key.endswith(NAVIGATE_TO):
-        cancel_key = f"{key}/cancel"
-    else:
-        cancel_key = domain_prefix(key) + CANCEL
-    try:
-        for reply in replies(session, cancel_key, Cancel(), CANCEL_WAIT):
-            if isinstance(reply, Ack):
-                return reply
-    except TurtlectlError as exc:
-        return exc.message.split(" (")[0]  # its advice in parentheses is not for this line
-    return f"{cancel_key} sent no Ack"
-
-
-def given_up(why: str, answer: Ack | str, interrupted: bool) -> TurtlectlError:
-    """The error for a goal given up on (``why``: a --timeout, or "interrupted" by Ctrl-C),
-    given the cancel's ``answer`` (an Ack, or why nobody confirmed it).  Confirmed: Failed
-    (exit 1) or Interrupted (130), as a goal not reached or a Ctrl-C; a navigator that had no
-    goal running any more confirms too.  Unconfirmed: CancelUnconfirmed (exit 5), the turtle
-    may still be driving to the goal."""
-    lead = f"{why}: " if interrupted else f"{why}; "
-    if isinstance(answer, str):
-        return CancelUnconfirmed(
-            f"{lead}nobody confirmed the cancel: the turtle may still be driving to the goal "
-            f"({answer}; `turtlectl cancel` asks again)"
-        )
-    said = (
-        "the navigator canceled the goal"
-        if answer.ok
-        else f"the goal had ended meanwhile (the navigator: {answer.detail})"
-    )
-    return Interrupted(lead + said) if interrupted else Failed(lead + said)
-
-
-def is_navigate_result(message: Message | Raw) -> bool:
-    return isinstance(message, NavigateToResponse)
-
-
-def run_goal(
-    session: zenoh.Session,
-    key: str,
-    goal: Message,
-    timeout: float,
-    on_feedback: Callable[[Any], None] | None = None,
-    is_result: Callable[[Message | Raw], bool] = is_navigate_result,
-) -> Any:
-    """Send a goal to the goal service ``key`` (``navigate_to``, or any: runtime.goals' wire)
-    and wait for its result (what ``is_result`` says is one: a NavigateToResponse by default),
-    handing each feedback to ``on_feedback`` as it arrives, while holding a client token
-    (released when this ends, however it ends: the server then ends a goal still running).
-    The token is named in the goal's ``client`` field when its type has one, else in the
-    query's attachment.
-
-    A goal given up on before its response (``timeout`` s, or Ctrl-C anywhere in here,
-    ``on_feedback`` included) is canceled through ``navigate_to/cancel`` and the answer
-    checked (``given_up``).  Raises Failed if the navigator stops answering; RouterLost if
-    the router goes away."""
-    generic = not key.endswith(NAVIGATE_TO)
-    with caller_token(session, key) as client_id:
-        request = goal
-        if "client" in type(goal).__struct_fields__ and not getattr(goal, "client", ""):
-            request = msgspec.structs.replace(goal, client=client_id)  # type: ignore[call-arg]
-        try:
-            for message in replies(session, key, request, timeout, attachment=client_id.encode()):
-                if is_result(message):
-                    return message
-                if on_feedback is not None:
-                    on_feedback(message)
-        except NoAnswer as exc:
-            why = f"the goal did not end within --timeout {timeout:g} s" if exc.answered else exc.message
-            with sigint_deferred():  # bounded (CANCEL_WAIT): a Ctrl-C must not skip the check
-                answer = cancel_goal(session, key, generic)
-            raise given_up(why, answer, interrupted=False) from None
-        except KeyboardInterrupt:
-            with sigint_deferred():
-                answer = cancel_goal(session, key, generic)
-            raise given_up("interrupted", answer, interrupted=True) from None
-        except RouterLost:
-            raise RouterLost("lost the router before the goal ended (did `turtlectl launch` stop?)") from None
-        if router_lost_soon(session, lasted=ROUTER_LOSS_WAIT):  # the replies ended without a response: why?
-            raise RouterLost("lost the router before the goal ended (did `turtlectl launch` stop?)")
-    raise Failed("the navigator stopped answering before the goal ended (did it exit?)")
-
-
-def navigate(
-    connect: str,
-    goal: NavigateToRequest,
-    timeout: float,
-    on_feedback: Callable[[NavigateToFeedback], None] | None = None,
-) -> tuple[NavigateToResponse, float]:
-    """Call navigate_to and wait for the outcome; returns it and the time the client measured, s.
-
-    The call carries a liveliness token of this client: if the client goes away (kill), the
-    navigator cancels the goal; if it gives up (``timeout``, Ctrl-C) it cancels it too and
-    checks that the navigator confirmed (``run_goal``).
-    """
-    with service_session(connect) as session:
-        started = time.monotonic()
-        response = run_goal(session, NAVIGATE_TO, goal, timeout, on_feedback)
-        return response, time.monotonic() - started
 
 
 def simple_call(connect: str, key: str, request: Message, everyone: bool = False, timeout: float = 5.0) -> list[Ack]:
@@ -337,14 +217,17 @@ def call_service(
     on_feedback: Callable[[NavigateToFeedback], None] | None = None,
 ) -> Iterator[Message | Raw]:
     """Every reply of a generic service call, as it arrives (known services typed, others as
-    JSON).  ``navigate_to`` follows goto's rules (``run_goal``: client token, a timeout or
+    JSON).  ``navigate_to`` follows goto's rules (``goals.run_goal``: client token, a timeout or
     Ctrl-C cancels the goal and checks the answer): its feedback goes to ``on_feedback`` as it
     arrives, and only its response is yielded.  ``timeout`` None: the navigator's
     goal_timeout for goals, CALL_TIMEOUT s otherwise."""
     key = check_key(key)
     with service_session(connect) as session:
-        if is_goal_service(key) and isinstance(request, NavigateToRequest):
-            yield run_goal(session, key, request, NO_LIMIT if timeout is None else timeout, on_feedback)
+        if base_key(key) == NAVIGATE_TO and isinstance(request, NavigateToRequest):
+            from turtlectl.cli.tools import goals  # which builds on this module
+
+            service = goals.navigate_to(key)
+            yield goals.run_goal(session, service, request, goals.NO_LIMIT if timeout is None else timeout, on_feedback)
         else:
             yield from replies(session, key, request, CALL_TIMEOUT if timeout is None else timeout)
 

@@ -9,7 +9,7 @@ import pytest
 
 from tests.integration.harness import free_port, running_system, turtlectl
 from turtlectl.cli.errors import ExitCode, TurtlectlError, exit_code
-from turtlectl.cli.tools import client, services, topics
+from turtlectl.cli.tools import client, goals, topics
 from turtlectl.messages import NavigateToRequest
 
 pytestmark = pytest.mark.integration
@@ -46,9 +46,7 @@ def test_goto_with_nothing_running_exits_3():
 
 def test_with_nothing_running_the_wait_is_under_3_seconds():
     endpoint = f"tcp/127.0.0.1:{free_port()}"
-    error, seconds = waited(
-        lambda: services.navigate(endpoint, NavigateToRequest(x=1, y=1, theta=0), services.NO_LIMIT)
-    )
+    error, seconds = waited(lambda: goals.navigate(endpoint, NavigateToRequest(x=1, y=1, theta=0), goals.NO_LIMIT))
     assert exit_code(error) == ExitCode.UNREACHABLE and "no turtlectl system at" in error.message
     assert seconds < 3.0, seconds  # nothing listens on the port: reported at once, not after OPEN_TIMEOUT
 
@@ -98,7 +96,7 @@ def test_goto_with_no_navigator_exits_3_within_3_seconds(tmp_path):
         assert result.returncode == 3, result.stdout + result.stderr
         assert "nothing serves navigate_to" in result.stderr
         request = NavigateToRequest(x=1, y=1, theta=0)
-        error, seconds = waited(lambda: services.navigate(system.endpoint, request, services.NO_LIMIT))
+        error, seconds = waited(lambda: goals.navigate(system.endpoint, request, goals.NO_LIMIT))
         assert exit_code(error) == ExitCode.UNREACHABLE and "nothing serves navigate_to" in error.message
         assert seconds < 3.0, seconds
 

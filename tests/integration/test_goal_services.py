@@ -6,6 +6,7 @@ and ``Client.send_goal``."""
 
 from __future__ import annotations
 
+import select
 import signal
 import subprocess
 import textwrap
@@ -220,3 +221,23 @@ def _laps(client, n):
     client.goals()
     client._book.learn_all()
     return build.message_from_json(f'{{"laps": {n}}}', build.type_named("StudentLaps"))
+
+
+def test_ctrl_c_on_send_goal_names_the_goal_service_and_its_node_not_the_navigator(system):
+    sent = subprocess.Popen(
+        [*turtlectl(), "action", "send-goal", "patrol/laps", '{"laps": 1000}', "--feedback", "--json"]
+        + ["--connect", system.endpoint],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
+    try:
+        assert select.select([sent.stdout], [], [], 10.0)[0], "no feedback within 10 s"
+        assert '"done"' in sent.stdout.readline()  # the goal runs: its first feedback
+        sent.send_signal(signal.SIGINT)
+        sent.wait(10)
+        err = sent.stderr.read()
+        assert sent.returncode == 130, err
+        assert err.strip() == "turtlectl: interrupted: the goal service patrol/laps (patrol) canceled the goal"
+    finally:
+        sent.kill()

@@ -256,3 +256,105 @@ def test_a_second_secure_launch_on_a_busy_port_leaves_the_running_system_s_login
     assert secure.endpoint in json.loads(store.read_text())
     still, _ = run(secure, "echo", "robot/status", "--once")
     assert still.returncode == 0, still.stderr
+
+
+LAPS = '''
+import msgspec
+
+from turtlectl import Interface, Message
+
+
+class NoParams(msgspec.Struct, forbid_unknown_fields=True):
+    pass
+
+
+class Laps(Message, tag="SecureLaps"):
+    laps: int
+
+
+class LapsDone(Message, tag="SecureLapsDone"):
+    done: int
+
+
+class LapsResult(Message, tag="SecureLapsResult"):
+    success: bool = False
+    reason: str = ""
+    laps: int = 0
+
+
+class Patrol:
+    """A goal service of a node class that declares no Interface (it serves under its own name)."""
+
+    Params = NoParams
+
+    def __init__(self, node):
+        self.done = 0
+        self.server = node.goal_server(
+            f"{node.name}/laps", Laps, LapsDone, LapsResult, execute=self.start,
+            feedback=lambda goal: LapsDone(done=self.done), feedback_rate=5.0,
+        )
+        node.timer(0.2, self.lap)
+
+    def start(self, goal):
+        self.done = 0
+
+    def lap(self):
+        goal = self.server.goal
+        if goal is not None:
+            self.done += 1
+            if self.done >= goal.request.laps:
+                goal.finish(LapsResult(success=True, laps=self.done))
+
+
+class Drill(Patrol):
+    """The same goal service, its node class declaring its Interface."""
+
+    Interface = Interface(
+        serves=("drill/laps", "drill/laps/cancel"),
+        publishes=("drill/laps/feedback",),
+        watches=("@turtlectl/client/**",),
+    )
+'''
+
+
+@pytest.fixture(scope="module")
+def secure_goals(store, tmp_path_factory):
+    """A --secure system with a user's goal services: one whose node declares its Interface, one
+    whose node declares none."""
+    project = tmp_path_factory.mktemp("goals")
+    (project / "laps.py").write_text(LAPS)
+    (project / "launch.toml").write_text(
+        '[[node]]\nname = "sim"\nrun = "sim"\n\n'
+        '[[node]]\nname = "patrol"\nrun = "./laps.py:Patrol"\n\n'
+        '[[node]]\nname = "drill"\nrun = "./laps.py:Drill"\n'
+    )
+    with running_system(
+        project / "launch.toml", ready=("sim", "patrol", "drill"), cwd=project, extra_args=("--secure",)
+    ) as system:
+        yield system
+
+
+def cancel_answers(system, role: str, key: str) -> list[bytes]:
+    """What ``key`` answers a Cancel sent through the router as ``role`` (its rules alone: no client check)."""
+    from turtlectl.messages import Cancel
+
+    session = login(system, role)
+    try:
+        replies = session.get(key, payload=encode(Cancel()), encoding=encoding_for(Cancel), timeout=2.0)
+        return [r.ok.payload.to_bytes() for r in replies if r.ok is not None]
+    finally:
+        session.close()
+
+
+@pytest.mark.parametrize("service", ["drill/laps", "patrol/laps"])
+def test_an_operator_sends_goals_to_and_cancels_any_goal_service_a_viewer_none(secure_goals, service):
+    sent, _ = run_as(secure_goals, {}, "action", "send-goal", service, '{"laps": 2}', "--json")  # operator
+    assert sent.returncode == 0 and '"laps":2' in sent.stdout.replace(" ", ""), sent.stdout + sent.stderr
+    assert len(cancel_answers(secure_goals, "operator", f"{service}/cancel")) == 1  # no goal runs: an Ack
+    assert cancel_answers(secure_goals, "viewer", f"{service}/cancel") == []  # the router drops it
+    viewer, _ = run_as(secure_goals, {"TURTLECTL_ROLE": "viewer"}, "action", "send-goal", service, '{"laps": 1}')
+    assert viewer.returncode == ExitCode.FAILED
+    assert viewer.stderr.strip() == (
+        f"turtlectl: error: not permitted: the viewer role may not call {service} on this --secure system "
+        "(may: operator, teleop; TURTLECTL_ROLE chooses the role)"
+    )

@@ -102,7 +102,8 @@ class Supervisor:
             login.user: access.node_rights(name, kinds[name], self.plan.remaps.get(name))
             for name, login in self.logins.items()
         }
-        rights |= {login.user: access.ROLES[role] for role, login in self.client_logins.items()}
+        goals = access.launch_goal_services(kinds, self.plan.remaps)  # the operator sends goals to each
+        rights |= {login.user: access.client_rights(role, goals) for role, login in self.client_logins.items()}
         tls = None
         if self.tls is not None:
             tls = str(self.tls.resolve())

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import zenoh
+
 from turtlectl.cli.system.access import ROLES, access_control, node_rights, permitted, who_may
 from turtlectl.messages.keys import LOG_KEYS, log_key
 from turtlectl.nodes.kinds import KINDS
@@ -95,3 +97,33 @@ def test_every_node_may_publish_and_serve_its_own_log_and_a_viewer_may_read_ever
     assert "turtlectl/log/sim" not in node_rights("navigator", KINDS["navigator"])["publish"]
     assert "turtlectl/log/turtle2.navigator" in node_rights("turtle2/navigator", KINDS["navigator"])["publish"]
     assert permitted("viewer", "subscribe", "turtlectl/log/navigator") and permitted("viewer", "call", LOG_KEYS)
+
+
+def test_an_operator_may_send_goals_to_and_cancel_every_goal_service_the_launch_serves_a_viewer_none():
+    """A user's goal service (a patrol's laps, a declared or an undeclared interface) is the
+    operator's as navigate_to is: KEY and KEY/cancel on the router; a viewer may call neither."""
+    from turtlectl.cli.system.access import client_rights, launch_goal_services
+    from turtlectl.nodes.kinds import NodeKind
+    from turtlectl.runtime.config import Interface
+
+    declared = Interface(serves=("arm/laps", "arm/laps/cancel", "arm/stop"), publishes=("arm/laps/feedback",))
+    kinds = {
+        "sim": KINDS["sim"],
+        "navigator": KINDS["navigator"],
+        "turtle2/navigator": KINDS["navigator"],
+        "arm": NodeKind("./arm.py:Arm", KINDS["navigator"].params, (), declared),
+        "patrol": NodeKind("./patrol.py:Patrol", KINDS["navigator"].params, (), None),
+    }
+    goals = launch_goal_services(kinds, {})
+    assert goals == ["navigate_to", "turtle2/navigate_to", "arm/laps", "patrol/**"]
+    operator, viewer = client_rights("operator", goals), client_rights("viewer", goals)
+    for key in ("arm/laps", "arm/laps/cancel", "patrol/laps", "patrol/laps/cancel", "turtle2/navigate_to/cancel"):
+        assert any(zenoh.KeyExpr(k).includes(zenoh.KeyExpr(key)) for k in operator["call"]), key
+        assert not any(zenoh.KeyExpr(k).includes(zenoh.KeyExpr(key)) for k in viewer["call"]), key
+    assert client_rights("teleop", goals)["call"] == operator["call"]
+    assert not any(zenoh.KeyExpr(k).includes(zenoh.KeyExpr("arm/stop")) for k in operator["call"])  # goals only
+    # the clients' own check: a key the graph shows as a goal service
+    assert permitted("operator", "call", "arm/laps", goal_service=True)
+    assert not permitted("operator", "call", "arm/laps")  # not known as one: the role's table
+    assert not permitted("viewer", "call", "arm/laps/cancel", goal_service=True)
+    assert who_may("call", "arm/laps", goal_service=True) == ["operator", "teleop"]

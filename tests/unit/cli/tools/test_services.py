@@ -4,7 +4,8 @@ import pytest
 
 from tests.unit.messages.samples import FEEDBACK
 from turtlectl.cli.errors import ExitCode, Interrupted, exit_code
-from turtlectl.cli.tools.services import given_up, reply_code
+from turtlectl.cli.tools.goals import given_up
+from turtlectl.cli.tools.services import reply_code
 from turtlectl.messages import (
     Ack,
     NavigateToResponse,

@@ -1,0 +1,163 @@
+"""The command line's goal client: one goal sent to one goal service (runtime.goals' wire), the
+same way for ``goto``, ``Client.goto``, ``Client.send_goal``, ``action send-goal`` and ``call
+navigate_to``.  Nothing here prints; functions return data or raise a TurtlectlError.
+
+What every goal sent from here gets: a caller token held while it waits (named in the goal's
+``client`` field when its type has one, else in the query's attachment), so its server ends the
+goal when the caller goes away; its feedback handed on as it arrives; its result told apart by
+its type; and a goal given up on (a timeout, Ctrl-C) canceled through ``KEY/cancel`` with the
+answer checked (none within CANCEL_WAIT s: exit code 5, the goal may still run).  Messages name
+the server as its user knows it: "the navigator" for ``navigate_to``, else "the goal service
+KEY" and the nodes serving it.
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable
+from typing import Any
+
+import msgspec
+import zenoh
+
+from turtlectl.cli.errors import CancelUnconfirmed, Failed, Interrupted, TurtlectlError
+from turtlectl.cli.sigint import sigint_deferred
+from turtlectl.cli.tools.client import base_key, caller_token
+from turtlectl.cli.tools.services import (
+    ROUTER_LOSS_WAIT,
+    NoAnswer,
+    Raw,
+    RouterLost,
+    replies,
+    router_lost_soon,
+    service_session,
+)
+from turtlectl.messages import Ack, Cancel, Message, NavigateToFeedback, NavigateToRequest, NavigateToResponse
+from turtlectl.messages.codec import type_name
+from turtlectl.messages.keys import NAVIGATE_TO
+
+__all__ = ["CANCEL_WAIT", "NO_LIMIT", "GoalService", "cancel_goal", "given_up", "navigate", "navigate_to", "run_goal"]
+
+NO_LIMIT = 24 * 3600.0  # s: wait as long as the server lets the goal run (its own timeout decides)
+CANCEL_WAIT = 2.0  # s for KEY/cancel to confirm the cancel of a goal given up on
+
+
+class GoalService(msgspec.Struct, frozen=True):
+    """A goal service as a client sends to it: ``key`` (as sent: with the domain from outside
+    it, in the turtle's namespace) and ``result``, its result type's name (codec.type_name, as
+    the graph lists it): the reply that ends a goal."""
+
+    key: str
+    result: str
+    servers: tuple[str, ...] = ()  # the nodes serving it, when known (the graph's)
+
+    @property
+    def is_navigate_to(self) -> bool:
+        """A navigator's ``navigate_to`` (any turtle's, any domain's): its own words apply."""
+        return base_key(self.key).rsplit("/", 1)[-1] == NAVIGATE_TO
+
+    @property
+    def server(self) -> str:
+        """Who serves it, as its messages name it."""
+        if self.is_navigate_to:
+            return "the navigator"
+        nodes = f" ({', '.join(self.servers)})" if self.servers else ""
+        return f"the goal service {self.key}{nodes}"
+
+    @property
+    def cancel_key(self) -> str:
+        return f"{self.key}/cancel"
+
+    def is_result(self, message: Message | Raw) -> bool:
+        return isinstance(message, Message) and type_name(type(message)) == self.result
+
+
+def navigate_to(key: str = NAVIGATE_TO) -> GoalService:
+    """A navigator's goal service (``navigate_to``, ``turtle2/navigate_to``, ...)."""
+    return GoalService(key, type_name(NavigateToResponse))
+
+
+def cancel_goal(session: zenoh.Session, service: GoalService) -> Ack | str:
+    """Ask ``KEY/cancel`` to end the running goal: its Ack, or why nobody confirmed it within
+    CANCEL_WAIT s (nothing serves it, an error, silence)."""
+    try:
+        for reply in replies(session, service.cancel_key, Cancel(), CANCEL_WAIT, goal=True):
+            if isinstance(reply, Ack):
+                return reply
+    except TurtlectlError as exc:
+        return exc.message.split(" (")[0]  # its advice in parentheses is not for this line
+    return f"{service.cancel_key} sent no Ack"
+
+
+def given_up(why: str, answer: Ack | str, interrupted: bool, service: GoalService | None = None) -> TurtlectlError:
+    """The error for a goal given up on (``why``: a timeout, or "interrupted" by Ctrl-C), given
+    the cancel's ``answer`` (an Ack, or why nobody confirmed it) and the ``service`` (default:
+    ``navigate_to``).  Confirmed: Failed (exit 1) or Interrupted (130), as a goal not reached
+    or a Ctrl-C; a server that had no goal running any more confirms too.  Unconfirmed:
+    CancelUnconfirmed (exit 5): the goal may still run (the turtle may still drive)."""
+    service = service or navigate_to()
+    lead = f"{why}: " if interrupted else f"{why}; "
+    if isinstance(answer, str):
+        if service.is_navigate_to:
+            still, again = "the turtle may still be driving to the goal", "`turtlectl cancel` asks again"
+        else:
+            still, again = "the goal may still be running", f"`turtlectl call {service.cancel_key}` asks again"
+        return CancelUnconfirmed(f"{lead}nobody confirmed the cancel: {still} ({answer}; {again})")
+    who = service.server
+    said = f"{who} canceled the goal" if answer.ok else f"the goal had ended meanwhile ({who}: {answer.detail})"
+    return Interrupted(lead + said) if interrupted else Failed(lead + said)
+
+
+def run_goal(
+    session: zenoh.Session,
+    service: GoalService,
+    goal: Message,
+    timeout: float,
+    on_feedback: Callable[[Any], None] | None = None,
+) -> Any:
+    """Send ``goal`` to ``service`` and wait for its result, handing each feedback to
+    ``on_feedback`` as it arrives, while holding a caller token (released when this ends,
+    however it ends: the server then ends a goal still running).
+
+    A goal given up on before its result (``timeout`` s, or Ctrl-C anywhere in here,
+    ``on_feedback`` included) is canceled through ``KEY/cancel`` and the answer checked
+    (``given_up``).  Raises Failed if the server stops answering; RouterLost if the router
+    goes away."""
+    with caller_token(session, service.key) as client_id:
+        request = goal
+        if "client" in type(goal).__struct_fields__ and not getattr(goal, "client", ""):
+            request = msgspec.structs.replace(goal, client=client_id)  # type: ignore[call-arg]
+        try:
+            for message in replies(session, service.key, request, timeout, attachment=client_id.encode(), goal=True):
+                if service.is_result(message):
+                    return message
+                if on_feedback is not None:
+                    on_feedback(message)
+        except NoAnswer as exc:
+            why = f"the goal did not end within --timeout {timeout:g} s" if exc.answered else exc.message
+            with sigint_deferred():  # bounded (CANCEL_WAIT): a Ctrl-C must not skip the check
+                answer = cancel_goal(session, service)
+            raise given_up(why, answer, False, service) from None
+        except KeyboardInterrupt:
+            with sigint_deferred():
+                answer = cancel_goal(session, service)
+            raise given_up("interrupted", answer, True, service) from None
+        except RouterLost:
+            raise RouterLost("lost the router before the goal ended (did `turtlectl launch` stop?)") from None
+        if router_lost_soon(session, lasted=ROUTER_LOSS_WAIT):  # the replies ended without a result: why?
+            raise RouterLost("lost the router before the goal ended (did `turtlectl launch` stop?)")
+    raise Failed(f"{service.server} stopped answering before the goal ended (did it exit?)")
+
+
+def navigate(
+    connect: str,
+    goal: NavigateToRequest,
+    timeout: float,
+    on_feedback: Callable[[NavigateToFeedback], None] | None = None,
+) -> tuple[NavigateToResponse, float]:
+    """Send a goal to ``navigate_to`` and wait for the outcome (``run_goal``); returns it and
+    the time the client measured, s."""
+    with service_session(connect) as session:
+        started = time.monotonic()
+        response = run_goal(session, navigate_to(), goal, timeout, on_feedback)
+        return response, time.monotonic() - started

@@ -1,0 +1,149 @@
+"""What a node asks of others: queries (``Node.call``, a ``Future`` of the replies) and goal
+services, as ROS 2 actions (``Node.goal_server`` serves one, ``Node.goal_client`` sends goals
+to one).  ``NodeCalls`` is a base of ``runtime.node.Node``; it reaches the node only through the
+public declarations (``resolve``, ``serve``, ``publisher``, ...) and the internal methods below,
+whose contracts ``Node`` implements.
+"""
+
+from __future__ import annotations
+
+import itertools
+import os
+from collections.abc import Callable
+from typing import Any, TypeVar
+
+import zenoh
+
+from turtlectl.messages import Message, decode_any, encode
+from turtlectl.messages.keys import client_token
+from turtlectl.runtime.config import Interface
+from turtlectl.runtime.entities import sample_encoding
+from turtlectl.runtime.futures import Future
+from turtlectl.runtime.goal_client import GoalClient
+from turtlectl.runtime.goals import GOAL_ROLES, GoalHandle, GoalServer
+from turtlectl.runtime.handles import Declaration
+from turtlectl.runtime.interface import check
+
+G = TypeVar("G", bound=Message)
+F = TypeVar("F", bound=Message)
+R = TypeVar("R", bound=Message)
+_client_ids = itertools.count(1)
+
+
+class NodeCalls:
+    """``call``, ``goal_server`` and ``goal_client`` of a ``Node`` (the attributes below are the
+    node's, set by ``Node.__init__``)."""
+
+    name: str
+    interface: Interface | None
+    session: zenoh.Session
+
+    # -- the node's side (runtime.node.Node implements them) -----------------------------------
+    def resolve(self, key: str) -> str:  # pragma: no cover - Node's
+        raise NotImplementedError
+
+    def _post(self, fn: Callable[..., None], *args: Any) -> None:
+        """Run ``fn(*args)`` on the node's thread, after what is queued already (from any thread)."""
+        raise NotImplementedError  # pragma: no cover - Node's
+
+    def _declaration(self, what: str, key: str) -> Declaration:
+        """A new declaration (``what`` on ``key``, resolved) among the node's, undeclared with it."""
+        raise NotImplementedError  # pragma: no cover - Node's
+
+    def _uses(self, msg_type: type[Message]) -> None:
+        """The node uses ``msg_type``: its own services describe it (runtime.own_services)."""
+        raise NotImplementedError  # pragma: no cover - Node's
+
+    def _announce(self, role: str, msg_type: type[Message] | str, key: str) -> zenoh.LivelinessToken:
+        """The graph's token of this node's ``role`` on ``key`` with ``msg_type``."""
+        raise NotImplementedError  # pragma: no cover - Node's
+
+    # -- the API -------------------------------------------------------------------------------
+    def call(
+        self,
+        key: str,
+        request: Message,
+        on_done: Callable[[list[Message]], None] | None = None,
+        timeout: float = 1.0,
+        *,
+        on_reply: Callable[[Message], None] | None = None,
+        attachment: bytes | None = None,
+    ) -> Future[list[Message]]:
+        """Query ``key`` with ``request`` without waiting: a ``Future`` of the replies that
+        decoded (an error reply as ``ErrorReply``), done on the node thread once every server
+        has answered (at once when nobody serves ``key``), bounded by ``timeout`` s.  Chain it
+        (``then``, ``add_done_callback``: on the node thread), or give ``on_done(replies)``.
+        ``on_reply(message)`` runs on the node thread for each reply as it comes (a goal's
+        feedback); ``attachment``: bytes the query carries beside the request."""
+        key = self.resolve(key)
+        check(self.name, self.interface, "call", key)
+        self._uses(type(request))
+        replies: list[Message] = []
+        future: Future[list[Message]] = Future.of_node()
+        if on_done is not None:
+            future.add_done_callback(lambda done: on_done(done.result()))
+
+        def on_zenoh_reply(reply: zenoh.Reply) -> None:  # Zenoh thread: decode and collect only
+            sample = reply.ok if reply.ok is not None else reply.err
+            try:
+                message = decode_any(sample.payload.to_bytes())
+            except (ValueError, AttributeError):
+                return
+            if on_reply is not None:
+                self._post(on_reply, message)
+            replies.append(message)
+
+        self.session.get(
+            key,
+            zenoh.handlers.Callback(on_zenoh_reply, lambda: self._post(future.set_result, replies)),
+            payload=encode(request),
+            encoding=sample_encoding(type(request)),
+            target=zenoh.QueryTarget.ALL,
+            consolidation=zenoh.ConsolidationMode.NONE,
+            timeout=timeout,
+            attachment=attachment,
+        )
+        return future
+
+    def goal_server(
+        self,
+        key: str,
+        goal_type: type[G],
+        feedback_type: type[F],
+        result_type: type[R],
+        *,
+        execute: Callable[[GoalHandle[G, F, R]], None],
+        refuse: Callable[[G], R | None] | None = None,
+        on_cancel: Callable[[GoalHandle[G, F, R], str], R | None] | None = None,
+        feedback: Callable[[GoalHandle[G, F, R]], F | None] | None = None,
+        feedback_rate: float = 10.0,
+        timeout: float | None = None,
+    ) -> GoalServer[G, F, R]:
+        """Serve goals on ``key``, as a ROS 2 action server (runtime.goals: the wire, and what the
+        server does for you).  ``refuse(goal)``: a result refuses the goal (its only reply; the
+        running goal is untouched), None accepts it.  ``execute(handle)``: an accepted goal
+        starts (a newer one first ends the running goal, "preempted"); drive it from any
+        callback, then ``handle.finish(result)``.  ``on_cancel(handle, reason)``: the server
+        ends the goal (reason "preempted", "canceled" or a ``Cancel``'s own, "caller gone",
+        "timeout", "shut down"): return its result (default: the result type's
+        ``success=False``, ``reason``).  ``feedback(handle)``: the progress to send,
+        ``feedback_rate`` Hz while a goal runs (None: nothing this time).  ``timeout``: s a goal
+        may run (None: no limit; ``server.timeout`` changes it while running)."""
+        types = (goal_type, feedback_type, result_type)
+        declared = self._declaration("goal service", self.resolve(key))
+        server = GoalServer(self, declared, key, types, execute, refuse, on_cancel, feedback, feedback_rate, timeout)
+        for role, msg_type in zip(GOAL_ROLES, types, strict=True):  # the goal service in the graph (action list)
+            declared.add(self._announce(role, msg_type, declared.key))
+        return server
+
+    def goal_client(
+        self, key: str, goal_type: type[G], feedback_type: type[F], result_type: type[R]
+    ) -> GoalClient[G, F, R]:
+        """A client of the goal service ``key`` (runtime.goal_client): ``send(goal,
+        on_feedback=...)`` returns a future of the result, ``cancel()`` cancels the running goal.
+        It holds a caller token while it is declared: its goals end if this node goes away."""
+        declared = self._declaration("goal client", self.resolve(key))
+        check(self.name, self.interface, "call", declared.key)
+        client_id = f"{self.name.replace('/', '.')}.{os.getpid()}.{next(_client_ids)}"
+        declared.add(self.session.liveliness().declare_token(client_token(client_id)))
+        return GoalClient(self, declared, key, (goal_type, feedback_type, result_type), client_id)

@@ -1,0 +1,45 @@
+"""cli.tools.goals: a goal given up on is said in the words of the goal service it went to."""
+
+from __future__ import annotations
+
+import pytest
+
+from turtlectl.cli.errors import ExitCode, exit_code
+from turtlectl.cli.tools.goals import GoalService, given_up, navigate_to
+from turtlectl.messages import Ack
+
+TIMED_OUT = "the goal did not end within --timeout 2 s"
+PATROL = GoalService("patrol/laps", "StudentLapsResult", ("patrol",))
+
+
+@pytest.mark.parametrize("interrupted", [False, True])
+def test_a_user_s_goal_service_is_named_with_the_node_serving_it_not_the_navigator(interrupted):
+    why = "interrupted" if interrupted else TIMED_OUT
+    lead = "interrupted: " if interrupted else f"{TIMED_OUT}; "
+    canceled = given_up(why, Ack(detail="canceled the goal (2)"), interrupted, PATROL)
+    assert canceled.message == f"{lead}the goal service patrol/laps (patrol) canceled the goal"
+    assert exit_code(canceled) == (ExitCode.INTERRUPTED if interrupted else ExitCode.FAILED)
+    ended = given_up(why, Ack(ok=False, detail="no goal is running"), interrupted, PATROL)
+    assert (
+        ended.message
+        == f"{lead}the goal had ended meanwhile (the goal service patrol/laps (patrol): no goal is running)"
+    )
+    unconfirmed = given_up(why, "nothing serves patrol/laps/cancel", interrupted, PATROL)
+    assert exit_code(unconfirmed) == ExitCode.CANCEL_UNCONFIRMED
+    assert unconfirmed.message == (
+        f"{lead}nobody confirmed the cancel: the goal may still be running "
+        "(nothing serves patrol/laps/cancel; `turtlectl call patrol/laps/cancel` asks again)"
+    )
+    assert "navigator" not in canceled.message + ended.message + unconfirmed.message
+
+
+@pytest.mark.parametrize("key", ["navigate_to", "turtle2/navigate_to", "lab1/turtle2/navigate_to"])
+def test_every_navigate_to_keeps_the_navigator_s_words(key):
+    service = navigate_to(key)
+    assert service.server == "the navigator" and service.cancel_key == f"{key}/cancel"
+    assert given_up(TIMED_OUT, Ack(), False, service).message == f"{TIMED_OUT}; the navigator canceled the goal"
+    assert "the turtle may still be driving" in given_up(TIMED_OUT, "silence", False, service).message
+
+
+def test_a_goal_service_without_known_servers_is_named_by_its_key():
+    assert GoalService("arm/pick", "PickResult").server == "the goal service arm/pick"
