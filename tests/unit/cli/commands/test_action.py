@@ -64,11 +64,11 @@ def invoke(*argv: str) -> tuple[int, str]:
         ("{x: 8}", "not valid JSON: JSON is malformed: object keys must be strings (byte 1)"),
         (
             '{"x": 8, "y": 5, "theta": 90, "speed": 2}',
-            "not a valid NavigateToRequest: Object contains unknown field `speed`",
+            "not a valid turtlectl/NavigateToRequest: Object contains unknown field `speed`",
         ),
-        ('{"x": "far", "y": 5, "theta": 90}', "not a valid NavigateToRequest: x: Expected `float`, got `str`"),
-        ('{"y": 5, "theta": 90}', "not a valid NavigateToRequest: Object missing required field `x`"),
-        ("[8, 5, 90]", "not a valid NavigateToRequest: Expected `object`, got `array`"),
+        ('{"x": "far", "y": 5, "theta": 90}', "not a valid turtlectl/NavigateToRequest: x: Expected `float`, got `str`"),
+        ('{"y": 5, "theta": 90}', "not a valid turtlectl/NavigateToRequest: Object missing required field `x`"),
+        ("[8, 5, 90]", "not a valid turtlectl/NavigateToRequest: Expected `object`, got `array`"),
     ],
 )
 def test_a_goal_that_is_not_the_goal_type_is_exit_2_in_one_line(text, message):
