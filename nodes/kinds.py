@@ -19,10 +19,8 @@ import msgspec
 
 from turtlectl.messages.keys import (
     CANCEL,
-    CLIENT_TOKEN_PREFIX,
     CLOCK,
     CMD_VEL,
-    FEEDBACK,
     KILL,
     NAVIGATE_TO,
     OBSTACLES,
@@ -109,10 +107,9 @@ KINDS: dict[str, NodeKind] = {
         NavigatorParams,
         Claim("srv", NAVIGATE_TO),
         Interface(
-            publishes=(CMD_VEL, FEEDBACK),
+            publishes=(CMD_VEL,),
             subscribes=(POSE, STATUS, OBSTACLES, f"/{TURTLES}"),
-            serves=(NAVIGATE_TO, CANCEL),
-            watches=(f"{CLIENT_TOKEN_PREFIX}/**",),
+            goals=(NAVIGATE_TO,),  # navigate_to, its cancel, its feedback, its callers' tokens
         ),
     ),
     "status_monitor": _builtin(

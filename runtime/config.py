@@ -39,13 +39,17 @@ class Interface(msgspec.Struct, frozen=True):
     expressions, beyond what every node does (its parameters, node info, log level, parameter
     events and liveliness tokens: the runtime's).  A node class declares it once,
     ``Interface = Interface(publishes=("patrol/state",), calls=("navigate_to",))``: the runtime
-    refuses any other declaration, and a ``launch --secure`` router allows exactly this."""
+    refuses any other declaration, and a ``launch --secure`` router allows exactly this.
+    ``goals=("navigate_to",)`` declares a goal service whole (runtime.roles.interface_of expands it)."""
 
     publishes: tuple[str, ...] = ()
     subscribes: tuple[str, ...] = ()
     serves: tuple[str, ...] = ()
     calls: tuple[str, ...] = ()
     watches: tuple[str, ...] = ()  # liveliness tokens it follows
+    #: goal services it serves (``Node.goal_server``): each ``KEY`` stands for what its server
+    #: declares, ``KEY`` and ``KEY/cancel`` served, ``KEY/feedback`` published, callers' tokens watched
+    goals: tuple[str, ...] = ()
 
 
 class Credentials(msgspec.Struct, frozen=True, forbid_unknown_fields=True):

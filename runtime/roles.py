@@ -14,6 +14,8 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 
+import msgspec
+
 from turtlectl.messages.keys import (
     CANCEL,
     CLIENT_TOKEN_PREFIX,
@@ -71,10 +73,26 @@ GOAL_SENDERS = ("operator", "teleop")
 
 
 def goal_services(interface: Interface) -> tuple[str, ...]:
-    """The goal services ``interface`` serves: each key expression ``KEY`` it serves together
-    with ``KEY/cancel`` (a goal server serves both: runtime.goals).  A node class that declares
-    no Interface serves ``<name>/**``: every service under its name may be one."""
-    return tuple(key for key in interface.serves if any(includes(other, f"{key}/cancel") for other in interface.serves))
+    """The goal services ``interface`` serves: those its ``goals`` names, and each key expression
+    ``KEY`` it serves together with ``KEY/cancel`` (a goal server serves both: runtime.goals).  A
+    node class that declares no Interface serves ``<name>/**``: every service under its name may be one."""
+    served = (key for key in interface.serves if any(includes(other, f"{key}/cancel") for other in interface.serves))
+    return tuple(dict.fromkeys([*interface.goals, *served]))
+
+
+def with_goal_services(interface: Interface) -> Interface:
+    """``interface`` with each goal service of its ``goals`` spelled out as its server declares
+    it (runtime.goals): ``KEY`` and ``KEY/cancel`` served, ``KEY/feedback`` published, the callers'
+    liveliness tokens watched."""
+    goals = interface.goals
+    if not goals:
+        return interface
+    return msgspec.structs.replace(
+        interface,
+        publishes=(*interface.publishes, *(f"{key}/feedback" for key in goals)),
+        serves=(*interface.serves, *(k for key in goals for k in (key, f"{key}/cancel"))),
+        watches=(*interface.watches, f"{CLIENT_TOKEN_PREFIX}/**"),
+    )
 
 
 def client_rights(role: str, goals: tuple[str, ...] | list[str] = ()) -> dict[str, tuple[str, ...]]:
@@ -112,7 +130,7 @@ def interface_of(name: str, declared: Interface | None, remaps: Mapping[str, str
     namespace = namespace_of(name)
     # each remapped key as the node would use it -> the key it uses instead
     remapped = {resolve(source, namespace): resolve(source, namespace, remaps) for source in remaps or {}}
-    interface = undeclared(name) if declared is None else declared
+    interface = undeclared(name) if declared is None else with_goal_services(declared)
 
     def keys(written: tuple[str, ...]) -> tuple[str, ...]:
         # undeclared's keys are as they are; a declared interface's are written as the node's code writes them
@@ -126,6 +144,7 @@ def interface_of(name: str, declared: Interface | None, remaps: Mapping[str, str
         serves=keys(interface.serves),
         calls=keys(interface.calls),
         watches=keys(interface.watches),
+        goals=keys(interface.goals),
     )
 
 

@@ -73,10 +73,9 @@ def blocked_ahead(scan: LaserScan, distance: float, cone: float = math.radians(3
 class Navigator:
     Params = NavigatorParams
     Interface = Interface(
-        publishes=("turtle1/cmd_vel", "navigate_to/feedback"),
+        publishes=("turtle1/cmd_vel",),
         subscribes=("turtle1/pose", "obstacles"),
-        serves=("navigate_to", "navigate_to/cancel"),
-        watches=("@turtlectl/client/**",),  # a caller that goes away: its goal ends
+        goals=("navigate_to",),  # the goal service, its cancel and feedback, its callers' tokens
     )
 
     def __init__(self, node: Node[NavigatorParams]):
