@@ -195,7 +195,7 @@ class Client:
         cancel_key = CANCEL if service == NAVIGATE_TO else f"{service}/cancel"
         answer = self.call(cancel_key, Cancel(reason=reason))
         if not isinstance(answer, Ack):
-            raise Failed(f"{self._key(cancel_key)} answered {type(answer).__name__}, not Ack")
+            raise Failed(f"{self._key(cancel_key)} answered {type_name(type(answer))}, not {type_name(Ack)}")
         return answer
 
     def send_goal(

@@ -18,6 +18,7 @@ from turtlectl.cli.verify.parameters import parameters
 from turtlectl.cli.verify.report import Verdict
 from turtlectl.cli.verify.spec import Criterion, Messages, NoErrors, Parameters, Period, RoundTrip, Spec, label
 from turtlectl.cli.verify.timebase import Timebase
+from turtlectl.messages.naming import names
 
 
 def _arrivals(client: Client, key: str, count: int, within: float, clock: Timebase) -> list[tuple[float, float | None]]:
@@ -67,7 +68,7 @@ def _declared(
     if found is None:
         return required, "absent", [absent]
     got, owners = found
-    problems = [f"its {kind} is {got}"] if got != want else []
+    problems = [] if names(want, got) else [f"its {kind} is {got}"]  # a short name: the one type found there
     if owner and owner not in owners:
         problems.append(f"{wrong_by} {', '.join(owners) or 'nobody'}")
     return required, f"{got} {by} {', '.join(owners) or 'nobody'}", problems

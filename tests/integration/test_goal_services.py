@@ -194,7 +194,7 @@ def test_a_newer_goal_preempts_the_running_one(system):
 def test_action_list_info_and_send_goal_reach_a_patrols_own_goal_service(system):
     listed = system.run_cli("action", "list")
     assert listed.returncode == 0, listed.stderr
-    assert "patrol/laps  [StudentLaps -> StudentLapsDone -> StudentLapsResult]" in listed.stdout
+    assert "patrol/laps  [mynav/StudentLaps -> mynav/StudentLapsDone -> mynav/StudentLapsResult]" in listed.stdout
     assert "navigate_to" in listed.stdout
     info = system.run_cli("action", "info", "patrol/laps")
     assert "Servers: patrol" in info.stdout, info.stdout + info.stderr
