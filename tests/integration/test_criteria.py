@@ -265,7 +265,7 @@ def test_echo_decodes_status_as_blocks_and_json(system):
     lines = system.run_cli("echo", "turtle1/pose", "--count", "3", "--json")
     assert lines.returncode == 0, lines.stderr
     decoded = [json.loads(line) for line in lines.stdout.splitlines()]
-    assert len(decoded) == 3 and {d["type"] for d in decoded} == {"Pose"}
+    assert len(decoded) == 3 and {d["type"] for d in decoded} == {"turtlectl/Pose"}
 
 
 def test_echo_tells_the_user_when_nothing_is_published(system):
