@@ -33,6 +33,13 @@ def type_short_name(msg_type: type[Message]) -> str:
     return short_name(type_name(msg_type))
 
 
+def shown_name(msg_type: object) -> str:
+    """How people are told of a type: a message type's full name, another class's own name."""
+    if isinstance(msg_type, type) and issubclass(msg_type, Message):
+        return type_name(msg_type)
+    return str(getattr(msg_type, "__name__", msg_type))
+
+
 TYPES_BY_NAME: dict[str, type[Message]] = {type_name(t): t for t in ALL_TYPES}
 
 _encoder = msgspec.msgpack.Encoder()
@@ -91,7 +98,7 @@ def decode(payload: bytes, msg_type: type[M]) -> M:
             decoder = _decoders[msg_type] = msgspec.msgpack.Decoder(msg_type)
         return decoder.decode(payload)
     except (msgspec.DecodeError, TypeError) as exc:  # ValidationError is a DecodeError; TypeError: not a type
-        raise DecodeError(f"not a valid {msg_type.__name__}: {exc}") from None
+        raise DecodeError(f"not a valid {shown_name(msg_type)}: {exc}") from None
 
 
 def decode_any(payload: bytes) -> Message:

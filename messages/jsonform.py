@@ -17,7 +17,7 @@ from typing import Any, Union
 
 import msgspec
 
-from turtlectl.messages.codec import type_name
+from turtlectl.messages.codec import shown_name, type_name
 from turtlectl.messages.types import ALL_TYPES, Message
 
 #: how each non-finite float is spelled in JSON here
@@ -62,7 +62,7 @@ def from_json(data: bytes, msg_type: type[Message] | None = None) -> Message:
         # strings: a str field keeps "NaN" as text)
         return msgspec.convert(obj, msg_type or _any, strict=False)
     except msgspec.DecodeError as exc:  # ValidationError included
-        what = msg_type.__name__ if msg_type is not None else "message"
+        what = shown_name(msg_type) if msg_type is not None else "message"
         raise JsonFormError(f"not a valid {what} in JSON: {exc}") from None
 
 

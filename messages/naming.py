@@ -79,6 +79,12 @@ def short_name(name: str) -> str:
     return name.rpartition("/")[2]
 
 
+def names(name: str, full: str) -> bool:
+    """Whether ``name`` as a person wrote it (``package/Name`` or, for one type already known, the
+    short ``Name``) names the type whose full name is ``full``."""
+    return name == full or ("/" not in name and name == short_name(full))
+
+
 def is_full(name: str) -> bool:
     """Whether ``name`` is a well-formed full name (``package/Name``, identifiers)."""
     package, slash, short = name.partition("/")

@@ -156,6 +156,7 @@ def pub(
     Example: turtlectl pub turtle1/cmd_vel '{"linear": 1.0, "angular": 0.5}' --rate 10
     """
     from turtlectl.cli.tools import build, client, topics
+    from turtlectl.messages.codec import type_name as full_name
 
     key = client.check_key(topic, publish=True)
     type_name = topics.learn_type(connect, client.base_key(key), type_name)  # yours: from the nodes using it
@@ -167,7 +168,7 @@ def pub(
         if count is not None:
             raise Interrupted("interrupted before every message was sent") from None
         return
-    typer.echo(f"published {sent} {type(msg).__name__} on {key}", err=True)
+    typer.echo(f"published {sent} {full_name(type(msg))} on {key}", err=True)
 
 
 topic_app = typer.Typer(

@@ -10,6 +10,7 @@ from __future__ import annotations
 import math
 from typing import Any
 
+from turtlectl.messages.codec import type_name
 from turtlectl.messages.keys import FIRST_TURTLE, SERVICES, TOPICS, includes, key_problem, resolve
 from turtlectl.messages.world import World
 from turtlectl.runtime.config import Interface
@@ -81,10 +82,10 @@ def _type_of(key: str) -> str | None:
     first = key.partition("/")[0]
     for known, message in TOPICS.items():
         if key in (known, resolve(known, first)):
-            return message.__name__
+            return type_name(message)
     for known, (request, _) in SERVICES.items():
         if key in (known, resolve(known, first)):
-            return request.__name__
+            return type_name(request)
     return None
 
 

@@ -196,7 +196,7 @@ class Client:
             answers = list(replies(self._session, cancel_key, Cancel(reason=reason), CALL_TIMEOUT, goal=True))
         answer = answers[-1] if answers else None
         if not isinstance(answer, Ack):
-            raise Failed(f"{cancel_key} answered {type(answer).__name__}, not Ack")
+            raise Failed(f"{cancel_key} answered {type_name(type(answer))}, not {type_name(Ack)}")
         return answer
 
     def send_goal(

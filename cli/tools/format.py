@@ -13,6 +13,7 @@ import msgspec
 from turtlectl.cli.errors import BadInput
 from turtlectl.messages import Ack, Message, NavigateToFeedback, NavigateToResponse, to_builtins
 from turtlectl.messages.angles import degrees_0_360
+from turtlectl.messages.codec import type_name
 from turtlectl.messages.jsonform import spelled, to_json
 from turtlectl.messages.keys import FIRST_TURTLE, resolve
 
@@ -57,7 +58,7 @@ Shown = Message | Undescribed
 
 
 def _name(msg: Shown) -> str:
-    return msg.name if isinstance(msg, Undescribed) else type(msg).__name__
+    return msg.name if isinstance(msg, Undescribed) else type_name(type(msg))
 
 
 def _fields(msg: Shown) -> dict[str, Any]:

@@ -33,6 +33,7 @@ import msgspec.inspect as mi
 from turtlectl.cli.errors import BadInput
 from turtlectl.cli.tools.format import Undescribed
 from turtlectl.messages import Message
+from turtlectl.messages.codec import type_name as full_type_name
 from turtlectl.messages.keys import TOPICS, resolve
 
 #: the file types ``--output`` writes, by extension
@@ -139,9 +140,10 @@ def value_at(message: Any, path: str) -> Any:
 
 
 def type_name(message: Any) -> str:
-    """The name of a message's type for people: ``Pose``, or an undescribed payload's own."""
-    if isinstance(message, msgspec.Struct):
-        return type(message).__name__
+    """The name of a message's type for people: its full name (``turtlectl/Pose``), or an
+    undescribed payload's own."""
+    if isinstance(message, Message):
+        return full_type_name(type(message))
     name = getattr(message, "type_name", "")  # an Undescribed's (its payload's "type" if it had no other)
     return str(name) if name else "the payload"
 
@@ -231,7 +233,7 @@ def check_type(series: Series, msg_type: type[Message]) -> None:
     wanted = series.path.split(".")
     if any(_matches(candidate, wanted) for candidate in fields):
         return
-    name = msg_type.__name__
+    name = full_type_name(msg_type)
     below = [p for p in fields if len(p.split(".")) > len(wanted) and _matches(_head(p, len(wanted)), wanted)]
     first = series.path.split(".")[0]
     if first not in {f.name for f in mi.type_info(msg_type).fields}:
@@ -284,7 +286,7 @@ def check_builtins(
 
 def check_stamped(types: dict[str, type[Message]]) -> None:
     """--stamps: BadInput naming the types (key -> type) that have no stamp."""
-    unstamped = [f"{t.__name__} on {key}" for key, t in types.items() if STAMP not in t.__struct_fields__]
+    unstamped = [f"{full_type_name(t)} on {key}" for key, t in types.items() if STAMP not in t.__struct_fields__]
     if unstamped:
         raise _unstamped(unstamped)
 

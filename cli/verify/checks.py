@@ -18,7 +18,7 @@ from turtlectl.cli.verify.parameters import parameters
 from turtlectl.cli.verify.report import Verdict
 from turtlectl.cli.verify.spec import Criterion, Messages, NoErrors, Parameters, Period, RoundTrip, Spec, label
 from turtlectl.cli.verify.timebase import Timebase
-from turtlectl.messages.naming import AmbiguousType, lookup
+from turtlectl.messages.naming import names
 
 
 def _arrivals(client: Client, key: str, count: int, within: float, clock: Timebase) -> list[tuple[float, float | None]]:
@@ -68,19 +68,10 @@ def _declared(
     if found is None:
         return required, "absent", [absent]
     got, owners = found
-    problems = [] if same_type(want, got) else [f"its {kind} is {got}"]
+    problems = [] if names(want, got) else [f"its {kind} is {got}"]  # a short name: the one type found there
     if owner and owner not in owners:
         problems.append(f"{wrong_by} {', '.join(owners) or 'nobody'}")
     return required, f"{got} {by} {', '.join(owners) or 'nobody'}", problems
-
-
-def same_type(want: str, got: str) -> bool:
-    """Whether the type a spec names (``package/Name``, or a short ``Name``: any package's) is
-    ``got``, the full name the graph says."""
-    try:
-        return lookup(want, [got]) == got
-    except AmbiguousType:  # one known name: never ambiguous
-        return False
 
 
 def require_nodes(client: Client, graph: Graph, doing: str = "") -> None:

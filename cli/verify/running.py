@@ -17,6 +17,7 @@ from turtlectl.cli.verify.report import Verdict
 from turtlectl.cli.verify.spec import NoErrors, RoundTrip, label
 from turtlectl.cli.verify.timebase import Timebase
 from turtlectl.messages import decode, encode
+from turtlectl.messages.codec import type_name
 from turtlectl.messages.keys import NodeDetails
 
 #: s: how often the nodes alive are looked at while a no_errors criterion runs
@@ -131,7 +132,7 @@ def round_trip(client: Client, c: RoundTrip) -> Verdict:
         finally:
             sub.undeclare()
         kind = type(message)
-        types.add(kind.__name__)
+        types.add(type_name(kind))
         received += 1
         if sub.skipped:
             problems.append(f"{key}: {sub.skipped} payloads did not decode, the last: {sub.last_problem}")
@@ -139,10 +140,10 @@ def round_trip(client: Client, c: RoundTrip) -> Verdict:
         try:
             again = decode(payload, kind)
         except msgspec.DecodeError as exc:
-            problems.append(f"{key}: {kind.__name__} does not decode what it encodes: {exc}")
+            problems.append(f"{key}: {type_name(kind)} does not decode what it encodes: {exc}")
             continue
         if encode(again) != payload:
-            problems.append(f"{key}: {kind.__name__} changes on a round trip")
+            problems.append(f"{key}: {type_name(kind)} changes on a round trip")
     if not keys:
         problems.append("no topic is published")
     required = f"{len(keys)} keys: decode strictly, encode and decode back the same"

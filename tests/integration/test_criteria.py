@@ -258,14 +258,14 @@ def test_echo_decodes_status_as_blocks_and_json(system):
     blocks = system.run_cli("echo", "robot/status", "--once")
     assert blocks.returncode == 0, blocks.stderr
     assert (
-        blocks.stdout.startswith("# TurtleStatus\n")
+        blocks.stdout.startswith("# turtlectl/TurtleStatus\n")
         and "battery:" in blocks.stdout
         and blocks.stdout.strip().endswith("---")
     )
     lines = system.run_cli("echo", "turtle1/pose", "--count", "3", "--json")
     assert lines.returncode == 0, lines.stderr
     decoded = [json.loads(line) for line in lines.stdout.splitlines()]
-    assert len(decoded) == 3 and {d["type"] for d in decoded} == {"Pose"}
+    assert len(decoded) == 3 and {d["type"] for d in decoded} == {"turtlectl/Pose"}
 
 
 def test_echo_tells_the_user_when_nothing_is_published(system):
@@ -301,7 +301,7 @@ def test_malformed_payloads_are_dropped_and_every_node_keeps_running(system):
     replies = system.call(NAVIGATE_TO, TurtleStatus(x=1, y=1, theta=0, vel_x=0, vel_y=0, battery=1))
     assert len(replies) == 1 and replies[0].err is not None
     error = decode(replies[0].err.payload.to_bytes(), ErrorReply).error
-    assert "not a valid NavigateToRequest" in error
+    assert "not a valid turtlectl/NavigateToRequest" in error
     # every node still serves: a goal works and status still flows, from the same processes
     response, _ = navigate(system, 5.0, 5.0, 0.0)
     assert response.success, response

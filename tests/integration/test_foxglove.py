@@ -184,7 +184,7 @@ def test_foxglove_sees_the_topics_the_scene_and_sends_a_goal():
         schema = json.loads(channel["schema"])
         for payload in got[topic]:
             jsonschema.validate(json.loads(payload), schema)  # each message satisfies its advertised schema
-    assert client.channels["robot/status"]["schemaName"] == "TurtleStatus"
+    assert client.channels["robot/status"]["schemaName"] == "turtlectl/TurtleStatus"
 
     scene_class = _protobuf_class(client.channels["scene"])
     scenes = [scene_class.FromString(p) for p in got["scene"]]

@@ -245,6 +245,6 @@ def test_record_keeps_the_log_like_any_topic(system, tmp_path: Path):
             recorder.wait()
     shown = subprocess.run([*turtlectl(), "info", str(path), "--json"], capture_output=True, text=True, timeout=30)
     topics = {t["key"]: t for t in json.loads(shown.stdout)["topics"]}
-    assert topics["turtlectl/log/navigator"]["type_name"] == "Log", sorted(topics)
+    assert topics["turtlectl/log/navigator"]["type_name"] == "turtlectl/Log", sorted(topics)
     kept = [r.message() for r in Recording(path).records() if r.key == "turtlectl/log/navigator"]
     assert any(m.message == changed["message"] and m.stamp == changed["stamp"] for m in kept)

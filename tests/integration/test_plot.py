@@ -151,5 +151,5 @@ def test_a_field_that_is_no_number_is_exit_code_2_before_anything_is_drawn(syste
     assert result.returncode == ExitCode.BAD_INPUT
     assert result.stderr.startswith(
         "turtlectl: error: navigate_to/feedback.state: state is not a number; the numeric fields of "
-        "NavigateToFeedback: distance_remaining, heading_remaining, eta,"
+        "turtlectl/NavigateToFeedback: distance_remaining, heading_remaining, eta,"
     )

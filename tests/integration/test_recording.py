@@ -107,7 +107,7 @@ def test_a_recorded_goal_holds_every_message_sent_meanwhile(goal_recording):
     assert {r.key for r in scene} == {"scene", "scene/scan", "log"}
     types = {t.key: t.type_name for t in recording.info().topics}
     assert types["scene"] == "foxglove.SceneUpdate" and types["scene/scan"] == "foxglove.LaserScan"
-    assert types["log"] == "foxglove.Log" and types["turtlectl/log/navigator"] == "Log"
+    assert types["log"] == "foxglove.Log" and types["turtlectl/log/navigator"] == "turtlectl/Log"
     from mcap.reader import make_reader
 
     from tests.protobuf_schemas import protobuf_class
@@ -127,10 +127,10 @@ def test_info_says_what_the_file_holds(goal_recording):
     assert result.returncode == 0, result.stderr
     assert "Closed:    yes" in result.stdout
     for key, type_name in (
-        ("turtle1/pose", "Pose"),
-        ("robot/status", "TurtleStatus"),
-        ("obstacles", "LaserScan"),
-        ("turtlectl/log/navigator", "Log"),  # the goal's log records, kept like any topic (issue 28)
+        ("turtle1/pose", "turtlectl/Pose"),
+        ("robot/status", "turtlectl/TurtleStatus"),
+        ("obstacles", "turtlectl/LaserScan"),
+        ("turtlectl/log/navigator", "turtlectl/Log"),  # the goal's log records, kept like any topic (issue 28)
     ):
         assert any(line.split()[:2] == [key, type_name] for line in result.stdout.splitlines()), result.stdout
     data = msgspec.json.decode(

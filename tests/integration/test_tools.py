@@ -135,7 +135,7 @@ def test_echo_survives_a_publisher_restart(system):
 def test_pub_twist_moves_the_turtle_and_checks_fields(system):
     system.teleport(3.0, 3.0, 0.0)
     result = system.run_cli("pub", "turtle1/cmd_vel", '{"linear": 1.0}', "--rate", "20", "--times", "10")
-    assert result.returncode == 0 and "published 10 Twist" in result.stderr
+    assert result.returncode == 0 and "published 10 turtlectl/Twist" in result.stderr
     moved = system.latest_pose()
     assert moved.x > 3.2
     for payload, message in (
@@ -274,7 +274,7 @@ def test_view_draws_the_world_in_a_real_terminal(system):
 
 def test_echo_with_a_wildcard_says_which_key(system):
     result = system.run_cli("echo", "turtle1/*", "--count", "3")
-    assert result.returncode == 0 and "# Pose on turtle1/pose" in result.stdout
+    assert result.returncode == 0 and "# turtlectl/Pose on turtle1/pose" in result.stdout
 
 
 def test_a_second_process_with_a_node_s_name_refuses_to_start(system):

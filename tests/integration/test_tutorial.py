@@ -25,11 +25,11 @@ TUTORIAL = ROOT / "docs" / "tutorials" / "getting-started.md"
 EXPECTED = {
     "turtlectl list": "status_monitor",
     "turtlectl goto 8 5 90": re.compile(r"reached at \((7\.99|8\.0)"),
-    "turtlectl echo robot/status --once": "# TurtleStatus",
+    "turtlectl echo robot/status --once": "# turtlectl/TurtleStatus",
     "turtlectl echo robot/status --field x --field y --count 3": re.compile(
         r"^(7\.99\d*|8(\.0\d*)?) (4\.99\d*|5(\.0\d*)?)$", re.M
     ),
-    "turtlectl echo obstacles --once --json": '"type":"LaserScan"',
+    "turtlectl echo obstacles --once --json": '"type":"turtlectl/LaserScan"',
     "turtlectl hz robot/status --duration 2": "robot/status: ",
     "turtlectl param list navigator": "goal_timeout",
     "turtlectl param get navigator goal_timeout": "30",

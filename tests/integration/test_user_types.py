@@ -47,12 +47,6 @@ WALL = textwrap.dedent(
         to: float  # m: the distance to report
 
 
-    class OtherWallState(Message, tag="WallState"):
-        """Another team's WallState: one name, another type."""
-
-        level: int
-
-
     class Wall:
         Params = msgspec.defstruct("WallParams", [])
 
@@ -63,11 +57,29 @@ WALL = textwrap.dedent(
             node.serve("wall/restart", WallReset, WallState, lambda r: r.respond(WallState(distance=r.body.to)))
 
 
+    '''
+)
+
+#: another version of wall.py (one package, wall): its WallState with other fields, as another
+#: team's copy of the project would have (one module cannot hold two: launch --check refuses that)
+OTHER_WALL = textwrap.dedent(
+    '''
+    import msgspec
+
+    from turtlectl import Message
+
+
+    class WallState(Message, tag="WallState"):
+        """Another team's WallState: one name, another type."""
+
+        level: int
+
+
     class Other:
         Params = msgspec.defstruct("OtherParams", [])
 
         def __init__(self, node):
-            node.publisher("other/state", OtherWallState)
+            node.publisher("other/state", WallState)
     '''
 )
 
@@ -93,10 +105,10 @@ def system(tmp_path_factory):
 def test_echo_shows_a_user_type_in_every_form(system):
     block = system.run_cli("echo", "wall/state", "--count", "2")
     assert block.returncode == 0, block.stderr
-    assert block.stdout.count("# WallState") == 2 and "distance: 0.75" in block.stdout, block.stdout
+    assert block.stdout.count("# wall/WallState") == 2 and "distance: 0.75" in block.stdout, block.stdout
     assert "skipped" not in block.stderr, block.stderr
     line = json.loads(system.run_cli("echo", "wall/state", "--once", "--json").stdout)
-    assert line["type"] == "WallState" and line["corners"] == [{"x": 1.0, "y": 2.0}]
+    assert line["type"] == "wall/WallState" and line["corners"] == [{"x": 1.0, "y": 2.0}]
     assert system.run_cli("echo", "wall/state", "--once", "--field", "distance").stdout.strip() == "0.75"
     csv = system.run_cli("echo", "wall/state", "--count", "2", "--csv").stdout.splitlines()
     assert csv[0] == "distance,side,corners,stamp,seq" and csv[1].startswith("0.75,left,")
@@ -111,7 +123,7 @@ def test_hz_gives_the_publishers_own_rate(system):
 
 def test_interface_list_and_show_a_live_user_type(system):
     listed = system.run_cli("interface", "list")
-    assert "WallState" in listed.stdout and "(used by wall)" in listed.stdout, listed.stdout
+    assert "wall/WallState" in listed.stdout and "(used by wall)" in listed.stdout, listed.stdout
     shown = system.run_cli("interface", "show", "WallState")
     assert shown.returncode == 0, shown.stderr
     assert "described by: wall (hash TH01_" in shown.stdout and "to the wall" in shown.stdout, shown.stdout
@@ -123,7 +135,7 @@ def test_interface_list_and_show_a_live_user_type(system):
     assert "list[Corner]" in shown.stdout, shown.stdout
     nested = system.run_cli("interface", "show", "Corner")  # a Struct nested in a live type
     assert nested.returncode == 0, nested.stderr
-    assert nested.stdout.startswith("Corner: a map nested in WallState") and "\nx " in nested.stdout, nested.stdout
+    assert nested.stdout.startswith("Corner: a map nested in wall/WallState") and "\nx " in nested.stdout, nested.stdout
     unknown = system.run_cli("interface", "show", "Nope")
     assert unknown.returncode == 2 and "Twist" in unknown.stderr and "WallState" in unknown.stderr, unknown.stderr
 
@@ -168,7 +180,7 @@ def test_two_descriptions_of_one_name_are_reported(system, tmp_path):
 
     from tests.integration.harness import turtlectl as command
 
-    (tmp_path / "wall.py").write_text(WALL)
+    (tmp_path / "wall.py").write_text(OTHER_WALL)
     other = subprocess.Popen(
         [*command(), "run", "./wall.py:Other", "--connect", system.endpoint],
         cwd=tmp_path,
@@ -183,9 +195,9 @@ def test_two_descriptions_of_one_name_are_reported(system, tmp_path):
         listed = system.run_cli("interface", "list")
         assert "CONFLICT" in listed.stdout
         graph = system.run_cli("list")
-        assert "CONFLICTS" in graph.stdout and "WallState is described 2 ways:" in graph.stdout, graph.stdout
+        assert "CONFLICTS" in graph.stdout and "wall/WallState is described 2 ways:" in graph.stdout, graph.stdout
         echoed = system.run_cli("echo", "wall/state", "--once")  # met by echo too
-        assert "warning: WallState is described 2 ways:" in echoed.stderr, echoed.stderr
+        assert "warning: wall/WallState is described 2 ways:" in echoed.stderr, echoed.stderr
     finally:
         other.terminate()
         other.wait(10)
@@ -196,7 +208,9 @@ def test_pub_and_call_build_a_user_type_from_json_validated(system):
     assert sent.returncode == 0, sent.stderr
     system.wait_line(r"heard distance 2.5", 20.0)
     bad = system.run_cli("pub", "wall/cmd", '{"distance": "far"}')
-    assert bad.returncode == 2 and "not a valid WallState: distance: Expected `float`, got `str`" in bad.stderr, bad
+    assert bad.returncode == 2 and "not a valid wall/WallState: distance: Expected `float`, got `str`" in bad.stderr, (
+        bad
+    )
     answered = system.run_cli("call", "wall/restart", '{"to": 1.5}')
     assert answered.returncode == 0, answered.stderr
-    assert "# WallState" in answered.stdout and "distance: 1.5" in answered.stdout, answered.stdout
+    assert "# wall/WallState" in answered.stdout and "distance: 1.5" in answered.stdout, answered.stdout

@@ -27,7 +27,7 @@ from turtlectl.runtime.session import client_config, close_session
 
 pytestmark = pytest.mark.integration
 
-ENCODING = "application/msgpack;WallState"
+ENCODING = "application/msgpack;wall/WallState"
 MYSTERY = msgspec.msgpack.encode({"type": "Mystery", "a": 1})
 
 
@@ -88,10 +88,10 @@ def test_record_gives_a_user_type_its_json_schema(recording):
     walls = [(s, c, m) for s, c, m in _read(path) if c.topic == "wall/state"]
     assert len(walls) >= 10, len(walls)
     schema, channel, _ = walls[0]
-    assert schema is not None and schema.name == "WallState" and schema.encoding == "jsonschema"
+    assert schema is not None and schema.name == "wall/WallState" and schema.encoding == "jsonschema"
     assert channel.message_encoding == "json" and channel.metadata["zenoh_encoding"] == ENCODING
     document = json.loads(schema.data)
-    assert document["title"] == "WallState" and {"distance", "side", "corners"} <= set(document["properties"])
+    assert document["title"] == "wall/WallState" and {"distance", "side", "corners"} <= set(document["properties"])
     for _, _, message in walls:
         data = json.loads(message.data)
         jsonschema.validate(data, document)
@@ -111,14 +111,14 @@ def test_info_names_the_user_type_and_counts_it(recording):
     count = sum(1 for _, c, _ in _read(path) if c.topic == "wall/state")
     result = subprocess.run([*turtlectl(), "info", str(path)], capture_output=True, text=True, timeout=30)
     assert result.returncode == 0, result.stderr
-    assert any(line.split()[:3] == ["wall/state", "WallState", str(count)] for line in result.stdout.splitlines()), (
-        result.stdout
-    )
+    assert any(
+        line.split()[:3] == ["wall/state", "wall/WallState", str(count)] for line in result.stdout.splitlines()
+    ), result.stdout
     data = msgspec.json.decode(
         subprocess.run([*turtlectl(), "info", str(path), "--json"], capture_output=True, timeout=30).stdout
     )
     topics = {t["key"]: t for t in data["topics"]}
-    assert topics["wall/state"]["type_name"] == "WallState" and topics["wall/state"]["count"] == count
+    assert topics["wall/state"]["type_name"] == "wall/WallState" and topics["wall/state"]["count"] == count
 
 
 def test_play_publishes_a_user_type_back_identical(recording):
@@ -164,7 +164,7 @@ def test_play_publishes_a_user_type_back_identical(recording):
 
 def test_play_describes_the_user_types_it_plays(recording):
     """Into a bare router (no node uses WallState): while `play` runs, it describes the type on
-    turtlectl/types/WallState/play, so echo and `interface show` understand it (before: undescribed)."""
+    turtlectl/types/wall.WallState/play, so echo and `interface show` understand it (before: undescribed)."""
     path = recording[0]
     router = Router()
     router.start()
@@ -197,7 +197,7 @@ def test_play_describes_the_user_types_it_plays(recording):
                 player.kill()
             router.kill()
     assert echoed.returncode == 0, echoed.stderr
-    assert "# WallState" in echoed.stdout and "(undescribed)" not in echoed.stdout, echoed.stdout
+    assert "# wall/WallState" in echoed.stdout and "(undescribed)" not in echoed.stdout, echoed.stdout
     assert "distance: 0.75" in echoed.stdout, echoed.stdout
     assert shown.returncode == 0, shown.stdout + shown.stderr
     described_by = [line for line in shown.stdout.splitlines() if line.startswith("described by:")]
@@ -223,7 +223,7 @@ def test_foxglove_advertises_a_user_type_with_its_schema(system):
     assert "Traceback" not in err, err
     channel = client.channels["wall/state"]
     assert channel["encoding"] == "json" and channel["schemaEncoding"] == "jsonschema"
-    assert channel["schemaName"] == "WallState"
+    assert channel["schemaName"] == "wall/WallState"
     schema = json.loads(channel["schema"])
     for payload in got["wall/state"]:
         message = json.loads(payload)

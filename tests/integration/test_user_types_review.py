@@ -18,8 +18,9 @@ from turtlectl import Message
 pytestmark = pytest.mark.integration
 
 
-class WallReset(Message, tag="WallReset"):
-    """The test's own copy of the project's request type (same fields, same tag)."""
+class WallReset(Message, tag="wall/WallReset"):
+    """The test's own copy of the project's request type (same fields, same full name: the
+    project's wall.py is package ``wall``)."""
 
     to: float
 

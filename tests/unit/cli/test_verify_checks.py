@@ -3,7 +3,8 @@ the full name the graph says (a user's capstone_msgs/TurtleStatus is not turtlec
 
 from __future__ import annotations
 
-from turtlectl.cli.verify.checks import _declared, same_type
+from turtlectl.cli.verify.checks import _declared
+from turtlectl.messages.naming import names as same_type
 
 ROLES = ("type", "from", "published by")
 

@@ -34,11 +34,11 @@ def test_type_name_travels_on_the_wire():
 @pytest.mark.parametrize(
     "payload, expected",
     [
-        (b"\xc1garbage", "not a valid Twist"),
+        (b"\xc1garbage", "not a valid turtlectl/Twist"),
         (msgspec.msgpack.encode({"type": "turtlectl/Twist", "linear": "fast"}), "Expected `float`, got `str`"),
         (msgspec.msgpack.encode({"type": "turtlectl/Twist", "linear": 1.0, "boost": 2}), "unknown field `boost`"),
         (encode(Pose(x=1, y=2, theta=0)), "Invalid value 'turtlectl/Pose'"),
-        (b"", "not a valid Twist"),
+        (b"", "not a valid turtlectl/Twist"),
     ],
 )
 def test_malformed_payload_is_rejected_with_a_reason(payload, expected):

@@ -47,7 +47,7 @@ def test_a_string_field_keeps_a_non_finite_spelling_as_text():
 
 
 def test_what_is_not_a_message_is_refused_with_a_reason():
-    with pytest.raises(JsonFormError, match="not a valid Pose"):
+    with pytest.raises(JsonFormError, match="not a valid turtlectl/Pose"):
         from_json(b'{"type": "Pose", "x": 1}', Pose)
     with pytest.raises(JsonFormError, match="not a valid message"):
         from_json(b"not json")

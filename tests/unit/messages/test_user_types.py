@@ -53,7 +53,7 @@ def test_a_user_type_round_trips_with_every_supported_field_type():
 
 
 def test_a_bad_payload_of_a_user_type_is_the_one_decode_error_never_a_key_error():
-    with pytest.raises(DecodeError, match="not a valid WallState"):
+    with pytest.raises(DecodeError, match="not a valid tests/WallState"):
         decode(b"\x93garbage", WallState)
     with pytest.raises(ValueError):
         decode(encode(sample()), Point)  # type: ignore[type-var]  # not a message at all

@@ -149,7 +149,7 @@ def test_a_request_gets_its_reply_and_garbage_an_error_reply():
     assert fake.request("demo/reset", Reset()) == [Ack(detail="reset")]
     assert fake.instance.ticks == 0
     (error,) = fake.request("demo/reset", b"\x01garbage")
-    assert isinstance(error, ErrorReply) and "not a valid Reset" in error.error
+    assert isinstance(error, ErrorReply) and "not a valid turtlectl/Reset" in error.error
     assert fake.request(params_key(fake.node.name)) == [{"step": 1.0, "period": 0.1}]  # a JSON answer
     assert fake.request("demo/nobody", Reset()) == []
 

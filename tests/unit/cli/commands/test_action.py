@@ -66,7 +66,10 @@ def invoke(*argv: str) -> tuple[int, str]:
             '{"x": 8, "y": 5, "theta": 90, "speed": 2}',
             "not a valid turtlectl/NavigateToRequest: Object contains unknown field `speed`",
         ),
-        ('{"x": "far", "y": 5, "theta": 90}', "not a valid turtlectl/NavigateToRequest: x: Expected `float`, got `str`"),
+        (
+            '{"x": "far", "y": 5, "theta": 90}',
+            "not a valid turtlectl/NavigateToRequest: x: Expected `float`, got `str`",
+        ),
         ('{"y": 5, "theta": 90}', "not a valid turtlectl/NavigateToRequest: Object missing required field `x`"),
         ("[8, 5, 90]", "not a valid turtlectl/NavigateToRequest: Expected `object`, got `array`"),
     ],

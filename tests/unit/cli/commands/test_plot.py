@@ -69,7 +69,10 @@ def test_a_recording_in_the_terminal_is_one_chart(rec):
     "argv, said",
     [
         (("turtle1/pose.x", "-i", "run.mcap", "-o", "out.jpg"), "--output 'out.jpg': write a .png or .svg file"),
-        (("turtle1/pose.z", "-i", "run.mcap"), "turtle1/pose.z: Pose has no field 'z'; the numeric fields of Pose: x,"),
+        (
+            ("turtle1/pose.z", "-i", "run.mcap"),
+            "turtle1/pose.z: turtlectl/Pose has no field 'z'; the numeric fields of turtlectl/Pose: x,",
+        ),
         (("turtle1/pose", "-i", "run.mcap"), "'turtle1/pose': name a field after the key and a '.', as robot/status"),
         (("turtle1/pose.x", "-i", "run.mcap", "--duration", "3"), "--duration is for a running system"),
         (("turtle1/pose.x", "-i", "nothing.mcap"), "nothing.mcap: no such file"),

@@ -15,8 +15,8 @@ from turtlectl.messages.jsonform import json_schema
 T0 = 1_700_000_000_000_000_000
 
 
-# (its own package: a class registered under capstone_msgs/TurtleStatus would clash with test_naming's, in one process)
-class Status(Message, tag="recorded_msgs/TurtleStatus"):
+# its own package: a type registered here stays for the whole test process, where test_naming declares capstone_msgs/TurtleStatus
+class Status(Message, tag="student_msgs/TurtleStatus"):
     """A student's own status."""
 
     x: float  # m: position
@@ -35,10 +35,10 @@ def test_a_users_turtle_status_and_turtlectls_in_one_recording(tmp_path):
     writer.close()
     recording = Recording(path)
     types = {t.key: t.type_name for t in recording.info().topics}
-    assert types == {"robot/status": "turtlectl/TurtleStatus", "capstone/status": "recorded_msgs/TurtleStatus"}
+    assert types == {"robot/status": "turtlectl/TurtleStatus", "capstone/status": "student_msgs/TurtleStatus"}
     messages = {r.key: r.message() for r in recording.records()}
     assert messages["robot/status"] == THEIRS
-    assert type_name(type(messages["capstone/status"])) == "recorded_msgs/TurtleStatus"
+    assert type_name(type(messages["capstone/status"])) == "student_msgs/TurtleStatus"
     assert messages["capstone/status"].mood == "fine" and messages["capstone/status"].x == 4.0
 
 

@@ -446,14 +446,16 @@ def test_a_remap_onto_a_key_of_another_message_type_is_refused():
     with pytest.raises(LaunchFileError) as err:
         parse_launch(text, "f.toml")
     assert str(err.value) == (
-        'f.toml: node[1] (n).remap."turtle1/cmd_vel": turtle1/cmd_vel carries Twist and turtle1/pose carries Pose: '
+        'f.toml: node[1] (n).remap."turtle1/cmd_vel": turtle1/cmd_vel carries turtlectl/Twist and turtle1/pose carries turtlectl/Pose: '
         "a remap joins keys of one message type"
     )
     spaced = text.replace('run = "navigator"\n', 'run = "navigator"\nnamespace = "turtle2"\n')
-    with pytest.raises(LaunchFileError, match="turtle2/cmd_vel carries Twist and turtle2/pose carries Pose"):
+    with pytest.raises(
+        LaunchFileError, match="turtle2/cmd_vel carries turtlectl/Twist and turtle2/pose carries turtlectl/Pose"
+    ):
         parse_launch(spaced, "f.toml")
     other = text.replace('"turtle1/pose"', '"turtle3/robot/status"')
-    with pytest.raises(LaunchFileError, match="turtle3/robot/status carries TurtleStatus"):
+    with pytest.raises(LaunchFileError, match="turtle3/robot/status carries turtlectl/TurtleStatus"):
         parse_launch(other, "f.toml")
     fine = text.replace('"turtle1/pose"', '"turtle3/cmd_vel"')  # another turtle's commands: the same type
     assert parse_launch(fine, "f.toml").remaps["n"] == {"turtle1/cmd_vel": "turtle3/cmd_vel"}

@@ -33,7 +33,7 @@ def test_formats():
         angle_min=0, angle_max=1, angle_increment=0.1, range_min=0, range_max=5, ranges=[1.0] * 20 + [math.inf]
     )
     block = message_block(scan)
-    assert block.startswith("# LaserScan\n") and "... (21 values)]" in block and block.endswith("---")
+    assert block.startswith("# turtlectl/LaserScan\n") and "... (21 values)]" in block and block.endswith("---")
     assert "inf" in message_block(scan, full=True)
     status = TurtleStatus(x=1.0, y=2.0, theta=3.0, vel_x=-0.0, vel_y=0.0, battery=50.0, stamp=7, seq=1)
     assert select_field(scan, "ranges.20") == math.inf and select_field(status, "battery") == 50

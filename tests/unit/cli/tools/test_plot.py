@@ -104,7 +104,10 @@ def test_the_first_message_of_a_series_must_have_a_number_there():
     extractor = Extractor([Series("turtle1/pose", "z")])
     with pytest.raises(BadInput) as raised:
         extractor.values("turtle1/pose", Pose(x=1, y=2, theta=0))
-    assert raised.value.message == f"turtle1/pose.z: Pose has no field 'z'; the numeric fields of Pose: {POSE_NUMBERS}"
+    assert (
+        raised.value.message
+        == f"turtle1/pose.z: turtlectl/Pose has no field 'z'; the numeric fields of turtlectl/Pose: {POSE_NUMBERS}"
+    )
 
 
 @pytest.mark.parametrize(
@@ -119,7 +122,7 @@ def test_a_field_that_is_no_number_names_the_numeric_fields_of_its_type(path, wh
     with pytest.raises(BadInput) as raised:
         Extractor([Series("navigate_to/feedback", path)]).values("navigate_to/feedback", feedback(path=[(1.0, 2.0)]))
     assert raised.value.message == (
-        f"navigate_to/feedback.{path}: {why}; the numeric fields of NavigateToFeedback: distance_remaining, "
+        f"navigate_to/feedback.{path}: {why}; the numeric fields of turtlectl/NavigateToFeedback: distance_remaining, "
         "heading_remaining, eta, elapsed, x, y, theta, goal_x, goal_y, goal_theta, scan_stale, path.N.0, path.N.1, "
         "replans, stamp, seq"
     )
@@ -199,7 +202,7 @@ def test_a_list_item_of_a_known_type_passes_whatever_its_index(path):
 @pytest.mark.parametrize(
     "msg_type, path, why",
     [
-        (Pose, "z", "Pose has no field 'z'"),
+        (Pose, "z", "turtlectl/Pose has no field 'z'"),
         (LaserScan, "ranges", "ranges holds several values: plot one number of it, as k.ranges.0"),
         (NavigateToFeedback, "path.2", "path.2 holds several values: plot one number of it, as k.path.0.0"),
         (NavigateToFeedback, "state", "state is not a number"),
@@ -209,7 +212,7 @@ def test_a_list_item_of_a_known_type_passes_whatever_its_index(path):
 def test_a_known_type_says_before_any_message_what_is_no_number(msg_type, path, why):
     with pytest.raises(BadInput) as raised:
         plot.check_type(Series("k", path), msg_type)
-    assert raised.value.message.startswith(f"k.{path}: {why}; the numeric fields of {msg_type.__name__}: ")
+    assert raised.value.message.startswith(f"k.{path}: {why}; the numeric fields of turtlectl/{msg_type.__name__}: ")
 
 
 def test_the_built_in_keys_types_are_known_for_any_turtle():
@@ -385,7 +388,7 @@ def test_a_field_the_recorded_type_has_no_number_at_is_bad_input(recording):
     with pytest.raises(BadInput) as raised:
         from_recording(recording, [Series("turtle1/pose", "heading")])
     assert raised.value.message == (
-        f"turtle1/pose.heading: Pose has no field 'heading'; the numeric fields of Pose: {POSE_NUMBERS}"
+        f"turtle1/pose.heading: turtlectl/Pose has no field 'heading'; the numeric fields of turtlectl/Pose: {POSE_NUMBERS}"
     )
 
 
@@ -412,7 +415,7 @@ def test_an_index_past_the_end_of_the_first_message_says_so():
     with pytest.raises(BadInput) as raised:
         Extractor([Series("obstacles", "ranges.999")]).values("obstacles", scan(72))
     assert raised.value.message == (
-        "obstacles.ranges.999: obstacles.ranges has 72 items in the first LaserScan; ranges.999 is past the end "
+        "obstacles.ranges.999: obstacles.ranges has 72 items in the first turtlectl/LaserScan; ranges.999 is past the end "
         "(ranges.-1 is the last)"
     )
 
@@ -467,7 +470,8 @@ def test_with_stamps_a_known_type_without_one_is_bad_input_at_once():
     plot.check_builtins([Series("turtle1/pose", "x"), Series(CLOCK, "clock")], stamps=True)  # every built-in is stamped
     with pytest.raises(BadInput) as raised:  # a recording's type without one
         plot.check_builtins([Series("turtle1/pose", "x")], stamps=True, types={"odom": Odometry})
-    assert raised.value.message.startswith("--stamps: Odometry on odom has no stamp")
+    # the type by its full name, the one on the wire (not the Python class's)
+    assert raised.value.message.startswith("--stamps: tests/OdometryWithoutStamp on odom has no stamp")
 
 
 def test_a_recording_is_plotted_on_its_stamps_with_stamps(tmp_path):
