@@ -24,7 +24,7 @@ def system():
 def test_the_live_graph(system):
     with turtlectl.Client(system.endpoint) as client:
         assert {n.name for n in client.nodes()} == set(NODES)
-        assert any(t.key == "robot/status" and t.type == "TurtleStatus" for t in client.topics())
+        assert any(t.key == "robot/status" and t.type == "turtlectl/TurtleStatus" for t in client.topics())
         assert any(s.key == "navigate_to" and s.servers == ["navigator"] for s in client.services())
 
 
