@@ -33,11 +33,14 @@ def goal_service(connect: str, key: str) -> GoalRow:
 
 
 def rows_text(rows: list[GoalRow]) -> str:
-    """One line per goal service: its key and its three types."""
+    """One line per goal service: its key, its three types and who serves it."""
     if not rows:
         return "no goal services"
     width = max(len(r.key) for r in rows)
-    return "\n".join(f"{r.key.ljust(width)}  [{r.goal} -> {r.feedback} -> {r.result}]" for r in rows)
+    return "\n".join(
+        f"{r.key.ljust(width)}  [{r.goal} -> {r.feedback} -> {r.result}]  served by {', '.join(r.servers) or 'nobody'}"
+        for r in rows
+    )
 
 
 def row_text(row: GoalRow) -> str:

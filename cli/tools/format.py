@@ -224,6 +224,8 @@ def plan_text(plan: LaunchPlan) -> str:
         how = ["required" if e.required else "optional"]
         if e.respawn:
             limit = "no limit" if e.respawn_max == 0 else f"at most {e.respawn_max} in a row"
+            if e.start_tries:  # a start that fails before it is ready counts against its own limit
+                limit += f"; {e.start_tries} failed starts in a row and no more"
             how.append(f"respawn after {e.respawn_delay:g} s doubling to {e.respawn_delay_max:g} s, {limit}")
         if e.run == "sim" and plan.params[e.name].get("real_time_factor", 1.0) != 1.0:
             how.append(f"makes the clock, {plan.params[e.name]['real_time_factor']:g}x real time")

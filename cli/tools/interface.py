@@ -87,9 +87,14 @@ def description(name: str, live: Live | None = None, keys: Keys | None = None) -
     """One type in full: wire tag and encoding, the keys that carry it, its documentation and
     every field (type, default, unit, range, meaning).  A type the running nodes use (``live``)
     from its description, its keys from the live graph (``keys``); a Struct nested in one from
-    its definition.  BadInput naming the built-ins and the live types for a name that is no type."""
+    its definition.  A short name means a type the running system's keys carry, where one does,
+    before any other known type.  BadInput naming the built-ins and the live types for a name
+    that is no type."""
     builtins = {type_name(t): t for t in ALL_TYPES}
-    full = which_type(name, [*builtins, *(live or {})])  # BadInput: a short name several types have
+    # a short name means a type the running system's keys carry first (a student's TurtleStatus where
+    # turtlectl's is not in use), else any known one; BadInput: a short name several such types have
+    in_use = [t for t in keys or {} if t in builtins or t in (live or {})]
+    full = which_type(name, in_use) or which_type(name, [*builtins, *(live or {})])
     builtin = builtins.get(full or "")
     if builtin is None and full is not None and live:
         return live_description(live[full], (keys or {}).get(full, []), conflict(live[full]))

@@ -152,8 +152,10 @@ class Navigator:
     def result(self, goal, pose: Pose | None, success: bool, reason: str = "") -> NavigateToResponse:
         where = {}
         if pose is not None:
+            heading_error = abs(angle_to(math.radians(goal.request.theta) - pose.theta))
             where = {"x": pose.x, "y": pose.y, "theta": math.degrees(pose.theta) % 360.0}
             where["position_error"] = math.hypot(goal.request.x - pose.x, goal.request.y - pose.y)
+            where["heading_error"] = math.degrees(heading_error)
         time_taken = self.node.clock() - goal.started
         return NavigateToResponse(success=success, time_taken=time_taken, reason=reason, **where)
 

@@ -38,6 +38,7 @@ CAPSTONE_EXPECTED = {
     "turtlectl goto 8.5 5.5 180": "reached at",
     "turtlectl echo robot/status --once": "# capstone_msgs/TurtleStatus",
     "turtlectl interface show capstone_msgs/TurtleStatus": "battery",
+    "turtlectl interface show TurtleStatus": "capstone_msgs/TurtleStatus",
     "turtlectl action list": "navigate_to",
     "pytest -q": " passed",
     "turtlectl verify capstone.toml --launch launch.toml --short 10": "10 of 10 hold",

@@ -102,3 +102,13 @@ def test_a_goal_service_that_is_not_running_is_named_with_those_that_are():
     )
     code, line = invoke("send-goal", "patrol/laps", '{"laps": 2}')
     assert code == ExitCode.UNREACHABLE and "`turtlectl action list` lists them" in line
+
+
+def test_action_list_names_each_goal_services_types_and_server():
+    from turtlectl.cli.tools.actions import rows_text
+    from turtlectl.cli.tools.graph import GoalRow
+
+    row = GoalRow("navigate_to", "turtlectl/NavigateToRequest", "turtlectl/NavigateToFeedback", "r", ["navigator"])
+    assert rows_text([row]) == (
+        "navigate_to  [turtlectl/NavigateToRequest -> turtlectl/NavigateToFeedback -> r]  served by navigator"
+    )

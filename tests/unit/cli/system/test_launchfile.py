@@ -558,3 +558,13 @@ def test_a_value_of_the_wrong_type_or_range_reads_as_param_set_says_it(text, mes
     with pytest.raises(LaunchFileError) as err:
         parse_launch(text, source="f.toml")
     assert str(err.value) == message
+
+
+def test_check_says_how_many_failed_starts_end_a_respawning_nodes_tries():
+    """A node that fails before it is ready is given up on after start_tries starts, not after
+    respawn_max: --check says both limits."""
+    from turtlectl.cli.tools.format import plan_text
+
+    respawning = FLEET.replace('run = "navigator"\n', 'run = "navigator"\nrespawn = true\n', 1)
+    text = plan_text(parse_launch(respawning, source="f.toml"))
+    assert "at most 5 in a row; 3 failed starts in a row and no more" in text, text
