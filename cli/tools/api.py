@@ -40,6 +40,7 @@ from turtlectl.messages import (
     encode,
     encoding_for,
 )
+from turtlectl.messages.codec import type_name
 from turtlectl.messages.keys import (
     NAVIGATE_TO,
     NodeDetails,
