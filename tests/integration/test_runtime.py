@@ -151,7 +151,7 @@ def test_latest_keeps_the_newest_valid_message_and_wakes_nobody(node_and_client,
         ]
     )
     entities = [(t.node, t.role, t.key, t.type_name) for t in tokens if t is not None]
-    assert ("reader", "sub", LATEST_KEY, "Pose") in entities  # `turtlectl list` shows it as a subscriber
+    assert ("reader", "sub", LATEST_KEY, "turtlectl/Pose") in entities  # `turtlectl list` shows it as a subscriber
 
 
 def test_latest_each_calls_back_for_every_message_only_while_set(node_and_client):
