@@ -40,6 +40,15 @@ def free_port() -> int:
         return int(s.getsockname()[1])
 
 
+def listening(port: int) -> bool:
+    """Whether something accepts TCP connections on 127.0.0.1:``port``."""
+    try:
+        socket.create_connection(("127.0.0.1", port), timeout=0.05).close()
+        return True
+    except OSError:
+        return False
+
+
 def launch_to_ready(checkout: Path, timeout: float = 30.0) -> float:
     """Seconds from starting ``checkout``'s ``turtlectl launch`` to every node's token, then stopped."""
     port = free_port()
@@ -62,14 +71,11 @@ def launch_to_ready(checkout: Path, timeout: float = 30.0) -> float:
         start_new_session=True,
     )
     try:
-        session = None
-        while session is None and time.monotonic() - started < timeout:
-            try:  # the router listens once launch has started it
-                session = zenoh.open(peer_config(endpoint))
-            except zenoh.ZError:
-                time.sleep(0.005)  # pacing: retrying the connection
-        if session is None:
-            raise RuntimeError(f"{checkout}: no router at {endpoint}")
+        while not listening(port):  # the router listens once launch has started it
+            if time.monotonic() - started > timeout:
+                raise RuntimeError(f"{checkout}: no router at {endpoint}")
+            time.sleep(0.002)  # pacing: polling the port (zenoh.open's own retries wait far longer)
+        session = zenoh.open(peer_config(endpoint))
         try:
             token_sub = session.liveliness().declare_subscriber(TOKENS, on_token, history=True)
             if not done.wait(timeout):
