@@ -130,7 +130,7 @@ def test_info_says_what_the_file_holds(goal_recording):
         ("turtle1/pose", "turtlectl/Pose"),
         ("robot/status", "turtlectl/TurtleStatus"),
         ("obstacles", "turtlectl/LaserScan"),
-        ("turtlectl/log/navigator", "turtlectl/Log"),  # the goal's log records, kept like any topic (issue 28)
+        ("turtlectl/log/navigator", "turtlectl/Log"),  # the goal's log records, kept like any topic
     ):
         assert any(line.split()[:2] == [key, type_name] for line in result.stdout.splitlines()), result.stdout
     data = msgspec.json.decode(
