@@ -223,6 +223,8 @@ class GoalServer(Generic[G, F, R]):
         self._ticker.resume(now)
         self._arm()
         self._execute(goal)
+        if self.goal is goal:  # feedback at once: the caller knows its goal runs, then every period
+            self._on_tick()
 
     def _on_cancel_request(self, request: Request[Cancel]) -> None:
         goal = self.goal

@@ -81,21 +81,22 @@ KEY = "lapper/laps"
 def test_a_goal_runs_with_feedback_at_its_rate_then_one_result():
     with FakeNode(Lapper) as fake:
         goal = fake.send_goal(KEY, Laps(laps=3))
-        assert goal.result is None and goal.feedback == []
+        assert goal.result is None and [f.done for f in goal.feedback] == [0]  # at once: the goal runs
         fake.advance(2.9)
         assert [f.done for f in goal.feedback] == [
+            0,
             0,
             0,
             1,
             1,
             2,
-        ]  # 2 Hz: at 0.5, 1.0, ... 2.5 s (before that second's lap)
+        ]  # then 2 Hz: at 0.5, ... 2.5 s (before that second's lap)
         fake.advance(0.1)
         assert goal.result == LapsResult(success=True, laps=3)
         # observers see the same feedback, stamped as the caller's
         assert fake.published(f"{KEY}/feedback") == goal.feedback
         fake.advance(5.0)
-        assert len(goal.replies) == 7 and fake.instance.server.goal is None  # nothing after the result
+        assert len(goal.replies) == 8 and fake.instance.server.goal is None  # nothing after the result
 
 
 def test_a_refusal_is_the_only_reply_and_leaves_the_running_goal_alone():
@@ -180,7 +181,7 @@ def test_shutdown_ends_the_running_goal_once():
     fake.shutdown()
     assert goal.result == LapsResult(reason="shut down")
     fake.shutdown()
-    assert len(goal.replies) == 1
+    assert len(goal.replies) == 2  # the feedback at its start, then one result
 
 
 def test_a_goal_has_exactly_one_result():
@@ -189,7 +190,7 @@ def test_a_goal_has_exactly_one_result():
         handle = fake.instance.server.goal
         assert handle.finish(LapsResult(success=True)) and not handle.finish(LapsResult(reason="again"))
         assert handle.feedback(LapsFeedback(done=1)) is None
-        assert goal.replies == [LapsResult(success=True)]
+        assert goal.replies == [LapsFeedback(done=0), LapsResult(success=True)]  # its first feedback, one result
         with pytest.raises(TypeError):
             fake.send_goal(KEY, Laps(laps=5))
             fake.instance.server.goal.finish(LapsFeedback(done=1))
