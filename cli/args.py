@@ -63,15 +63,32 @@ def node_name(text: str) -> tuple[str, str]:
     return domain_part, "/".join(chunks)
 
 
+def node_selector(text: str) -> tuple[str, str]:
+    """A node selector (cli.selection: a node's name, a namespace, a turtle, or a glob such as
+    ``turtle2/*``) as (its domain, or "", the selector): node_name's rule, with ``*``, ``?`` and
+    ``[...]`` allowed in its chunks."""
+    domain_part, _, name = text.strip().rpartition(":")
+    chunks = name.lstrip("/").split("/")
+    if (domain_part and not DOMAIN_RE.match(domain_part)) or not all(SELECTOR_CHUNK.match(c) for c in chunks):
+        raise BadInput(
+            f"{text!r} is not a node, namespace, turtle or glob: letters, digits, _ and -, with * ? [ ] as "
+            "wildcards (turtle2/navigator, turtle2, 'turtle2/*'; `turtlectl list` shows the running nodes)"
+        )
+    return domain_part, "/".join(chunks)
+
+
+SELECTOR_CHUNK = re.compile(r"^[A-Za-z0-9_\-*?\[\]!]+$")
+
+
 def turtle_name(text: str) -> str:
-    """``--turtle``: a turtle's name (its nodes' namespace), "" for turtle1 (whose nodes run
-    outside any namespace)."""
-    from turtlectl.messages.keys import turtle_namespace
+    """``--turtle``: a turtle's name, checked ("": none given).  The namespace its nodes run in
+    is the running system's to say (cli.tools.client.live_turtle_namespace)."""
     from turtlectl.sim.turtles import NAME
 
+    text = text.strip().strip("/")
     if text and not NAME.match(text):
         raise BadInput(f"--turtle {text!r}: a turtle's name, letters, digits, _ and - (like turtle2)")
-    return turtle_namespace(text)
+    return text
 
 
 def endpoint(connect: str) -> str:

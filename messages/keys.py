@@ -12,7 +12,7 @@ tokens included, is ``D/<key>`` on the router (``D/@turtlectl/node/...``).
 from __future__ import annotations
 
 import re
-from collections.abc import Mapping
+from collections.abc import Collection, Mapping
 
 import msgspec
 
@@ -121,10 +121,14 @@ def key_problem(key: str) -> str | None:
     return None
 
 
-def turtle_namespace(turtle: str) -> str:
-    """The namespace of turtle ``turtle``'s nodes, as the tools' ``--turtle`` names it: turtle1's
-    run outside any namespace (""), another's in the namespace of its name (``turtle2``)."""
-    return "" if turtle in ("", FIRST_TURTLE) else turtle
+def turtle_namespace(turtle: str, namespaces: Collection[str] = ()) -> str:
+    """The namespace of turtle ``turtle``'s nodes, as the tools' ``--turtle`` names it: the
+    turtle's name, but turtle1's nodes run outside any namespace ("", the seed's keys
+    ``navigate_to``, ``robot/status``) unless nodes run in namespace turtle1 (``namespaces``: the
+    namespaces nodes run in, as the live graph shows them); "" for no turtle."""
+    if turtle in ("", FIRST_TURTLE) and FIRST_TURTLE not in namespaces:
+        return ""
+    return turtle
 
 
 def namespace_of(name: str) -> str:

@@ -191,8 +191,8 @@ class Simulator:
     ) -> None:
         """Put each turtle of ``places`` there (made again if it is gone) once the running goals
         of their navigators are canceled with ``reason`` (on ``cancel``; by default each turtle's
-        own: turtle1's ``navigate_to/cancel``, another's in its namespace,
-        ``<name>/navigate_to/cancel``); the Ack follows the first pose published there."""
+        own, in its namespace, ``<name>/navigate_to/cancel``, and turtle1's also outside any,
+        ``navigate_to/cancel``); the Ack follows the first pose published there."""
 
         def apply(_: list[Message]) -> None:
             for name, place in places.items():
@@ -203,7 +203,9 @@ class Simulator:
                 turtle.cmd_time = None  # a moved turtle stands still until told otherwise
             self.acks.append((request, Ack(detail=detail)))
 
-        keys = [cancel] if cancel else [resolve(CANCEL, turtle_namespace(name)) for name in places]
+        # turtle1's navigator may run outside any namespace or in namespace turtle1: both are asked
+        spaces = [ns for name in places for ns in dict.fromkeys((turtle_namespace(name), name))]
+        keys = [cancel] if cancel else list(dict.fromkeys(resolve(CANCEL, ns) for ns in spaces))
 
         def cancel_next(_: list[Message]) -> None:
             if keys:

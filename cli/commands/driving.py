@@ -95,7 +95,7 @@ def teleport(
     request = TeleportAbsolute(
         x=args.finite_number(x, "x"), y=args.finite_number(y, "y"), theta=heading_radians(degrees)
     )
-    acks = services.simple_call(connect, keys.resolve(keys.TELEPORT, turtle), request)
+    acks = services.simple_call(connect, keys.teleport_key(turtle or keys.FIRST_TURTLE), request)
     if not all(a.ok for a in acks):  # the simulator's own words (they are in radians, as its request)
         raise Failed(format.ack_lines(acks))
     line = format.teleport_line(request.x, request.y, degrees)
@@ -134,12 +134,14 @@ def teleop(
     """
     from turtlectl.cli.tools import client
     from turtlectl.cli.tools.teleop import run_teleop, terminal_fd
+    from turtlectl.messages.keys import FIRST_TURTLE
 
     args.finite_option(linear, "--linear")
     args.finite_option(angular, "--angular")
     fd = terminal_fd(sys.stdin)
     with client.client_session(connect) as session:
-        run_teleop(session, linear, angular, connect, fd, sys.stdout, turtle)
+        namespace = client.live_turtle_namespace(session, turtle or FIRST_TURTLE)
+        run_teleop(session, linear, angular, connect, fd, sys.stdout, namespace)
 
 
 def register(app: typer.Typer) -> None:

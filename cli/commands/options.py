@@ -66,18 +66,32 @@ def result(text: str) -> None:
     typer.echo(text)
 
 
-def use_node(text: str | None) -> str | None:
-    """NODE checked; ``lab1:navigator`` (as `list` shows a node of domain lab1 to a client without
-    --domain) makes lab1 the domain of this command."""
-    if text is None:
-        return None
-    in_domain, name = args.node_name(text)
+def _in_domain(text: str, in_domain: str) -> None:
+    """A node written with its domain (``lab1:navigator``, as `list` shows a node of domain lab1
+    to a client without --domain) makes that the domain of this command."""
     if in_domain:
         chosen = os.environ.get(DOMAIN_ENV, "")
         if chosen and chosen != in_domain:
             raise BadInput(f"node {text!r} is in domain {in_domain!r}, not in --domain {chosen!r}")
         os.environ[DOMAIN_ENV] = in_domain
+
+
+def use_node(text: str | None) -> str | None:
+    """NODE checked; ``lab1:navigator`` makes lab1 the domain of this command."""
+    if text is None:
+        return None
+    in_domain, name = args.node_name(text)
+    _in_domain(text, in_domain)
     return name
+
+
+def use_nodes(text: str | None) -> str | None:
+    """NODE as a selector (a name, namespace, turtle or glob: cli.selection), checked."""
+    if text is None:
+        return None
+    in_domain, selector = args.node_selector(text)
+    _in_domain(text, in_domain)
+    return selector
 
 
 NodeArgument = typer.Argument(
@@ -85,4 +99,12 @@ NodeArgument = typer.Argument(
     metavar="NODE",
     callback=use_node,
     help="A node's name, as `turtlectl list` shows it (turtle2/navigator: in namespace turtle2; lab1:sim: in domain lab1).",
+)
+
+NodesArgument = typer.Argument(
+    ...,
+    metavar="NODE",
+    callback=use_nodes,
+    help="A node's name as `turtlectl list` shows it, a namespace or turtle (all its nodes: turtle2), "
+    "or a glob ('turtle2/*', '*/navigator').",
 )

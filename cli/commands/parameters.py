@@ -11,6 +11,8 @@ from turtlectl.cli.commands.options import (
     DomainOption,
     JsonOption,
     NodeArgument,
+    NodesArgument,
+    TurtleOption,
     format,
     result,
     use_node,
@@ -31,6 +33,7 @@ def param_list(
         None, metavar="[NODE]", callback=use_node, help="A node's name (default: every running node)."
     ),
     json: bool = typer.Option(False, "--json", help="One JSON array of names (by node without NODE)."),
+    turtle: str = TurtleOption,
     connect: str = ConnectOption,
     domain: str = DomainOption,
 ) -> None:
@@ -40,22 +43,25 @@ def param_list(
     Example: turtlectl param list navigator
     """
     from turtlectl.cli.tools import params
+    from turtlectl.cli.tools.client import node_of_turtle
 
     if node is None:
-        by_node = params.listing_all(connect)
+        by_node = params.listing_all(connect)  # every node's: --turtle names none
         result(format.json_value(by_node) if json else params.listing_text(by_node))
         return
+    node = node_of_turtle(connect, node, turtle)
     names = params.names(params.fetch(connect, node))
     result(format.json_value(names) if json else "\n".join(names))
 
 
 @param_app.command("set", context_settings={"ignore_unknown_options": True})  # negative VALUEs
 def param_set(
-    node: str = NodeArgument,
+    node: str = NodesArgument,
     name: str = ParamArgument,
     value: str = typer.Argument(
         ..., metavar="VALUE", help='A TOML value as in a launch file: 60, 0.5, true, [1, 2], "text".'
     ),
+    turtle: str = TurtleOption,
     connect: str = ConnectOption,
     domain: str = DomainOption,
 ) -> None:
@@ -64,13 +70,21 @@ def param_set(
     parameters that cannot change at run time are refused with the reason.
     The node publishes a ParameterEvent (`turtlectl echo turtlectl/parameter_events`).  A node
     that is started again (respawn) runs with the launch file's value unless the system was
-    launched with --persist.
+    launched with --persist.  NODE may name several (a namespace, a turtle, a glob:
+    '*/navigator'): each is set, its answer on a line of its own.
 
-    Example: turtlectl param set navigator goal_timeout 60
+    Example: turtlectl param set navigator goal_timeout 60 --turtle turtle2
     """
     from turtlectl.cli.tools import params
+    from turtlectl.cli.tools.client import node_of_turtle
+    from turtlectl.cli.tools.introspect import nodes_named
 
-    result(params.set_value(connect, node, name, value))
+    node = node_of_turtle(connect, node, turtle)
+    chosen = nodes_named(connect, node)
+    if chosen is None:
+        result(params.set_value(connect, node, name, value))
+        return
+    result("\n".join(f"{n}: {params.set_value(connect, n, name, value)}" for n in chosen))
 
 
 @param_app.command("describe")
@@ -78,6 +92,7 @@ def param_describe(
     node: str = NodeArgument,
     name: str = ParamArgument,
     json: bool = JsonOption,
+    turtle: str = TurtleOption,
     connect: str = ConnectOption,
     domain: str = DomainOption,
 ) -> None:
@@ -87,7 +102,9 @@ def param_describe(
     Example: turtlectl param describe navigator goal_timeout
     """
     from turtlectl.cli.tools import params
+    from turtlectl.cli.tools.client import node_of_turtle
 
+    node = node_of_turtle(connect, node, turtle)
     info, now = params.describe(connect, node, name)
     if json:
         result(format.json_value({**params.plain(info), "value": now}))
@@ -97,24 +114,35 @@ def param_describe(
 
 @param_app.command("get")
 def param_get(
-    node: str = NodeArgument,
+    node: str = NodesArgument,
     name: str = ParamArgument,
+    turtle: str = TurtleOption,
     connect: str = ConnectOption,
     domain: str = DomainOption,
 ) -> None:
-    """One parameter's value as the node runs with it, in JSON.
+    """One parameter's value as the node runs with it, in JSON; NODE may name several (a
+    namespace, a turtle, a glob: '*/navigator'), each then on a line of its own, "NODE: VALUE".
 
-    Example: turtlectl param get navigator goal_timeout
+    Example: turtlectl param get navigator goal_timeout --turtle turtle2
     """
     from turtlectl.cli.tools import params
+    from turtlectl.cli.tools.client import node_of_turtle
+    from turtlectl.cli.tools.introspect import nodes_named
 
-    result(format.json_value(params.value(params.fetch(connect, node), node, name)))
+    node = node_of_turtle(connect, node, turtle)
+    chosen = nodes_named(connect, node)
+    if chosen is None:
+        result(format.json_value(params.value(params.fetch(connect, node), node, name)))
+        return
+    values = {n: format.json_value(params.value(params.fetch(connect, n), n, name)) for n in chosen}
+    result("\n".join(f"{n}: {v}" for n, v in values.items()))
 
 
 @param_app.command("dump")
 def param_dump(
     node: str = NodeArgument,
     json: bool = typer.Option(False, "--json", help="One JSON object instead of TOML."),
+    turtle: str = TurtleOption,
     connect: str = ConnectOption,
     domain: str = DomainOption,
 ) -> None:
@@ -123,7 +151,9 @@ def param_dump(
     Example: turtlectl param dump navigator > navigator.toml
     """
     from turtlectl.cli.tools import params
+    from turtlectl.cli.tools.client import node_of_turtle
 
+    node = node_of_turtle(connect, node, turtle)
     values = params.fetch(connect, node)
     result(format.json_value(values) if json else params.dump(node, values))
 

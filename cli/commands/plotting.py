@@ -64,7 +64,11 @@ def plot(
     Example: turtlectl plot robot/status.battery turtle1/pose.x
     """
     from turtlectl.cli.tools import plot as model
+    from turtlectl.cli.tools.client import turtle_namespace_at
+    from turtlectl.messages.keys import turtle_namespace
 
+    # the namespace of --turtle's nodes: the running system's; a recording's, turtle1's outside any
+    turtle = turtle_namespace_at(connect, turtle) if recording is None else turtle_namespace(turtle)
     series = model.parse_all(fields, turtle)
     args.finite_option(window, "--window")
     args.finite_option(duration, "--duration")

@@ -10,7 +10,14 @@ from pathlib import Path
 import typer
 
 from turtlectl.cli import args
-from turtlectl.cli.commands.options import ConnectOption, DomainOption, LogLevelOption, NodeArgument, format, result
+from turtlectl.cli.commands.options import (
+    ConnectOption,
+    DomainOption,
+    LogLevelOption,
+    NodesArgument,
+    format,
+    result,
+)
 from turtlectl.cli.errors import BadInput
 from turtlectl.runtime.endpoint import DEFAULT_PORT, default_domain
 
@@ -26,10 +33,13 @@ def launch(
     only: list[str] = typer.Option(
         [],
         "--only",
-        help="Run only this node, or the nodes of this namespace (turtle2), e.g. on another host (repeatable).",
+        help="Run only this node, the nodes of a turtle or namespace (turtle1, turtle2) or of a glob "
+        "('turtle2/*'), e.g. on another host (repeatable).",
     ),
     exclude: list[str] = typer.Option(
-        [], "--exclude", help="Do not run this node, or the nodes of this namespace (repeatable)."
+        [],
+        "--exclude",
+        help="Do not run this node, nor the nodes of a turtle, namespace or glob, as --only names them (repeatable).",
     ),
     set_: list[str] = typer.Option(
         [],
@@ -232,18 +242,19 @@ def run(
 
 
 def log_level_command(
-    node: str = NodeArgument,
+    node: str = NodesArgument,
     level: str = typer.Argument(..., metavar="LEVEL", help="DEBUG, INFO, WARNING (or WARN) or ERROR, any case."),
     connect: str = ConnectOption,
     domain: str = DomainOption,
 ) -> None:
-    """Change a running node's log level at once (`launch --log-level` sets it for all at start).
+    """Change a running node's log level at once (`launch --log-level` sets it for all at start);
+    NODE may name several: a namespace or turtle (all its nodes), or a glob ('turtle2/*').
 
-    Example: turtlectl log-level navigator DEBUG
+    Example: turtlectl log-level navigator DEBUG   or   turtlectl log-level 'turtle2/*' DEBUG
     """
     from turtlectl.cli.tools import introspect
 
-    result(introspect.set_log_level(connect, node, level))
+    result(introspect.set_log_levels(connect, node, level))
 
 
 new_app = typer.Typer(help="Start something of your own (as `ros2 pkg create`).\n\nExample: turtlectl new node patrol")

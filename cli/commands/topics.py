@@ -40,11 +40,12 @@ def echo(
     message names its key.  Example: turtlectl echo robot/status --field battery
     """
     from turtlectl.cli.tools import topics
+    from turtlectl.cli.tools.client import turtle_namespace_at
     from turtlectl.messages.keys import resolve
 
     args.one_format(json, csv)
     limit = args.echo_limit(once, count)
-    topic = resolve(topic, turtle)
+    topic = resolve(topic, turtle_namespace_at(connect, turtle))
     wildcard = "*" in topic
     fields = list(dict.fromkeys(field))  # each once, in the order typed
     skipped: dict[str, int] = {}
@@ -119,11 +120,13 @@ def hz(
     0) or --duration.  Example: turtlectl hz robot/status obstacles --duration 10
     """
     from turtlectl.cli.tools import topics
+    from turtlectl.cli.tools.client import turtle_namespace_at
     from turtlectl.cli.tools.rates import rate_line
     from turtlectl.messages.keys import resolve
 
     printed = False
-    names = [resolve(name, turtle) for name in names]
+    namespace = turtle_namespace_at(connect, turtle)
+    names = [resolve(name, namespace) for name in names]
     try:
         for stats in topics.measure_rates(connect, names, window, duration):
             if isinstance(stats, topics.Silence):

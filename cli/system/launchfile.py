@@ -42,6 +42,7 @@ from turtlectl.cli.system.placement import check_spawn, check_turtles, check_wor
 from turtlectl.cli.system.report import LaunchFileError as LaunchFileError  # also for the other modules
 from turtlectl.cli.system.report import Report as Report  # also for cli.system.overrides
 from turtlectl.cli.system.report import problem, raw_names, read_text
+from turtlectl.messages.keys import FIRST_TURTLE
 from turtlectl.messages.world import Limits, World
 from turtlectl.nodes.kinds import KindError, NodeKind, kind_of
 from turtlectl.runtime.loader import suggestion as suggestion  # also for cli.system.overrides, cli.tools
@@ -244,6 +245,14 @@ def validate(
             raise report.error(["node", i, "params", *parts], what) from None
         params[entry.name] = msgspec.to_builtins(typed)
 
+    for (namespace, run), i in kinds.items():  # turtle1's nodes run outside any namespace or in turtle1's: not both
+        if namespace == FIRST_TURTLE and ("", run) in kinds:
+            j = kinds[("", run)]
+            raise report.error(
+                ["node", i, "namespace"],
+                f"a second {run!r} node driving {FIRST_TURTLE} ({report.place(j, i)} ({launch.node[j].name}) runs "
+                f"outside any namespace, which is {FIRST_TURTLE}'s too): run {FIRST_TURTLE}'s nodes in one of them",
+            )
     check_world(launch.world, world_report)
     if ("", "sim") in kinds:
         i = kinds[("", "sim")]

@@ -13,6 +13,7 @@ from typing import Any
 
 import msgspec
 
+from turtlectl.cli.selection import selected, unmatched
 from turtlectl.cli.system.launchfile import (
     TABLES,
     LaunchFileError,
@@ -249,21 +250,16 @@ def no_node(name: str, names: list[str], where: str) -> LaunchFileError:
 
 
 def select_nodes(plan: LaunchPlan, only: list[str], exclude: list[str]) -> LaunchPlan:
-    """The plan with just the ``only`` nodes (all if empty), less the ``exclude`` ones; a
-    namespace names all its nodes (``--only turtle2``: turtle2/navigator, turtle2/...)."""
+    """The plan with just the ``only`` nodes (all if empty), less the ``exclude`` ones; each a
+    node selector (cli.selection: a name, a glob such as ``turtle2/*``, a namespace or a turtle,
+    ``--only turtle1``: every node that drives turtle1, never the simulator)."""
     names = [e.name for e in plan.launch.node]
-    namespaces = {e.namespace for e in plan.launch.node if e.namespace}
+    kinds = {e.name: e.run for e in plan.launch.node}
     picked: dict[str, list[str]] = {}
     for option, asked in (("--only", only), ("--exclude", exclude)):
-        picked[option] = []
-        for name in asked:
-            name = name.strip("/")
-            if name in names:
-                picked[option].append(name)
-            elif name in namespaces:
-                picked[option] += [n for n in names if n.startswith(f"{name}/")]
-            else:
-                raise no_node(name, names, f"{option} {name}")
+        for name in unmatched(asked, names, kinds):
+            raise no_node(name.strip("/"), names, f"{option} {name}")
+        picked[option] = selected(asked, names, kinds)
     only, exclude = picked["--only"], picked["--exclude"]
     kept = [e for e in plan.launch.node if (not only or e.name in only) and e.name not in exclude]
     if not kept:

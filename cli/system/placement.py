@@ -29,11 +29,6 @@ def namespace_problem(namespace: str) -> str | None:
         )
     if namespace in RESERVED:
         return f"{namespace!r} is the first part of the system's own keys; choose another"
-    if namespace == FIRST_TURTLE:
-        return (
-            f"{FIRST_TURTLE}'s nodes run outside any namespace (their keys are navigate_to, robot/status, "
-            f"{FIRST_TURTLE}/pose): leave namespace out for them"
-        )
     return None
 
 

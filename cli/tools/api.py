@@ -25,7 +25,7 @@ from turtlectl.cli.args import endpoint, turtle_name
 from turtlectl.cli.errors import BadInput, Failed, Unreachable
 from turtlectl.cli.tools import goals
 from turtlectl.cli.tools import params as _params
-from turtlectl.cli.tools.client import check_key, client_session, require
+from turtlectl.cli.tools.client import check_key, client_session, live_turtle_namespace, require
 from turtlectl.cli.tools.graph import GoalRow, Graph, NodeRow, ServiceRow, TopicRow
 from turtlectl.cli.tools.services import Raw, Rejected, hinted, replies
 from turtlectl.cli.tools.topics import Received, decode_sample, learn, live_graph
@@ -42,6 +42,7 @@ from turtlectl.messages import (
 )
 from turtlectl.messages.codec import type_name
 from turtlectl.messages.keys import (
+    FIRST_TURTLE,
     NAVIGATE_TO,
     NodeDetails,
     node_key,
@@ -130,18 +131,25 @@ class Client:
 
     ``connect``: the router's endpoint (default: ``TURTLECTL_CONNECT``, else
     ``tcp/127.0.0.1:7447``); ``domain``: the system's domain (default: ``TURTLECTL_DOMAIN``);
-    ``turtle``: the turtle whose nodes it talks to (default turtle1, whose nodes run outside any
-    namespace): with ``turtle="turtle2"``, ``goto`` calls ``turtle2/navigate_to`` and every key
-    it is given is read as a node of namespace turtle2 writes it (``robot/status`` is
-    ``turtle2/robot/status``, ``turtle1/pose`` is ``turtle2/pose``, ``/turtles`` is ``turtles``).
+    ``turtle``: the turtle whose nodes it talks to: with ``turtle="turtle2"``, ``goto`` calls
+    ``turtle2/navigate_to``, every key it is given is read as a node of namespace turtle2 writes
+    it (``robot/status`` is ``turtle2/robot/status``, ``turtle1/pose`` is ``turtle2/pose``,
+    ``/turtles`` is ``turtles``) and every node name the same way (``navigator`` is
+    ``turtle2/navigator``, ``/sim`` is ``sim``): one rule, messages.keys.resolve.  turtle1's
+    nodes run in the namespace the running system gives them (outside any in the default launch
+    file, ``turtle1`` when a launch file puts them there), as any turtle's.  Without ``turtle``,
+    keys and node names are taken as written, and ``goto`` and ``cancel`` drive turtle1.
     Raises ``turtlectl.Error`` (``Unreachable``, exit code 3) if no router answers."""
 
     def __init__(self, connect: str | None = None, domain: str | None = None, turtle: str = "") -> None:
         self.connect = endpoint(connect or os.environ.get(CONNECT_ENV, DEFAULT_ENDPOINT))
         self.domain = default_domain() if domain is None else domain
-        self.namespace = turtle_name(turtle)  # BadInput for a name that is none
+        self.turtle = turtle_name(turtle)  # BadInput for a name that is none
         self._stack = contextlib.ExitStack()
         self._session: zenoh.Session = self._stack.enter_context(client_session(self.connect, self.domain))
+        #: the namespace its keys and node names are resolved in (the turtle's nodes'; "" without a turtle)
+        self.namespace = live_turtle_namespace(self._session, self.turtle)
+        self._driven: str | None = None if not self.turtle else self.namespace  # goto's and cancel's
         self._publishers: dict[str, zenoh.Publisher] = {}
         self._declared: list[Declaration] = []  # its subscriptions, undeclared by close
         self._book = TypeBook(self._session)  # the message types it has learnt from the nodes
@@ -186,13 +194,13 @@ class Client:
         ``Interrupted`` (130), or ``CancelUnconfirmed`` (5: the turtle may still drive)."""
         request = NavigateToRequest(x=float(x), y=float(y), theta=float(theta))
         with self._hinted():
-            service = goals.navigate_to(self._key(NAVIGATE_TO))
+            service = goals.navigate_to(self._goal_key(NAVIGATE_TO))
             return goals.run_goal(self._session, service, request, _limit(timeout), on_feedback)
 
     def cancel(self, service: str = NAVIGATE_TO, reason: str = "") -> Ack:
         """Cancel the running goal of the goal service ``service`` (default ``navigate_to``);
         the server's Ack (``ok`` false: no goal was running)."""
-        cancel_key = f"{check_key(self._key(service))}/cancel"
+        cancel_key = f"{check_key(self._goal_key(service))}/cancel"
         with self._hinted():
             answers = list(replies(self._session, cancel_key, Cancel(reason=reason), CALL_TIMEOUT, goal=True))
         answer = answers[-1] if answers else None
@@ -234,8 +242,15 @@ class Client:
         return future
 
     def _key(self, key: str) -> str:
-        """``key`` as a node of this client's turtle writes it (messages.keys.resolve)."""
+        """``key`` as a node of this client's turtle writes it (messages.keys.resolve); a node's
+        name the same way (``navigator`` in turtle2 is ``turtle2/navigator``)."""
         return resolve(key, self.namespace)
+
+    def _goal_key(self, key: str) -> str:
+        """``key`` of the turtle ``goto`` and ``cancel`` drive: this client's, or turtle1 without one."""
+        if self._driven is None:
+            self._driven = live_turtle_namespace(self._session, FIRST_TURTLE)
+        return resolve(key, self._driven)
 
     # topics ------------------------------------------------------------------------------------
 
@@ -288,7 +303,9 @@ class Client:
     # parameters --------------------------------------------------------------------------------
 
     def params(self, node: str) -> dict[str, Any]:
-        """The parameters ``node`` runs with, by name (tables as dicts)."""
+        """The parameters ``node`` runs with, by name (tables as dicts); ``node`` is resolved in
+        this client's turtle's namespace, as keys are (``navigator`` in turtle2: ``turtle2/navigator``)."""
+        node = self._key(node)
         with self._hinted():
             answers = list(replies(self._session, params_key(node), b"", CALL_TIMEOUT))
         if not answers or not isinstance(answers[-1], Raw):
@@ -297,13 +314,14 @@ class Client:
 
     def param(self, node: str, name: str) -> Any:
         """``node``'s parameter ``name`` (dotted into a table: ``gains.lookahead``)."""
-        return _params.value(self.params(node), node, name)
+        return _params.value(self.params(node), self._key(node), name)
 
     def node_info(self, node: str) -> NodeDetails:
         """What ``node`` says about itself: kind, pid, host, start time, log level, and how
         many records at ERROR or worse it has logged (``errors``, ``last_error``)."""
         from turtlectl.cli.tools.introspect import parse_details
 
+        node = self._key(node)
         with self._hinted():
             return parse_details(node, list(replies(self._session, node_key(node), b"", CALL_TIMEOUT)))
 
@@ -312,6 +330,7 @@ class Client:
         ``BadInput`` (exit 2) with the node's reason if it refuses (type, range, fixed)."""
         from turtlectl.messages import SetParameter
 
+        node = self._key(node)
         try:
             with self._hinted():
                 answer = self.call(param_set_key(node), SetParameter(name=name, value=value))

@@ -20,12 +20,15 @@ from turtlectl.cli.sigint import sigint_deferred
 from turtlectl.messages.keys import (
     DOMAIN_GRAPHS,
     DOMAIN_TOKEN_PREFIX,
+    FIRST_TURTLE,
     NAVIGATE_TO,
     NODE_TOKEN_PREFIX,
     SERVICES,
     TOPICS,
     client_token,
     parse_domain_token,
+    resolve,
+    turtle_namespace,
 )
 from turtlectl.runtime.endpoint import default_domain
 from turtlectl.runtime.session import client_config, close_session
@@ -142,6 +145,33 @@ def client_session(connect: str, domain: str | None = None) -> Iterator[zenoh.Se
     finally:
         with sigint_deferred():  # a Ctrl-C now must not interrupt Zenoh half-way through closing
             close_session(session)
+
+
+def live_turtle_namespace(session: zenoh.Session, turtle: str) -> str:
+    """The namespace turtle ``turtle``'s nodes run in on this system (messages.keys.turtle_namespace):
+    its name; for turtle1, "" unless a node of namespace turtle1 is alive (then ``turtle1``, as
+    any turtle's); "" for no turtle."""
+    if turtle != FIRST_TURTLE:
+        return turtle_namespace(turtle)
+    selector = f"{NODE_TOKEN_PREFIX}/{FIRST_TURTLE}.$*/**"  # the chunk of turtle1/NAME is turtle1.NAME
+    alive = any(reply.ok is not None for reply in session.liveliness().get(selector, timeout=1.0))
+    return turtle_namespace(turtle, {FIRST_TURTLE} if alive else ())
+
+
+def turtle_namespace_at(connect: str, turtle: str) -> str:
+    """``live_turtle_namespace`` for a command that opens its own session later: asks the router at
+    ``connect`` only about turtle1 (another turtle's namespace is its name)."""
+    if turtle != FIRST_TURTLE:
+        return turtle_namespace(turtle)
+    with client_session(connect) as session:
+        return live_turtle_namespace(session, turtle)
+
+
+def node_of_turtle(connect: str, node: str, turtle: str) -> str:
+    """Node ``node`` as turtle ``turtle``'s nodes name it: resolved in its namespace as a key is
+    (messages.keys.resolve: ``navigator`` with turtle2 is ``turtle2/navigator``, ``/sim`` is
+    ``sim``); as written without a turtle."""
+    return resolve(node, turtle_namespace_at(connect, turtle)) if turtle else node
 
 
 ROUTER_CHECK = 0.5  # s between checks that a long-running command's session still has its router

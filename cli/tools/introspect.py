@@ -226,3 +226,33 @@ def set_log_level(connect: str, node: str, level: str) -> str:
     if not acks:
         raise Failed(f"{node} did not confirm its log level")
     return acks[-1].detail
+
+
+def nodes_named(connect: str, selector: str) -> list[str] | None:
+    """The running nodes ``selector`` names (cli.selection: a name, namespace, turtle or glob);
+    None when it names one node as its name does, or no node and is no glob: the caller asks
+    that name, and a node that does not run is said as for any name (with the running ones)."""
+    from turtlectl.cli.selection import is_glob, selected
+    from turtlectl.cli.tools.client import client_session
+    from turtlectl.cli.tools.params import no_node
+    from turtlectl.cli.tools.topics import live_graph
+
+    with client_session(connect) as session:
+        graph = live_graph(session)
+    running = [n.name for n in graph.nodes if not n.domain]
+    chosen = selected([selector], running)
+    if chosen == [selector] or (not chosen and not is_glob(selector)):
+        return None
+    if not chosen:
+        raise no_node(selector, running, graph.hint)
+    return chosen
+
+
+def set_log_levels(connect: str, selector: str, level: str) -> str:
+    """Make every running node ``selector`` names (``nodes_named``) log ``level`` and above from
+    now on; their answers, one line each (a node's own answer alone when it is named)."""
+    level = args.log_level(level)
+    chosen = nodes_named(connect, selector)
+    if chosen is None:
+        return set_log_level(connect, selector, level)
+    return "\n".join(f"{node}: {set_log_level(connect, node, level)}" for node in chosen)

@@ -10,7 +10,6 @@ coloured by level on a terminal; a JSON object) are pure functions.  Nothing her
 from __future__ import annotations
 
 import dataclasses
-import fnmatch
 import os
 import queue
 import re
@@ -21,6 +20,7 @@ import zenoh
 
 from turtlectl.cli.args import level_named
 from turtlectl.cli.errors import BadInput, Unreachable
+from turtlectl.cli.selection import selects
 from turtlectl.cli.tools.client import client_session, domain_hint
 from turtlectl.cli.tools.topics import RouterWatch, live_graph
 from turtlectl.messages import DecodeError, Log, decode, to_json
@@ -63,12 +63,10 @@ def since_seconds(text: str) -> float:
 
 
 def node_matches(name: str, patterns: tuple[str, ...]) -> bool:
-    """Whether node ``name`` is one of ``patterns`` (names, or globs: ``turtle2/*``; a namespace
-    names its nodes, ``turtle2`` as ``turtle2/*``, as ``launch --only`` takes it; a leading
-    ``/`` as ROS writes names is dropped); any node when there are none."""
-    return not patterns or any(
-        fnmatch.fnmatchcase(name, p) or name.startswith(f"{p}/") for p in (p.lstrip("/") for p in patterns)
-    )
+    """Whether node ``name`` is one of ``patterns``, node selectors as ``launch --only`` takes
+    them (cli.selection: names, globs such as ``turtle2/*``, namespaces, turtles); any node when
+    there are none."""
+    return not patterns or any(selects(p, name) for p in patterns)
 
 
 @dataclasses.dataclass(frozen=True)

@@ -18,11 +18,11 @@ import time
 import msgspec
 import zenoh
 
-from turtlectl.cli.tools.client import ROUTER_CHECK, router_lost
+from turtlectl.cli.tools.client import ROUTER_CHECK, live_turtle_namespace, router_lost
 from turtlectl.cli.tools.format import heading_text
 from turtlectl.messages import LaserScan, NavigateToFeedback, Pose, Turtles, TurtleStatus, decode_any
 from turtlectl.messages.angles import heading_degrees
-from turtlectl.messages.keys import FEEDBACK, FIRST_TURTLE, OBSTACLES, POSE, STATUS, TURTLES, turtle_of
+from turtlectl.messages.keys import FEEDBACK, FIRST_TURTLE, OBSTACLES, POSE, STATUS, TURTLES, resolve, turtle_of
 from turtlectl.messages.world import World
 from turtlectl.sim.turtles import others as turtles_but
 
@@ -171,9 +171,11 @@ def run_view(session: zenoh.Session, world: World, endpoint: str = "") -> None:
     locale.setlocale(locale.LC_ALL, "")
     unicode = locale.getpreferredencoding(False).lower().replace("-", "") == "utf8"
     inbox: queue.SimpleQueue[tuple[float, str, bytes]] = queue.SimpleQueue()
+    first = live_turtle_namespace(session, FIRST_TURTLE)  # turtle1's nodes: outside any namespace, or in turtle1
     subs = [
         session.declare_subscriber(key, lambda s: inbox.put((time.monotonic(), str(s.key_expr), s.payload.to_bytes())))
-        for key in (POSE, STATUS, OBSTACLES, FEEDBACK, TURTLES, OTHERS_FEEDBACK)
+        for key in (POSE, resolve(STATUS, first), resolve(OBSTACLES, first), TURTLES, OTHERS_FEEDBACK)
+        + ((FEEDBACK,) if not first else ())  # turtle1/navigate_to/feedback is one of OTHERS_FEEDBACK
     ]
     scene = Scene(world=world)
     trail: collections.deque[tuple[float, float]] = collections.deque(maxlen=TRAIL)

@@ -50,6 +50,7 @@ PURE = [
     "cli.system.report",
     "cli.system.overrides",
     "cli.args",
+    "cli.selection",
     "cli.verify.spec",
     "cli.verify.document",
     "cli.verify.report",

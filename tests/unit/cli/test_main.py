@@ -459,17 +459,28 @@ def test_a_log_level_is_one_of_the_four(argv):
 @pytest.mark.parametrize(
     ("argv", "name"),
     [
-        (("param", "get", "*", "rate"), "*"),
         (("param", "dump", "**"), "**"),
         (("param", "list", "a/*"), "a/*"),
-        (("log-level", "*", "DEBUG"), "*"),
+        (("param", "describe", "*", "rate"), "*"),
         (("node", "info", ""), ""),
-        (("param", "set", "nav igator", "rate", "1"), "nav igator"),
     ],
 )
 def test_a_node_name_is_a_name_not_a_key_expression(argv, name):
-    """Review of issue 13: `log-level '*' DEBUG` set every node and named one; `param get '*'` answered for one."""
+    """Review of issue 13: `param get '*'` answered for one node; where one node is meant, a glob is refused."""
     assert bad_input(*argv).startswith(f"turtlectl: error: {name!r} is not a node name: letters, digits, _ and -")
+
+
+@pytest.mark.parametrize(
+    ("argv", "name"),
+    [
+        (("param", "set", "nav igator", "rate", "1"), "nav igator"),
+        (("param", "get", "a.b", "rate"), "a.b"),
+        (("log-level", "turtle2/**x$", "DEBUG"), "turtle2/**x$"),
+    ],
+)
+def test_a_node_selector_is_a_name_namespace_turtle_or_glob(argv, name):
+    """`log-level`, `param get` and `param set` take several nodes (a glob, a namespace, a turtle), as `log --node` does."""
+    assert bad_input(*argv).startswith(f"turtlectl: error: {name!r} is not a node, namespace, turtle or glob")
 
 
 def test_a_node_name_may_have_ros_s_slash_a_namespace_or_the_domain_list_shows(monkeypatch):
@@ -567,12 +578,21 @@ def test_turtle_is_a_turtles_name(command):
     )
 
 
-def test_turtle1_is_outside_any_namespace_and_another_turtle_its_own():
+def test_a_turtles_namespace_is_its_name_and_turtle1s_the_running_systems():
     from turtlectl.cli import args
-    from turtlectl.messages.keys import resolve
+    from turtlectl.messages.keys import resolve, turtle_namespace
 
-    assert args.turtle_name("turtle1") == "" and args.turtle_name("") == ""
-    assert resolve("navigate_to", args.turtle_name("turtle2")) == "turtle2/navigate_to"
-    assert resolve("turtle1/pose", args.turtle_name("turtle2")) == "turtle2/pose"
+    assert args.turtle_name("turtle1") == "turtle1" and args.turtle_name("") == ""
+    assert args.turtle_name("/turtle2") == "turtle2"
+    # turtle1's nodes outside any namespace (the default launch file), or in turtle1 as any turtle's
+    assert turtle_namespace("turtle1") == "" and turtle_namespace("") == ""
+    assert turtle_namespace("turtle1", {"turtle1", "turtle2"}) == "turtle1"
+    assert turtle_namespace("turtle2") == "turtle2" and turtle_namespace("turtle2", {"turtle1"}) == "turtle2"
+    assert (
+        resolve("navigate_to", "turtle1") == "turtle1/navigate_to"
+        and resolve("turtle1/pose", "turtle1") == "turtle1/pose"
+    )
+    assert resolve("navigate_to", turtle_namespace("turtle2")) == "turtle2/navigate_to"
+    assert resolve("turtle1/pose", turtle_namespace("turtle2")) == "turtle2/pose"
     assert resolve("reset", "turtle2") == "reset" and resolve("/chatter", "turtle2") == "chatter"
     assert resolve("turtlectl/world", "turtle2") == "turtlectl/world"

@@ -435,7 +435,11 @@ def test_a_node_may_name_its_own_namespace_which_is_one_turtles():
             '[[group]]\nnamespace = "a/b"\n',
             "f.toml: group[1].namespace: 'a/b' is not a namespace: the name of the turtle",
         ),
-        ('[[group]]\nnamespace = "turtle1"\n', "f.toml: group[1].namespace: turtle1's nodes run outside any namespace"),
+        (
+            '[[group]]\nnamespace = "turtle1"\n[[group.node]]\nname = "navigator"\nrun = "navigator"\n',
+            "f.toml: group[1].node[0] (turtle1/navigator).namespace: a second 'navigator' node driving turtle1 "
+            "(node[1] (navigator) runs outside any namespace, which is turtle1's too)",
+        ),
         (
             '[[group]]\nnamespace = "t9"\n[[group.node]]\nname = "sim2"\nrun = "sim"\n',
             "f.toml: group[1].node[0] (t9/sim2).namespace: the simulator serves every turtle of the world",
@@ -568,3 +572,76 @@ def test_check_says_how_many_failed_starts_end_a_respawning_nodes_tries():
     respawning = FLEET.replace('run = "navigator"\n', 'run = "navigator"\nrespawn = true\n', 1)
     text = plan_text(parse_launch(respawning, source="f.toml"))
     assert "at most 5 in a row; 3 failed starts in a row and no more" in text, text
+
+
+FLEET_EXAMPLE = ROOT / "examples" / "fleet" / "launch.toml"
+KINDS = ("navigator", "status_monitor", "obstacle_detector")
+
+SYMMETRIC = """
+[[node]]
+name = "sim"
+run = "sim"
+[node.params]
+turtles = [{ name = "turtle2", x = 2.0, y = 2.0 }]
+
+[[group]]
+namespace = "turtle1"
+[[group.node]]
+name = "navigator"
+run = "navigator"
+[[group.node]]
+name = "status_monitor"
+run = "status_monitor"
+
+[[group]]
+namespace = "turtle2"
+[[group.node]]
+name = "navigator"
+run = "navigator"
+[group.node.params]
+goal_timeout = 45.0
+[[group.node]]
+name = "status_monitor"
+run = "status_monitor"
+"""
+
+
+def test_turtle1_lives_in_a_namespace_as_any_turtle():
+    from turtlectl.cli.system.overrides import node_config
+
+    plan = parse_launch(SYMMETRIC, source="f.toml")
+    assert [e.name for e in plan.launch.node] == [
+        "sim",
+        "turtle1/navigator",
+        "turtle1/status_monitor",
+        "turtle2/navigator",
+        "turtle2/status_monitor",
+    ]
+    from turtlectl.cli.tools.format import plan_notes
+
+    config = node_config(plan, "turtle1/navigator", "tcp/127.0.0.1:7447")
+    keys = {k for f in config.interface.__struct_fields__ for k in getattr(config.interface, f)}
+    assert "turtle1/navigate_to" in keys and "turtle1/pose" in keys and "navigate_to" not in keys
+    assert plan_notes(plan) == []  # turtle1 is made by the simulator: no note about a missing turtle
+
+
+def test_only_and_exclude_take_turtles_namespaces_and_globs():
+    fleet = parse_launch(FLEET_EXAMPLE.read_text(), source=str(FLEET_EXAMPLE))
+    names = lambda plan: [e.name for e in plan.launch.node]  # noqa: E731
+    assert names(select_nodes(fleet, ["turtle1"], [])) == ["navigator", "status_monitor", "obstacle_detector"]
+    assert names(select_nodes(fleet, ["sim", "turtle1"], [])) == [
+        "sim",
+        "navigator",
+        "status_monitor",
+        "obstacle_detector",
+    ]
+    assert names(select_nodes(fleet, ["turtle2/*"], [])) == [f"turtle2/{k}" for k in KINDS]
+    assert names(select_nodes(fleet, ["*/navigator"], [])) == ["turtle2/navigator", "turtle3/navigator"]
+    assert "sim" in names(select_nodes(fleet, [], ["turtle1"]))
+    assert names(select_nodes(fleet, [], ["turtle1", "turtle3", "/turtle2"])) == ["sim"]
+    with pytest.raises(LaunchFileError, match=r"--only turtle9: no node named 'turtle9'"):
+        select_nodes(fleet, ["turtle9"], [])
+    with pytest.raises(LaunchFileError, match=r"--exclude nav\*x: no node named 'nav\*x'"):
+        select_nodes(fleet, [], ["nav*x"])
+    symmetric = parse_launch(SYMMETRIC, source="f.toml")
+    assert names(select_nodes(symmetric, ["turtle1"], [])) == ["turtle1/navigator", "turtle1/status_monitor"]
