@@ -173,3 +173,38 @@ def test_teleporting_a_turtle_cancels_its_own_navigators_goal(fleet):
     response = result["r"]
     assert not response.success and response.reason == "teleported", response
     fleet.run_cli("reset")
+
+
+def test_a_client_of_a_turtle_names_its_nodes_as_it_names_its_keys(fleet):
+    """Client(turtle="turtle3").param("navigator", ...) answered turtle1's navigator's value, and
+    set_param reconfigured turtle1's navigator: node names are resolved in the turtle's namespace,
+    as keys are (``/sim``: outside any)."""
+    with Client(fleet.endpoint, turtle="turtle3") as client:
+        assert client.param("navigator", "goal_timeout") == 60.0
+        assert client.node_info("navigator").name == "turtle3/navigator"
+        assert client.params("/sim")["x"] == 5.544445
+        client.set_param("navigator", "goal_timeout", 50.0)
+    try:
+        with Client(fleet.endpoint) as plain:  # without a turtle, names as written
+            assert plain.param("navigator", "goal_timeout") == 30.0  # turtle1's untouched
+            assert plain.param("turtle3/navigator", "goal_timeout") == 50.0
+        got = fleet.run_cli("param", "get", "navigator", "goal_timeout", "--turtle", "turtle3")
+        assert got.returncode == 0 and got.stdout.strip() == "50.0", got.stdout + got.stderr
+        every = fleet.run_cli("param", "get", "*/navigator", "goal_timeout")
+        assert every.returncode == 0, every.stderr
+        assert set(every.stdout.split("\n")) >= {"turtle2/navigator: 30.0", "turtle3/navigator: 50.0"}, every.stdout
+    finally:
+        fleet.run_cli("param", "set", "navigator", "goal_timeout", "60", "--turtle", "turtle3")
+
+
+def test_log_level_takes_a_glob_a_namespace_and_a_turtle(fleet):
+    """`log-level 'turtle2/*' DEBUG` was refused though `log --node` takes globs."""
+    glob = fleet.run_cli("log-level", "turtle2/*", "DEBUG")
+    assert glob.returncode == 0, glob.stderr
+    assert [line.partition(":")[0] for line in glob.stdout.splitlines()] == [f"turtle2/{k}" for k in sorted(KINDS)]
+    first = fleet.run_cli("log-level", "turtle1", "INFO")  # turtle1's nodes: outside any namespace, not the simulator
+    assert first.returncode == 0, first.stderr
+    assert sorted(line.partition(":")[0] for line in first.stdout.splitlines()) == sorted(KINDS), first.stdout
+    fleet.run_cli("log-level", "turtle2", "INFO")
+    none = fleet.run_cli("log-level", "turtle9/*", "DEBUG")
+    assert none.returncode == 3 and "no node named 'turtle9/*'" in none.stderr, none.stderr
