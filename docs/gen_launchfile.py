@@ -40,7 +40,9 @@ TABLES = (
         "[[group]]",
         Group,
         "Nodes in one turtle's namespace (ROS's `PushRosNamespace`): `namespace` and its `[[group.node]]` tables, each "
-        "a `[[node]]` (see [Several turtles and fleets](../how-to/turtles.md) for how their keys resolve).",
+        "a `[[node]]` (see [Several turtles and fleets](../how-to/turtles.md) for how their keys resolve). turtle1's "
+        "nodes run outside any namespace (the default launch file: `navigate_to`, `robot/status`) or in "
+        '`namespace = "turtle1"` as any turtle\'s (`turtle1/navigate_to`, `turtle1/robot/status`), not both.',
     ),
     (
         "[arg.NAME]",
