@@ -23,7 +23,7 @@ import zenoh
 
 from turtlectl.cli.args import endpoint, turtle_name
 from turtlectl.cli.errors import BadInput, Failed, Unreachable
-from turtlectl.cli.tools import goals
+from turtlectl.cli.tools import goals, presence
 from turtlectl.cli.tools import params as _params
 from turtlectl.cli.tools.client import check_key, client_session, require
 from turtlectl.cli.tools.graph import GoalRow, Graph, NodeRow, ServiceRow, TopicRow
@@ -88,7 +88,7 @@ class Subscription(Declaration):
 
         # on Zenoh's own thread (indirect=False): a Python thread per subscription (zenoh-python's
         # default) is not a daemon, and kept a script that never undeclared it from ending
-        self.add(session.declare_subscriber(key, zenoh.handlers.Callback(on_sample, indirect=False)))
+        self.add(presence.subscriber(session, key, zenoh.handlers.Callback(on_sample, indirect=False)))
 
     def undeclare(self) -> None:
         """End it: no more messages; an iteration over it ends."""
@@ -142,7 +142,7 @@ class Client:
         self.namespace = turtle_name(turtle)  # BadInput for a name that is none
         self._stack = contextlib.ExitStack()
         self._session: zenoh.Session = self._stack.enter_context(client_session(self.connect, self.domain))
-        self._publishers: dict[str, zenoh.Publisher] = {}
+        self._publishers: dict[str, presence.Announced] = {}
         self._declared: list[Declaration] = []  # its subscriptions, undeclared by close
         self._book = TypeBook(self._session)  # the message types it has learnt from the nodes
         self._lock = threading.Lock()
@@ -246,7 +246,7 @@ class Client:
         with self._lock:
             pub = self._publishers.get(key)
             if pub is None:
-                pub = self._session.declare_publisher(key, encoding=zenoh.Encoding(encoding_for(type(message))))
+                pub = presence.publisher(self._session, key, type_name(type(message)), encoding_for(type(message)))
                 self._publishers[key] = pub
         pub.put(encode(message))
 
