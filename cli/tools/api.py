@@ -336,12 +336,17 @@ class Client:
     # the live graph ----------------------------------------------------------------------------
 
     def graph(self) -> Graph:
-        """Nodes, topics and services alive now (from liveliness, never cached)."""
+        """Nodes, clients, topics and services alive now (from liveliness, never cached); this
+        client itself is not among the clients, nor its publishers and subscribers."""
         return live_graph(self._session, self.domain)
 
     def nodes(self) -> list[NodeRow]:
         """The nodes alive now: name, pid, host, uptime."""
         return self.graph().nodes
+
+    def clients(self) -> list[NodeRow]:
+        """The other clients with a session open (tools, scripts): name, tool, pid, host, uptime."""
+        return self.graph().clients
 
     def topics(self) -> list[TopicRow]:
         """The topics in use now: key, type, publishers, subscribers."""
