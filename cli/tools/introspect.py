@@ -85,6 +85,12 @@ def node_report(connect: str, node: str) -> NodeReport:
     from turtlectl.cli.tools import params, topics
 
     graph = topics.graph(connect)
+    client = next((c for c in graph.clients if c.name == node), None)
+    if client is not None:  # listed by `node list`, but it serves nothing to ask
+        raise BadInput(
+            f"{node} is a client ({client.tool}, pid {client.pid}, host {client.host}), not a node: "
+            f"`turtlectl list` shows what it publishes and subscribes to"
+        )
     if node not in {n.name for n in graph.nodes}:
         raise _no_node(node, graph)
     details = _details(connect, node)

@@ -79,6 +79,8 @@ def test_an_echo_and_a_script_s_client_are_listed_with_tool_host_pid_and_their_s
         info = json.loads(system.run_cli("topic", "info", "robot/status", "--json").stdout)
         (sub,) = [s for s in info["subscribers"] if s["pid"] == echo.pid]
         assert (sub["node"], sub["tool"], sub["host"]) == (f"echo-{echo.pid}", "echo", socket.gethostname())
+        asked = system.run_cli("node", "info", f"echo-{echo.pid}")
+        assert asked.returncode == ExitCode.BAD_INPUT and "is a client (echo, pid" in asked.stderr, asked.stderr
         text = system.run_cli("topic", "info", "-v", "turtle1/pose").stdout
         assert f"python-{script.pid} (client: python, pid {script.pid}, host {socket.gethostname()})" in text
     finally:
