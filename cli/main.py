@@ -41,6 +41,7 @@ from turtlectl.cli.commands import (
 from turtlectl.cli.commands.options import DomainOption
 from turtlectl.cli.errors import ExitCode, Interrupted, TurtlectlError, exit_code
 from turtlectl.cli.sigint import ignore_sigint, quiet_unraisable
+from turtlectl.cli.tools import presence
 from turtlectl.runtime.endpoint import CONNECT_ENV, DEFAULT_ENDPOINT
 
 EXIT_CODES_HELP = """
@@ -126,6 +127,7 @@ def root(
     ),
 ) -> None:
     """A turtle robot over Zenoh, the ROS 2 way."""
+    presence.set_tool(ctx.invoked_subcommand or "turtlectl")  # its client sessions are listed as this tool
     if ctx.invoked_subcommand not in STOPPED_BY_CTRL_C:
         # client commands handle Ctrl-C as KeyboardInterrupt (goto cancels, echo stops);
         # launch and router keep cli.entry's quiet handler until they install their own

@@ -170,6 +170,21 @@ KEYS: dict[str, tuple[str, str, str, str, str]] = {
         "while the entity exists",
         f"liveliness get on `{keys.ENTITY_TOKEN_PREFIX}/**`; role is pub, sub or srv; Type the message type's full name with a dot for its slash (turtlectl.Pose, capstone_msgs.TurtleStatus; a service's request type; JSON for the JSON queryables); key may contain /",
     ),
+    f"{keys.CLIENT_NODE_TOKEN_PREFIX}/<name>/<pid>/<host>/<start_ns>/<tool>": (
+        "liveliness token",
+        "-",
+        "each client (a turtlectl tool, a script's turtlectl.Client) -> anyone (turtlectl list, node list)",
+        "while the client's session is open",
+        "<name> is <tool>-<pid> (teleop-4242), <tool> the command (teleop, goto, echo, record, plot, ...) or python; "
+        "a client of another language may declare one to be listed; optional",
+    ),
+    f"{keys.CLIENT_ENTITY_TOKEN_PREFIX}/<name>/<pid>/<role>/<Type>/<key>": (
+        "liveliness token",
+        "-",
+        "each client -> anyone (turtlectl list, topic info; teleop finds who drives a turtle)",
+        "while the client's publisher or subscriber exists",
+        f"as `{keys.ENTITY_TOKEN_PREFIX}/...`, role pub or sub; never counted as a node's (claims); optional",
+    ),
     f"{keys.CLIENT_TOKEN_PREFIX}/<id>": (
         "liveliness token",
         "-",

@@ -204,6 +204,10 @@ SERVICES: dict[str, tuple[type[Message], type[Message]]] = {
 NODE_TOKEN_PREFIX = "@turtlectl/node"
 ENTITY_TOKEN_PREFIX = "@turtlectl/entity"
 CLIENT_TOKEN_PREFIX = "@turtlectl/client"
+#: a client's presence (a tool or a script's Client, while its session is open) and its publishers and
+#: subscribers: apart from the nodes', so a client never counts as a node (readiness, claims)
+CLIENT_NODE_TOKEN_PREFIX = "@turtlectl/client_node"
+CLIENT_ENTITY_TOKEN_PREFIX = "@turtlectl/client_entity"
 DOMAIN_TOKEN_PREFIX = "@turtlectl/domain"  # declared, outside any namespace, by a supervisor run with --domain
 GRAPH = "@turtlectl/**"  # every node and entity token (and, outside a domain, every domain token)
 DOMAIN_GRAPHS = "*/@turtlectl/**"  # outside any domain: the graph of every domain (``*`` matches the domain)
@@ -282,8 +286,10 @@ def entity_token(entity: EntityInfo) -> str:
     return f"{ENTITY_TOKEN_PREFIX}/{name_chunk(entity.node)}/{entity.pid}/{entity.role}/{chunk}/{entity.key}"
 
 
-def parse_entity_token(key: str) -> EntityInfo | None:
-    prefix = ENTITY_TOKEN_PREFIX + "/"
+def parse_entity_token(key: str, kind: str = ENTITY_TOKEN_PREFIX) -> EntityInfo | None:
+    """The EntityInfo in a key made by entity_token (``kind``: CLIENT_ENTITY_TOKEN_PREFIX for
+    client_entity_token's), else None."""
+    prefix = kind + "/"
     if not key.startswith(prefix):
         return None
     parts = key[len(prefix) :].split("/", 4)
@@ -292,6 +298,36 @@ def parse_entity_token(key: str) -> EntityInfo | None:
     return EntityInfo(
         node=node_name(parts[0]), pid=int(parts[1]), role=parts[2], type_name=type_from_chunk(parts[3]), key=parts[4]
     )
+
+
+class ClientInfo(NodeInfo, frozen=True):
+    """A client (a command-line tool or a script's ``turtlectl.Client``) as its presence token
+    announces it while its session is open: its name (``teleop-4242``: the tool and its pid),
+    pid, host, start and ``tool`` (teleop, goto, echo, record, plot, ...; python for a script's
+    Client)."""
+
+    tool: str = ""
+
+
+def client_node_token(info: ClientInfo) -> str:
+    """Liveliness key announcing a client: ``@turtlectl/client_node/<name>/<pid>/<host>/<start_ns>/<tool>``."""
+    host = _chunk(info.host)
+    return f"{CLIENT_NODE_TOKEN_PREFIX}/{name_chunk(info.name)}/{info.pid}/{host}/{info.start_ns}/{_chunk(info.tool)}"
+
+
+def parse_client_node_token(key: str) -> ClientInfo | None:
+    """The ClientInfo in a key made by client_node_token, else None."""
+    prefix = CLIENT_NODE_TOKEN_PREFIX + "/"
+    parts = key[len(prefix) :].split("/") if key.startswith(prefix) else []
+    if len(parts) != 5 or not parts[0] or not parts[1].isdigit() or not parts[3].isdigit():
+        return None
+    return ClientInfo(name=node_name(parts[0]), pid=int(parts[1]), host=parts[2], start_ns=int(parts[3]), tool=parts[4])
+
+
+def client_entity_token(entity: EntityInfo) -> str:
+    """Liveliness key announcing a client's publisher or subscriber, as entity_token's for a
+    node: ``@turtlectl/client_entity/<client>/<pid>/<role>/<package.Type>/<key...>``."""
+    return CLIENT_ENTITY_TOKEN_PREFIX + entity_token(entity)[len(ENTITY_TOKEN_PREFIX) :]
 
 
 def client_token(client_id: str) -> str:

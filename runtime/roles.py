@@ -3,7 +3,8 @@ no ``Interface`` may do (pure data: cli.system.access turns them into the router
 supervisor hands a node its interface, the node's runtime (and runtime.fake) refuses anything else).
 
 * ``viewer``: echo, hz, list, view, record, log, node/topic info, param get (subscribe to
-  everything, read the JSON answers and the nodes' recent log records, follow the graph);
+  everything, read the JSON answers and the nodes' recent log records, follow the graph, and
+  be listed in it: every client declares its presence, ``PRESENCE_KEYS``);
 * ``operator``: also goto, cancel, teleport (any turtle), reset, spawn, kill, call, param set, log-level,
   and send goals to and cancel the goals of every goal service the system's nodes serve
   (``GOAL_SENDERS``, ``client_rights``);
@@ -18,6 +19,8 @@ import msgspec
 
 from turtlectl.messages.keys import (
     CANCEL,
+    CLIENT_ENTITY_TOKEN_PREFIX,
+    CLIENT_NODE_TOKEN_PREFIX,
     CLIENT_TOKEN_PREFIX,
     KILL,
     LOG_KEYS,
@@ -40,10 +43,13 @@ from turtlectl.messages.keys import (
 from turtlectl.runtime.config import Claim, Interface
 
 GRAPH_KEYS = ("@turtlectl/**", "*/@turtlectl/**")  # the graph, and (outside a domain) every domain's
+#: every client's presence in the graph, and its publishers and subscribers (cli.tools.presence)
+PRESENCE_KEYS = (f"{CLIENT_NODE_TOKEN_PREFIX}/**", f"{CLIENT_ENTITY_TOKEN_PREFIX}/**")
 VIEWER: dict[str, tuple[str, ...]] = {
     "subscribe": ("**",),
     "call": (params_key("*"), param_describe_key("*"), node_key("*"), WORLD_KEY, f"{TYPES}/**", LOG_KEYS),
     "watch": GRAPH_KEYS,
+    "token": PRESENCE_KEYS,
 }
 OPERATOR: dict[str, tuple[str, ...]] = {
     **VIEWER,
@@ -60,7 +66,7 @@ OPERATOR: dict[str, tuple[str, ...]] = {
         param_set_key("*"),
         log_level_key("*"),
     ),
-    "token": (f"{CLIENT_TOKEN_PREFIX}/**",),  # a goal's caller holds one while it waits
+    "token": (*PRESENCE_KEYS, f"{CLIENT_TOKEN_PREFIX}/**"),  # a goal's caller holds one while it waits
 }
 ROLES: dict[str, dict[str, tuple[str, ...]]] = {
     "viewer": VIEWER,

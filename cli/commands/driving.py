@@ -119,6 +119,11 @@ def reset(connect: str = ConnectOption, domain: str = DomainOption) -> None:
 def teleop(
     linear: float = typer.Option(2.0, "--linear", min=0.0, help="Speed of up/down (w/s), m/s."),
     angular: float = typer.Option(2.0, "--angular", min=0.0, help="Turn rate of left/right (a/d), rad/s."),
+    force: bool = typer.Option(
+        False,
+        "--force",
+        help="Drive even if another client (a teleop, pub, a script) drives the turtle: both are warned.",
+    ),
     turtle: str = TurtleOption,
     connect: str = ConnectOption,
     domain: str = DomainOption,
@@ -128,7 +133,9 @@ def teleop(
     space stops (and cancels a running goal), q or Ctrl-C quits (exit code 0).  A goal
     running when the keys start driving is canceled (reason "teleop").  The status line
     shows the command being sent and the turtle's pose.  Its input must be a terminal
-    (exit code 2 otherwise).
+    (exit code 2 otherwise).  A turtle another client drives already (a second teleop on
+    it) is refused, naming that client, its pid and host (exit code 4), unless --force:
+    then both are warned.
 
     Example: turtlectl teleop --linear 1.0
     """
@@ -141,7 +148,7 @@ def teleop(
     fd = terminal_fd(sys.stdin)
     with client.client_session(connect) as session:
         namespace = client.live_turtle_namespace(session, turtle or FIRST_TURTLE)
-        run_teleop(session, linear, angular, connect, fd, sys.stdout, namespace)
+        run_teleop(session, linear, angular, connect, fd, sys.stdout, namespace, force)
 
 
 def register(app: typer.Typer) -> None:

@@ -19,8 +19,10 @@ def list_graph(
     connect: str = ConnectOption,
     domain: str = DomainOption,
 ) -> None:
-    """The live graph: nodes (name, pid, host, uptime), topics with their publishers and
-    subscribers, and services; read from liveliness tokens now, never from a cache.
+    """The live graph: nodes (name, pid, host, uptime), the clients with a session open
+    (command-line tools and scripts: name, tool, pid, host, uptime; the one asking is not
+    listed), topics with their publishers and subscribers (clients' among them), and
+    services; read from liveliness tokens now, never from a cache.
     Without --domain, systems running in domains are listed too, their names and keys
     prefixed with the domain (lab1:sim, lab1/robot/status).  The services and log topic every
     node has (turtlectl/params/<node>, turtlectl/nodes/<node>, turtlectl/log/<node>, ...) are
@@ -41,15 +43,25 @@ node_app = typer.Typer(help="Running nodes in detail (as `ros2 node`).\n\nExampl
 
 
 @node_app.command("list")
-def node_list(connect: str = ConnectOption, domain: str = DomainOption) -> None:
+def node_list(json: bool = JsonOption, connect: str = ConnectOption, domain: str = DomainOption) -> None:
     """The running nodes' names, one per line (as `ros2 node list`; `turtlectl list` shows
-    the whole graph).
+    the whole graph), then the clients with a session open (command-line tools, scripts'
+    turtlectl.Client), each as `NAME  (client: TOOL, pid PID, host HOST)`: teleop-4242 for a
+    teleop of pid 4242, python-… for a script.  The one asking is not listed.  --json: one
+    object, {"nodes": [...], "clients": [...]}, each row with name, pid, host, uptime, domain,
+    namespace and tool ("" for a node).
 
     Example: turtlectl node list
     """
     from turtlectl.cli.tools import topics
 
-    result("\n".join(n.name for n in topics.graph(connect).nodes))
+    current = topics.graph(connect)
+    if json:
+        result(format.json_value({"nodes": current.nodes, "clients": current.clients}))
+        return
+    lines = [n.name for n in current.nodes]
+    lines += [f"{c.name}  (client: {c.tool}, pid {c.pid}, host {c.host})" for c in current.clients]
+    result("\n".join(lines))
 
 
 @node_app.command("info")

@@ -21,6 +21,7 @@ import msgspec
 import zenoh
 
 from turtlectl.cli.recording.bag import BagWriter
+from turtlectl.cli.tools import presence
 from turtlectl.cli.tools.client import check_key, client_session
 from turtlectl.cli.tools.typebook import TypeBook
 from turtlectl.messages.codec import MEDIA_TYPE, TYPES_BY_NAME
@@ -132,7 +133,7 @@ def record(
                     break
             drawing = _Drawing(writer, world) if scene else None
             book = TypeBook(session)  # a type turtlectl was not built with, learnt from its nodes
-            subs = [session.declare_subscriber(k, taker(i)) for i, k in enumerate(keys)]
+            subs = [presence.subscriber(session, k, taker(i)) for i, k in enumerate(keys)]
             started = time.monotonic()
             next_report = started
             try:

@@ -8,7 +8,8 @@ the ``teleop`` role may (a local client of the system may do as much) and publis
 under its own name (``<name>/**``); nothing else (``UNDECLARED``).  Clients log in with a role:
 
 * ``viewer``: echo, hz, list, view, record, log, node/topic info, param get (subscribe to
-  everything, read the JSON answers and the nodes' recent log records, follow the graph);
+  everything, read the JSON answers and the nodes' recent log records, follow the graph, and
+  declare its presence in it, as every client does: ``roles.PRESENCE_KEYS``);
 * ``operator``: also goto, cancel, teleport, reset, call, param set, log-level, and send goals
   to and cancel the goals of every goal service the launch's nodes serve (``client_rights``);
 * ``teleop``: also publishes ``turtle1/cmd_vel`` (teleop, pub).

@@ -23,7 +23,7 @@ import zenoh
 
 from turtlectl.cli.args import endpoint, turtle_name
 from turtlectl.cli.errors import BadInput, Failed, Unreachable
-from turtlectl.cli.tools import goals
+from turtlectl.cli.tools import goals, presence
 from turtlectl.cli.tools import params as _params
 from turtlectl.cli.tools.client import check_key, client_session, live_turtle_namespace, require
 from turtlectl.cli.tools.graph import GoalRow, Graph, NodeRow, ServiceRow, TopicRow
@@ -89,7 +89,7 @@ class Subscription(Declaration):
 
         # on Zenoh's own thread (indirect=False): a Python thread per subscription (zenoh-python's
         # default) is not a daemon, and kept a script that never undeclared it from ending
-        self.add(session.declare_subscriber(key, zenoh.handlers.Callback(on_sample, indirect=False)))
+        self.add(presence.subscriber(session, key, zenoh.handlers.Callback(on_sample, indirect=False)))
 
     def undeclare(self) -> None:
         """End it: no more messages; an iteration over it ends."""
@@ -150,7 +150,7 @@ class Client:
         #: the namespace its keys and node names are resolved in (the turtle's nodes'; "" without a turtle)
         self.namespace = live_turtle_namespace(self._session, self.turtle)
         self._driven: str | None = None if not self.turtle else self.namespace  # goto's and cancel's
-        self._publishers: dict[str, zenoh.Publisher] = {}
+        self._publishers: dict[str, presence.Announced] = {}
         self._declared: list[Declaration] = []  # its subscriptions, undeclared by close
         self._book = TypeBook(self._session)  # the message types it has learnt from the nodes
         self._lock = threading.Lock()
@@ -261,7 +261,7 @@ class Client:
         with self._lock:
             pub = self._publishers.get(key)
             if pub is None:
-                pub = self._session.declare_publisher(key, encoding=zenoh.Encoding(encoding_for(type(message))))
+                pub = presence.publisher(self._session, key, type_name(type(message)), encoding_for(type(message)))
                 self._publishers[key] = pub
         pub.put(encode(message))
 
@@ -355,12 +355,17 @@ class Client:
     # the live graph ----------------------------------------------------------------------------
 
     def graph(self) -> Graph:
-        """Nodes, topics and services alive now (from liveliness, never cached)."""
+        """Nodes, clients, topics and services alive now (from liveliness, never cached); this
+        client itself is not among the clients, nor its publishers and subscribers."""
         return live_graph(self._session, self.domain)
 
     def nodes(self) -> list[NodeRow]:
         """The nodes alive now: name, pid, host, uptime."""
         return self.graph().nodes
+
+    def clients(self) -> list[NodeRow]:
+        """The other clients with a session open (tools, scripts): name, tool, pid, host, uptime."""
+        return self.graph().clients
 
     def topics(self) -> list[TopicRow]:
         """The topics in use now: key, type, publishers, subscribers."""

@@ -17,6 +17,7 @@ import zenoh
 from turtlectl.cli.args import ENDPOINT_RE, endpoint
 from turtlectl.cli.errors import BadInput, Failed, TurtlectlError, Unreachable
 from turtlectl.cli.sigint import sigint_deferred
+from turtlectl.cli.tools import presence
 from turtlectl.messages.keys import (
     DOMAIN_GRAPHS,
     DOMAIN_TOKEN_PREFIX,
@@ -141,9 +142,11 @@ def client_session(connect: str, domain: str | None = None) -> Iterator[zenoh.Se
             raise Unreachable(_not_let_in(connect, login is not None)) from None
         raise _no_system(connect) from None
     try:
+        presence.declare(session)  # listed as a client while it is open (turtlectl list, node list)
         yield session
     finally:
         with sigint_deferred():  # a Ctrl-C now must not interrupt Zenoh half-way through closing
+            presence.withdraw(session)
             close_session(session)
 
 

@@ -10,11 +10,14 @@ from __future__ import annotations
 import msgspec
 
 from turtlectl.messages.keys import (
+    CLIENT_ENTITY_TOKEN_PREFIX,
     FIRST_TURTLE,
     LOG,
+    ClientInfo,
     EntityInfo,
     NodeInfo,
     namespace_of,
+    parse_client_node_token,
     parse_domain_token,
     parse_entity_token,
     parse_node_token,
@@ -28,6 +31,7 @@ class NodeRow(msgspec.Struct):
     uptime: float  # s
     domain: str = ""
     namespace: str = ""  # turtle2 for turtle2/navigator (lab1:turtle2/navigator too); "" outside any
+    tool: str = ""  # a client's tool (teleop, goto, echo, record, plot, ...; python: a script's Client); "" for a node
 
 
 class TopicRow(msgspec.Struct):
@@ -61,6 +65,8 @@ class Graph(msgspec.Struct):
     hidden_topics: int = 0  # each node's own log topic left out (``list`` without --all)
     conflicts: list[str] = msgspec.field(default_factory=list)  # a type name two nodes describe differently
     goals: list[GoalRow] = msgspec.field(default_factory=list)  # the goal services (``turtlectl action list``)
+    #: the clients (command-line tools, scripts' Clients) with a session open, but the one asking
+    clients: list[NodeRow] = msgspec.field(default_factory=list)
 
 
 #: a goal service's token roles -> the GoalRow field each names
@@ -111,6 +117,7 @@ def _split_domain(key: str) -> tuple[str, str]:
 def build_graph(keys: list[str], now_ns: int) -> Graph:
     """The graph described by liveliness ``keys``, with uptimes as of ``now_ns`` (wall clock, ns)."""
     nodes: list[tuple[str, NodeInfo]] = []
+    clients: list[tuple[str, NodeInfo]] = []
     entities: list[EntityInfo] = []
     domains: set[str] = set()
     for full_key in keys:
@@ -124,7 +131,11 @@ def build_graph(keys: list[str], now_ns: int) -> Graph:
         if node is not None:
             nodes.append((prefix, msgspec.structs.replace(node, name=_in_domain(prefix, node.name))))
             continue
-        entity = parse_entity_token(key)
+        client = parse_client_node_token(key)
+        if client is not None:
+            clients.append((prefix, msgspec.structs.replace(client, name=_in_domain(prefix, client.name))))
+            continue
+        entity = parse_entity_token(key) or parse_entity_token(key, CLIENT_ENTITY_TOKEN_PREFIX)
         if entity is not None:
             entities.append(
                 msgspec.structs.replace(entity, node=_in_domain(prefix, entity.node), key=prefix + entity.key)
@@ -145,21 +156,41 @@ def build_graph(keys: list[str], now_ns: int) -> Graph:
             topic = topics.setdefault(e.key, TopicRow(key=e.key, type=e.type_name, publishers=[], subscribers=[]))
             (topic.publishers if e.role == "pub" else topic.subscribers).append(e.node)
     return Graph(
-        nodes=[
-            NodeRow(
-                name=n.name,
-                pid=n.pid,
-                host=n.host,
-                uptime=max(0.0, (now_ns - n.start_ns) / 1e9) if n.start_ns else 0.0,
-                domain=prefix[:-1],
-                namespace=namespace_of(n.name.partition(":")[2] if prefix else n.name),
-            )
-            for prefix, n in sorted(nodes, key=lambda pn: pn[1].name)
-        ],
+        nodes=[_row(prefix, n, now_ns) for prefix, n in sorted(nodes, key=lambda pn: pn[1].name)],
         topics=list(topics.values()),
         services=list(services.values()),
         domains=sorted(domains),
         goals=list(goals.values()),
+        clients=[_row(prefix, c, now_ns) for prefix, c in sorted(clients, key=lambda pc: pc[1].name)],
+    )
+
+
+def _row(prefix: str, n: NodeInfo, now_ns: int) -> NodeRow:
+    return NodeRow(
+        name=n.name,
+        pid=n.pid,
+        host=n.host,
+        uptime=max(0.0, (now_ns - n.start_ns) / 1e9) if n.start_ns else 0.0,
+        domain=prefix[:-1],
+        namespace="" if isinstance(n, ClientInfo) else namespace_of(n.name.partition(":")[2] if prefix else n.name),
+        tool=n.tool if isinstance(n, ClientInfo) else "",
+    )
+
+
+def without_client(graph: Graph, name: str) -> Graph:
+    """``graph`` without client ``name`` and its publishers and subscribers (the one asking)."""
+
+    def ends(names: list[str]) -> list[str]:
+        return [n for n in names if n != name]
+
+    return msgspec.structs.replace(
+        graph,
+        clients=[c for c in graph.clients if c.name != name],
+        topics=[
+            msgspec.structs.replace(t, publishers=ends(t.publishers), subscribers=ends(t.subscribers))
+            for t in graph.topics
+            if ends(t.publishers) or ends(t.subscribers)
+        ],
     )
 
 
@@ -198,10 +229,24 @@ def _node_lines(nodes: list[NodeRow]) -> list[str]:
     return lines
 
 
+def client_lines(clients: list[NodeRow]) -> list[str]:
+    """One line per client: its name, tool, pid, host and uptime, aligned."""
+    name_w = _width([c.name for c in clients], 20)
+    tool_w = _width([c.tool for c in clients], 6)
+    host_w = _width([c.host for c in clients], 8)
+    return [
+        f"  {c.name:{name_w}s} {c.tool:{tool_w}s} pid {c.pid:<8d} host {c.host:{host_w}s} up {c.uptime:8.1f} s"
+        for c in clients
+    ]
+
+
 def graph_text(graph: Graph) -> str:
     """The graph as aligned tables for people (columns as wide as their longest entry)."""
     lines = ["NODES"]
     lines += _node_lines(graph.nodes) or [f"  (none{': ' + graph.hint if graph.hint else ''})"]
+    if graph.clients:
+        lines.append("CLIENTS (command-line tools and scripts with a session open)")
+        lines += client_lines(graph.clients)
     lines.append("TOPICS")
     key_w = _width([t.key for t in graph.topics], 22)
     type_w = _width([t.type for t in graph.topics], 12)
@@ -235,3 +280,19 @@ def graph_text(graph: Graph) -> str:
     if graph.conflicts:
         lines += ["CONFLICTS (one type name, two types: rename one)"] + [f"  {c}" for c in graph.conflicts]
     return "\n".join(lines)
+
+
+def clients_publishing(graph: Graph, key: str) -> list[NodeRow]:
+    """The clients that publish on ``key`` (two teleops, a ``pub`` and a teleop on one
+    ``cmd_vel`` would both drive the turtle); a publisher whose client is not listed yet gets
+    a row with its pid only."""
+    names = next((t.publishers for t in graph.topics if t.key == key), [])
+    rows = {c.name: c for c in graph.clients}
+    nodes = {n.name for n in graph.nodes}
+    return [rows.get(name) or NodeRow(name=name, pid=0, host="", uptime=0.0) for name in names if name not in nodes]
+
+
+def who(client: NodeRow) -> str:
+    """``teleop-4242 (pid 4242, host lab-pc)``: a client as a message names it."""
+    where = f"pid {client.pid}" + (f", host {client.host}" if client.host else "")
+    return f"{client.name} ({where})"

@@ -85,6 +85,12 @@ def node_report(connect: str, node: str) -> NodeReport:
     from turtlectl.cli.tools import params, topics
 
     graph = topics.graph(connect)
+    client = next((c for c in graph.clients if c.name == node), None)
+    if client is not None:  # listed by `node list`, but it serves nothing to ask
+        raise BadInput(
+            f"{node} is a client ({client.tool}, pid {client.pid}, host {client.host}), not a node: "
+            f"`turtlectl list` shows what it publishes and subscribes to"
+        )
     if node not in {n.name for n in graph.nodes}:
         raise _no_node(node, graph)
     details = _details(connect, node)
@@ -132,9 +138,10 @@ def node_text(report: NodeReport) -> str:
 
 
 class TopicEnd(msgspec.Struct):
-    node: str
+    node: str  # a node's name, or a client's (teleop-4242)
     pid: int
     host: str
+    tool: str = ""  # a client's tool (teleop, echo, record, python, ...); "" for a node
 
 
 class TopicReport(msgspec.Struct):
@@ -166,11 +173,11 @@ def topic_report(connect: str, key: str, verbose: bool) -> TopicReport:
     if row is None:
         known = ", ".join(t.key for t in graph.topics) or "none"
         raise NobodyServes(f"no node publishes or subscribes to {key!r} (topics: {known})")
-    nodes = {n.name: n for n in graph.nodes}
+    nodes = {n.name: n for n in [*graph.nodes, *graph.clients]}
 
     def end(name: str) -> TopicEnd:
         n = nodes.get(name)
-        return TopicEnd(node=name, pid=n.pid if n else 0, host=n.host if n else "")
+        return TopicEnd(node=name, pid=n.pid if n else 0, host=n.host if n else "", tool=n.tool if n else "")
 
     report = TopicReport(
         key=key,
@@ -204,7 +211,9 @@ def _measure(connect: str, key: str) -> tuple[int, float]:
 
 def topic_text(report: TopicReport) -> str:
     def ends(items: list[TopicEnd]) -> list[str]:
-        return [f"  {e.node} (pid {e.pid}, host {e.host})" for e in items] or ["  (none)"]
+        return [f"  {e.node} ({f'client: {e.tool}, ' if e.tool else ''}pid {e.pid}, host {e.host})" for e in items] or [
+            "  (none)"
+        ]
 
     lines = [f"{report.key}  type {report.type}"]
     if report.rate is not None:

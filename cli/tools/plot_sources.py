@@ -15,6 +15,7 @@ from typing import Any
 import zenoh
 
 from turtlectl.cli.errors import Unreachable
+from turtlectl.cli.tools import presence
 from turtlectl.cli.tools.client import ROUTER_CHECK, router_lost
 from turtlectl.cli.tools.format import Undescribed
 from turtlectl.cli.tools.graph import Graph
@@ -134,7 +135,7 @@ class Live:
         nearest = _nearest(self.keys, turtle)
         if nearest:
             self.typos = _typo_notes(live_graph(session), nearest)
-        self._subs = [session.declare_subscriber(key, self._on_sample) for key in self.keys]
+        self._subs = [presence.subscriber(session, key, self._on_sample) for key in self.keys]
 
     def _on_sample(self, sample: zenoh.Sample) -> None:  # Zenoh's thread: decode and queue
         received = decode_sample(str(sample.key_expr), sample.payload.to_bytes(), str(sample.encoding))

@@ -22,13 +22,29 @@ from typing import TextIO
 
 import zenoh
 
-from turtlectl.cli.errors import BadInput, Unreachable
+from turtlectl.cli.errors import BadInput, CannotStart, Unreachable
 from turtlectl.cli.sigint import stop_on_signals
+from turtlectl.cli.tools import presence
 from turtlectl.cli.tools.client import ROUTER_CHECK, require, router_lost
+from turtlectl.cli.tools.graph import NodeRow, clients_publishing, who
 from turtlectl.cli.tools.keyboard import Driver, Shown, keys, status_line
+from turtlectl.cli.tools.topics import live_graph
 from turtlectl.messages import Cancel, Pose, Twist, decode, encode, encoding_for
 from turtlectl.messages.angles import heading_degrees
-from turtlectl.messages.keys import CANCEL, CMD_VEL, FEEDBACK, POSE, resolve
+from turtlectl.messages.codec import type_name
+from turtlectl.messages.keys import (
+    CANCEL,
+    CLIENT_ENTITY_TOKEN_PREFIX,
+    CLIENT_NODE_TOKEN_PREFIX,
+    CMD_VEL,
+    FEEDBACK,
+    POSE,
+    EntityInfo,
+    name_chunk,
+    parse_client_node_token,
+    parse_entity_token,
+    resolve,
+)
 
 POLL = 0.02  # s: the longest a key waits to be read
 LINE_PERIOD = 0.1  # s between redraws of the status line
@@ -45,7 +61,7 @@ class _Goals:
         self.last_feedback = -math.inf  # monotonic s
         self.canceled_at = -math.inf
         self.cancel_key = resolve(CANCEL, namespace)
-        self._sub = session.declare_subscriber(resolve(FEEDBACK, namespace), self._on_feedback)
+        self._sub = presence.subscriber(session, resolve(FEEDBACK, namespace), self._on_feedback)
 
     def _on_feedback(self, _sample: zenoh.Sample) -> None:  # Zenoh thread: a time only
         self.last_feedback = time.monotonic()
@@ -68,6 +84,39 @@ class _Goals:
         self._sub.undeclare()
 
 
+class _Rivals:
+    """Another client that starts publishing this teleop's ``cmd_vel`` (a teleop run with
+    --force): ``warning`` names it, host included, asked on the teleop's own thread."""
+
+    def __init__(self, session: zenoh.Session, cmd_vel: str, me: str):
+        self.session, self.cmd_vel, self.me = session, cmd_vel, me
+        self._new: list[EntityInfo] = []  # appended on Zenoh's thread, taken on the teleop's
+        selector = f"{CLIENT_ENTITY_TOKEN_PREFIX}/*/*/pub/*/{cmd_vel}"
+        self._sub = session.liveliness().declare_subscriber(selector, self._on_token)
+
+    def _on_token(self, sample: zenoh.Sample) -> None:  # Zenoh thread
+        entity = parse_entity_token(str(sample.key_expr), CLIENT_ENTITY_TOKEN_PREFIX)
+        if sample.kind == zenoh.SampleKind.PUT and entity is not None and entity.node != self.me:
+            self._new.append(entity)
+
+    def warning(self) -> str:
+        """A note naming a client that began to publish on cmd_vel since the last call, else ""."""
+        if not self._new:
+            return ""
+        entity = self._new.pop()
+        host = ""
+        for reply in self.session.liveliness().get(
+            f"{CLIENT_NODE_TOKEN_PREFIX}/{name_chunk(entity.node)}/**", timeout=1.0
+        ):
+            found = parse_client_node_token(str(reply.ok.key_expr)) if reply.ok is not None else None
+            host = found.host if found is not None else host
+        other = NodeRow(name=entity.node, pid=entity.pid, host=host, uptime=0.0)
+        return f"warning: {who(other)} also drives {self.cmd_vel} (started with --force)"
+
+    def close(self) -> None:
+        self._sub.undeclare()
+
+
 class _Teleop:
     """One teleop run: the session's publisher and subscribers, the driver, the terminal."""
 
@@ -80,8 +129,10 @@ class _Teleop:
         self.hung_up = False
         self.note = ""
         cmd_vel = resolve(CMD_VEL, namespace)
-        self.publisher = session.declare_publisher(cmd_vel, encoding=zenoh.Encoding(encoding_for(Twist)))
-        self.pose_sub = session.declare_subscriber(resolve(POSE, namespace), self._on_pose)
+        self.publisher = presence.publisher(session, cmd_vel, type_name(Twist), encoding_for(Twist))
+        me = presence.of(session)
+        self.rivals = _Rivals(session, cmd_vel, me.name if me else "")
+        self.pose_sub = presence.subscriber(session, resolve(POSE, namespace), self._on_pose)
         self.goals = _Goals(session, namespace)
 
     def _on_pose(self, sample: zenoh.Sample) -> None:  # Zenoh thread: keep the newest valid pose
@@ -137,6 +188,9 @@ class _Teleop:
                 self.send(command)
             if now >= next_check:
                 next_check = now + ROUTER_CHECK
+                warning = self.rivals.warning()
+                if warning:
+                    self.note = warning.removeprefix("warning: ")
                 if router_lost(self.session):
                     raise Unreachable(
                         f"lost the router at {self.endpoint}: stopped driving (did `turtlectl launch` stop?)"
@@ -168,6 +222,7 @@ class _Teleop:
         if last is not None:
             self.send(last)
         self.goals.close()
+        self.rivals.close()
         self.pose_sub.undeclare()
         self.publisher.undeclare()
 
@@ -184,20 +239,46 @@ def terminal_fd(stream: TextIO) -> int:
     return fd
 
 
+def others_driving(session: zenoh.Session, cmd_vel: str, force: bool) -> str:
+    """A warning naming the other clients that publish ``cmd_vel`` ("" if none); without
+    ``force``, CannotStart (exit 4) naming them instead: two teleops on one turtle both drive it."""
+    others = clients_publishing(live_graph(session), cmd_vel)
+    if not others:
+        return ""
+    names = ", ".join(who(o) for o in others)
+    if not force:
+        raise CannotStart(
+            f"{cmd_vel} is already driven by {names}: two drivers would both steer the turtle; "
+            "quit that one, or add --force to drive it too"
+        )
+    return f"warning: {cmd_vel} is also driven by {names} (--force: both drive the turtle)"
+
+
 def run_teleop(
-    session: zenoh.Session, linear: float, angular: float, endpoint: str, fd: int, out: TextIO, namespace: str = ""
+    session: zenoh.Session,
+    linear: float,
+    angular: float,
+    endpoint: str,
+    fd: int,
+    out: TextIO,
+    namespace: str = "",
+    force: bool = False,
 ) -> str:
     """Drive until q, Ctrl-C, SIGTERM or SIGHUP; returns why it ended.  Raises BadInput if
-    ``fd`` is not a terminal, Unreachable if the router goes away.  ``namespace``: the turtle's
-    nodes' (``turtle2`` drives turtle2/cmd_vel; "" turtle1)."""
+    ``fd`` is not a terminal, Unreachable if the router goes away, CannotStart if another
+    client drives the turtle already, unless ``force`` (then both are warned).  ``namespace``:
+    the turtle's nodes' (``turtle2`` drives turtle2/cmd_vel; "" turtle1)."""
     if not os.isatty(fd):
         raise BadInput(NOT_A_TERMINAL)
-    require("publish", resolve(CMD_VEL, namespace))
+    cmd_vel = resolve(CMD_VEL, namespace)
+    require("publish", cmd_vel)
+    warning = others_driving(session, cmd_vel, force)
     teleop = _Teleop(session, Driver(linear, angular), endpoint, fd, out, namespace)
+    teleop.note = warning.removeprefix("warning: ")
     terminal = termios.tcgetattr(fd)
     try:
         tty.setcbreak(fd)  # keys as they are typed, no echo; Ctrl-C still a signal
-        teleop.write(HELP + "\n")
+        teleop.write((warning + "\n" if warning else "") + HELP + "\n")
         with stop_on_signals(also=(signal.SIGHUP,)) as stop:
             # SIGHUP: the terminal is gone; nothing more is written to it
             signal.signal(signal.SIGHUP, lambda *_: (setattr(teleop, "hung_up", True), stop.set()))

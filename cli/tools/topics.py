@@ -15,6 +15,7 @@ import msgspec
 import zenoh
 
 from turtlectl.cli.errors import Unreachable
+from turtlectl.cli.tools import presence
 from turtlectl.cli.tools.client import (
     ROUTER_CHECK,
     base_key,
@@ -24,12 +25,12 @@ from turtlectl.cli.tools.client import (
     require,
     router_lost,
 )
-from turtlectl.cli.tools.graph import Graph, build_graph
+from turtlectl.cli.tools.graph import Graph, build_graph, without_client
 from turtlectl.cli.tools.rates import SILENCE, Quiet, Rates, RateStats
 from turtlectl.cli.tools.services import RouterLost
 from turtlectl.cli.tools.typebook import TypeBook, conflicts, generic
 from turtlectl.messages import DecodeError, Message, decode, decode_any, encode, encoding_for, type_from_encoding
-from turtlectl.messages.codec import MEDIA_TYPE, TYPES_BY_NAME
+from turtlectl.messages.codec import MEDIA_TYPE, TYPES_BY_NAME, type_name
 from turtlectl.messages.keys import CMD_VEL, DOMAIN_GRAPHS, FEEDBACK, GRAPH, LOG, PARAMETER_EVENTS, SERVICES, TOPICS
 from turtlectl.runtime.endpoint import default_domain
 
@@ -103,7 +104,7 @@ def subscription(session: zenoh.Session, key: str) -> Iterator[queue.SimpleQueue
     def on_sample(sample: zenoh.Sample) -> None:  # Zenoh thread: decode and queue
         samples.put(decode_sample(str(sample.key_expr), sample.payload.to_bytes(), str(sample.encoding)))
 
-    sub = session.declare_subscriber(key, on_sample)
+    sub = presence.subscriber(session, key, on_sample)
     try:
         yield samples
     finally:
@@ -259,7 +260,7 @@ def measure_rates(
     inbox: queue.SimpleQueue[tuple[str, float, bytes]] = queue.SimpleQueue()
     with client_session(connect) as session:
         subs = [
-            session.declare_subscriber(k, lambda s, k=k: inbox.put((k, time.monotonic(), s.payload.to_bytes())))
+            presence.subscriber(session, k, lambda s, k=k: inbox.put((k, time.monotonic(), s.payload.to_bytes())))
             for k in keys
         ]
         started = time.monotonic()
@@ -293,7 +294,7 @@ def publish(connect: str, topic: str, message: Message, rate: float | None, time
     sent = 0
     with client_session(connect) as session:
         require("publish", key)
-        pub = session.declare_publisher(key, encoding=zenoh.Encoding(encoding_for(type(message))))
+        pub = presence.publisher(session, key, type_name(type(message)), encoding_for(type(message)))
         period = 1.0 / rate if rate else 0.0
         start = time.monotonic()
         try:
@@ -351,7 +352,9 @@ def live_graph(session: zenoh.Session, domain: str | None = None) -> Graph:
     keys = {
         str(r.ok.key_expr) for sel in selectors for r in session.liveliness().get(sel, timeout=2.0) if r.ok is not None
     }
-    return build_graph(sorted(keys), time.time_ns())
+    current = build_graph(sorted(keys), time.time_ns())
+    me = presence.of(session)
+    return current if me is None else without_client(current, me.name)  # every participant but the one asking
 
 
 def graph(connect: str) -> Graph:

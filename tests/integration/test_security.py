@@ -149,6 +149,32 @@ def test_a_viewer_watches_but_its_goto_is_not_permitted(secure):
     assert drive.returncode == ExitCode.FAILED and "may: teleop" in drive.stderr
 
 
+def test_a_viewer_s_echo_is_listed_to_an_operator_the_router_lets_every_role_declare_its_presence(secure):
+    echo = subprocess.Popen(
+        [*turtlectl(), "echo", "robot/status", "--connect", secure.endpoint],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.DEVNULL,
+        stdin=subprocess.DEVNULL,
+        text=True,
+        env={**os.environ, "TURTLECTL_ROLE": "viewer"},
+    )
+    try:
+        assert echo.stdout.readline()  # its session is open and subscribed
+        deadline = time.monotonic() + 10
+        while True:
+            graph, _ = run_as(secure, {}, "list", "--json")  # operator
+            found = [c for c in json.loads(graph.stdout)["clients"] if c["pid"] == echo.pid]
+            topic = next(t for t in json.loads(graph.stdout)["topics"] if t["key"] == "robot/status")
+            if found and f"echo-{echo.pid}" in topic["subscribers"]:
+                break
+            assert time.monotonic() < deadline, graph.stdout  # the router dropped the viewer's tokens
+            time.sleep(0.1)  # polling the graph under a deadline
+        assert found[0]["tool"] == "echo"
+    finally:
+        echo.kill()
+        echo.wait()
+
+
 def test_a_rogue_operator_publishing_cmd_vel_does_not_move_the_turtle(secure):
     assert_does_not_drive(secure, login(secure, "operator"))
     moved, _ = run_as(secure, {"TURTLECTL_ROLE": "teleop"}, "pub", "turtle1/cmd_vel", '{"linear": 1.0}', "--once")

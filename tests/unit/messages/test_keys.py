@@ -52,3 +52,29 @@ def test_domain_and_client_tokens():
     assert domain_token("lab1") == "@turtlectl/domain/lab1" and parse_domain_token("@turtlectl/domain/lab1") == "lab1"
     assert parse_domain_token("@turtlectl/domain/a/b") is None and parse_domain_token("@turtlectl/node/x") is None
     assert client_token("42-abcd") == "@turtlectl/client/42-abcd"
+
+
+def test_a_client_s_presence_and_entities_round_trip_apart_from_the_nodes():
+    from turtlectl.messages.keys import (
+        CLIENT_ENTITY_TOKEN_PREFIX,
+        ClientInfo,
+        EntityInfo,
+        client_entity_token,
+        client_node_token,
+        parse_client_node_token,
+        parse_entity_token,
+        parse_node_token,
+    )
+
+    info = ClientInfo(name="teleop-42", pid=42, host="lab pc", start_ns=7, tool="teleop")
+    token = client_node_token(info)
+    assert token == "@turtlectl/client_node/teleop-42/42/lab_pc/7/teleop"
+    assert parse_client_node_token(token) == ClientInfo(
+        name="teleop-42", pid=42, host="lab_pc", start_ns=7, tool="teleop"
+    )
+    assert parse_node_token(token) is None and parse_client_node_token("@turtlectl/node/sim/1/h/2") is None
+    entity = EntityInfo(node="teleop-42", pid=42, role="pub", type_name="turtlectl/Twist", key="turtle2/cmd_vel")
+    key = client_entity_token(entity)
+    assert key == "@turtlectl/client_entity/teleop-42/42/pub/turtlectl.Twist/turtle2/cmd_vel"
+    assert parse_entity_token(key) is None  # never a node's: a node's claims do not see it
+    assert parse_entity_token(key, CLIENT_ENTITY_TOKEN_PREFIX) == entity

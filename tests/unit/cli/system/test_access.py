@@ -127,3 +127,22 @@ def test_an_operator_may_send_goals_to_and_cancel_every_goal_service_the_launch_
     assert not permitted("operator", "call", "arm/laps")  # not known as one: the role's table
     assert not permitted("viewer", "call", "arm/laps/cancel", goal_service=True)
     assert who_may("call", "arm/laps", goal_service=True) == ["operator", "teleop"]
+
+
+def test_every_role_may_declare_its_presence_in_the_graph_and_no_node_s_tokens():
+    from turtlectl.messages.keys import (
+        ClientInfo,
+        EntityInfo,
+        NodeInfo,
+        client_entity_token,
+        client_node_token,
+        node_token,
+    )
+
+    me = client_node_token(ClientInfo(name="echo-7", pid=7, host="h", start_ns=1, tool="echo"))
+    sub = client_entity_token(EntityInfo(node="echo-7", pid=7, role="sub", type_name="T", key="robot/status"))
+    for role in ROLES:
+        assert permitted(role, "token", me) and permitted(role, "token", sub), role
+        assert not permitted(role, "token", node_token(NodeInfo(name="sim", pid=1))), role
+    rules = access_control({"viewer": ROLES["viewer"]})["rules"]
+    assert any(r["messages"] == ["liveliness_token"] and "@turtlectl/client_node/**" in r["key_exprs"] for r in rules)

@@ -156,3 +156,49 @@ def test_list_counts_the_log_topic_every_node_has_instead_of_listing_it():
     assert [t.key for t in kept.topics] == ["robot/status", "turtlectl/parameter_events"] and kept.hidden_topics == 2
     assert "(+ 2 log topics, one per node: `turtlectl log` reads them; --all lists them)" in graph_text(kept)
     assert "log topics" not in graph_text(graph)
+
+
+def _clients_graph():
+    from turtlectl.messages.keys import ClientInfo, client_entity_token, client_node_token
+
+    return build_graph(
+        [
+            node_token(NodeInfo(name="sim", pid=1, host="h", start_ns=1_000_000_000)),
+            entity_token(EntityInfo(node="sim", pid=1, role="sub", type_name="turtlectl/Twist", key="turtle1/cmd_vel")),
+            client_node_token(ClientInfo(name="teleop-42", pid=42, host="lab", start_ns=4_000_000_000, tool="teleop")),
+            client_entity_token(
+                EntityInfo(node="teleop-42", pid=42, role="pub", type_name="turtlectl/Twist", key="turtle1/cmd_vel")
+            ),
+            client_node_token(ClientInfo(name="echo-7", pid=7, host="pc", start_ns=3_000_000_000, tool="echo")),
+            "lab1/"
+            + client_node_token(ClientInfo(name="python-9", pid=9, host="pc", start_ns=3_000_000_000, tool="python")),
+        ],
+        now_ns=5_000_000_000,
+    )
+
+
+def test_clients_are_listed_apart_from_the_nodes_with_tool_pid_host_and_their_publishers():
+    graph = _clients_graph()
+    assert [n.name for n in graph.nodes] == ["sim"]
+    assert [(c.name, c.tool, c.pid, c.host, c.uptime, c.domain) for c in graph.clients] == [
+        ("echo-7", "echo", 7, "pc", 2.0, ""),
+        ("lab1:python-9", "python", 9, "pc", 2.0, "lab1"),
+        ("teleop-42", "teleop", 42, "lab", 1.0, ""),
+    ]
+    (topic,) = graph.topics
+    assert (topic.publishers, topic.subscribers) == (["teleop-42"], ["sim"])
+    text = graph_text(graph)
+    assert "CLIENTS" in text and "teleop-42" in text.split("CLIENTS")[1].split("TOPICS")[0]
+    assert "teleop-42            teleop pid 42       host lab      up      1.0 s" in text
+
+
+def test_the_one_asking_is_left_out_and_the_clients_driving_a_turtle_are_found():
+    from turtlectl.cli.tools.graph import clients_publishing, who, without_client
+
+    graph = _clients_graph()
+    (driver,) = clients_publishing(graph, "turtle1/cmd_vel")
+    assert who(driver) == "teleop-42 (pid 42, host lab)"
+    assert clients_publishing(graph, "turtle1/pose") == []
+    mine = without_client(graph, "teleop-42")
+    assert "teleop-42" not in [c.name for c in mine.clients]
+    assert clients_publishing(mine, "turtle1/cmd_vel") == [] and mine.topics[0].subscribers == ["sim"]
