@@ -1,0 +1,121 @@
+"""One behaviour on a lost router for every long-running tool, against a real router killed
+and started again: echo, hz and log -f say once that the router is lost, keep waiting, say
+once that it is back and go on; ``--exit-on-loss`` makes them exit 3 instead.  ``record``
+marks the gap in its file and ``info`` lists it."""
+
+from __future__ import annotations
+
+import json
+import signal
+import subprocess
+import time
+
+import pytest
+
+from tests.integration.harness import Router, running_system, turtlectl
+from tests.integration.test_quiet_streams import Watched
+from turtlectl.messages import TurtleStatus
+
+pytestmark = pytest.mark.integration
+
+
+@pytest.fixture()
+def router():
+    r = Router()
+    r.start()
+    yield r
+    r.kill()
+
+
+COMMANDS = {
+    "echo": ("echo", "robot/status", "--field", "battery"),
+    "hz": ("hz", "robot/status"),
+    "log": ("log", "-f"),
+}
+
+
+def test_long_running_tools_wait_for_a_lost_router_and_say_when_it_is_back(router):
+    with running_system(join=router.endpoint) as system:
+        tools = {name: Watched(router.endpoint, *argv) for name, argv in COMMANDS.items()}
+        try:
+            for name in ("echo", "hz"):
+                Watched.next_line(tools[name].out, 15.0)  # receiving
+            router.kill()
+            for name, tool in tools.items():
+                _, line = Watched.next_line(tool.err, 10.0, "lost the router")
+                assert line.startswith(f"lost the router at {router.endpoint}: waiting for it to come back"), (
+                    name,
+                    line,
+                )
+                assert tool.proc.poll() is None, f"{name} exited on a lost router"
+            system.wait_line(r"navigator .*lost the router", 10.0)
+            router.start()
+            for name, tool in tools.items():
+                _, line = Watched.next_line(tool.err, 20.0, "is back")
+                assert line.startswith(f"the router at {router.endpoint} is back after "), (name, line)
+            for name in ("echo", "hz"):
+                tools[name].drained(tools[name].out)
+                Watched.next_line(tools[name].out, 15.0)  # receiving again
+            for name, tool in tools.items():
+                said = [text for _, text in tool.drained(tool.err) if "router" in text]
+                assert not said, f"{name} said more about the router: {said}"
+                tool.proc.send_signal(signal.SIGINT)
+                assert tool.finish(10) == 0, name
+        finally:
+            for tool in tools.values():
+                tool.kill()
+
+
+def test_exit_on_loss_ends_every_long_running_tool_with_code_3(router):
+    with running_system(join=router.endpoint):
+        tools = {name: Watched(router.endpoint, *argv, "--exit-on-loss") for name, argv in COMMANDS.items()}
+        try:
+            for name in ("echo", "hz"):
+                Watched.next_line(tools[name].out, 15.0)
+            router.kill()
+            lost = time.monotonic()
+            for name, tool in tools.items():
+                assert tool.finish(10) == 3, name
+                assert time.monotonic() - lost < 5.0
+                errors = [text for _, text in tool.drained(tool.err)]
+                assert errors[-1].startswith(f"turtlectl: error: lost the router at {router.endpoint}: no more "), (
+                    name,
+                    errors,
+                )
+        finally:
+            for tool in tools.values():
+                tool.kill()
+
+
+def test_record_marks_the_gap_and_info_lists_it_play_reads_past_it(router, tmp_path):
+    path = tmp_path / "gap.mcap"
+    with running_system(join=router.endpoint) as system:
+        recorder = Watched(router.endpoint, "record", "robot/status", "-o", str(path))
+        try:
+            Watched.next_line(recorder.err, 15.0, "recording robot/status")
+            system.collect("robot/status", TurtleStatus, 5, 10.0)
+            router.kill()
+            Watched.next_line(recorder.err, 10.0, "lost the router")
+            system.wait_line(r"status_monitor .*lost the router", 10.0)
+            router.start()
+            Watched.next_line(recorder.err, 20.0, "is back")
+            system.wait_line(r"status_monitor .*router at .* is reached", 15.0)
+            system.collect("robot/status", TurtleStatus, 5, 10.0)
+            recorder.proc.send_signal(signal.SIGINT)
+            assert recorder.finish(15) == 0
+        finally:
+            recorder.kill()
+    info = subprocess.run([*turtlectl(), "info", str(path), "--json"], capture_output=True, text=True, timeout=30)
+    assert info.returncode == 0, info.stderr
+    gaps = json.loads(info.stdout)["gaps"]
+    assert len(gaps) == 1, gaps
+    assert 0.5 < gaps[0]["duration"] < 30, gaps
+    text = subprocess.run([*turtlectl(), "info", str(path)], capture_output=True, text=True, timeout=30)
+    assert "router lost" in text.stdout, text.stdout
+    played = subprocess.run(
+        [*turtlectl(), "play", str(path), "--rate", "20", "--connect", router.endpoint],
+        capture_output=True,
+        text=True,
+        timeout=60,
+    )
+    assert played.returncode == 0, played.stderr
