@@ -10,7 +10,7 @@ import sys
 import typer
 
 from turtlectl.cli import args
-from turtlectl.cli.commands.options import ConnectOption, DomainOption, TurtleOption, format, result
+from turtlectl.cli.commands.options import ConnectOption, DomainOption, ExitOnLossOption, TurtleOption, format, result
 from turtlectl.cli.errors import ExitCode, Failed, Interrupted
 
 
@@ -119,6 +119,7 @@ def reset(connect: str = ConnectOption, domain: str = DomainOption) -> None:
 def teleop(
     linear: float = typer.Option(2.0, "--linear", min=0.0, help="Speed of up/down (w/s), m/s."),
     angular: float = typer.Option(2.0, "--angular", min=0.0, help="Turn rate of left/right (a/d), rad/s."),
+    exit_on_loss: bool = ExitOnLossOption,
     turtle: str = TurtleOption,
     connect: str = ConnectOption,
     domain: str = DomainOption,
@@ -127,8 +128,9 @@ def teleop(
     w/a/s/d (a held key keeps the turtle going; it stops 0.7 s after the key is released),
     space stops (and cancels a running goal), q or Ctrl-C quits (exit code 0).  A goal
     running when the keys start driving is canceled (reason "teleop").  The status line
-    shows the command being sent and the turtle's pose.  Its input must be a terminal
-    (exit code 2 otherwise).
+    shows the command being sent and the turtle's pose.  A lost router stops the driving (nothing
+    is sent until it is back and a key is pressed), said on the status line; --exit-on-loss
+    exits with code 3 instead.  Its input must be a terminal (exit code 2 otherwise).
 
     Example: turtlectl teleop --linear 1.0
     """
@@ -139,7 +141,7 @@ def teleop(
     args.finite_option(angular, "--angular")
     fd = terminal_fd(sys.stdin)
     with client.client_session(connect) as session:
-        run_teleop(session, linear, angular, connect, fd, sys.stdout, turtle)
+        run_teleop(session, linear, angular, connect, fd, sys.stdout, turtle, exit_on_loss)
 
 
 def register(app: typer.Typer) -> None:

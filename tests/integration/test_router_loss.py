@@ -119,3 +119,43 @@ def test_record_marks_the_gap_and_info_lists_it_play_reads_past_it(router, tmp_p
         timeout=60,
     )
     assert played.returncode == 0, played.stderr
+
+
+def _map_cells(screen, char: str) -> int:
+    return sum(row.count(char) for row in screen.display[1:] if row.startswith("|"))
+
+
+def test_a_view_started_before_the_system_draws_its_world_when_it_appears(router):
+    import os
+
+    import pyte
+
+    from tests.integration.harness import in_pty, pump, set_winsize
+
+    pid, fd = in_pty("view", "--connect", router.endpoint)
+    screen = pyte.Screen(100, 30)
+    stream = pyte.ByteStream(screen)
+    try:
+        set_winsize(fd, 30, 100)
+        os.kill(pid, signal.SIGWINCH)
+        deadline = time.monotonic() + 15
+        while "waiting for turtle1/pose" not in "\n".join(screen.display):
+            assert time.monotonic() < deadline, "\n".join(screen.display)
+            assert pump(fd, stream, 0.2)
+        assert _map_cells(screen, "o") == 0  # no world yet: the default, empty one
+        with running_system(join=router.endpoint):
+            deadline = time.monotonic() + 10
+            while _map_cells(screen, "o") < 5:  # the launch file's obstacles
+                assert time.monotonic() < deadline, "\n".join(screen.display)
+                assert pump(fd, stream, 0.2)
+        os.kill(pid, signal.SIGINT)
+        while pump(fd, stream, 0.1):
+            pass
+        _, status = os.waitpid(pid, 0)
+        assert os.WIFEXITED(status) and os.WEXITSTATUS(status) == 0
+    finally:
+        try:
+            os.kill(pid, signal.SIGKILL)
+        except ProcessLookupError:
+            pass
+        os.close(fd)
