@@ -159,3 +159,33 @@ def test_a_view_started_before_the_system_draws_its_world_when_it_appears(router
         except ProcessLookupError:
             pass
         os.close(fd)
+
+
+def test_a_supervisor_says_when_nodes_it_did_not_start_leave_and_come_back():
+    def host_b(endpoint: str) -> subprocess.Popen:
+        """Another supervisor joining with the node A leaves out (the harness's System would kill
+        every node it sees at its end, A's included)."""
+        return subprocess.Popen(
+            [*turtlectl(), "launch", "--connect", endpoint, "--only", "status_monitor"],
+            stdout=subprocess.DEVNULL,
+            stderr=subprocess.DEVNULL,
+            stdin=subprocess.DEVNULL,
+            start_new_session=True,
+        )
+
+    ready = ("sim", "navigator", "obstacle_detector")
+    with running_system(ready=ready, extra_args=("--exclude", "status_monitor")) as a:
+        b = host_b(a.endpoint)
+        try:
+            a.wait_until(lambda: "status_monitor" in a.alive, 20.0, "host B's status_monitor")
+            pid = a.alive["status_monitor"]
+            a.wait_line(rf"status_monitor runs elsewhere \(pid {pid} on .+; not started here\)", 10.0)
+            b.send_signal(signal.SIGINT)
+            assert b.wait(10) == 0
+            a.wait_line(rf"status_monitor left \(pid {pid} on .+; not started here\)", 10.0)
+            b = host_b(a.endpoint)
+            a.wait_line(r"status_monitor is back \(pid \d+ on .+; not started here\)", 20.0)
+        finally:
+            if b.poll() is None:
+                b.kill()
+                b.wait(5)
