@@ -189,3 +189,48 @@ def test_a_supervisor_says_when_nodes_it_did_not_start_leave_and_come_back():
             if b.poll() is None:
                 b.kill()
                 b.wait(5)
+
+
+def test_a_nodes_goal_whose_server_is_killed_ends_naming_it(caplog):
+    import os
+
+    import zenoh
+
+    from tests.integration.harness import NoParams
+    from turtlectl.messages import NavigateToFeedback, NavigateToRequest, NavigateToResponse
+    from turtlectl.runtime.config import NodeConfig
+    from turtlectl.runtime.goal_client import GoalFailed
+    from turtlectl.runtime.node import Node
+    from turtlectl.runtime.session import close_session, peer_config
+
+    with running_system() as system:
+        session = zenoh.open(peer_config(system.endpoint))
+        try:
+            node = Node(NodeConfig(name="caller", kind="test", connect=system.endpoint), NoParams(), session)
+            client = node.goal_client("navigate_to", NavigateToRequest, NavigateToFeedback, NavigateToResponse)
+            feedback: list[NavigateToFeedback] = []
+            future = client.send(NavigateToRequest(x=1.0, y=9.0, theta=0.0), on_feedback=feedback.append)
+
+            def run_until(done, timeout: float, what: str) -> None:
+                deadline = time.monotonic() + timeout
+                while not done():
+                    assert time.monotonic() < deadline, what
+                    try:
+                        fn, args = node._queue.get(timeout=0.1)
+                    except Exception:
+                        continue
+                    fn(*args)
+
+            run_until(lambda: feedback, 10.0, "no feedback")
+            pid = system.alive["navigator"]
+            with caplog.at_level("INFO"):
+                os.kill(pid, signal.SIGKILL)
+                run_until(future.done, 10.0, "the goal did not end")
+            assert isinstance(future.exception(), GoalFailed)
+            assert str(future.exception()) in (
+                f"navigate_to's server navigator (pid {pid}) went away before the goal ended",
+                "navigate_to ended without a result (its server stopped answering: did it exit?)",
+            )
+            run_until(lambda: any("went away" in r.getMessage() for r in caplog.records), 10.0, "not logged")
+        finally:
+            close_session(session)
