@@ -234,3 +234,62 @@ def test_a_nodes_goal_whose_server_is_killed_ends_naming_it(caplog):
             run_until(lambda: any("went away" in r.getMessage() for r in caplog.records), 10.0, "not logged")
         finally:
             close_session(session)
+
+
+def test_teleop_and_view_wait_for_a_lost_router_or_exit_3_with_exit_on_loss(router):
+    """teleop stops sending while the router is lost and says so; view says so on its status
+    line; both keep running, and both exit 3 with --exit-on-loss."""
+    import os
+
+    from tests.integration.harness import in_pty, pump, set_winsize
+    from tests.integration.test_teleop import Screen, finish
+
+    def started(*argv: str, shown: str) -> tuple[int, int, Screen]:
+        pid, fd = in_pty(*argv, "--connect", router.endpoint)
+        set_winsize(fd, 30, 200)
+        screen = Screen()
+        deadline = time.monotonic() + 15
+        while shown not in screen.text:
+            assert time.monotonic() < deadline, screen.text
+            assert pump(fd, screen, 0.1), screen.text
+        return pid, fd, screen
+
+    def wait_for(fd: int, screen: Screen, text: str, timeout: float) -> None:
+        deadline = time.monotonic() + timeout
+        while text not in screen.text:
+            assert time.monotonic() < deadline, screen.text[-2000:]
+            assert pump(fd, screen, 0.1), screen.text[-2000:]
+
+    with running_system(join=router.endpoint):
+        waiting = [started("teleop", shown="| x "), started("view", shown="battery")]
+        leaving = [
+            started("teleop", "--exit-on-loss", shown="| x "),
+            started("view", "--exit-on-loss", shown="battery"),
+        ]
+        try:
+            for _, _, screen in waiting + leaving:
+                screen.text = ""
+            router.kill()
+            _, teleop_fd, teleop_screen = waiting[0]
+            wait_for(teleop_fd, teleop_screen, f"lost the router at {router.endpoint}", 10.0)
+            wait_for(waiting[1][1], waiting[1][2], f"no router at {router.endpoint}", 10.0)
+            for pid, fd, screen in leaving:
+                assert finish(pid, fd, screen) == 3, screen.text[-2000:]
+            for pid, _, _ in waiting:
+                assert os.waitpid(pid, os.WNOHANG) == (0, 0), "exited on a lost router"
+            router.start()
+            wait_for(teleop_fd, teleop_screen, f"the router at {router.endpoint} is back", 20.0)
+            for _, fd, _ in waiting:
+                os.write(fd, b"q")
+            for pid, fd, screen in waiting:
+                assert finish(pid, fd, screen) == 0
+        finally:
+            for pid, fd, _ in waiting + leaving:
+                try:
+                    os.kill(pid, signal.SIGKILL)
+                except ProcessLookupError:
+                    pass
+                try:
+                    os.close(fd)
+                except OSError:
+                    pass
