@@ -15,7 +15,7 @@ from typing import Any, TypeVar
 import zenoh
 
 from turtlectl.messages import Message, decode_any, encode
-from turtlectl.messages.keys import client_token
+from turtlectl.messages.keys import ENTITY_TOKEN_PREFIX, client_token, parse_entity_token
 from turtlectl.runtime.config import Interface
 from turtlectl.runtime.entities import sample_encoding
 from turtlectl.runtime.futures import Future
@@ -141,9 +141,22 @@ class NodeCalls:
     ) -> GoalClient[G, F, R]:
         """A client of the goal service ``key`` (runtime.goal_client): ``send(goal,
         on_feedback=...)`` returns a future of the result, ``cancel()`` cancels the running goal.
-        It holds a caller token while it is declared: its goals end if this node goes away."""
+        It holds a caller token while it is declared: its goals end if this node goes away.  It
+        follows the graph's tokens of the service's servers: when the last one goes away (its
+        node exits, its host is cut off) the node logs it once and the running goals end
+        (``GoalFailed`` naming it); when one is back, it logs that once."""
         declared = self._declaration("goal client", self.resolve(key))
         check(self.name, self.interface, "call", declared.key)
         client_id = f"{self.name.replace('/', '.')}.{os.getpid()}.{next(_client_ids)}"
         declared.add(self.session.liveliness().declare_token(client_token(client_id)))
-        return GoalClient(self, declared, key, (goal_type, feedback_type, result_type), client_id)
+        client = GoalClient(self, declared, key, (goal_type, feedback_type, result_type), client_id)
+
+        def on_token(sample: zenoh.Sample) -> None:  # Zenoh thread: hand over only
+            entity = parse_entity_token(str(sample.key_expr))
+            if entity is not None and entity.role == "goal" and entity.key == declared.key:
+                alive = sample.kind == zenoh.SampleKind.PUT
+                self._post(client.server_seen, alive, entity.node, entity.pid)
+
+        servers = f"{ENTITY_TOKEN_PREFIX}/*/*/goal/*/{declared.key}"  # the runtime's own graph: no interface check
+        declared.add(self.session.liveliness().declare_subscriber(servers, on_token, history=True))
+        return client

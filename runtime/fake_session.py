@@ -128,7 +128,7 @@ class FakeSession:
     def liveliness(self) -> SimpleNamespace:
         return SimpleNamespace(
             declare_token=lambda key: _Entity(self.tokens, key),
-            declare_subscriber=lambda key, callback: _Entity(self.liveliness_subscribers, key, callback),
+            declare_subscriber=lambda key, callback, **_: _Entity(self.liveliness_subscribers, key, callback),
         )
 
     def get(self, key: str, handler: zenoh.handlers.Callback, payload: bytes | None = None, **_: Any) -> None:

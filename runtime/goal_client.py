@@ -51,7 +51,10 @@ class GoalFuture(Future[R]):
 
 class GoalClient(Generic[G, F, R]):
     """A client of the goal service ``key`` (``Node.goal_client`` makes it).  While declared it
-    holds the caller token its goals name: they end ("caller gone") if the node goes away."""
+    holds the caller token its goals name: they end ("caller gone") if the node goes away.
+    ``server_seen`` is told each server's token as it comes and goes (on the node's thread):
+    the last one gone is logged once (WARNING) and ends the running goals with GoalFailed
+    naming it; one back is logged once (INFO)."""
 
     def __init__(
         self,
@@ -66,6 +69,33 @@ class GoalClient(Generic[G, F, R]):
         self.client_id = client_id
         self.declared = declared
         self._node = node
+        self.servers: set[tuple[str, int]] = set()  # (node, pid) of each live server of ``key``
+        self._gone: tuple[str, int] | None = None  # the last server to leave, while none is back
+        self._running: set[GoalFuture[R]] = set()  # goals sent, not ended
+
+    def server_seen(self, alive: bool, node: str, pid: int) -> None:
+        """A server of ``key`` (``node``, process ``pid``) appeared (``alive``) or went away."""
+        if alive:
+            self.servers.add((node, pid))
+            if self._gone is not None:
+                self._gone = None
+                self._node.log.info("%s is served again: %s (pid %d) is back", self.key, node, pid)
+            return
+        if (node, pid) not in self.servers:
+            return
+        self.servers.discard((node, pid))
+        if self.servers:
+            return  # another still serves it
+        self._gone = (node, pid)
+        self._node.log.warning(
+            "%s's server %s (pid %d) went away (it exited, or its host is cut off): goals to it fail until it is back",
+            self.key,
+            node,
+            pid,
+        )
+        for future in list(self._running):
+            future.set_exception(GoalFailed(f"{self.key}'s server {node} (pid {pid}) went away before the goal ended"))
+        self._running.clear()
 
     def send(
         self,
@@ -83,9 +113,13 @@ class GoalClient(Generic[G, F, R]):
         if "client" in self.goal_type.__struct_fields__ and not getattr(goal, "client", ""):
             goal = msgspec.structs.replace(goal, client=self.client_id)  # type: ignore[call-arg]
         future: GoalFuture[R] = GoalFuture(self)
+        self._running.add(future)
+        future.add_done_callback(self._running.discard)
         result_type, feedback_type = self.result_type, self.feedback_type
 
         def on_reply(message: Message) -> None:
+            if future.done():
+                return  # ended here already (its server went away)
             if isinstance(message, result_type):
                 future.set_result(message)
             elif isinstance(message, feedback_type) and on_feedback is not None and not future.done():
@@ -94,10 +128,19 @@ class GoalClient(Generic[G, F, R]):
                 future.set_exception(GoalFailed(f"{self.key} refused the goal: {message.error}"))
 
         def on_done(replies: list[Message]) -> None:
+            if future.done():
+                return
             if not replies:
                 future.set_exception(GoalFailed(f"nothing serves {self.key} (is its node running?)"))
+            elif self._gone is not None:
+                node, pid = self._gone
+                future.set_exception(
+                    GoalFailed(f"{self.key}'s server {node} (pid {pid}) went away before the goal ended")
+                )
             else:
-                future.set_exception(GoalFailed(f"{self.key} ended without a result"))
+                future.set_exception(
+                    GoalFailed(f"{self.key} ended without a result (its server stopped answering: did it exit?)")
+                )
 
         self._node.call(
             self.key,

@@ -10,7 +10,7 @@ import sys
 import typer
 
 from turtlectl.cli import args
-from turtlectl.cli.commands.options import ConnectOption, DomainOption, TurtleOption, format, result
+from turtlectl.cli.commands.options import ConnectOption, DomainOption, ExitOnLossOption, TurtleOption, format, result
 from turtlectl.cli.errors import ExitCode, Failed, Interrupted
 
 
@@ -124,6 +124,7 @@ def teleop(
         "--force",
         help="Drive even if another client (a teleop, pub, a script) drives the turtle: both are warned.",
     ),
+    exit_on_loss: bool = ExitOnLossOption,
     turtle: str = TurtleOption,
     connect: str = ConnectOption,
     domain: str = DomainOption,
@@ -135,7 +136,9 @@ def teleop(
     shows the command being sent and the turtle's pose.  Its input must be a terminal
     (exit code 2 otherwise).  A turtle another client drives already (a second teleop on
     it) is refused, naming that client, its pid and host (exit code 4), unless --force:
-    then both are warned.
+    then both are warned.  A lost router stops the driving (nothing is sent until it is
+    back and a key is pressed), said on the status line; --exit-on-loss exits with code 3
+    instead.
 
     Example: turtlectl teleop --linear 1.0
     """
@@ -148,7 +151,7 @@ def teleop(
     fd = terminal_fd(sys.stdin)
     with client.client_session(connect) as session:
         namespace = client.live_turtle_namespace(session, turtle or FIRST_TURTLE)
-        run_teleop(session, linear, angular, connect, fd, sys.stdout, namespace, force)
+        run_teleop(session, linear, angular, connect, fd, sys.stdout, namespace, force, exit_on_loss)
 
 
 def register(app: typer.Typer) -> None:

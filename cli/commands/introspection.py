@@ -8,7 +8,16 @@ from __future__ import annotations
 import typer
 
 from turtlectl.cli.commands import logs
-from turtlectl.cli.commands.options import ConnectOption, DomainOption, JsonOption, NodeArgument, format, result
+from turtlectl.cli.commands.options import (
+    ConnectOption,
+    DomainOption,
+    ExitOnLossOption,
+    JsonOption,
+    NodeArgument,
+    TurtleOption,
+    format,
+    result,
+)
 
 
 def list_graph(
@@ -124,19 +133,27 @@ def interface_show(
     result(format.json_value(described) if json else interface.description_text(described))
 
 
-def view(connect: str = ConnectOption, domain: str = DomainOption) -> None:
+def view(
+    turtle: str = TurtleOption,
+    exit_on_loss: bool = ExitOnLossOption,
+    connect: str = ConnectOption,
+    domain: str = DomainOption,
+) -> None:
     """Draw the world live in this terminal: walls, obstacles, every turtle with its trail
-    and its goal (the others named beside the legend), turtle1's laser hits, a legend and a
-    status line.  c clears the trails; q or Ctrl-C quits (exit code 0).
+    and its goal (the others named beside their arrows and the legend), the followed turtle's
+    laser hits (turtle1's, or --turtle's), a legend and a status line.  A world that appears
+    or changes while it runs (a simulator started, a recording played) is drawn within 2 s.
+    A lost router is said on the status line and waited for; --exit-on-loss exits with code 3
+    instead.  c clears the trails; q or Ctrl-C quits (exit code 0).
 
-    Example: turtlectl view
+    Example: turtlectl view --turtle turtle2
     """
     from turtlectl.cli.tools import client, services
     from turtlectl.cli.tools.view import run_view  # curses: only for this command
 
     try:
         with client.client_session(connect) as session:
-            run_view(session, services.world(session), connect)
+            run_view(session, services.world(session), connect, turtle, exit_on_loss)
     except KeyboardInterrupt:
         pass
 

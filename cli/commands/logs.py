@@ -8,7 +8,7 @@ import time
 
 import typer
 
-from turtlectl.cli.commands.options import ConnectOption, DomainOption
+from turtlectl.cli.commands.options import ConnectOption, DomainOption, ExitOnLossOption
 from turtlectl.cli.errors import Interrupted
 
 
@@ -37,6 +37,7 @@ def log(
         help="Only records of the last DURATION: 30s, 5m, 1h30m, 250ms (a bare number is seconds).",
     ),
     json: bool = typer.Option(False, "--json", help="One JSON object per line (a Log message, as echo --json)."),
+    exit_on_loss: bool = ExitOnLossOption,
     connect: str = ConnectOption,
     domain: str = DomainOption,
 ) -> None:
@@ -47,7 +48,9 @@ def log(
     more), hand-run nodes (`turtlectl run`) included, on turtlectl/log/<node>.  Colours by
     level on a terminal (none when piped, or with NO_COLOR set).  No running node (or none
     matching --node) is exit code 3 without --follow; with it, it waits for them.  Ctrl-C
-    ends --follow with exit code 0 (130 before a read without it is done).
+    ends --follow with exit code 0 (130 before a read without it is done).  With --follow, a
+    lost router is said on stderr and waited for (one line when it is back); --exit-on-loss
+    exits with code 3 instead.
 
     Example: turtlectl log --level WARNING --since 5m
     """
@@ -60,7 +63,7 @@ def log(
     )
     colour = not json and logs.use_colour(sys.stdout.isatty())
     try:
-        for item in logs.read(connect, wanted, follow):
+        for item in logs.read(connect, wanted, follow, exit_on_loss):
             if isinstance(item, logs.Notice):
                 typer.echo(item.text, err=True)
             else:

@@ -54,6 +54,13 @@ TurtleOption = typer.Option(
 )
 
 
+ExitOnLossOption = typer.Option(
+    False,
+    "--exit-on-loss",
+    help="Exit with code 3 when the router is lost, instead of saying so and waiting for it to come back.",
+)
+
+
 LogLevelOption = typer.Option(
     "INFO", "--log-level", help="Least severe log line the nodes write: DEBUG, INFO, WARNING or ERROR (any case)."
 )

@@ -17,7 +17,7 @@ from typing import Any
 import typer
 
 from turtlectl.cli import args
-from turtlectl.cli.commands.options import ConnectOption, DomainOption, TurtleOption, result
+from turtlectl.cli.commands.options import ConnectOption, DomainOption, ExitOnLossOption, TurtleOption, result
 from turtlectl.cli.errors import BadInput, Unreachable
 
 
@@ -44,6 +44,7 @@ def plot(
         "--stamps",
         help="Time axis: each message's own stamp (simulated time with launch --time-scale), not when it arrived.",
     ),
+    exit_on_loss: bool = ExitOnLossOption,
     turtle: str = TurtleOption,
     connect: str = ConnectOption,
     domain: str = DomainOption,
@@ -57,7 +58,9 @@ def plot(
     write it.  A bool plots as 0 or 1; inf and NaN are left out.  A field that is not a number
     is exit code 2, naming the numeric fields of its type.  The live plot runs until q or Ctrl-C
     (exit code 0) or --duration; with --output, a running system's messages are collected until
-    --duration or Ctrl-C, then drawn.  No number to plot at all is exit code 3.  The time axis
+    --duration or Ctrl-C, then drawn.  No number to plot at all is exit code 3.  A lost router
+    is said (on the bottom line, or on stderr with --output) and waited for; --exit-on-loss
+    exits with code 3 instead.  The time axis
     is when each message arrived (a recording's: when it was recorded); --stamps: each
     message's own stamp, for a system on simulated time (launch --time-scale).
 
@@ -85,14 +88,14 @@ def plot(
         return
     model.check_builtins(series, turtle, stamps)  # a built-in key's type is known: a typo is said at once
     if output is not None:
-        _collect_live(series, output, kind, duration, connect, stamps, turtle)
+        _collect_live(series, output, kind, duration, connect, stamps, turtle, exit_on_loss)
     else:
         if not sys.stdout.isatty():
             raise BadInput(
                 "the live plot draws in a terminal, and the output is not one: write a picture with "
                 "--output FILE.png (with --duration S), or the numbers with `turtlectl echo KEY --field FIELD --csv`"
             )
-        _plot_live(series, window, duration, connect, stamps, turtle)
+        _plot_live(series, window, duration, connect, stamps, turtle, exit_on_loss)
 
 
 def _lines(series: list[Any], points: Any) -> list[Any]:
@@ -137,7 +140,13 @@ def _wrote(output: Path, collected: Any, seconds: float) -> str:
 
 @contextlib.contextmanager
 def _live(
-    series: list[Any], connect: str, stamps: bool, turtle: str, intro: str = "", signals: tuple[Any, ...] = ()
+    series: list[Any],
+    connect: str,
+    stamps: bool,
+    turtle: str,
+    intro: str = "",
+    signals: tuple[Any, ...] = (),
+    exit_on_loss: bool = False,
 ) -> Iterator[tuple[Any, threading.Event]]:
     """A running system's numbers (plot_sources.Live, closed after the block) and the event
     Ctrl-C, SIGTERM and ``signals`` set; ``intro`` (if any) and the typo notes said first."""
@@ -145,7 +154,7 @@ def _live(
     from turtlectl.cli.tools import client, plot_sources
 
     with client.client_session(connect) as session, stop_on_signals(signals) as stop:
-        live = plot_sources.Live(session, connect, series, stamps, turtle)
+        live = plot_sources.Live(session, connect, series, stamps, turtle, exit_on_loss)
         try:
             if intro:
                 typer.echo(intro, err=True)
@@ -162,7 +171,14 @@ def _nothing(live: Any, within: str) -> Unreachable:
 
 
 def _collect_live(
-    series: list[Any], output: Path, kind: str, duration: float | None, connect: str, stamps: bool, turtle: str
+    series: list[Any],
+    output: Path,
+    kind: str,
+    duration: float | None,
+    connect: str,
+    stamps: bool,
+    turtle: str,
+    exit_on_loss: bool = False,
 ) -> None:
     """A running system's numbers until --duration or Ctrl-C, then a picture of them."""
     from turtlectl.cli.tools import plot_draw
@@ -172,11 +188,15 @@ def _collect_live(
     told: set[str] = set()
     ends = f"for {duration:g} s" if duration is not None else "until Ctrl-C"
     labels = ", ".join(s.label for s in series)
-    with _live(series, connect, stamps, turtle, f"plotting {labels} into {output} {ends}") as (live, stop):
+    intro = f"plotting {labels} into {output} {ends}"
+    with _live(series, connect, stamps, turtle, intro, exit_on_loss=exit_on_loss) as (live, stop):
         while not stop.is_set() and (duration is None or live.elapsed() < duration):
             wait = 0.1 if duration is None else max(0.0, min(0.1, duration - live.elapsed()))
             for s, t, value in live.poll(wait):
                 collected.add(s, t, value)
+            for line in live.said:  # the router lost, back
+                typer.echo(line, err=True)
+            live.said.clear()
             for notice in live.notices:
                 if notice not in told:
                     told.add(notice)
@@ -193,7 +213,13 @@ def _collect_live(
 
 
 def _plot_live(
-    series: list[Any], window: float, duration: float | None, connect: str, stamps: bool = False, turtle: str = ""
+    series: list[Any],
+    window: float,
+    duration: float | None,
+    connect: str,
+    stamps: bool = False,
+    turtle: str = "",
+    exit_on_loss: bool = False,
 ) -> None:
     """The live plot in this terminal, redrawn every FRAME s, until q, Ctrl-C or --duration;
     ended by --duration, its last frame is printed (the bottom line without "q quits")."""
@@ -205,11 +231,15 @@ def _plot_live(
     last = ""
     timed_out = False  # ended by --duration: its last frame stays in the terminal
     try:
-        with _live(series, connect, stamps, turtle, signals=(signal.SIGHUP,)) as (live, stop):
+        with _live(series, connect, stamps, turtle, signals=(signal.SIGHUP,), exit_on_loss=exit_on_loss) as (
+            live,
+            stop,
+        ):
             with plot_draw.screen(sys.stdout) as screen:  # the notes are on the terminal after the plot
                 while not stop.is_set():
                     for s, t, value in live.poll():
                         shown.add(s, t, value)
+                    live.said.clear()  # the bottom line says the router is lost while it is
                     shown.advance(shown.now if stamps else live.elapsed())  # stamps: the latest
                     cols, rows = screen.size()
                     if cols < 30 or rows < 8:

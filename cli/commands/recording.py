@@ -11,7 +11,7 @@ from pathlib import Path
 import typer
 
 from turtlectl.cli import args
-from turtlectl.cli.commands.options import ConnectOption, DomainOption, JsonOption, format, result
+from turtlectl.cli.commands.options import ConnectOption, DomainOption, ExitOnLossOption, JsonOption, format, result
 from turtlectl.cli.errors import BadInput
 from turtlectl.cli.sigint import stop_on_signals
 
@@ -33,13 +33,17 @@ def record(
         "--scene",
         help="Also record the Foxglove 3D scene, and the log records for its Log panel (as `turtlectl foxglove` serves them).",
     ),
+    exit_on_loss: bool = ExitOnLossOption,
     connect: str = ConnectOption,
     domain: str = DomainOption,
 ) -> None:
     """Record topics into an MCAP file that Foxglove opens, as `ros2 bag record`.
 
     Each message keeps its receive time, its own stamp, its key and its type.  Ctrl-C or
-    SIGTERM finishes the file; if the recorder is killed, at most the last second is lost.
+    SIGTERM finishes the file; if the recorder is killed, at most the last second is lost.  A
+    lost router is said on stderr and waited for (one line when it is back), and the time
+    without it is marked in the file (`turtlectl info` lists it as a gap); --exit-on-loss
+    finishes the file and exits with code 3 instead.
 
     Example: turtlectl record -a -o run.mcap
     """
@@ -57,7 +61,12 @@ def record(
             f"recording {', '.join(keys)} into {path}" + (f" (not {', '.join(excluded)})" if excluded else ""), err=True
         )
         last = None
-        for last in recording.record(connect, keys, excluded, path, duration, stop, f"turtlectl {version()}", scene):
+        made = f"turtlectl {version()}"
+        for item in recording.record(connect, keys, excluded, path, duration, stop, made, scene, exit_on_loss):
+            if isinstance(item, str):  # the router lost, or back
+                typer.echo(("\r\033[K" if live else "") + item, err=True)
+                continue
+            last = item
             if live and not last.done:
                 typer.echo(
                     "\r\033[K" + format.recording_line(last.elapsed, last.messages, last.size), nl=False, err=True
@@ -73,7 +82,8 @@ def info(
     json: bool = JsonOption,
 ) -> None:
     """What a recording holds, as `ros2 bag info`: size, duration, start and end, messages per
-    topic with type, rate and encoding, and whether the recorder closed the file.
+    topic with type, rate and encoding, whether the recorder closed the file, and the gaps
+    (each time the recorder had no router, with its times and duration).
 
     Example: turtlectl info run.mcap
     """

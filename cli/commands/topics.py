@@ -10,7 +10,15 @@ from typing import Any
 import typer
 
 from turtlectl.cli import args
-from turtlectl.cli.commands.options import ConnectOption, DomainOption, JsonOption, TurtleOption, format, result
+from turtlectl.cli.commands.options import (
+    ConnectOption,
+    DomainOption,
+    ExitOnLossOption,
+    JsonOption,
+    TurtleOption,
+    format,
+    result,
+)
 from turtlectl.cli.errors import Interrupted, Unreachable
 
 
@@ -27,6 +35,7 @@ def echo(
     ),
     full: bool = typer.Option(False, "--full", help="Print long arrays whole."),
     timeout: float | None = typer.Option(None, "--timeout", min=0.1, help="Exit after S seconds."),
+    exit_on_loss: bool = ExitOnLossOption,
     turtle: str = TurtleOption,
     connect: str = ConnectOption,
     domain: str = DomainOption,
@@ -36,7 +45,8 @@ def echo(
 
     Keeps printing across a publisher's restart; runs until Ctrl-C (exit code 0), --count or
     --timeout.  When nothing arrives for 3 s (from the start, or after messages flowed) it says
-    why on stderr, once per silence; the router lost is exit code 3.  With a wildcard each
+    why on stderr, once per silence.  A lost router is said on stderr and waited for (one
+    line when it is back); --exit-on-loss exits with code 3 instead.  With a wildcard each
     message names its key.  Example: turtlectl echo robot/status --field battery
     """
     from turtlectl.cli.tools import topics
@@ -50,7 +60,7 @@ def echo(
     fields = list(dict.fromkeys(field))  # each once, in the order typed
     skipped: dict[str, int] = {}
     try:
-        _echo(topics.stream(connect, topic, limit, timeout), skipped, fields, json, csv, full, wildcard)
+        _echo(topics.stream(connect, topic, limit, timeout, exit_on_loss), skipped, fields, json, csv, full, wildcard)
     except KeyboardInterrupt:
         pass
     except BrokenPipeError:  # `| head`: the reader has what it wanted
@@ -107,6 +117,7 @@ def hz(
     window: int = typer.Option(100, "--window", min=2, help="At most N messages (of the last 5 s) per statistic."),
     duration: float | None = typer.Option(None, "--duration", min=0.5, help="Stop after S seconds."),
     json: bool = typer.Option(False, "--json", help="JSON lines."),
+    exit_on_loss: bool = ExitOnLossOption,
     turtle: str = TurtleOption,
     connect: str = ConnectOption,
     domain: str = DomainOption,
@@ -116,8 +127,9 @@ def hz(
 
     Each second, a line for each TOPIC that had messages since the last one, over the messages
     of the last 5 s; a topic silent for 3 s (from the start, or after it stopped) is reported with
-    the reason, once per silence; the router lost is exit code 3.  Runs until Ctrl-C (exit code
-    0) or --duration.  Example: turtlectl hz robot/status obstacles --duration 10
+    the reason, once per silence.  A lost router is said on stderr and waited for (one line when
+    it is back; --exit-on-loss exits with code 3 instead).  Runs until Ctrl-C (exit code 0) or
+    --duration.  Example: turtlectl hz robot/status obstacles --duration 10
     """
     from turtlectl.cli.tools import topics
     from turtlectl.cli.tools.client import turtle_namespace_at
@@ -128,8 +140,8 @@ def hz(
     namespace = turtle_namespace_at(connect, turtle)
     names = [resolve(name, namespace) for name in names]
     try:
-        for stats in topics.measure_rates(connect, names, window, duration):
-            if isinstance(stats, topics.Silence):
+        for stats in topics.measure_rates(connect, names, window, duration, exit_on_loss):
+            if isinstance(stats, topics.Notice):  # a silence and why, the router lost or back
                 typer.echo(stats.text, err=True)
                 continue
             printed = printed or bool(stats)

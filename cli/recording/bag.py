@@ -10,7 +10,11 @@ time if it has none), ``sequence`` its ``seq``.  A payload that is not a known m
 raw publisher, garbage) is kept as it came: a channel without schema whose message encoding
 is the sample's Zenoh encoding, the bytes unchanged.  The world the run happened in (the
 simulator's ``turtlectl/world`` answer) is attached as ``turtlectl/world`` (JSON), so that a
-replay can draw it.  With ``record --scene`` the file also holds the Foxglove scene
+replay can draw it.  A time the recorder had no router (it was lost, then back; or lost until
+the end) is an MCAP metadata record named ``turtlectl/gap`` whose ``lost`` and ``back`` are ns
+since the epoch as decimal strings (``back`` empty: still lost when the recording ended), as
+the recorder noticed them (within ``cli.tools.client.ROUTER_CHECK`` s); ``info`` lists them and
+``play`` reads past them (they hold no message).  With ``record --scene`` the file also holds the Foxglove scene
 (cli.foxglove.scene: channels ``scene``, ``scene/scan`` and ``log``, Foxglove's well-known protobuf schemas),
 which ``play`` leaves out (it is drawn from the other messages).
 
@@ -38,6 +42,7 @@ JSON = "json"  # MCAP's well-known message encoding
 JSON_SCHEMA = "jsonschema"  # MCAP's well-known schema encoding
 PROTOBUF = "protobuf"  # the scene's encoding (Foxglove's well-known schemas)
 WORLD = "turtlectl/world"  # the attachment holding the world the run happened in (JSON)
+GAP = "turtlectl/gap"  # a metadata record: a time without router (``lost``, ``back``: ns since the epoch)
 CHUNK_SPAN = 800_000_000  # ns: a chunk is closed once its first message is this old (< 1 s lost)
 CHUNK_SIZE = 1 << 20  # bytes (uncompressed) a chunk may reach before it is closed anyway
 
@@ -175,6 +180,12 @@ class BagWriter:
         self._writer.add_attachment(
             create_time=when, log_time=when, name=WORLD, media_type="application/json", data=document
         )
+        self._writer.flush()
+
+    def mark_gap(self, lost: int, back: int = 0) -> None:
+        """A time without router, from ``lost`` to ``back`` (ns since the epoch; 0: still lost
+        at the end), on disk at once."""
+        self._writer.add_metadata(GAP, {"lost": str(lost), "back": str(back) if back else ""})
         self._writer.flush()
 
     def _before_adding(self, received: int) -> None:

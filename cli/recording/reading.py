@@ -15,7 +15,7 @@ from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
-from turtlectl.cli.recording.bag import JSON, JSON_SCHEMA, PROTOBUF, WORLD, Record, RecordingError
+from turtlectl.cli.recording.bag import GAP, JSON, JSON_SCHEMA, PROTOBUF, WORLD, Record, RecordingError
 from turtlectl.messages.codec import TYPES_BY_NAME
 from turtlectl.messages.naming import BUILTIN_PACKAGE
 
@@ -30,6 +30,15 @@ class TopicInfo:
 
 
 @dataclasses.dataclass(frozen=True)
+class Gap:
+    """A time the recorder had no router: nothing was recorded from ``lost`` to ``back``."""
+
+    lost: int  # ns since the epoch
+    back: int  # ns since the epoch; 0: still lost when the recording ended
+    duration: float  # s (to the end of the recording when it never came back)
+
+
+@dataclasses.dataclass(frozen=True)
 class Info:
     path: str
     size: int
@@ -38,6 +47,7 @@ class Info:
     end: int
     count: int
     topics: list[TopicInfo]
+    gaps: list[Gap] = dataclasses.field(default_factory=list)  # the times without router, in order
 
     @property
     def duration(self) -> float:
@@ -159,6 +169,26 @@ class Recording:
                 pass
         return None
 
+    def gaps(self, end: int = 0) -> list[Gap]:
+        """The times the recorder had no router (bag.GAP metadata), in order; a gap never closed
+        lasts until ``end`` (ns since the epoch, the last message)."""
+        from mcap.records import Metadata
+        from mcap.stream_reader import StreamReader
+
+        found: list[Gap] = []
+        with open(self.path, "rb") as f:
+            try:
+                for record in StreamReader(f, emit_chunks=True).records:  # chunks skipped whole
+                    if isinstance(record, Metadata) and record.name == GAP:
+                        try:
+                            lost, back = int(record.metadata["lost"]), int(record.metadata.get("back") or 0)
+                        except (KeyError, ValueError):
+                            continue  # not one turtlectl wrote
+                        found.append(Gap(lost, back, max(0, (back or max(end, lost)) - lost) / 1e9))
+            except self._damage:
+                pass
+        return sorted(found, key=lambda g: g.lost)
+
     def info(self) -> Info:
         counts: dict[int, int] = {}
         channels: dict[int, tuple[Any, Any]] = {}
@@ -193,6 +223,7 @@ class Recording:
             end=end,
             count=sum(counts.values()),
             topics=topics,
+            gaps=self.gaps(end),
         )
 
 

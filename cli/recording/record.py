@@ -4,7 +4,9 @@ Nothing here prints; ``record`` yields progress for the command to show.  Sample
 with their receive time on Zenoh's threads and written on the caller's thread (which first
 learns a type turtlectl was not built with from the nodes that use it: cli.tools.typebook), which also
 closes a chunk before its first message is a second old (cli.recording.bag.CHUNK_SPAN); when ``stop`` is set (Ctrl-C, SIGTERM) or the duration is over,
-what is queued is written and the file is finished.
+what is queued is written and the file is finished.  A lost router is waited for as every
+long-running tool does (cli.tools.routerwatch: a line when it is lost and one when it is back,
+yielded as text), and the time without it is marked in the file (``BagWriter.mark_gap``).
 """
 
 from __future__ import annotations
@@ -23,6 +25,8 @@ import zenoh
 from turtlectl.cli.recording.bag import BagWriter
 from turtlectl.cli.tools import presence
 from turtlectl.cli.tools.client import check_key, client_session
+from turtlectl.cli.tools.routerwatch import watch
+from turtlectl.cli.tools.services import RouterLost
 from turtlectl.cli.tools.typebook import TypeBook
 from turtlectl.messages.codec import MEDIA_TYPE, TYPES_BY_NAME
 from turtlectl.messages.described import describable
@@ -101,9 +105,12 @@ def record(
     stop: threading.Event,
     library: str = "turtlectl",
     scene: bool = False,
-) -> Iterator[Progress]:
+    exit_on_loss: bool = False,
+) -> Iterator[Progress | str]:
     """Record ``keys`` (minus ``exclude``) into ``path`` until ``stop`` is set or ``duration`` s
-    have passed; yields a Progress about twice a second and a last one once the file is closed.
+    have passed; yields a Progress about twice a second and a last one once the file is closed,
+    and a line (str) when the router is lost and when it is back (with ``exit_on_loss``,
+    RouterLost once the file is finished, the gap marked).
     With ``scene``, the Foxglove scene drawn from the messages is recorded too (cli.foxglove.scene)."""
     exprs = [zenoh.KeyExpr(k) for k in keys]
     excluded = [zenoh.KeyExpr(k) for k in exclude]
@@ -136,6 +143,8 @@ def record(
             subs = [presence.subscriber(session, k, taker(i)) for i, k in enumerate(keys)]
             started = time.monotonic()
             next_report = started
+            router = watch(session, connect, f"messages on {', '.join(keys)}", exit_on_loss)
+            lost_at = 0  # ns since the epoch the router was lost, 0 while it is there
             try:
                 while not stop.is_set() and (duration is None or time.monotonic() - started < duration):
                     try:
@@ -147,6 +156,18 @@ def record(
                     except queue.Empty:
                         pass
                     now = time.monotonic()
+                    try:
+                        line = router.check(now)
+                    except RouterLost:  # --exit-on-loss: the file says where it ends, and why
+                        writer.mark_gap(time.time_ns())
+                        raise
+                    if line is not None:
+                        if router.lost:
+                            lost_at = time.time_ns()
+                        else:
+                            writer.mark_gap(lost_at, time.time_ns())
+                            lost_at = 0
+                        yield line
                     if drawing is not None:
                         drawing.tick()
                     writer.tick()  # a chunk whose first message is old enough is closed
@@ -154,6 +175,8 @@ def record(
                         next_report = now + PROGRESS_PERIOD
                         yield Progress(path, now - started, writer.messages, writer.size)
             finally:
+                if lost_at:
+                    writer.mark_gap(lost_at)  # still lost at the end
                 for sub in subs:
                     sub.undeclare()
                 while True:  # what was received before the end is kept

@@ -320,6 +320,11 @@ def info_text(info: Any) -> str:
                     c.rjust(w) if i in (2, 3) else c.ljust(w) for i, (c, w) in enumerate(zip(r, widths, strict=True))
                 ).rstrip()
             )
+    for gap in info.gaps:
+        until = _local_time(gap.back) if gap.back else "the end (never back)"
+        lines.append(
+            f"Gap:       router lost {_local_time(gap.lost)} until {until}: {gap.duration:.1f} s, nothing recorded"
+        )
     return "\n".join(lines)
 
 

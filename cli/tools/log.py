@@ -22,7 +22,8 @@ from turtlectl.cli.args import level_named
 from turtlectl.cli.errors import BadInput, Unreachable
 from turtlectl.cli.selection import selects
 from turtlectl.cli.tools.client import client_session, domain_hint
-from turtlectl.cli.tools.topics import RouterWatch, live_graph
+from turtlectl.cli.tools.routerwatch import watch
+from turtlectl.cli.tools.topics import live_graph
 from turtlectl.messages import DecodeError, Log, decode, to_json
 from turtlectl.messages.keys import LOG_KEYS
 
@@ -159,12 +160,13 @@ def _nothing(held: int, wanted: LogFilter) -> str:
     return "the running nodes hold no records (each keeps its last ones at its log level: `turtlectl log-level NODE DEBUG` for more)"
 
 
-def read(connect: str, wanted: LogFilter, follow: bool = False) -> Iterator[Log | Notice]:
+def read(connect: str, wanted: LogFilter, follow: bool = False, exit_on_loss: bool = False) -> Iterator[Log | Notice]:
     """The records ``wanted`` of every running node: first their recent ones, oldest first;
     with ``follow``, then each new one as it comes, until the caller stops (Ctrl-C).
 
     Without ``follow``, Unreachable when no node runs, or none matches ``wanted.nodes``; with
-    it, a Notice says so and it waits for them.  RouterLost (Unreachable) once the router is lost."""
+    it, a Notice says so and it waits for them.  A lost router and its return are a Notice each
+    (cli.tools.routerwatch); with ``exit_on_loss``, RouterLost (Unreachable) instead."""
     with client_session(connect) as session:
         inbox: queue.SimpleQueue[bytes] = queue.SimpleQueue()
         live = session.declare_subscriber(LOG_KEYS, lambda s: inbox.put(s.payload.to_bytes())) if follow else None
@@ -193,7 +195,7 @@ def read(connect: str, wanted: LogFilter, follow: bool = False) -> Iterator[Log 
                 if not matching and not problem:
                     yield Notice(_nothing(len(held), wanted))
                 return
-            router = RouterWatch(session, connect, LOG_KEYS, what="log records")
+            router = watch(session, connect, "log records", exit_on_loss)
             while True:
                 try:
                     payload = inbox.get(timeout=0.1)  # short waits keep Ctrl-C responsive
@@ -205,7 +207,8 @@ def read(connect: str, wanted: LogFilter, follow: bool = False) -> Iterator[Log 
                         shown.discard(ident)
                     elif wanted.wants(record):
                         yield record
-                router.check(time.monotonic())
+                if (line := router.check(time.monotonic())) is not None:
+                    yield Notice(line)
         finally:
             if live is not None:
                 live.undeclare()

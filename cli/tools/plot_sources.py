@@ -16,12 +16,12 @@ import zenoh
 
 from turtlectl.cli.errors import Unreachable
 from turtlectl.cli.tools import presence
-from turtlectl.cli.tools.client import ROUTER_CHECK, router_lost
 from turtlectl.cli.tools.format import Undescribed
 from turtlectl.cli.tools.graph import Graph
 from turtlectl.cli.tools.plot import Extractor, Series, Stamps, check_stamped, check_type, nearest_key
 from turtlectl.cli.tools.plot_window import Collected
 from turtlectl.cli.tools.rates import Quiet
+from turtlectl.cli.tools.routerwatch import watch
 from turtlectl.cli.tools.topics import Received, decode_sample, learn, live_graph, silence_reason
 from turtlectl.cli.tools.typebook import TypeBook, generic
 from turtlectl.messages import Message
@@ -109,14 +109,28 @@ def _typo_notes(graph: Graph, nearest: dict[str, str]) -> dict[str, str]:
     return notes
 
 
+def _quiet_from(now: float, before: Quiet) -> Quiet:
+    """``before`` counting its silence from ``now`` (whether messages flowed is kept)."""
+    quiet = Quiet(now)
+    quiet.flowed = before.flowed
+    return quiet
+
+
 class Live:
     """A running system's numbers as they arrive: ``poll`` gives the samples since the last
-    call (times in s since this started); ``notices`` say why a key is silent, or that the
-    router is lost (shown until it is not so any more).  Decoding and type learning as echo's
+    call (times in s since this started); ``notices`` say why a key is silent; ``said`` the
+    router lost and back, a line each (cli.tools.routerwatch: the caller prints and clears it;
+    ``router`` says it while it lasts, for a status line; ``exit_on_loss``: RouterLost instead).  Decoding and type learning as echo's
     (a user's own type is learnt from the nodes that use it)."""
 
     def __init__(
-        self, session: zenoh.Session, connect: str, series: list[Series], stamps: bool = False, turtle: str = ""
+        self,
+        session: zenoh.Session,
+        connect: str,
+        series: list[Series],
+        stamps: bool = False,
+        turtle: str = "",
+        exit_on_loss: bool = False,
     ):
         self.session = session
         self.connect = connect
@@ -128,7 +142,8 @@ class Live:
         self.quiet = {key: Quiet(self.started) for key in self.keys}
         self.silent: dict[str, str] = {}  # key -> why it is silent
         self.router = ""  # why there is no router ("" while there is one)
-        self._next_check = self.started + ROUTER_CHECK
+        self.said: list[str] = []  # the router lost, back: a line each, for the caller to print
+        self._router = watch(session, connect, f"messages on {', '.join(self.keys)}", exit_on_loss)
         self.received = 0  # numbers so far
         self.stamps = Stamps() if stamps else None  # --stamps: the time axis is the messages' stamps
         self.typos: dict[str, str] = {}  # key -> "did you mean" (a key near a built-in one nobody publishes)
@@ -153,7 +168,7 @@ class Live:
     @property
     def notices(self) -> list[str]:
         """What to tell the user now: the router lost, the keys silent and why."""
-        return ([self.router] if self.router else []) + list(self.silent.values())
+        return list(self.silent.values())
 
     def poll(self, wait: float = 0.0) -> list[tuple[Series, float, float]]:
         """The samples (series, s since the start, number) that arrived since the last call,
@@ -201,14 +216,14 @@ class Live:
         return f"{why.split(' (')[0]}: {near}" if near else why
 
     def _watch(self, now: float) -> None:
-        if now >= self._next_check:
-            self._next_check = now + ROUTER_CHECK
-            lost = router_lost(self.session)
-            self.router = (
-                f"no router at {self.connect}: waiting for it (is `turtlectl launch` running?)" if lost else ""
-            )
-            if lost:
-                return
+        if (line := self._router.check(now)) is not None:
+            self.said.append(line)
+            if not self._router.lost:  # silences count from the return
+                self.quiet = {key: _quiet_from(now, quiet) for key, quiet in self.quiet.items()}
+        lost = self._router.lost
+        self.router = f"no router at {self.connect}: waiting for it (is `turtlectl launch` running?)" if lost else ""
+        if lost:
+            return
         due = [key for key, quiet in self.quiet.items() if quiet.due(now)]
         if due:  # the graph asked once (a liveliness query: up to 2 s), only when a key is due
             graph = live_graph(self.session)

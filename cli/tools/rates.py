@@ -128,6 +128,13 @@ class Rates:
                 stats.append(st)
         return stats
 
+    def quiet_from(self, now: float) -> None:
+        """Silences count from ``now`` (the router back: each topic gets SILENCE s to resume)."""
+        for w in self.windows.values():
+            flowed = w.quiet.flowed
+            w.quiet = Quiet(now)
+            w.quiet.flowed = flowed
+
     def silences(self, now: float) -> list[tuple[str, bool]]:
         """The topics that went quiet by ``now`` (each once per silence), with whether
         messages had arrived on them before."""

@@ -4,8 +4,11 @@ terminal in cbreak mode, a client session publishing ``turtle1/cmd_vel``, the po
 status line, and a cancel (reason "teleop") of a goal running when the keys start driving.
 
 The terminal is restored on every way out: q, Ctrl-C, SIGTERM, SIGHUP (the terminal went
-away: nothing more is written to it), the router lost; a stop command goes out first
-whenever anything was being sent.
+away: nothing more is written to it), the router lost with ``--exit-on-loss``; a stop command
+goes out first whenever anything was being sent.  A lost router is otherwise waited for as
+every long-running tool does (cli.tools.routerwatch), said on the status line: nothing is sent
+meanwhile (a command queued for a router that is back later would drive on stale keys), and
+driving resumes at the next key once it is back.
 """
 
 from __future__ import annotations
@@ -22,12 +25,13 @@ from typing import TextIO
 
 import zenoh
 
-from turtlectl.cli.errors import BadInput, CannotStart, Unreachable
+from turtlectl.cli.errors import BadInput, CannotStart
 from turtlectl.cli.sigint import stop_on_signals
 from turtlectl.cli.tools import presence
-from turtlectl.cli.tools.client import ROUTER_CHECK, require, router_lost
+from turtlectl.cli.tools.client import ROUTER_CHECK, require
 from turtlectl.cli.tools.graph import NodeRow, clients_publishing, who
 from turtlectl.cli.tools.keyboard import Driver, Shown, keys, status_line
+from turtlectl.cli.tools.routerwatch import watch
 from turtlectl.cli.tools.topics import live_graph
 from turtlectl.messages import Cancel, Pose, Twist, decode, encode, encoding_for
 from turtlectl.messages.angles import heading_degrees
@@ -157,9 +161,11 @@ class _Teleop:
         except OSError:
             self.hung_up = True
 
-    def drive(self, stop: threading.Event) -> str:
-        """Read keys and publish until told to stop; returns why it ended."""
+    def drive(self, stop: threading.Event, exit_on_loss: bool = False) -> str:
+        """Read keys and publish until told to stop; returns why it ended.  RouterLost
+        (Unreachable) when the router is lost and ``exit_on_loss``."""
         next_line = next_check = 0.0
+        router = watch(self.session, self.endpoint, "driving", exit_on_loss)
         while not stop.is_set():
             ready, _, _ = select.select([self.fd], [], [], POLL)
             now = time.monotonic()
@@ -174,27 +180,33 @@ class _Teleop:
                 for key in keys(data):
                     if key == "quit":
                         return "quit"
+                    if router.lost:
+                        continue  # nothing is sent without a router
                     if self.driver.press(key, now) and self.goals.running(now):
                         self.cancel_goal(now)
                     elif key == "stop":  # space stops a goal's driving too, one just started included
                         self.goals.cancel(now)
                         if self.goals.running(now):
                             self.note = "canceled the running goal (reason teleop)"
+            if (line := router.check(now)) is not None:
+                self.note = line.split(" (")[0]
+                self.driver.halt()  # lost: nothing more is sent; back: the next key drives
+            if router.lost:
+                if now >= next_line:
+                    next_line = now + LINE_PERIOD
+                    self.write("\r\x1b[K" + status_line(self.shown(), self.width()))
+                continue
             goals = self.goals
             if self.driver.sending and goals.last_feedback > goals.canceled_at + 0.2 and goals.running(now):
                 self.cancel_goal(now)  # a goal started while the keys drive
             command = self.driver.tick(now)
             if command is not None:
                 self.send(command)
-            if now >= next_check:
+            if now >= next_check:  # another client started driving this turtle (--force): say so
                 next_check = now + ROUTER_CHECK
                 warning = self.rivals.warning()
                 if warning:
                     self.note = warning.removeprefix("warning: ")
-                if router_lost(self.session):
-                    raise Unreachable(
-                        f"lost the router at {self.endpoint}: stopped driving (did `turtlectl launch` stop?)"
-                    )
             if now >= next_line:
                 next_line = now + LINE_PERIOD
                 self.write("\r\x1b[K" + status_line(self.shown(), self.width()))
@@ -263,11 +275,13 @@ def run_teleop(
     out: TextIO,
     namespace: str = "",
     force: bool = False,
+    exit_on_loss: bool = False,
 ) -> str:
     """Drive until q, Ctrl-C, SIGTERM or SIGHUP; returns why it ended.  Raises BadInput if
-    ``fd`` is not a terminal, Unreachable if the router goes away, CannotStart if another
-    client drives the turtle already, unless ``force`` (then both are warned).  ``namespace``:
-    the turtle's nodes' (``turtle2`` drives turtle2/cmd_vel; "" turtle1)."""
+    ``fd`` is not a terminal, RouterLost (Unreachable) if the router goes away and
+    ``exit_on_loss``, CannotStart if another client drives the turtle already, unless ``force``
+    (then both are warned).  ``namespace``: the turtle's nodes' (``turtle2`` drives
+    turtle2/cmd_vel; "" turtle1)."""
     if not os.isatty(fd):
         raise BadInput(NOT_A_TERMINAL)
     cmd_vel = resolve(CMD_VEL, namespace)
@@ -282,7 +296,7 @@ def run_teleop(
         with stop_on_signals(also=(signal.SIGHUP,)) as stop:
             # SIGHUP: the terminal is gone; nothing more is written to it
             signal.signal(signal.SIGHUP, lambda *_: (setattr(teleop, "hung_up", True), stop.set()))
-            return teleop.drive(stop)
+            return teleop.drive(stop, exit_on_loss)
     finally:
         teleop.close()
         teleop.write("\r\x1b[K" + status_line(teleop.shown(), teleop.width()))  # the last word: stopped

@@ -17,17 +17,15 @@ import zenoh
 from turtlectl.cli.errors import Unreachable
 from turtlectl.cli.tools import presence
 from turtlectl.cli.tools.client import (
-    ROUTER_CHECK,
     base_key,
     check_key,
     client_session,
     domain_hint,
     require,
-    router_lost,
 )
 from turtlectl.cli.tools.graph import Graph, build_graph, without_client
 from turtlectl.cli.tools.rates import SILENCE, Quiet, Rates, RateStats
-from turtlectl.cli.tools.services import RouterLost
+from turtlectl.cli.tools.routerwatch import watch
 from turtlectl.cli.tools.typebook import TypeBook, conflicts, generic
 from turtlectl.messages import DecodeError, Message, decode, decode_any, encode, encoding_for, type_from_encoding
 from turtlectl.messages.codec import MEDIA_TYPE, TYPES_BY_NAME, type_name
@@ -178,30 +176,15 @@ def _silence(session: zenoh.Session, connect: str, key: str, flowed: bool) -> Si
     return Silence(key, silence_reason(key, live_graph(session), connect, flowed))
 
 
-class RouterWatch:
-    """RouterLost (exit 3, as goto reports it) once the session has lost its router,
-    checked every ROUTER_CHECK s; the message says there will be no more ``what`` (by
-    default: messages on ``key``)."""
-
-    def __init__(self, session: zenoh.Session, connect: str, key: str, what: str | None = None):
-        self.session, self.connect, self.key = session, connect, key
-        self.what = f"messages on {key}" if what is None else what
-        self.next = time.monotonic() + ROUTER_CHECK
-
-    def check(self, now: float) -> None:
-        if now < self.next:
-            return
-        self.next = now + ROUTER_CHECK
-        if router_lost(self.session):
-            raise RouterLost(f"lost the router at {self.connect}: no more {self.what} (did `turtlectl launch` stop?)")
-
-
-def stream(connect: str, topic: str, count: int | None, timeout: float | None) -> Iterator[Received | Notice]:
+def stream(
+    connect: str, topic: str, count: int | None, timeout: float | None, exit_on_loss: bool = False
+) -> Iterator[Received | Notice]:
     """Decoded samples on ``key`` until ``count`` valid messages or ``timeout`` s.
 
     Yields a ``Silence`` saying why once per silence of SILENCE s: nothing arrived yet, or
     messages flowed and stopped.  Raises Unreachable if ``timeout`` passes without any
-    message, RouterLost (Unreachable) when the session loses its router.
+    message.  A lost router and its return are a Notice each (cli.tools.routerwatch; no
+    silence is reported meanwhile); with ``exit_on_loss``, RouterLost (Unreachable) instead.
     """
     key = check_key(topic)
     with client_session(connect) as session, subscription(session, key) as samples:
@@ -211,15 +194,19 @@ def stream(connect: str, topic: str, count: int | None, timeout: float | None) -
         deadline = None if timeout is None else started + timeout
         received = 0
         quiet = Quiet(started)
-        router = RouterWatch(session, connect, key)
+        router = watch(session, connect, f"messages on {key}", exit_on_loss)
         while count is None or received < count:
             now = time.monotonic()
             if deadline is not None and now >= deadline:
                 if received == 0:
                     raise Unreachable(f"no message on {key} within {timeout:g} s")
                 return
-            router.check(now)
-            if quiet.due(now):
+            if (line := router.check(now)) is not None:
+                yield Notice(key, line)
+                if not router.lost:  # a silence counts from the return
+                    flowed, quiet = quiet.flowed, Quiet(now)
+                    quiet.flowed = flowed
+            if not router.lost and quiet.due(now):
                 yield _silence(session, connect, key, quiet.flowed)
             wait = 0.1 if deadline is None else min(0.1, max(0.0, deadline - now))
             try:
@@ -249,13 +236,13 @@ def _stamp(payload: bytes) -> int:
 
 
 def measure_rates(
-    connect: str, topics: list[str], window: int, duration: float | None
-) -> Iterator[list[RateStats] | Silence]:
+    connect: str, topics: list[str], window: int, duration: float | None, exit_on_loss: bool = False
+) -> Iterator[list[RateStats] | Notice]:
     """Every second, the rate statistics of the topics that had messages since the last
     report, each over its last SPAN s (at most ``window`` messages; cli.tools.rates); ends after
     ``duration`` s (None: until Ctrl-C).  A topic silent for SILENCE s, from the start or
-    after messages flowed, gets one ``Silence`` per silence saying why (as echo's).  Raises
-    RouterLost (Unreachable) when the session loses its router."""
+    after messages flowed, gets one ``Silence`` per silence saying why (as echo's).  A lost
+    router and its return are a Notice each, as echo's (with ``exit_on_loss``, RouterLost)."""
     keys = [check_key(t) for t in topics]
     inbox: queue.SimpleQueue[tuple[str, float, bytes]] = queue.SimpleQueue()
     with client_session(connect) as session:
@@ -265,7 +252,7 @@ def measure_rates(
         ]
         started = time.monotonic()
         rates = Rates(keys, window, started)
-        router = RouterWatch(session, connect, ", ".join(keys))
+        router = watch(session, connect, f"messages on {', '.join(keys)}", exit_on_loss)
         next_report = started + 1.0
         try:
             while duration is None or time.monotonic() - started < duration:
@@ -275,8 +262,10 @@ def measure_rates(
                 except queue.Empty:
                     pass
                 now = time.monotonic()
-                router.check(now)
-                for key, flowed in rates.silences(now):
+                if (line := router.check(now)) is not None:
+                    yield Notice(", ".join(keys), line)
+                    rates.quiet_from(now)
+                for key, flowed in [] if router.lost else rates.silences(now):
                     yield _silence(session, connect, key, flowed)
                 if now >= next_report:
                     next_report += 1.0

@@ -3,7 +3,11 @@
 ``render`` is pure (text lines from the latest messages); ``run_view`` is the
 curses shell around it: it subscribes over Zenoh, queues what arrives, and
 redraws at 20 frames a second (curses sends only what changed: no flicker).
-Keys: c clears the trails, q quits.  Losing the router is shown on the status line.
+Keys: c clears the trails, q quits.  Losing the router is shown on the status line (the
+one behaviour of every long-running tool: cli.tools.routerwatch).  The world is asked again
+every WORLD_PERIOD s, so a world that appears after the view started (a simulator launched,
+a recording played: ``play`` answers ``turtlectl/world`` with the recorded one) or changes is
+drawn.
 """
 
 from __future__ import annotations
@@ -18,11 +22,23 @@ import time
 import msgspec
 import zenoh
 
-from turtlectl.cli.tools.client import ROUTER_CHECK, live_turtle_namespace, router_lost
+from turtlectl.cli.tools import presence
+from turtlectl.cli.tools.client import live_turtle_namespace
 from turtlectl.cli.tools.format import heading_text
+from turtlectl.cli.tools.routerwatch import watch
 from turtlectl.messages import LaserScan, NavigateToFeedback, Pose, Turtles, TurtleStatus, decode_any
 from turtlectl.messages.angles import heading_degrees
-from turtlectl.messages.keys import FEEDBACK, FIRST_TURTLE, OBSTACLES, POSE, STATUS, TURTLES, resolve, turtle_of
+from turtlectl.messages.keys import (
+    FEEDBACK,
+    FIRST_TURTLE,
+    OBSTACLES,
+    POSE,
+    STATUS,
+    TURTLES,
+    WORLD_KEY,
+    resolve,
+    turtle_of,
+)
 from turtlectl.messages.world import World
 from turtlectl.sim.turtles import others as turtles_but
 
@@ -30,6 +46,7 @@ FRAME = 0.05  # s between frames: 20 frames a second
 TRAIL = 400  # poses kept for each turtle's trail
 TRAIL_STEP = 0.05  # m between two trail positions
 GOAL_LIFETIME = 0.5  # s a goal stays drawn after its last feedback
+WORLD_PERIOD = 2.0  # s between two questions for the world (it may appear or change while the view runs)
 OTHERS_FEEDBACK = "*/" + FEEDBACK  # another turtle's navigator's: turtle2/navigate_to/feedback
 LEGEND = "o obstacle  * scan hit  . trail  + path  X goal  (c clears the trail)"
 ARROWS = "→↗↑↖←↙↓↘"
@@ -40,6 +57,7 @@ class Scene(msgspec.Struct, kw_only=True):
     """What the view knows: the latest of each message (None until one arrives)."""
 
     world: World
+    turtle: str = FIRST_TURTLE  # the turtle followed (its pose, scan, status and goal); the others named
     pose: Pose | None = None
     status: TurtleStatus | None = None
     scan: LaserScan | None = None
@@ -55,9 +73,9 @@ def render(scene: Scene, cols: int, rows: int, unicode: bool = True) -> list[str
     """The screen as ``rows`` lines of at most ``cols`` characters: the world in a frame
     (walls), obstacles ``o``, trail ``.``, the goal's path ``+``, laser hits ``*``, goal
     ``X``, the turtle as an arrow along its heading, and at the bottom a legend and two
-    status lines.  The other turtles (from ``turtles``) are drawn as turtle1 is, with their
-    trails and their running goals (a goal's path and ``X``), each named beside its arrow
-    (where the map is open) and beside the legend."""
+    status lines.  The other turtles (from ``turtles``) are drawn as the followed one is, with
+    their trails and their running goals (a goal's path and ``X``), each named beside its arrow
+    where its whole name fits in open map (``place_label``) and beside the legend."""
     if cols < 20 or rows < 7:
         return ["terminal too small"][:rows]
     size = scene.world.size
@@ -109,11 +127,7 @@ def render(scene: Scene, cols: int, rows: int, unicode: bool = True) -> list[str
         grid[rc[0]][rc[1]] = arrows[int(round(scene.pose.theta / (math.pi / 4))) % 8]
     for name, x, y, _ in others(scene):  # each other turtle's name beside its arrow, where the map is open
         if (rc := cell(x, y)) is not None:
-            row, col = grid[rc[0]], rc[1] + 1
-            for i, char in enumerate(name[: width - col]):
-                if row[col + i] not in " .+":
-                    break
-                row[col + i] = char
+            place_label(grid, rc[0], rc[1], name)
 
     lines = ["+" + "-" * width + "+"] + ["|" + "".join(row) + "|" for row in grid] + ["+" + "-" * width + "+"]
     lines += [""] * (map_rows - len(lines))
@@ -126,9 +140,34 @@ def render(scene: Scene, cols: int, rows: int, unicode: bool = True) -> list[str
     return [line[:cols] for line in lines[:rows]]
 
 
+OPEN = " .+"  # cells a label may cover: open map, a trail, a path
+
+
+def place_label(grid: list[list[str]], row: int, col: int, name: str) -> bool:
+    """Write ``name`` beside the arrow at (``row``, ``col``): to its right, else to its left,
+    only whole, only over open cells (``OPEN``) and with an open cell or the frame on each side,
+    so that labels never overwrite each other, an arrow or an obstacle, nor run into one
+    another ("turtle2turtle3").  False (nothing written) where it does not fit: the legend
+    names every turtle anyway."""
+    line = grid[row]
+    for start in (col + 1, col - len(name)):
+        end = start + len(name)
+        if start < 0 or end > len(line):
+            continue
+        if all(c in OPEN for c in line[start:end]) and _apart(line, start, end, col):
+            line[start:end] = list(name)
+            return True
+    return False
+
+
+def _apart(line: list[str], start: int, end: int, arrow: int) -> bool:
+    """True if the cells just outside [start, end) are open, the frame, or the label's own arrow."""
+    return all(i < 0 or i >= len(line) or i == arrow or line[i] in OPEN for i in (start - 1, end))
+
+
 def others(scene: Scene) -> list[tuple[str, float, float, float]]:
-    """The turtles besides turtle1 (name, x m, y m, theta rad), from the latest ``turtles``."""
-    return [] if scene.turtles is None else turtles_but(scene.turtles, but=FIRST_TURTLE)
+    """The turtles besides the followed one (name, x m, y m, theta rad), from the latest ``turtles``."""
+    return [] if scene.turtles is None else turtles_but(scene.turtles, but=scene.turtle)
 
 
 def follow(trail: collections.deque[tuple[float, float]], x: float, y: float) -> None:
@@ -148,7 +187,7 @@ def status_lines(scene: Scene) -> list[str]:
     if scene.router:
         where = f"no router at {scene.router}: reconnecting (is `turtlectl launch` running?)"
     elif scene.pose is None:
-        where = "waiting for turtle1/pose (is the sim running?)"
+        where = f"waiting for {scene.turtle}/pose (is the sim running?)"
     else:
         p = scene.pose
         where = (
@@ -166,18 +205,26 @@ def status_lines(scene: Scene) -> list[str]:
     return [where, " | ".join(parts)]
 
 
-def run_view(session: zenoh.Session, world: World, endpoint: str = "") -> None:
-    """Draw until q or Ctrl-C; the terminal is restored whatever happens."""
+def run_view(
+    session: zenoh.Session, world: World, endpoint: str = "", turtle: str = "", exit_on_loss: bool = False
+) -> None:
+    """Draw until q or Ctrl-C; the terminal is restored whatever happens.  ``turtle``: the
+    followed turtle ("" turtle1; ``turtle2``: turtle2's pose, scan, status and goal, found in the
+    namespace its nodes run in).
+    RouterLost (Unreachable) when the router is lost and ``exit_on_loss``."""
     locale.setlocale(locale.LC_ALL, "")
     unicode = locale.getpreferredencoding(False).lower().replace("-", "") == "utf8"
     inbox: queue.SimpleQueue[tuple[float, str, bytes]] = queue.SimpleQueue()
-    first = live_turtle_namespace(session, FIRST_TURTLE)  # turtle1's nodes: outside any namespace, or in turtle1
-    subs = [
-        session.declare_subscriber(key, lambda s: inbox.put((time.monotonic(), str(s.key_expr), s.payload.to_bytes())))
-        for key in (POSE, resolve(STATUS, first), resolve(OBSTACLES, first), TURTLES, OTHERS_FEEDBACK)
-        + ((FEEDBACK,) if not first else ())  # turtle1/navigate_to/feedback is one of OTHERS_FEEDBACK
-    ]
-    scene = Scene(world=world)
+
+    def take(sample: zenoh.Sample) -> None:  # Zenoh's thread: queue only
+        inbox.put((time.monotonic(), str(sample.key_expr), sample.payload.to_bytes()))
+
+    namespace = live_turtle_namespace(session, turtle or FIRST_TURTLE)  # turtle1's: "" or turtle1
+    own = {key: resolve(key, namespace) for key in (POSE, STATUS, OBSTACLES, FEEDBACK)}
+    keys = dict.fromkeys([own[POSE], own[STATUS], own[OBSTACLES], TURTLES, FEEDBACK, OTHERS_FEEDBACK])
+    subs = [presence.subscriber(session, key, take) for key in keys]  # a namespace's feedback: */navigate_to/...
+    scene = Scene(world=world, turtle=turtle_of(namespace))
+    router = watch(session, endpoint or "the endpoint", "messages", exit_on_loss)
     trail: collections.deque[tuple[float, float]] = collections.deque(maxlen=TRAIL)
     trails: dict[str, collections.deque[tuple[float, float]]] = {}  # the other turtles', by name
     feedback_time = 0.0
@@ -187,26 +234,34 @@ def run_view(session: zenoh.Session, world: World, endpoint: str = "") -> None:
         nonlocal feedback_time
         curses.curs_set(0)
         screen.timeout(int(FRAME * 1000))
-        next_check = 0.0
+        next_world = time.monotonic() + WORLD_PERIOD
         while True:
-            if time.monotonic() >= next_check:
-                next_check = time.monotonic() + ROUTER_CHECK
-                scene.router = (endpoint or "the endpoint") if router_lost(session) else ""
+            router.check(time.monotonic())
+            scene.router = (endpoint or "the endpoint") if router.lost else ""
+            if time.monotonic() >= next_world and not router.lost:
+                next_world = time.monotonic() + WORLD_PERIOD
+                session.get(WORLD_KEY, lambda r: r.ok is not None and take(r.ok), timeout=WORLD_PERIOD)
             while not inbox.empty():
                 arrived, sample_key, payload = inbox.get_nowait()
+                if sample_key == WORLD_KEY:  # the world, asked again: it may have appeared or changed
+                    try:
+                        scene.world = msgspec.json.decode(payload, type=World)
+                    except msgspec.DecodeError:
+                        pass
+                    continue
                 try:
                     msg = decode_any(payload)
                 except ValueError:
                     continue
-                if isinstance(msg, Pose):
+                if isinstance(msg, Pose) and sample_key == own[POSE]:
                     scene.pose = msg
                     follow(trail, msg.x, msg.y)
-                elif isinstance(msg, TurtleStatus):
+                elif isinstance(msg, TurtleStatus) and sample_key == own[STATUS]:
                     scene.status = msg
-                elif isinstance(msg, LaserScan):
+                elif isinstance(msg, LaserScan) and sample_key == own[OBSTACLES]:
                     scene.scan = msg
                 elif isinstance(msg, NavigateToFeedback):
-                    if (owner := goal_owner(sample_key)) == FIRST_TURTLE:
+                    if (owner := goal_owner(sample_key)) == scene.turtle:
                         scene.feedback, feedback_time = msg, arrived
                     elif owner in trails:  # a turtle of this system's (not another domain's)
                         scene.goals[owner], goal_times[owner] = msg, arrived

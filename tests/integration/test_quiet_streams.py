@@ -115,10 +115,10 @@ def test_hz_stops_reporting_a_topic_that_stopped_and_says_why_echo_gives_the_sam
         echo.kill()
 
 
-def test_hz_and_echo_report_the_system_going_away_as_goto_does():
+def test_hz_and_echo_with_exit_on_loss_report_the_system_going_away_as_goto_does():
     with running_system() as system:
-        hz = Watched(system.endpoint, "hz", "robot/status")
-        echo = Watched(system.endpoint, "echo", "robot/status", "--field", "x")
+        hz = Watched(system.endpoint, "hz", "robot/status", "--exit-on-loss")
+        echo = Watched(system.endpoint, "echo", "robot/status", "--field", "x", "--exit-on-loss")
         try:
             Watched.next_line(hz.out, 15.0)  # both are receiving
             Watched.next_line(echo.out, 15.0)

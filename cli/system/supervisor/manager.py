@@ -218,7 +218,7 @@ class Supervisor:
             key = key.removeprefix(f"{self.domain}/")
         info = parse_node_token(key)
         if info is not None:
-            self.supervision.announce(sample.kind == zenoh.SampleKind.PUT, info.name, info.pid)
+            self.supervision.announce(sample.kind == zenoh.SampleKind.PUT, info.name, info.pid, info.host)
 
     def _on_change(self, sample: zenoh.Sample) -> None:  # Zenoh thread: --persist only
         """A node's parameter changed at run time: start it with the new value from now on

@@ -45,6 +45,7 @@ from typing import Protocol
 
 from turtlectl.cli.errors import ExitCode
 from turtlectl.cli.system.launchfile import LaunchPlan
+from turtlectl.cli.system.supervisor.elsewhere import Elsewhere
 from turtlectl.cli.system.supervisor.notify import Notifier
 from turtlectl.cli.system.supervisor.printer import Printer
 from turtlectl.runtime.exitcodes import node_exit, respawn_can_help
@@ -118,15 +119,16 @@ class Supervision:
         self._announced: dict[str, int] = {}  # node name -> the pid of its start that announced itself
         self._given_up: set[str] = set()  # nodes that exited for good: no longer watched
         self._lost: dict[str, str] = {}  # given up on after an exit other than 0: how it ended
-        self._events: queue.SimpleQueue[tuple[bool, str, int]] = queue.SimpleQueue()
+        self._events: queue.SimpleQueue[tuple[bool, str, int, str]] = queue.SimpleQueue()
+        self.elsewhere = Elsewhere()  # the nodes not started here, said as they come, leave, come back
         self._alive: dict[str, int] = {}  # node name -> pid announced
         self._ready_reported = False
         self._t0 = clock() if since is None else since
 
     # -- input ----------------------------------------------------------------
-    def announce(self, alive: bool, name: str, pid: int) -> None:
-        """Node ``name`` (process ``pid``) announced itself (``alive``) or went away; any thread."""
-        self._events.put((alive, name, pid))
+    def announce(self, alive: bool, name: str, pid: int, host: str = "") -> None:
+        """Node ``name`` (process ``pid`` on ``host``) announced itself (``alive``) or went away; any thread."""
+        self._events.put((alive, name, pid, host))
 
     def stop(self, reason: str, code: ExitCode = ExitCode.OK) -> None:
         """Ask the system to stop (the first reason and code win); safe in a signal handler."""
@@ -257,10 +259,14 @@ class Supervision:
     def _drain_events(self) -> None:
         while True:
             try:
-                alive, name, pid = self._events.get_nowait()
+                alive, name, pid, host = self._events.get_nowait()
             except queue.Empty:
                 return
             child = self.children.get(name)
+            if child is None and name not in self.entries:  # a node this launch does not start
+                if (line := self.elsewhere.seen(alive, name, pid, host)) is not None:
+                    self.printer.system(line)
+                continue
             if child is None or child.pid != pid:
                 # not the process started here (another system's node of that name, or an
                 # earlier start of this one): it makes nothing ready and unreadies nothing

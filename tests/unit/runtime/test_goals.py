@@ -288,3 +288,24 @@ def test_node_call_returns_a_future_and_keeps_the_callback_form():
         fake.instance.ask()
         fake.advance(0.0)
         assert fake.instance.got == [[Ack(detail="1")], 1]
+
+
+def test_a_goal_whose_server_goes_away_ends_naming_it_and_the_node_says_so_once(caplog):
+    server = f"@turtlectl/entity/lapper/4242/goal/test.TestLaps/{KEY}"
+    with FakeNode(Caller, name="caller") as fake:
+        fake.liveliness(server, True)
+        fake.session.get = lambda *args, **kwargs: None  # the goal's query stays open, as a long goal's does
+        future = fake.instance.client.send(Laps(laps=9))
+        with caplog.at_level("INFO"):
+            fake.liveliness(server, False)
+            fake.liveliness(server, False)  # said once
+            fake.advance(0.0)
+            assert isinstance(future.exception(), GoalFailed)
+            assert str(future.exception()) == f"{KEY}'s server lapper (pid 4242) went away before the goal ended"
+            fake.liveliness(f"@turtlectl/entity/lapper/4343/goal/test.TestLaps/{KEY}", True)
+        said = [r.getMessage() for r in caplog.records if KEY in r.getMessage()]
+        assert said == [
+            f"{KEY}'s server lapper (pid 4242) went away (it exited, or its host is cut off): "
+            "goals to it fail until it is back",
+            f"{KEY} is served again: lapper (pid 4343) is back",
+        ]

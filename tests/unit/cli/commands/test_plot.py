@@ -167,6 +167,7 @@ class FakeLive:
     def __init__(self, samples, silent):
         self.samples, self.silent, self.router, self.received = samples, silent, "", len(samples)
         self.typos = {}
+        self.said = []
 
     def poll(self, wait=0.0):
         samples, self.samples = self.samples, []

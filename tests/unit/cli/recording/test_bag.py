@@ -222,3 +222,36 @@ def test_scene_messages_are_counted_with_the_others(tmp_path):
     writer.add_scene(topic, drawn, T0 + 1)
     writer.close()
     assert writer.messages == Recording(path).info().count == 2
+
+
+def test_a_gap_without_router_is_marked_info_lists_it_and_the_messages_read_past_it(tmp_path):
+    from turtlectl.cli.tools.format import info_text
+
+    path = tmp_path / "gap.mcap"
+    writer = BagWriter(path)
+    writer.add("turtle1/pose", encoding_for(Pose), encode(_pose(0)), T0)
+    writer.mark_gap(T0 + 1_000_000_000, T0 + 3_500_000_000)
+    writer.add("turtle1/pose", encoding_for(Pose), encode(_pose(1)), T0 + 4_000_000_000)
+    writer.mark_gap(T0 + 5_000_000_000)  # still lost when the recording ended
+    writer.add("turtle1/pose", encoding_for(Pose), encode(_pose(2)), T0 + 6_000_000_000)
+    writer.close()
+    recording = Recording(path)
+    assert [r.message().seq for r in recording.records()] == [0, 1, 2]
+    info = recording.info()
+    assert [(g.lost - T0, g.back - T0 if g.back else 0, g.duration) for g in info.gaps] == [
+        (1_000_000_000, 3_500_000_000, 2.5),
+        (5_000_000_000, 0, 1.0),
+    ]
+    text = info_text(info)
+    assert "2.5 s, nothing recorded" in text and "until the end (never back): 1.0 s" in text
+
+
+def test_a_gap_of_a_file_never_closed_is_listed_too(tmp_path):
+    path = tmp_path / "killed.mcap"
+    writer = BagWriter(path)
+    writer.add("turtle1/pose", encoding_for(Pose), encode(_pose(0)), T0)
+    writer.mark_gap(T0 + 1_000_000_000, T0 + 2_000_000_000)
+    writer.add("turtle1/pose", encoding_for(Pose), encode(_pose(1)), T0 + 3_000_000_000)
+    writer.tick(T0 + 4_000_000_000)  # the chunk on disk; the file is never closed
+    info = Recording(path).info()
+    assert not info.closed and [g.duration for g in info.gaps] == [1.0]

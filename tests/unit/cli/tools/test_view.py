@@ -157,3 +157,36 @@ def test_the_view_tells_whose_feedback_a_key_is_and_keeps_a_trail_a_step_apart()
     for x in (0.0, 0.01, 0.1, 0.2, 0.3):
         follow(trail, x, 0.0)
     assert list(trail) == [(0.1, 0.0), (0.2, 0.0), (0.3, 0.0)]
+
+
+def test_labels_are_drawn_whole_never_over_one_another_nor_run_together():
+    from turtlectl.cli.tools.view import place_label
+
+    def row(text: str) -> list[list[str]]:
+        return [list(text)]
+
+    grid = row("     →              ↑         ")
+    assert place_label(grid, 0, 5, "turtle2") and place_label(grid, 0, 20, "turtle3")
+    assert "".join(grid[0]) == "     →turtle2       ↑turtle3  "
+    crowded = row("     →       ↑      ")  # turtle2's name would run into the next arrow: left out
+    assert not place_label(crowded, 0, 5, "turtle2") and "".join(crowded[0]) == "     →       ↑      "
+    edge = row("                  ← ")  # no room on the right: on the left
+    assert place_label(edge, 0, 18, "ab") and "".join(edge[0]) == "                ab← "
+    near = row("  →ab ← o")  # a label already there, an obstacle: neither side is open
+    assert not place_label(near, 0, 6, "cd")
+
+
+def test_the_view_follows_the_turtle_given_and_names_turtle1_among_the_others():
+    from turtlectl.messages import Turtles
+
+    scene = Scene(
+        world=World(size=10.0),
+        turtle="turtle2",
+        pose=Pose(x=2.0, y=2.0, theta=0.0),
+        turtles=Turtles(names=["turtle1", "turtle2"], x=[8.0, 2.0], y=[8.0, 2.0], theta=[0.0, 0.0]),
+    )
+    lines = render(scene, 120, 30)
+    assert lines[-3].endswith("| also: turtle1 (8.0, 8.0)"), lines[-3]
+    assert any("→turtle1" in line for line in lines)
+    waiting = render(Scene(world=World(size=10.0), turtle="turtle2"), 120, 30)
+    assert "waiting for turtle2/pose" in waiting[-2]
