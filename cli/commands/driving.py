@@ -112,7 +112,7 @@ def reset(connect: str = ConnectOption, domain: str = DomainOption) -> None:
     from turtlectl.messages import Reset, keys
 
     acks = services.simple_call(connect, keys.RESET, Reset(), everyone=True)
-    result(format.ack_lines(acks))
+    result(format.reset_lines(acks))
     raise typer.Exit(ExitCode.OK if all(a.ok for a in acks) else ExitCode.FAILED)
 
 

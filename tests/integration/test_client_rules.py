@@ -289,7 +289,7 @@ def test_the_raw_client_of_the_interface_reference_runs(system):
     out = result.stdout
     assert out.startswith("4 nodes: navigator (pid ") and "teleport: {'type': 'turtlectl/Ack', 'ok': True" in out
     assert re.search(r"goal reached in [\d.]+ s after \d+ feedback replies", out), out
-    assert "reset: 2 acks: battery full; turtle back at its spawn pose" in out
+    assert "reset: 2 acks: turtle back at its spawn pose; turtle1: battery full" in out
     assert "cancel: ok=False (no goal is running)" in out
 
 

@@ -260,7 +260,7 @@ def test_reset_and_cancel_need_no_payload_at_all(no_scans):
     )
     assert len(replies) == 2 and all(r.ok is not None for r in replies), [r.err for r in replies]
     assert {decode(r.ok.payload.to_bytes(), Ack).detail for r in replies} == {
-        "battery full",
+        "turtle1: battery full",
         "turtle back at its spawn pose",
     }
 
