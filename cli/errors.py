@@ -9,6 +9,7 @@ on stderr and exits with ``exit_code(error)``.
 from __future__ import annotations
 
 from turtlectl.runtime.exitcodes import ExitCode
+from turtlectl.runtime.goal_reasons import INVALID_GOAL
 
 __all__ = [
     "BadInput",
@@ -20,6 +21,7 @@ __all__ = [
     "TurtlectlError",
     "Unreachable",
     "exit_code",
+    "goal_exit_code",
 ]
 
 
@@ -77,3 +79,14 @@ def exit_code(error: TurtlectlError) -> ExitCode:
         if cls in EXIT_CODES:
             return EXIT_CODES[cls]  # type: ignore[index]
     return ExitCode.FAILED
+
+
+def goal_exit_code(result: object) -> ExitCode:
+    """The exit code of a goal's result (``NavigateToResponse``, or any result with ``success``
+    and ``reason``): 0 reached; 2 (bad input) refused for the goal itself, reason "invalid goal"
+    (not finite, outside the world, inside or too near an obstacle: what a teleport there is
+    refused for, with the same code); 1 any other end (unreachable, battery low, blocked,
+    canceled, timeout, ...)."""
+    if getattr(result, "success", True) is not False:
+        return ExitCode.OK
+    return ExitCode.BAD_INPUT if getattr(result, "reason", "") == INVALID_GOAL else ExitCode.FAILED

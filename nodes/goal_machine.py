@@ -62,7 +62,7 @@ from turtlectl.nodes.driver import Arrived, Blocked, Driver, Note
 from turtlectl.nodes.goal import goal_problem, no_way
 from turtlectl.nodes.params import NavigatorParams
 from turtlectl.nodes.surroundings import Surroundings
-from turtlectl.runtime.goal_reasons import CALLER_GONE, CANCELED, PREEMPTED, SHUT_DOWN, TIMEOUT
+from turtlectl.runtime.goal_reasons import CALLER_GONE, CANCELED, INVALID_GOAL, PREEMPTED, SHUT_DOWN, TIMEOUT
 
 __all__ = ["Action", "Goal", "GoalMachine", "Note", "Reply"]
 
@@ -142,7 +142,7 @@ class GoalMachine(Generic[C]):
         p, around = self.params, self.surroundings
         problem, detail = None, goal_problem(request, self.world, around.keep)
         if detail is not None:
-            problem = "invalid goal"
+            problem = INVALID_GOAL
         here = self.latest_pose
         if problem is None and here is not None and around.plan(here, request.x, request.y, []) is None:
             problem = "unreachable"

@@ -11,7 +11,7 @@ import typer
 
 from turtlectl.cli import args
 from turtlectl.cli.commands.options import ConnectOption, DomainOption, TurtleOption, format, result
-from turtlectl.cli.errors import ExitCode, Failed, Interrupted
+from turtlectl.cli.errors import ExitCode, Failed, Interrupted, goal_exit_code
 
 
 def goto(
@@ -34,7 +34,9 @@ def goto(
 
     On a terminal a live progress line shows the goal's state; piped, only the
     outcome is printed.  Ctrl-C or --timeout cancels the goal (exit code 130 or 1), and
-    exit code 5 says that nobody confirmed the cancel: the turtle may still be driving.
+    exit code 5 says that nobody confirmed the cancel: the turtle may still be driving.  A goal
+    refused for itself (outside the world, inside or too near an obstacle) is exit code 2, as a
+    teleport there; any other goal not reached, 1.
 
     Example: turtlectl goto 8 5 90   or   turtlectl goto 2 2 0 --turtle turtle2
     """
@@ -56,7 +58,7 @@ def goto(
         if live:
             typer.echo("\r\033[K", nl=False)
     result(format.message_json(response) if json else format.outcome_line(response))
-    raise typer.Exit(ExitCode.OK if response.success else ExitCode.FAILED)
+    raise typer.Exit(goal_exit_code(response))
 
 
 def cancel(turtle: str = TurtleOption, connect: str = ConnectOption, domain: str = DomainOption) -> None:

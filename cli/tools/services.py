@@ -4,7 +4,8 @@ Nothing here prints; functions return data or raise a TurtlectlError (cli.errors
 
 The rules every call follows (``goto``, ``cancel``, ``teleport``, ``reset`` and ``call``
 alike): replies are handed on as they arrive; an answer that says no (``Ack.ok`` false,
-``NavigateToResponse.success`` false) is exit code 1; nobody serving the key is exit
+``NavigateToResponse.success`` false) is exit code 1 (a goal refused as invalid: 2, as a
+teleport refused there, cli.errors.goal_exit_code); nobody serving the key is exit
 code 3, with a hint when systems run in other domains.  A goal (its caller token, its
 cancel when given up on) is cli.tools.goals', built on ``replies``.
 """
@@ -19,7 +20,7 @@ from collections.abc import Callable, Iterator
 import msgspec
 import zenoh
 
-from turtlectl.cli.errors import BadInput, ExitCode, Failed, Unreachable
+from turtlectl.cli.errors import BadInput, ExitCode, Failed, Unreachable, goal_exit_code
 from turtlectl.cli.tools.client import (
     base_key,
     check_key,
@@ -233,12 +234,12 @@ def call_service(
 
 
 def reply_code(reply: Message | Raw) -> ExitCode:
-    """The exit code a final reply means: 1 for an answer that says no (Ack ok=false,
-    NavigateToResponse success=false), else 0."""
+    """The exit code a final reply means: 1 for an answer that says no (Ack ok=false), a goal's
+    result as ``goal_exit_code`` says (2 for a goal refused as invalid), else 0."""
     if isinstance(reply, Ack) and not reply.ok:
         return ExitCode.FAILED
-    if isinstance(reply, NavigateToResponse) and not reply.success:
-        return ExitCode.FAILED
+    if isinstance(reply, NavigateToResponse):
+        return goal_exit_code(reply)
     return ExitCode.OK
 
 
