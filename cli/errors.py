@@ -8,6 +8,8 @@ on stderr and exits with ``exit_code(error)``.
 
 from __future__ import annotations
 
+from typing import Any
+
 from turtlectl.runtime.exitcodes import ExitCode
 from turtlectl.runtime.goal_reasons import INVALID_GOAL
 
@@ -17,6 +19,7 @@ __all__ = [
     "CannotStart",
     "ExitCode",
     "Failed",
+    "GoalCanceled",
     "Interrupted",
     "TurtlectlError",
     "Unreachable",
@@ -55,12 +58,40 @@ class Failed(TurtlectlError):
 
 
 class Interrupted(TurtlectlError):
-    """Stopped by Ctrl-C before it finished."""
+    """Stopped by Ctrl-C before it finished; for a goal, ``feedback`` is its last (None: none came)."""
+
+    feedback: Any = None
 
 
 class CancelUnconfirmed(TurtlectlError):
-    """A goal was given up on (--timeout, Ctrl-C) and nobody confirmed its cancel: the turtle
-    may still be driving to it."""
+    """A goal was given up on (a timeout, Ctrl-C) and nobody confirmed its cancel: the turtle
+    may still be driving to it.  ``feedback``: what its last feedback said (where the turtle
+    was then; None: none came)."""
+
+    feedback: Any = None
+
+
+class GoalCanceled(Failed):
+    """A goal canceled before it ended (exit code 1, as a goal not reached), as a future's
+    ``CancelledError``: by the caller's own ``timeout`` (``timeout``: those s; None: a cancel
+    from anyone, ``Client.cancel`` or ``turtlectl cancel``).  ``response``: the server's result
+    (a ``NavigateToResponse``: the final pose, ``reason`` "canceled"; None if it sent none
+    within 2 s of the cancel); ``feedback``: the goal's last feedback (None: none came);
+    ``outcome``: what the server said of the cancel ("the navigator canceled the goal")."""
+
+    def __init__(
+        self,
+        message: str,
+        response: Any = None,
+        feedback: Any = None,
+        timeout: float | None = None,
+        outcome: str = "",
+    ):
+        super().__init__(message)
+        self.response = response
+        self.feedback = feedback
+        self.timeout = timeout
+        self.outcome = outcome
 
 
 EXIT_CODES: dict[type[TurtlectlError], ExitCode] = {

@@ -11,7 +11,7 @@ import typer
 
 from turtlectl.cli import args
 from turtlectl.cli.commands.options import ConnectOption, DomainOption, TurtleOption, format, result
-from turtlectl.cli.errors import ExitCode, Failed, Interrupted, goal_exit_code
+from turtlectl.cli.errors import CancelUnconfirmed, ExitCode, Failed, GoalCanceled, Interrupted, goal_exit_code
 
 
 def goto(
@@ -40,6 +40,7 @@ def goto(
 
     Example: turtlectl goto 8 5 90   or   turtlectl goto 2 2 0 --turtle turtle2
     """
+    from turtlectl.cli.tools import goals
     from turtlectl.cli.tools.api import Client
     from turtlectl.messages import NavigateToFeedback
 
@@ -54,6 +55,12 @@ def goto(
             response = client.goto(*goal, timeout=timeout, on_feedback=show if live else None)
     except KeyboardInterrupt:  # before the goal was sent (one running is canceled and checked in navigate)
         raise Interrupted("interrupted") from None
+    except GoalCanceled as canceled:
+        if canceled.timeout is not None or canceled.response is None:  # --timeout's: an error, in its words
+            raise goals.in_cli_terms(canceled, timeout) from None
+        response = canceled.response  # canceled by anyone: the navigator's outcome, as any goal not reached
+    except (CancelUnconfirmed, Interrupted) as given_up:
+        raise goals.in_cli_terms(given_up, timeout) from None
     finally:
         if live:
             typer.echo("\r\033[K", nl=False)

@@ -16,6 +16,7 @@ import contextlib
 import queue
 import time
 from collections.abc import Callable, Iterator
+from typing import Any
 
 import msgspec
 import zenoh
@@ -123,7 +124,8 @@ def replies(
     everyone: bool = False,
     attachment: bytes | None = None,
     goal: bool = False,
-) -> Iterator[Message | Raw]:
+    idle: bool = False,
+) -> Iterator[Any]:
     """Send ``request`` to the queryable(s) at ``key``; yield each reply, decoded, as it arrives.
 
     All replies are kept (no consolidation), so a service can stream feedback
@@ -132,7 +134,8 @@ def replies(
     (Unreachable) if the router goes away, NoAnswer (Failed) when ``timeout`` s pass
     before the replies end, BadInput if the service rejects the request.  ``attachment``:
     bytes the query carries beside the request (a goal's caller id); ``goal``: ``key`` is a goal
-    service or its ``/cancel`` (a --secure role's check: cli.tools.client.require).
+    service or its ``/cancel`` (a --secure role's check: cli.tools.client.require); ``idle``:
+    also yield None each 0.1 s without a reply (a caller keeping a deadline of its own).
     """
     require("call", key, goal_service=goal)
     inbox: queue.SimpleQueue[zenoh.Reply | None] = queue.SimpleQueue()
@@ -162,6 +165,8 @@ def replies(
         try:
             reply = inbox.get(timeout=min(0.1, remaining))  # short waits keep Ctrl-C responsive
         except queue.Empty:
+            if idle:
+                yield None
             continue
         if reply is None:
             break
@@ -228,7 +233,8 @@ def call_service(
             from turtlectl.cli.tools import goals  # which builds on this module
 
             service = goals.navigate_to(key)
-            yield goals.run_goal(session, service, request, goals.NO_LIMIT if timeout is None else timeout, on_feedback)
+            limit = goals.NO_LIMIT if timeout is None else timeout
+            yield goals.run_goal(session, service, request, limit, on_feedback, goals.CLI_LIMIT)
         else:
             yield from replies(session, key, request, CALL_TIMEOUT if timeout is None else timeout)
 
