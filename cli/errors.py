@@ -10,8 +10,8 @@ from __future__ import annotations
 
 from typing import Any
 
+from turtlectl.runtime import goal_reasons
 from turtlectl.runtime.exitcodes import ExitCode
-from turtlectl.runtime.goal_reasons import INVALID_GOAL
 
 __all__ = [
     "BadInput",
@@ -120,4 +120,4 @@ def goal_exit_code(result: object) -> ExitCode:
     canceled, timeout, ...)."""
     if getattr(result, "success", True) is not False:
         return ExitCode.OK
-    return ExitCode.BAD_INPUT if getattr(result, "reason", "") == INVALID_GOAL else ExitCode.FAILED
+    return ExitCode.BAD_INPUT if getattr(result, "reason", "") == goal_reasons.INVALID_GOAL else ExitCode.FAILED
