@@ -10,7 +10,7 @@ from __future__ import annotations
 
 from typing import Any
 
-from turtlectl.runtime import goal_reasons
+import turtlectl.runtime.goal_reasons as goal_reasons
 from turtlectl.runtime.exitcodes import ExitCode
 
 __all__ = [
