@@ -22,7 +22,7 @@ bytecode: install
 ARGS ?=
 
 run: bytecode  ## start the whole system (Ctrl-C stops it); options with ARGS="--port 7448"
-	$(BIN)/turtlectl launch $(ARGS)
+	TURTLECTL_MAKE_RUN=1 $(BIN)/turtlectl launch $(ARGS)
 
 lint: install  ## ruff: lint rules and formatting (configuration in pyproject.toml)
 	$(BIN)/ruff check .

@@ -8,6 +8,9 @@ on stderr and exits with ``exit_code(error)``.
 
 from __future__ import annotations
 
+from typing import Any
+
+import turtlectl.runtime.goal_reasons as goal_reasons
 from turtlectl.runtime.exitcodes import ExitCode
 
 __all__ = [
@@ -16,10 +19,12 @@ __all__ = [
     "CannotStart",
     "ExitCode",
     "Failed",
+    "GoalCanceled",
     "Interrupted",
     "TurtlectlError",
     "Unreachable",
     "exit_code",
+    "goal_exit_code",
 ]
 
 
@@ -53,12 +58,40 @@ class Failed(TurtlectlError):
 
 
 class Interrupted(TurtlectlError):
-    """Stopped by Ctrl-C before it finished."""
+    """Stopped by Ctrl-C before it finished; for a goal, ``feedback`` is its last (None: none came)."""
+
+    feedback: Any = None
 
 
 class CancelUnconfirmed(TurtlectlError):
-    """A goal was given up on (--timeout, Ctrl-C) and nobody confirmed its cancel: the turtle
-    may still be driving to it."""
+    """A goal was given up on (a timeout, Ctrl-C) and nobody confirmed its cancel: the turtle
+    may still be driving to it.  ``feedback``: what its last feedback said (where the turtle
+    was then; None: none came)."""
+
+    feedback: Any = None
+
+
+class GoalCanceled(Failed):
+    """A goal canceled before it ended (exit code 1, as a goal not reached), as a future's
+    ``CancelledError``: by the caller's own ``timeout`` (``timeout``: those s; None: a cancel
+    from anyone, ``Client.cancel`` or ``turtlectl cancel``).  ``response``: the server's result
+    (a ``NavigateToResponse``: the final pose, ``reason`` "canceled"; None if it sent none
+    within 2 s of the cancel); ``feedback``: the goal's last feedback (None: none came);
+    ``outcome``: what the server said of the cancel ("the navigator canceled the goal")."""
+
+    def __init__(
+        self,
+        message: str,
+        response: Any = None,
+        feedback: Any = None,
+        timeout: float | None = None,
+        outcome: str = "",
+    ):
+        super().__init__(message)
+        self.response = response
+        self.feedback = feedback
+        self.timeout = timeout
+        self.outcome = outcome
 
 
 EXIT_CODES: dict[type[TurtlectlError], ExitCode] = {
@@ -77,3 +110,14 @@ def exit_code(error: TurtlectlError) -> ExitCode:
         if cls in EXIT_CODES:
             return EXIT_CODES[cls]  # type: ignore[index]
     return ExitCode.FAILED
+
+
+def goal_exit_code(result: object) -> ExitCode:
+    """The exit code of a goal's result (``NavigateToResponse``, or any result with ``success``
+    and ``reason``): 0 reached; 2 (bad input) refused for the goal itself, reason "invalid goal"
+    (not finite, outside the world, inside or too near an obstacle: what a teleport there is
+    refused for, with the same code); 1 any other end (unreachable, battery low, blocked,
+    canceled, timeout, ...)."""
+    if getattr(result, "success", True) is not False:
+        return ExitCode.OK
+    return ExitCode.BAD_INPUT if getattr(result, "reason", "") == goal_reasons.INVALID_GOAL else ExitCode.FAILED

@@ -286,7 +286,7 @@ def services_section() -> list[str]:
         "- **turtle1/teleport_absolute**: `TeleportAbsolute` (radians) -> `Ack` once the new pose has been published; "
         "an `ErrorReply` for a pose outside the world, inside a declared obstacle or not finite. A running goal is "
         'canceled (reason "teleported"); a teleport is not charged to the battery.',
-        "- **reset**: served by the sim (pose back to spawn) and the status monitor (battery full): one `Ack` from "
+        "- **reset**: served by the sim (pose back to spawn) and the status monitor (its turtle's battery full): one `Ack` from "
         "each, but only with `QueryTarget.ALL` and `ConsolidationMode.NONE` (both replies come on the same key, so "
         'the default consolidation keeps one). A running goal is canceled (reason "reset").',
         "- **Goal services** (any node's, `Node.goal_server`; `navigate_to` is one): on `KEY`, a query carrying "
@@ -332,7 +332,7 @@ world: 11.089 m square, 3 obstacles
 teleport: {'type': 'turtlectl/Ack', 'ok': True, 'detail': 'teleported to (2, 2, 1.5708 rad)'}
 feedback: driving, 3.00 m to go, eta 1.6 s
 goal reached in 1.32 s after 13 feedback replies: (5.000, 2.000, 359.8 deg), error 0.0001 m
-reset: 2 acks: battery full; turtle back at its spawn pose
+reset: 2 acks: turtle back at its spawn pose; turtle1: battery full
 cancel: ok=False (no goal is running)
 """
 

@@ -62,7 +62,7 @@ from turtlectl.nodes.driver import Arrived, Blocked, Driver, Note
 from turtlectl.nodes.goal import goal_problem, no_way
 from turtlectl.nodes.params import NavigatorParams
 from turtlectl.nodes.surroundings import Surroundings
-from turtlectl.runtime.goal_reasons import CALLER_GONE, CANCELED, PREEMPTED, SHUT_DOWN, TIMEOUT
+from turtlectl.runtime.goal_reasons import CALLER_GONE, CANCELED, INVALID_GOAL, PREEMPTED, SHUT_DOWN, TIMEOUT
 
 __all__ = ["Action", "Goal", "GoalMachine", "Note", "Reply"]
 
@@ -111,8 +111,11 @@ ENDINGS = {
 class GoalMachine(Generic[C]):
     """One navigator's goals, one at a time.  ``goal`` is the running one (None: idle)."""
 
-    def __init__(self, params: NavigatorParams, world: World, limits: Limits, turtle: str = FIRST_TURTLE):
+    def __init__(
+        self, params: NavigatorParams, world: World, limits: Limits, turtle: str = FIRST_TURTLE, pose_key: str = POSE
+    ):
         self.world = world
+        self.pose_key = pose_key  # the key its poses come on, as the node resolved it: what "no pose" names
         self.limits = limits
         self.surroundings = Surroundings(params, world, turtle)  # ``turtle``: the one it drives
         self.goal: Goal[C] | None = None
@@ -139,7 +142,7 @@ class GoalMachine(Generic[C]):
         p, around = self.params, self.surroundings
         problem, detail = None, goal_problem(request, self.world, around.keep)
         if detail is not None:
-            problem = "invalid goal"
+            problem = INVALID_GOAL
         here = self.latest_pose
         if problem is None and here is not None and around.plan(here, request.x, request.y, []) is None:
             problem = "unreachable"
@@ -224,7 +227,9 @@ class GoalMachine(Generic[C]):
             return []
         p = self.params
         if now - max(self.pose_time, goal.start) > p.pose_timeout:
-            self._finish(now, False, "no pose", f"no {POSE} for {p.pose_timeout:g} s: is the simulator running?")
+            self._finish(
+                now, False, "no pose", f"no {self.pose_key} for {p.pose_timeout:g} s: is the simulator running?"
+            )
         stale = not self.scans_fresh(now)
         if self.scans_stale is None:  # before the first scan nothing has stopped; the first one is no news
             self.scans_stale = False if not stale else None

@@ -55,7 +55,9 @@ WATCHDOG_PERIOD = 0.05  # s
 class Navigator:
     def __init__(self, node: Node[NavigatorParams]):
         self.node = node
-        self.machine: GoalMachine[NavigateGoal] = GoalMachine(node.params, node.world, node.limits, node.turtle)
+        self.machine: GoalMachine[NavigateGoal] = GoalMachine(
+            node.params, node.world, node.limits, node.turtle, node.resolve(POSE)
+        )
         self.cmd_pub = node.publisher(CMD_VEL, Twist)
         self.pose = node.latest(POSE, Pose, follow=True)  # every pose (self.on_pose) only while a goal runs
         self.status = node.latest(STATUS, TurtleStatus)

@@ -37,7 +37,7 @@ class StatusMonitor:
 
     def on_reset(self, request: Request[Reset]) -> None:
         self.battery, self.travelled = FULL, 0.0
-        request.respond(Ack(detail="battery full"))
+        request.respond(Ack(detail=f"{self.node.turtle}: battery full"))  # one of a fleet's
 
     def on_pose(self, pose: Pose) -> None:
         if self.pose is not None:

@@ -22,6 +22,7 @@ import importlib.util
 import re
 import sys
 import traceback
+from collections.abc import Iterable
 from pathlib import Path
 from types import ModuleType
 
@@ -41,10 +42,17 @@ class ImportRaised(LoadError):
     """The module's own code raised while it was imported; ``__cause__`` is that exception."""
 
 
-def suggestion(word: str, candidates: list[str] | tuple[str, ...]) -> str:
-    """``; did you mean X?`` for the candidate nearest to ``word``, or nothing."""
+def nearest(word: str, candidates: Iterable[str]) -> str | None:
+    """The candidate nearest to ``word`` (a typo's: ``navigatr``, ``navigator``), or None."""
     close = difflib.get_close_matches(word, list(candidates), n=1, cutoff=0.6)
-    return f"; did you mean {close[0]}?" if close else ""
+    return close[0] if close else None
+
+
+def suggestion(word: str, candidates: Iterable[str]) -> str:
+    """``; did you mean X?`` for the candidate nearest to ``word``, or nothing: the one way a
+    launch file's keys, a node's parameters, node kinds and running nodes' names suggest."""
+    near = nearest(word, candidates)
+    return f"; did you mean {near}?" if near else ""
 
 
 def is_target(run: str) -> bool:

@@ -9,7 +9,7 @@ from typing import Any
 import typer
 
 from turtlectl.cli.commands.options import ConnectOption, DomainOption, format
-from turtlectl.cli.errors import ExitCode, Interrupted
+from turtlectl.cli.errors import Interrupted, goal_exit_code
 from turtlectl.cli.sigint import ignore_sigint
 
 action_app = typer.Typer(
@@ -62,7 +62,8 @@ def send_goal(
 ) -> None:
     """Send a goal to any goal service and print its result (as `ros2 action send_goal`).
     Ctrl-C (exit code 130) or --timeout cancels the goal through KEY/cancel (exit code 5 if
-    nobody confirms it); a result whose `success` is false is exit code 1.
+    nobody confirms it); a result whose `success` is false is exit code 1 (2 with reason
+    "invalid goal": refused for itself).
 
     Example: turtlectl action send-goal patrol/laps '{"laps": 2}' --feedback
     """
@@ -80,7 +81,7 @@ def send_goal(
         raise Interrupted("interrupted") from None
     ignore_sigint()
     show(result)
-    raise typer.Exit(ExitCode.FAILED if getattr(result, "success", True) is False else ExitCode.OK)
+    raise typer.Exit(goal_exit_code(result))
 
 
 def register(app: typer.Typer) -> None:

@@ -11,7 +11,7 @@ import typer
 
 from turtlectl.cli import args
 from turtlectl.cli.commands.options import ConnectOption, DomainOption, ExitOnLossOption, TurtleOption, format, result
-from turtlectl.cli.errors import ExitCode, Failed, Interrupted
+from turtlectl.cli.errors import CancelUnconfirmed, ExitCode, Failed, GoalCanceled, Interrupted, goal_exit_code
 
 
 def goto(
@@ -34,10 +34,13 @@ def goto(
 
     On a terminal a live progress line shows the goal's state; piped, only the
     outcome is printed.  Ctrl-C or --timeout cancels the goal (exit code 130 or 1), and
-    exit code 5 says that nobody confirmed the cancel: the turtle may still be driving.
+    exit code 5 says that nobody confirmed the cancel: the turtle may still be driving.  A goal
+    refused for itself (outside the world, inside or too near an obstacle) is exit code 2, as a
+    teleport there; any other goal not reached, 1.
 
     Example: turtlectl goto 8 5 90   or   turtlectl goto 2 2 0 --turtle turtle2
     """
+    from turtlectl.cli.tools import goals
     from turtlectl.cli.tools.api import Client
     from turtlectl.messages import NavigateToFeedback
 
@@ -52,11 +55,17 @@ def goto(
             response = client.goto(*goal, timeout=timeout, on_feedback=show if live else None)
     except KeyboardInterrupt:  # before the goal was sent (one running is canceled and checked in navigate)
         raise Interrupted("interrupted") from None
+    except GoalCanceled as canceled:
+        if canceled.timeout is not None or canceled.response is None:  # --timeout's: an error, in its words
+            raise goals.in_cli_terms(canceled, timeout) from None
+        response = canceled.response  # canceled by anyone: the navigator's outcome, as any goal not reached
+    except (CancelUnconfirmed, Interrupted) as given_up:
+        raise goals.in_cli_terms(given_up, timeout) from None
     finally:
         if live:
             typer.echo("\r\033[K", nl=False)
     result(format.message_json(response) if json else format.outcome_line(response))
-    raise typer.Exit(ExitCode.OK if response.success else ExitCode.FAILED)
+    raise typer.Exit(goal_exit_code(response))
 
 
 def cancel(turtle: str = TurtleOption, connect: str = ConnectOption, domain: str = DomainOption) -> None:
@@ -112,7 +121,7 @@ def reset(connect: str = ConnectOption, domain: str = DomainOption) -> None:
     from turtlectl.messages import Reset, keys
 
     acks = services.simple_call(connect, keys.RESET, Reset(), everyone=True)
-    result(format.ack_lines(acks))
+    result(format.reset_lines(acks))
     raise typer.Exit(ExitCode.OK if all(a.ok for a in acks) else ExitCode.FAILED)
 
 

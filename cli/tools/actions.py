@@ -72,6 +72,6 @@ def send_goal(
         goal = build.message_from_json(text, build.type_named(row.goal))
         service = goals.GoalService(key, row.result, tuple(row.servers))
         result: Message = goals.run_goal(
-            session, service, goal, goals.NO_LIMIT if timeout is None else timeout, on_feedback
+            session, service, goal, goals.NO_LIMIT if timeout is None else timeout, on_feedback, goals.CLI_LIMIT
         )
         return result

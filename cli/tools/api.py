@@ -54,6 +54,7 @@ from turtlectl.messages.keys import (
 from turtlectl.messages.world import World
 from turtlectl.runtime.endpoint import CONNECT_ENV, DEFAULT_ENDPOINT, default_domain
 from turtlectl.runtime.futures import Future
+from turtlectl.runtime.goal_reasons import CANCELED
 from turtlectl.runtime.handles import Declaration
 
 CALL_TIMEOUT = 5.0  # s: a service call's default
@@ -187,15 +188,19 @@ class Client:
         timeout: float | None = None,
         on_feedback: Callable[[NavigateToFeedback], None] | None = None,
     ) -> NavigateToResponse:
-        """Drive to (``x``, ``y``) m facing ``theta`` degrees and wait for the outcome (its
-        ``success`` says whether the goal was reached).  ``on_feedback`` gets each feedback
-        as it arrives.  After ``timeout`` s (default: the navigator's goal_timeout) or a
-        KeyboardInterrupt the goal is canceled and the cancel checked: ``Failed`` (exit 1),
-        ``Interrupted`` (130), or ``CancelUnconfirmed`` (5: the turtle may still drive)."""
+        """Drive to (``x``, ``y``) m facing ``theta`` degrees and wait for the outcome: the
+        navigator's ``NavigateToResponse`` when it ends the goal (``success`` says whether it
+        was reached; ``reason`` why not: refused, blocked, its own goal_timeout, preempted, ...).
+        ``on_feedback`` gets each feedback as it arrives.  A goal canceled raises
+        ``GoalCanceled`` (exit 1), whoever canceled it: this call's ``timeout`` (s; default:
+        none but the navigator's goal_timeout) or a cancel (``cancel()``, ``turtlectl
+        cancel``); it carries the navigator's ``response`` (the final pose) and the last
+        ``feedback``.  A KeyboardInterrupt cancels the goal too: ``Interrupted`` (130).  A cancel
+        nobody confirmed: ``CancelUnconfirmed`` (5: the turtle may still drive)."""
         request = NavigateToRequest(x=float(x), y=float(y), theta=float(theta))
         with self._hinted():
             service = goals.navigate_to(self._goal_key(NAVIGATE_TO))
-            return goals.run_goal(self._session, service, request, _limit(timeout), on_feedback)
+            return _goal(self._session, service, request, timeout, on_feedback)
 
     def cancel(self, service: str = NAVIGATE_TO, reason: str = "") -> Ack:
         """Cancel the running goal of the goal service ``service`` (default ``navigate_to``);
@@ -220,9 +225,10 @@ class Client:
         ``turtlectl action list``) without waiting: a ``Future`` of its result (``result(timeout)``
         waits; a refused goal's result too).  ``on_feedback`` gets each feedback on the goal's
         own thread.  While it waits the client holds a caller token (the goal ends if the
-        script goes away); after ``timeout`` s (default: the server's own) the goal is canceled
-        and the future ends with ``Failed`` (or ``CancelUnconfirmed``); ``cancel(service)``
-        cancels it meanwhile."""
+        script goes away).  As with ``goto``, a goal canceled ends the future with
+        ``GoalCanceled`` (carrying the server's result and the last feedback), whoever canceled
+        it: ``timeout`` s (default: the server's own), or ``cancel(service)`` meanwhile; a
+        cancel nobody confirmed, with ``CancelUnconfirmed``."""
         key = check_key(self._key(service))
         row = next((row for row in self.goals() if row.key == key), None)
         if row is None:
@@ -234,7 +240,7 @@ class Client:
         def run() -> None:
             try:
                 with self._hinted():
-                    future.set_result(goals.run_goal(self._session, goal_service, goal, _limit(timeout), on_feedback))
+                    future.set_result(_goal(self._session, goal_service, goal, timeout, on_feedback))
             except BaseException as exc:  # the script's to see, through the future
                 future.set_exception(exc)
 
@@ -383,9 +389,27 @@ class Client:
         return hinted(self.connect, self.domain)
 
 
-def _limit(timeout: float | None) -> float:
-    """s to wait for a goal's result: ``timeout``, or as long as its server lets it run."""
-    return goals.NO_LIMIT if timeout is None else timeout
+def _goal(
+    session: zenoh.Session,
+    service: goals.GoalService,
+    goal: Message,
+    timeout: float | None,
+    on_feedback: Callable[[Any], None] | None,
+) -> Any:
+    """The result of ``goal`` (goals.run_goal, its timeout named ``timeout=``), or GoalCanceled
+    for one canceled by anyone, as for one its own ``timeout`` canceled: one rule for both."""
+    last: list[Any] = [None]  # the goal's last feedback, for the error
+
+    def feedback(message: Any) -> None:
+        last[0] = message
+        if on_feedback is not None:
+            on_feedback(message)
+
+    limit = goals.NO_LIMIT if timeout is None else timeout
+    result = goals.run_goal(session, service, goal, limit, feedback, goals.API_LIMIT)
+    if getattr(result, "reason", "") == CANCELED and getattr(result, "success", False) is False:
+        raise goals.canceled(service, result, last[0])
+    return result
 
 
 __all__ = ["Client", "Subscription"]

@@ -195,6 +195,12 @@ def ack_lines(acks: list[Ack]) -> str:
     return "\n".join(a.detail for a in acks)
 
 
+def reset_lines(acks: list[Ack]) -> str:
+    """What ``reset`` says: each server's answer on a line (the simulator's, each status
+    monitor's naming its turtle), sorted, so that a fleet's come in the same order every time."""
+    return "\n".join(sorted(a.detail for a in acks))
+
+
 def teleport_line(x: float, y: float, theta_degrees: float) -> str:
     """What ``teleport`` says, in the units it was given (m, m, degrees in [0, 360))."""
     return f"teleported to ({x:g}, {y:g}, {heading_text(theta_degrees, 6).rstrip('0').rstrip('.')} deg)"

@@ -20,7 +20,7 @@ from typing import Any
 import msgspec
 import zenoh
 
-from turtlectl.cli.errors import CancelUnconfirmed, Failed, Interrupted, TurtlectlError
+from turtlectl.cli.errors import CancelUnconfirmed, Failed, GoalCanceled, Interrupted, TurtlectlError
 from turtlectl.cli.sigint import sigint_deferred
 from turtlectl.cli.tools.client import base_key, caller_token
 from turtlectl.cli.tools.services import (
@@ -35,11 +35,27 @@ from turtlectl.cli.tools.services import (
 from turtlectl.messages import Ack, Cancel, Message, NavigateToFeedback, NavigateToRequest, NavigateToResponse
 from turtlectl.messages.codec import type_name
 from turtlectl.messages.keys import NAVIGATE_TO
+from turtlectl.runtime.goal_reasons import CANCELED
 
-__all__ = ["CANCEL_WAIT", "NO_LIMIT", "GoalService", "cancel_goal", "given_up", "navigate", "navigate_to", "run_goal"]
+__all__ = [
+    "API_LIMIT",
+    "CANCEL_WAIT",
+    "CLI_LIMIT",
+    "NO_LIMIT",
+    "GoalService",
+    "cancel_goal",
+    "canceled",
+    "given_up",
+    "in_cli_terms",
+    "navigate",
+    "navigate_to",
+    "run_goal",
+]
 
 NO_LIMIT = 24 * 3600.0  # s: wait as long as the server lets the goal run (its own timeout decides)
 CANCEL_WAIT = 2.0  # s for KEY/cancel to confirm the cancel of a goal given up on
+API_LIMIT = "timeout={:g} s"  # a timeout as the Python client (turtlectl.Client) names it
+CLI_LIMIT = "--timeout {:g} s"  # as the command line names it
 
 
 class GoalService(msgspec.Struct, frozen=True):
@@ -89,23 +105,57 @@ def cancel_goal(session: zenoh.Session, service: GoalService) -> Ack | str:
     return f"{service.cancel_key} sent no Ack"
 
 
-def given_up(why: str, answer: Ack | str, interrupted: bool, service: GoalService | None = None) -> TurtlectlError:
+def given_up(
+    why: str,
+    answer: Ack | str,
+    interrupted: bool,
+    service: GoalService | None = None,
+    *,
+    response: Any = None,
+    feedback: Any = None,
+    timeout: float | None = None,
+) -> TurtlectlError:
     """The error for a goal given up on (``why``: a timeout, or "interrupted" by Ctrl-C), given
     the cancel's ``answer`` (an Ack, or why nobody confirmed it) and the ``service`` (default:
-    ``navigate_to``).  Confirmed: Failed (exit 1) or Interrupted (130), as a goal not reached
-    or a Ctrl-C; a server that had no goal running any more confirms too.  Unconfirmed:
-    CancelUnconfirmed (exit 5): the goal may still run (the turtle may still drive)."""
+    ``navigate_to``).  Confirmed: GoalCanceled (exit 1, a goal not reached: with the server's
+    ``response`` and the caller's ``timeout``) or Interrupted (130); a server that had no goal
+    running any more confirms too.  Unconfirmed: CancelUnconfirmed (exit 5): the goal may still
+    run (the turtle may still drive).  Each carries the goal's last ``feedback``."""
     service = service or navigate_to()
     lead = f"{why}: " if interrupted else f"{why}; "
+    error: TurtlectlError
     if isinstance(answer, str):
         if service.is_navigate_to:
             still, again = "the turtle may still be driving to the goal", "`turtlectl cancel` asks again"
         else:
             still, again = "the goal may still be running", f"`turtlectl call {service.cancel_key}` asks again"
-        return CancelUnconfirmed(f"{lead}nobody confirmed the cancel: {still} ({answer}; {again})")
+        error = CancelUnconfirmed(f"{lead}nobody confirmed the cancel: {still} ({answer}; {again})")
+        error.feedback = feedback
+        return error
     who = service.server
     said = f"{who} canceled the goal" if answer.ok else f"the goal had ended meanwhile ({who}: {answer.detail})"
-    return Interrupted(lead + said) if interrupted else Failed(lead + said)
+    if interrupted:
+        error = Interrupted(lead + said)
+        error.feedback = feedback
+        return error
+    return GoalCanceled(lead + said, response, feedback, timeout, said)
+
+
+def canceled(service: GoalService, response: Any, feedback: Any = None) -> GoalCanceled:
+    """A goal ended by a cancel from anyone (its result's ``reason`` "canceled"), as the Python
+    client raises it: the same error as its own timeout's, with the server's ``response``."""
+    detail = getattr(response, "detail", "")
+    said = f"{service.server} canceled the goal"
+    return GoalCanceled(said + (f": {detail}" if detail else ""), response, feedback, None, said)
+
+
+def in_cli_terms(error: TurtlectlError, timeout: float | None) -> TurtlectlError:
+    """``error`` of the Python client (``timeout=2 s``) as the command line says it (``--timeout
+    2 s``): the command line's goto is built on ``Client.goto``."""
+    if timeout is not None:
+        error.message = error.message.replace(API_LIMIT.format(timeout), CLI_LIMIT.format(timeout))
+        error.args = (error.message,)
+    return error
 
 
 def run_goal(
@@ -114,6 +164,7 @@ def run_goal(
     goal: Message,
     timeout: float,
     on_feedback: Callable[[Any], None] | None = None,
+    limit: str = API_LIMIT,
 ) -> Any:
     """Send ``goal`` to ``service`` and wait for its result, handing each feedback to
     ``on_feedback`` as it arrives, while holding a caller token (released when this ends,
@@ -121,31 +172,61 @@ def run_goal(
 
     A goal given up on before its result (``timeout`` s, or Ctrl-C anywhere in here,
     ``on_feedback`` included) is canceled through ``KEY/cancel`` and the answer checked
-    (``given_up``).  Raises Failed if the server stops answering; RouterLost if the router
-    goes away."""
+    (``given_up``): after a timeout the server's result that follows its confirmed cancel is
+    awaited (CANCEL_WAIT s), so that GoalCanceled carries the final pose.  ``limit``: how the
+    timeout is named to its user (``timeout={:g} s``, the command line's ``--timeout {:g} s``).
+    Raises Failed if the server stops answering; RouterLost if the router goes away."""
+    last: Any = None  # the goal's last feedback
     with caller_token(session, service.key) as client_id:
         request = goal
         if "client" in type(goal).__struct_fields__ and not getattr(goal, "client", ""):
             request = msgspec.structs.replace(goal, client=client_id)  # type: ignore[call-arg]
+        deadline = time.monotonic() + timeout
+        answered = False
+        why, answer, result_by = "", None, 0.0  # once given up on: why, the cancel's Ack, how long for the result
+        waited = timeout + 3 * CANCEL_WAIT  # the query outlives the timeout: the result after the cancel
         try:
-            for message in replies(session, service.key, request, timeout, attachment=client_id.encode(), goal=True):
-                if service.is_result(message):
-                    return message
-                if on_feedback is not None:
-                    on_feedback(message)
-        except NoAnswer as exc:
-            why = f"the goal did not end within --timeout {timeout:g} s" if exc.answered else exc.message
-            with sigint_deferred():  # bounded (CANCEL_WAIT): a Ctrl-C must not skip the check
-                answer = cancel_goal(session, service)
-            raise given_up(why, answer, False, service) from None
+            for message in replies(
+                session, service.key, request, waited, attachment=client_id.encode(), goal=True, idle=True
+            ):
+                now = time.monotonic()
+                if message is not None and service.is_result(message):
+                    if answer is not None and getattr(message, "reason", "") == CANCELED:
+                        raise given_up(why, answer, False, service, response=message, feedback=last, timeout=timeout)
+                    return message  # reached, or ended otherwise before the cancel was served
+                if message is not None:
+                    answered = True
+                    last = message
+                    if on_feedback is not None:
+                        on_feedback(message)
+                if answer is None and now >= deadline:
+                    if answered:
+                        why = f"the goal did not end within {limit.format(timeout)}"
+                    else:
+                        why = f"{service.key} did not answer within {limit.format(timeout)}"
+                    with sigint_deferred():  # bounded (CANCEL_WAIT): a Ctrl-C must not skip the check
+                        answer = cancel_goal(session, service)
+                    if isinstance(answer, str):
+                        raise given_up(why, answer, False, service, feedback=last)
+                    result_by = time.monotonic() + CANCEL_WAIT
+                elif answer is not None and now >= result_by:
+                    raise given_up(why, answer, False, service, feedback=last, timeout=timeout)
+        except NoAnswer:  # the query's own limit, beyond the timeout and the cancel: seldom reached
+            if answer is None:
+                why = f"the goal did not end within {limit.format(timeout)}"
+                with sigint_deferred():
+                    answer = cancel_goal(session, service)
+            raise given_up(why, answer, False, service, feedback=last, timeout=timeout) from None
         except KeyboardInterrupt:
             with sigint_deferred():
                 answer = cancel_goal(session, service)
-            raise given_up("interrupted", answer, True, service) from None
+            raise given_up("interrupted", answer, True, service, feedback=last) from None
         except RouterLost:
             raise RouterLost("lost the router before the goal ended (did `turtlectl launch` stop?)") from None
         if router_lost_soon(session, lasted=ROUTER_LOSS_WAIT):  # the replies ended without a result: why?
             raise RouterLost("lost the router before the goal ended (did `turtlectl launch` stop?)")
+    if answer is not None:  # canceled, and the server's replies ended without its result
+        raise given_up(why, answer, False, service, feedback=last, timeout=timeout)
     raise Failed(f"{service.server} stopped answering before the goal ended (did it exit?)")
 
 

@@ -26,6 +26,7 @@ from turtlectl.cli.tools.routerwatch import watch
 from turtlectl.cli.tools.topics import live_graph
 from turtlectl.messages import DecodeError, Log, decode, to_json
 from turtlectl.messages.keys import LOG_KEYS
+from turtlectl.runtime.loader import nearest
 
 #: the levels by name, as Python's logging and ROS number them (ROS's FATAL is CRITICAL)
 LEVELS = {"DEBUG": 10, "INFO": 20, "WARNING": 30, "ERROR": 40, "CRITICAL": 50}
@@ -68,6 +69,15 @@ def node_matches(name: str, patterns: tuple[str, ...]) -> bool:
     them (cli.selection: names, globs such as ``turtle2/*``, namespaces, turtles); any node when
     there are none."""
     return not patterns or any(selects(p, name) for p in patterns)
+
+
+def unmatched(patterns: tuple[str, ...], running: list[str]) -> str:
+    """Why ``--node patterns`` shows nothing: none matches a ``running`` node; the running node
+    nearest each plain name (not a glob) suggested, as every command that takes a node name does."""
+    near = [nearest(p.lstrip("/"), running) for p in patterns if not any(c in p for c in "*?[")]
+    named = [n for n in dict.fromkeys(near) if n]
+    hint = f"; did you mean {', '.join(named)}?" if named else ""
+    return f"no running node matches --node {', '.join(patterns)}{hint} (running: {', '.join(running)})"
 
 
 @dataclasses.dataclass(frozen=True)
@@ -180,7 +190,7 @@ def read(connect: str, wanted: LogFilter, follow: bool = False, exit_on_loss: bo
                         f"{problem}: no log to read (is `turtlectl launch` running?){domain_hint(connect)}"
                     )
             elif not any(node_matches(name, wanted.nodes) for name in running):
-                problem = f"no running node matches --node {', '.join(wanted.nodes)} (running: {', '.join(running)})"
+                problem = unmatched(wanted.nodes, running)
                 if not follow:
                     raise Unreachable(problem)
             if problem:

@@ -44,13 +44,18 @@ def _no_param(node: str, name: str, known: list[str]) -> BadInput:
 
 
 def no_node(node: str, running: list[str], hint: str = "") -> NobodyServes:
-    """No node called ``node`` answers in this command's domain; ``hint``: where systems run
-    when none runs here (the live graph's hint)."""
+    """No node called ``node`` answers in this command's domain (the running node nearest its
+    name suggested: ``param``, ``node info``, ``log-level`` all come here); ``hint``: where
+    systems run when none runs here (the live graph's hint)."""
     from turtlectl.runtime.endpoint import default_domain
+    from turtlectl.runtime.loader import suggestion
 
     where = f" in domain {default_domain()}" if default_domain() else ""
     found = f"running: {', '.join(sorted(running))}" if running else f"no node runs{where}"
-    return NobodyServes(f"no node named {node!r} answers{where} ({found}){'; ' + hint if hint and not running else ''}")
+    near = suggestion(node, running)
+    return NobodyServes(
+        f"no node named {node!r} answers{where}{near} ({found}){'; ' + hint if hint and not running else ''}"
+    )
 
 
 class Silent(Unreachable):

@@ -65,8 +65,8 @@ def parse_series(text: str, turtle: str = "") -> Series:
     name, dot, path = last.partition(".")
     key = f"{head}{slash}{name}"
     if not dot:
-        known = head and last and builtin_type(resolve(head, turtle), turtle) is not None
-        hint = f"{head}.{last}" if known else "robot/status.battery"  # rqt_plot's turtle1/pose/x
+        known = head and last and builtin_anywhere(resolve(head, turtle), turtle) is not None
+        hint = f"{head}.{last}" if known else "robot/status.battery"  # rqt_plot's turtle1/pose/x, any turtle's
         raise BadInput(f"{text!r}: name a field after the key and a '.', as {hint} (KEY.FIELD)")
     if not key.strip("/") or not path:
         raise BadInput(f"{text!r}: write KEY.FIELD, as robot/status.battery or turtle1/pose.x")
@@ -265,6 +265,12 @@ def builtin_type(key: str, turtle: str = "") -> type[Message] | None:
         if resolve(known, turtle) == key:
             return msg_type
     return None
+
+
+def builtin_anywhere(key: str, turtle: str = "") -> type[Message] | None:
+    """``builtin_type`` of ``key`` for --turtle, or in the namespace its first part names
+    (``turtle2/pose``, ``turtle3/robot/status``: any turtle's built-in topics, typed whole)."""
+    return builtin_type(key, turtle) or builtin_type(key, key.partition("/")[0])
 
 
 def check_builtins(

@@ -4,7 +4,8 @@ Nothing here prints; functions return data or raise a TurtlectlError (cli.errors
 
 The rules every call follows (``goto``, ``cancel``, ``teleport``, ``reset`` and ``call``
 alike): replies are handed on as they arrive; an answer that says no (``Ack.ok`` false,
-``NavigateToResponse.success`` false) is exit code 1; nobody serving the key is exit
+``NavigateToResponse.success`` false) is exit code 1 (a goal refused as invalid: 2, as a
+teleport refused there, cli.errors.goal_exit_code); nobody serving the key is exit
 code 3, with a hint when systems run in other domains.  A goal (its caller token, its
 cancel when given up on) is cli.tools.goals', built on ``replies``.
 """
@@ -15,11 +16,12 @@ import contextlib
 import queue
 import time
 from collections.abc import Callable, Iterator
+from typing import Any
 
 import msgspec
 import zenoh
 
-from turtlectl.cli.errors import BadInput, ExitCode, Failed, Unreachable
+from turtlectl.cli.errors import BadInput, ExitCode, Failed, Unreachable, goal_exit_code
 from turtlectl.cli.tools.client import (
     base_key,
     check_key,
@@ -122,7 +124,8 @@ def replies(
     everyone: bool = False,
     attachment: bytes | None = None,
     goal: bool = False,
-) -> Iterator[Message | Raw]:
+    idle: bool = False,
+) -> Iterator[Any]:
     """Send ``request`` to the queryable(s) at ``key``; yield each reply, decoded, as it arrives.
 
     All replies are kept (no consolidation), so a service can stream feedback
@@ -131,7 +134,8 @@ def replies(
     (Unreachable) if the router goes away, NoAnswer (Failed) when ``timeout`` s pass
     before the replies end, BadInput if the service rejects the request.  ``attachment``:
     bytes the query carries beside the request (a goal's caller id); ``goal``: ``key`` is a goal
-    service or its ``/cancel`` (a --secure role's check: cli.tools.client.require).
+    service or its ``/cancel`` (a --secure role's check: cli.tools.client.require); ``idle``:
+    also yield None each 0.1 s without a reply (a caller keeping a deadline of its own).
     """
     require("call", key, goal_service=goal)
     inbox: queue.SimpleQueue[zenoh.Reply | None] = queue.SimpleQueue()
@@ -161,6 +165,8 @@ def replies(
         try:
             reply = inbox.get(timeout=min(0.1, remaining))  # short waits keep Ctrl-C responsive
         except queue.Empty:
+            if idle:
+                yield None
             continue
         if reply is None:
             break
@@ -227,18 +233,19 @@ def call_service(
             from turtlectl.cli.tools import goals  # which builds on this module
 
             service = goals.navigate_to(key)
-            yield goals.run_goal(session, service, request, goals.NO_LIMIT if timeout is None else timeout, on_feedback)
+            limit = goals.NO_LIMIT if timeout is None else timeout
+            yield goals.run_goal(session, service, request, limit, on_feedback, goals.CLI_LIMIT)
         else:
             yield from replies(session, key, request, CALL_TIMEOUT if timeout is None else timeout)
 
 
 def reply_code(reply: Message | Raw) -> ExitCode:
-    """The exit code a final reply means: 1 for an answer that says no (Ack ok=false,
-    NavigateToResponse success=false), else 0."""
+    """The exit code a final reply means: 1 for an answer that says no (Ack ok=false), a goal's
+    result as ``goal_exit_code`` says (2 for a goal refused as invalid), else 0."""
     if isinstance(reply, Ack) and not reply.ok:
         return ExitCode.FAILED
-    if isinstance(reply, NavigateToResponse) and not reply.success:
-        return ExitCode.FAILED
+    if isinstance(reply, NavigateToResponse):
+        return goal_exit_code(reply)
     return ExitCode.OK
 
 

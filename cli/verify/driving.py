@@ -13,9 +13,10 @@ import threading
 from collections import Counter
 from collections.abc import Iterator
 
-from turtlectl.cli.errors import TurtlectlError
+from turtlectl.cli.errors import GoalCanceled, TurtlectlError
 from turtlectl.cli.tools.api import Client
 from turtlectl.cli.verify.spec import NoErrors, Pose
+from turtlectl.messages import NavigateToResponse
 from turtlectl.messages.world import World
 
 #: m: how far a random goal stays from a wall and from an obstacle's edge (the turtle's radius,
@@ -112,7 +113,7 @@ class GoalDriver:
             if self._stopping.is_set():  # stop() may have looked before in_flight was set
                 return
             try:
-                response = self._client.goto(x, y, theta)
+                response = _outcome(self._client, x, y, theta)
             except TurtlectlError as exc:
                 self._in_flight.clear()
                 if self._stopping.is_set():
@@ -141,3 +142,13 @@ class GoalDriver:
         if self._thread.is_alive():
             self._outcomes.erred.append(f"the last goal did not end within {CANCEL_WAIT:g} s of its cancel")
         return self._outcomes
+
+
+def _outcome(client: Client, x: float, y: float, theta: float) -> NavigateToResponse:
+    """The navigator's answer to a goal, a canceled one's too (``GoalCanceled`` carries it)."""
+    try:
+        return client.goto(x, y, theta)
+    except GoalCanceled as exc:
+        if exc.response is None:
+            raise
+        return exc.response

@@ -13,7 +13,7 @@ The public API, the only names a user's code needs (typed; ``py.typed``)::
 goal a ``GoalHandle``) and ``GoalClient`` are what a node's declarations return; ``Future`` what
 ``Node.call`` returns (``GoalFuture``: a goal's result; ``GoalFailed``: a goal without one), ``Subscription`` what a client's ``subscribe`` returns (each can be
 undeclared).  ``Error``'s subclasses: ``BadInput`` (exit 2), ``Unreachable`` (3),
-``Failed`` (1), ``Interrupted`` (130), ``CancelUnconfirmed`` (5), ``CannotStart`` (4).  Everything else (``turtlectl.cli``,
+``Failed`` (1; ``GoalCanceled``: a goal canceled, with its result and last feedback), ``Interrupted`` (130), ``CancelUnconfirmed`` (5), ``CannotStart`` (4).  Everything else (``turtlectl.cli``,
 ``turtlectl.runtime``, ``turtlectl.nodes``, ``turtlectl.sim``) is private: it may change
 without notice.
 
@@ -41,7 +41,15 @@ if not os.path.isdir(os.path.join(os.path.dirname(__file__), "messages")):  # th
     __path__.append(os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)))))
 
 if TYPE_CHECKING:
-    from turtlectl.cli.errors import BadInput, CancelUnconfirmed, CannotStart, Failed, Interrupted, Unreachable
+    from turtlectl.cli.errors import (
+        BadInput,
+        CancelUnconfirmed,
+        CannotStart,
+        Failed,
+        GoalCanceled,
+        Interrupted,
+        Unreachable,
+    )
     from turtlectl.cli.errors import TurtlectlError as Error
     from turtlectl.cli.tools.api import Client, Subscription
     from turtlectl.messages.types import Message
@@ -64,6 +72,7 @@ __all__ = [
     "Error",
     "Failed",
     "Future",
+    "GoalCanceled",
     "GoalClient",
     "GoalFailed",
     "GoalFuture",
@@ -89,6 +98,7 @@ _HOME = {
     "Client": "turtlectl.cli.tools.api",
     "Error": "turtlectl.cli.errors",
     "Failed": "turtlectl.cli.errors",
+    "GoalCanceled": "turtlectl.cli.errors",
     "Interrupted": "turtlectl.cli.errors",
     "Subscription": "turtlectl.cli.tools.api",
     "Unreachable": "turtlectl.cli.errors",

@@ -73,6 +73,42 @@ def test_a_goal_with_its_feedback_then_cancel_with_nothing_running(system):
         assert client.cancel().ok is False
 
 
+def test_a_goal_timed_out_or_canceled_raises_goal_canceled_with_the_final_pose_and_last_feedback(system):
+    """One rule for a goal's cancel, whoever asks: the client's own timeout or a cancel."""
+    system.teleport(1.0, 1.0, 0.0)
+    with turtlectl.Client(system.endpoint) as client:
+        with pytest.raises(turtlectl.GoalCanceled) as timed_out:
+            client.goto(10.0, 1.0, 0.0, timeout=1.5)
+        error = timed_out.value
+        assert error.message == "the goal did not end within timeout=1.5 s; the navigator canceled the goal"
+        assert error.exit_code == 1 and error.timeout == 1.5 and isinstance(error, turtlectl.Failed)
+        assert error.response is not None and error.response.reason == "canceled", error.response
+        assert isinstance(error.feedback, NavigateToFeedback) and error.feedback.x > 1.0
+        assert error.response.x >= error.feedback.x > 1.0  # the final pose: where it stopped, past the last feedback
+        system.wait_stopped()
+
+        system.teleport(1.0, 1.0, 0.0)
+        canceled: list[BaseException] = []
+
+        def drive() -> None:
+            try:
+                client.goto(10.0, 1.0, 0.0)
+            except turtlectl.GoalCanceled as exc:
+                canceled.append(exc)
+
+        driving = threading.Thread(target=drive)
+        driving.start()
+        system.wait_moving()
+        assert client.cancel().ok
+        driving.join(10.0)
+        assert len(canceled) == 1, canceled
+        error = canceled[0]
+        assert error.message.startswith("the navigator canceled the goal") and error.timeout is None
+        assert error.response.reason == "canceled" and error.response.x > 1.0
+        assert isinstance(error.feedback, NavigateToFeedback)
+        system.wait_stopped()
+
+
 def test_parameters_read_set_and_refused(system):
     with turtlectl.Client(system.endpoint) as client:
         before = client.params("navigator")["goal_timeout"]

@@ -110,11 +110,14 @@ def test_ctrl_c_on_call_cancels_the_goal_and_exits_130(system):
     system.wait_line(r"navigator .*goal failed .*: canceled", 5.0, start)
 
 
-def test_call_exits_1_when_the_answer_says_no(system):
+def test_call_exits_1_when_the_answer_says_no_and_2_for_an_invalid_goal(system):
     cancel = system.run_cli("call", "navigate_to/cancel")
     assert cancel.returncode == 1 and "ok: false" in cancel.stdout
     refused = system.run_cli("call", "navigate_to", '{"x": 50, "y": 1, "theta": 0}')
-    assert refused.returncode == 1 and "refused: true" in refused.stdout
+    assert refused.returncode == 2 and "refused: true" in refused.stdout  # invalid goal: as a teleport there
+    teleport = system.run_cli("teleport", "5", "5", "0")
+    walled = system.run_cli("call", "navigate_to", '{"x": 9, "y": 9, "theta": 0}')  # inside the obstacle at (9, 9)
+    assert teleport.returncode == 0 and walled.returncode == 2 and "inside an obstacle" in walled.stdout
     assert system.run_cli("cancel").returncode == 1  # the same rule as cancel's
 
 
@@ -289,7 +292,7 @@ def test_the_raw_client_of_the_interface_reference_runs(system):
     out = result.stdout
     assert out.startswith("4 nodes: navigator (pid ") and "teleport: {'type': 'turtlectl/Ack', 'ok': True" in out
     assert re.search(r"goal reached in [\d.]+ s after \d+ feedback replies", out), out
-    assert "reset: 2 acks: battery full; turtle back at its spawn pose" in out
+    assert "reset: 2 acks: turtle back at its spawn pose; turtle1: battery full" in out
     assert "cancel: ok=False (no goal is running)" in out
 
 

@@ -248,9 +248,9 @@ def test_goto_cli_reaches_and_prints_json(system):
     assert abs(response["theta"] - 270.0) <= 1.0
 
 
-def test_goto_cli_reports_an_unreachable_goal_with_exit_1(system):
+def test_goto_cli_reports_a_goal_outside_the_world_with_exit_2_as_a_teleport_there(system):
     result = system.run_cli("goto", "20", "5", "0")
-    assert result.returncode == 1
+    assert result.returncode == 2
     assert "outside the world" in result.stdout
 
 

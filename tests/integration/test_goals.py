@@ -226,11 +226,11 @@ def test_teleport_and_reset_like_turtlesim(lifecycle):
     assert result.returncode == 2 and "cannot teleport: (40, 6) is outside the world" in result.stderr
     replies = lifecycle.call(RESET, Reset(), everyone=True)
     details = sorted(decode(r.ok.payload.to_bytes(), Ack).detail for r in replies)
-    assert details == ["battery full", "turtle back at its spawn pose"]
+    assert details == ["turtle back at its spawn pose", "turtle1: battery full"]
     pose = lifecycle.latest_pose()
     assert (pose.x, pose.y, pose.theta) == pytest.approx((5.544445, 5.544445, 0.0), abs=1e-6)
     result = lifecycle.run_cli("reset")
-    assert result.returncode == 0 and "battery full" in result.stdout
+    assert result.returncode == 0 and result.stdout == "turtle back at its spawn pose\nturtle1: battery full\n"
     status = lifecycle.collect(STATUS, TurtleStatus, 2, timeout=5.0)[-1][1]
     assert status.battery > 99.9
 

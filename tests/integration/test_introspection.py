@@ -33,6 +33,16 @@ def test_node_info_and_topic_info_describe_the_running_graph(system):
     assert plain["rate"] is None and plain["type"] == "turtlectl/TurtleStatus"
     missing = system.run_cli("node", "info", "ghost")
     assert missing.returncode == ExitCode.UNREACHABLE and "no node named 'ghost' answers (running: " in missing.stderr
+    for typo in (
+        ("node", "info", "navigatr"),
+        ("param", "get", "navigatr", "goal_timeout"),
+        ("log-level", "navigatr", "debug"),
+    ):
+        near = system.run_cli(*typo)
+        assert near.returncode == ExitCode.UNREACHABLE, near
+        assert "no node named 'navigatr' answers; did you mean navigator? (running: " in near.stderr, near.stderr
+    near = system.run_cli("log", "--node", "navigatr")
+    assert "no running node matches --node navigatr; did you mean navigator? (running: " in near.stderr, near.stderr
     nowhere = system.run_cli("topic", "info", "no/such")
     assert (
         nowhere.returncode == ExitCode.UNREACHABLE and "no node publishes or subscribes to 'no/such'" in nowhere.stderr

@@ -105,11 +105,10 @@ def test_make_run_takes_args_and_a_busy_port_names_the_way_out(custom, tmp_path)
     result = subprocess.CompletedProcess(make.args, make.returncode, stdout, stderr)
     assert f"launch --port {custom.port} --log-dir" in result.stdout  # make ran it with ARGS
     assert "the port is already in use" in result.stderr, result.stderr
-    # the next free port above (port + 1 unless another test holds it at that moment)
-    suggested = re.search(
-        r'choose another: \.venv/bin/turtlectl launch --port (\d+) \(or make run ARGS="--port \1"\)', result.stderr
-    )
+    # what was typed, with the next free port above (port + 1 unless another test holds it at that moment)
+    suggested = re.search(r"choose another: make run ARGS='--port (\d+) --log-dir (\S+)'", result.stderr)
     assert suggested is not None and int(suggested[1]) > custom.port, result.stderr
+    assert suggested[2] == str(tmp_path), result.stderr
     assert "Error 4" in result.stderr and "Traceback" not in result.stderr
     assert list(tmp_path.iterdir()) == []  # a launch that could not start leaves no log folder
 

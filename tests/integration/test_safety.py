@@ -260,7 +260,7 @@ def test_reset_and_cancel_need_no_payload_at_all(no_scans):
     )
     assert len(replies) == 2 and all(r.ok is not None for r in replies), [r.err for r in replies]
     assert {decode(r.ok.payload.to_bytes(), Ack).detail for r in replies} == {
-        "battery full",
+        "turtle1: battery full",
         "turtle back at its spawn pose",
     }
 
@@ -269,3 +269,11 @@ def test_the_turtle_may_be_teleported_onto_an_obstacle_s_surface_where_a_push_st
     no_scans.teleport(2.0, 8.5, 0.0)  # the surface of the obstacle at (2, 9), r 0.5
     inside = no_scans.call(TELEPORT, TeleportAbsolute(x=2.0, y=8.6, theta=0.0))
     assert inside[0].err is not None and b"inside an obstacle" in inside[0].err.payload.to_bytes()
+
+
+def test_a_goal_and_a_teleport_inside_an_obstacle_are_refused_with_the_same_exit_code(no_scans):
+    no_scans.teleport(5.544445, 5.544445, 0.0)
+    goal = no_scans.run_cli("goto", "2", "9", "0")  # the centre of the obstacle at (2, 9)
+    teleport = no_scans.run_cli("teleport", "2", "9", "0")
+    assert "inside an obstacle" in goal.stdout + goal.stderr and "inside an obstacle" in teleport.stderr
+    assert goal.returncode == teleport.returncode == 2, (goal, teleport)

@@ -7,19 +7,26 @@
 
 from __future__ import annotations
 
+import os
+import shlex
+import shutil
 import signal
 import socket
+import sys
 import threading
-from collections.abc import Callable
+from collections.abc import Callable, Mapping, Sequence
+from pathlib import Path
 from typing import Any
 
 import zenoh
 
+from turtlectl.cli import command_of
 from turtlectl.cli.errors import CannotStart, Unreachable
 from turtlectl.runtime.config import Credentials
 from turtlectl.runtime.session import client_config, close_session, router_config, zenoh_reason
 
 JOIN_TIMEOUT = 3.0  # s to reach the router that ``launch --connect`` joins
+MAKE_RUN_ENV = "TURTLECTL_MAKE_RUN"  # set by the Makefile's `run`: its command line is `make run ARGS=...`
 
 
 def free_port_near(port: int, host: str = "127.0.0.1") -> int:
@@ -35,13 +42,49 @@ def free_port_near(port: int, host: str = "127.0.0.1") -> int:
     return port + 1 if port < 65535 else port - 1
 
 
-def port_in_use(port: int, command: str, host: str = "127.0.0.1") -> str:
-    """Why a listen failed on a busy port, and the command that avoids it (with a port that is free now)."""
-    other = free_port_near(port, host)
-    if command == "launch":
-        how = f'.venv/bin/turtlectl launch --port {other} (or make run ARGS="--port {other}")'
-    else:
-        how = f".venv/bin/turtlectl {command} --port {other}"
+def invoked_as(program: str, path: str | None = None) -> list[str]:
+    """The program name to type again, from ``program`` (``argv[0]``): a shell that found it on
+    ``path`` (``$PATH``) passes its full path, given back as the bare name; ``python -m
+    turtlectl.cli`` as that; any other path (``.venv/bin/turtlectl``) as it was typed."""
+    if Path(program).name == "__main__.py":
+        return ["python", "-m", "turtlectl.cli"]
+    name = Path(program).name
+    found = shutil.which(name, path=path if path is not None else os.environ.get("PATH", os.defpath))
+    if found is not None and os.path.abspath(found) == os.path.abspath(program):
+        return [name]
+    return [program]
+
+
+def with_port(args: Sequence[str], port: int) -> list[str]:
+    """``args`` (a command line's words) with ``--port`` set to ``port``: replaced where given
+    (``--port N`` or ``--port=N``), appended otherwise."""
+    words = list(args)
+    for i, word in enumerate(words):
+        if word == "--port" and i + 1 < len(words):
+            return [*words[: i + 1], str(port), *words[i + 2 :]]
+        if word.startswith("--port="):
+            return [*words[:i], f"--port={port}", *words[i + 1 :]]
+    return [*words, "--port", str(port)]
+
+
+def retyped(argv: Sequence[str], command: str, port: int, environ: Mapping[str, str] | None = None) -> str:
+    """The command line ``argv`` (``sys.argv`` of a ``command``) as the user typed it, its
+    launch file and every argument kept, with ``--port port``; under ``make run`` (which sets
+    ``MAKE_RUN_ENV``) the ``make run ARGS=...`` to type. Without ``argv`` (or one of another command):
+    ``turtlectl command --port port``."""
+    env = os.environ if environ is None else environ
+    if len(argv) < 2 or command_of(list(argv[1:])) != command:
+        return shlex.join(["turtlectl", command, "--port", str(port)])
+    words = with_port(argv[1:], port)
+    if env.get(MAKE_RUN_ENV) and words[0] == "launch":
+        return "make run ARGS=" + shlex.quote(shlex.join(words[1:]))
+    return shlex.join([*invoked_as(argv[0], env.get("PATH", os.defpath)), *words])
+
+
+def port_in_use(port: int, command: str, host: str = "127.0.0.1", argv: Sequence[str] | None = None) -> str:
+    """Why a listen failed on a busy port, and the command that avoids it: the command line
+    ``argv`` as typed, with a port that is free now."""
+    how = retyped(argv or [], command, free_port_near(port, host))
     return f"the port is already in use (another `turtlectl {command}`?); choose another: {how}"
 
 
@@ -54,12 +97,12 @@ def open_router(
     tls: str | None = None,
 ) -> zenoh.Session:
     """A router session listening on tcp/``host``:``port`` (with ``users_file``: only for the
-    sessions that log in as one of its users), or CannotStart saying why (a busy port names the
-    ``command`` to type with a free one)."""
+    sessions that log in as one of its users), or CannotStart saying why (a busy port gives this
+    process's ``command`` line, as typed, with a free one)."""
     try:
         return zenoh.open(router_config(port, host, users_file, access, tls))
     except zenoh.ZError as exc:
-        reason = port_in_use(port, command, host) if "in use" in str(exc) else zenoh_reason(exc)
+        reason = port_in_use(port, command, host, sys.argv) if "in use" in str(exc) else zenoh_reason(exc)
         raise CannotStart(f"cannot listen on {'tls' if tls else 'tcp'}/{host}:{port}: {reason}") from None
 
 

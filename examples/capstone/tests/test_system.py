@@ -6,6 +6,9 @@ from __future__ import annotations
 
 import threading
 
+import pytest
+
+import turtlectl
 from turtlectl.messages import NavigateToFeedback, NavigateToRequest
 
 
@@ -36,4 +39,6 @@ def test_a_newer_goal_preempts_and_a_cancel_stops(turtlectl_system):
     assert first.result(5.0).reason == "preempted"
     assert second_fed.wait(5.0), "no feedback for the second goal"
     assert client.cancel().ok
-    assert second.result(5.0).reason == "canceled"
+    with pytest.raises(turtlectl.GoalCanceled) as canceled:  # a goal canceled raises, as a future's would
+        second.result(5.0)
+    assert canceled.value.response.reason == "canceled"

@@ -4,9 +4,19 @@ from __future__ import annotations
 
 import pytest
 
-from turtlectl.cli.errors import BadInput, CannotStart, ExitCode, Failed, Interrupted, Unreachable, exit_code
+from turtlectl.cli.errors import (
+    BadInput,
+    CannotStart,
+    ExitCode,
+    Failed,
+    Interrupted,
+    Unreachable,
+    exit_code,
+    goal_exit_code,
+)
 from turtlectl.cli.system.launchfile import LaunchFileError
-from turtlectl.cli.tools.services import NoAnswer, NobodyServes, RouterLost
+from turtlectl.cli.tools.services import NoAnswer, NobodyServes, RouterLost, reply_code
+from turtlectl.messages import NavigateToResponse
 
 
 @pytest.mark.parametrize(
@@ -30,3 +40,19 @@ def test_each_error_has_the_exit_code_of_its_meaning(error, code):
 def test_a_launch_file_error_is_still_a_value_error_whose_text_is_the_message():
     error = LaunchFileError("launch.toml: node[0]: oops")
     assert isinstance(error, ValueError) and str(error) == error.message == "launch.toml: node[0]: oops"
+
+
+@pytest.mark.parametrize(
+    "reason, code",
+    [
+        ("invalid goal", ExitCode.BAD_INPUT),  # inside an obstacle: as a teleport there
+        ("unreachable", ExitCode.FAILED),
+        ("battery low", ExitCode.FAILED),
+        ("blocked", ExitCode.FAILED),
+        ("timeout", ExitCode.FAILED),
+    ],
+)
+def test_a_goal_refused_for_itself_exits_as_a_teleport_refused_there_and_any_other_end_1(reason, code):
+    response = NavigateToResponse(success=False, time_taken=0.0, reason=reason, refused=reason != "blocked")
+    assert goal_exit_code(response) == code and reply_code(response) == code
+    assert goal_exit_code(NavigateToResponse(success=True, time_taken=1.0)) == ExitCode.OK

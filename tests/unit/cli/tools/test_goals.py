@@ -43,3 +43,29 @@ def test_every_navigate_to_keeps_the_navigator_s_words(key):
 
 def test_a_goal_service_without_known_servers_is_named_by_its_key():
     assert GoalService("arm/pick", "PickResult").server == "the goal service arm/pick"
+
+
+def test_a_goal_canceled_by_its_timeout_or_by_a_cancel_is_one_error_carrying_the_result_and_last_feedback():
+    from turtlectl.cli.errors import CancelUnconfirmed, GoalCanceled
+    from turtlectl.cli.tools.goals import API_LIMIT, canceled, in_cli_terms
+    from turtlectl.messages import NavigateToFeedback, NavigateToResponse
+
+    why = f"the goal did not end within {API_LIMIT.format(1.5)}"
+    assert why == "the goal did not end within timeout=1.5 s"  # the Python client's own terms
+    response = NavigateToResponse(success=False, time_taken=1.6, reason="canceled", x=3.2, y=1.0)
+    feedback = NavigateToFeedback(
+        state="driving", distance_remaining=6.9, heading_remaining=0.0, eta=3.0, elapsed=1.5, x=3.1, y=1.0, theta=0.0
+    )
+    timed_out = given_up(why, Ack(detail="canceled"), False, response=response, feedback=feedback, timeout=1.5)
+    assert isinstance(timed_out, GoalCanceled) and exit_code(timed_out) == ExitCode.FAILED
+    assert timed_out.message == "the goal did not end within timeout=1.5 s; the navigator canceled the goal"
+    assert (timed_out.response, timed_out.feedback, timed_out.timeout) == (response, feedback, 1.5)
+    by_anyone = canceled(navigate_to(), response, feedback)
+    assert isinstance(by_anyone, GoalCanceled) and exit_code(by_anyone) == ExitCode.FAILED
+    assert by_anyone.message == "the navigator canceled the goal" and by_anyone.timeout is None
+    assert (by_anyone.response, by_anyone.feedback) == (response, feedback)
+    unconfirmed = given_up(why, "silence", False, feedback=feedback)
+    assert isinstance(unconfirmed, CancelUnconfirmed) and unconfirmed.feedback == feedback
+    # the command line's goto (built on the Python client) says it in its own terms
+    assert in_cli_terms(timed_out, 1.5).message.startswith("the goal did not end within --timeout 1.5 s; ")
+    assert str(timed_out) == timed_out.message

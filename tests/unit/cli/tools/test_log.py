@@ -18,6 +18,7 @@ from turtlectl.cli.tools.log import (
     node_matches,
     since_seconds,
     text_of,
+    unmatched,
     use_colour,
 )
 from turtlectl.messages import Log
@@ -143,3 +144,16 @@ def test_json_is_the_message_as_echo_writes_it():
         "stamp": STAMP,
         "seq": 0,
     }
+
+
+def test_a_node_filter_that_matches_no_running_node_suggests_the_nearest():
+    running = ["navigator", "sim", "turtle2/navigator"]
+    assert unmatched(("navigatr",), running) == (
+        "no running node matches --node navigatr; did you mean navigator? (running: navigator, sim, turtle2/navigator)"
+    )
+    assert unmatched(("turtle3/*",), running) == (
+        "no running node matches --node turtle3/* (running: navigator, sim, turtle2/navigator)"
+    )
+    assert unmatched(("navigatr", "turtle2/navigatr"), running).startswith(
+        "no running node matches --node navigatr, turtle2/navigatr; did you mean navigator, turtle2/navigator?"
+    )

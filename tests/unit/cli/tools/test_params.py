@@ -218,5 +218,19 @@ def test_a_node_listed_as_running_whose_service_is_gone_is_not_said_to_be_missin
         params.fetch("tcp/127.0.0.1:1", "patrol")
     assert silent.value.message.startswith("patrol runs (pid 4242, host vm) but did not answer with its parameters:")
     assert "no node named" not in silent.value.message
-    with pytest.raises(Unreachable, match=r"no node named 'patrl' answers \(running: patrol\)"):
+    with pytest.raises(Unreachable, match=r"no node named 'patrl' answers; did you mean patrol\? \(running: patrol\)"):
         params.fetch("tcp/127.0.0.1:1", "patrl")
+
+
+def test_an_unknown_node_gets_the_nearest_running_one_suggested(monkeypatch):
+    from turtlectl.cli.tools.params import no_node
+    from turtlectl.runtime.endpoint import DOMAIN_ENV
+
+    monkeypatch.delenv(DOMAIN_ENV, raising=False)
+    running = ["navigator", "sim", "turtle2/navigator", "turtle2/status_monitor"]
+    assert no_node("navigatr", running).message == (
+        "no node named 'navigatr' answers; did you mean navigator? "
+        "(running: navigator, sim, turtle2/navigator, turtle2/status_monitor)"
+    )
+    assert "did you mean turtle2/status_monitor?" in no_node("turtle2/status_monitr", running).message
+    assert "did you mean" not in no_node("patrol", running).message

@@ -69,6 +69,12 @@ def test_with_a_turtle_the_key_is_that_turtles_as_echo_resolves_it():
     "text, said",
     [
         ("turtle1/pose/x", "'turtle1/pose/x': name a field after the key and a '.', as turtle1/pose.x (KEY.FIELD)"),
+        ("/turtle2/pose/x", "'/turtle2/pose/x': name a field after the key and a '.', as /turtle2/pose.x (KEY.FIELD)"),
+        ("turtle3/pose/theta", "'turtle3/pose/theta': name a field after the key and a '.', as turtle3/pose.theta"),
+        (
+            "turtle2/robot/status/battery",
+            "'turtle2/robot/status/battery': name a field after the key and a '.', as turtle2/robot/status.battery",
+        ),
         ("robot/status", "'robot/status': name a field after the key and a '.', as robot/status.battery (KEY.FIELD)"),
         (".x", "'.x': write KEY.FIELD, as robot/status.battery or turtle1/pose.x"),
         ("turtle1/pose.", "'turtle1/pose.': write KEY.FIELD, as robot/status.battery or turtle1/pose.x"),

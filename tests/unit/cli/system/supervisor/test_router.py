@@ -8,7 +8,15 @@ import time
 import pytest
 
 from turtlectl.cli.errors import CannotStart, ExitCode, Unreachable, exit_code
-from turtlectl.cli.system.supervisor.router import free_port_near, join_router, open_router, port_in_use
+from turtlectl.cli.system.supervisor.router import (
+    MAKE_RUN_ENV,
+    free_port_near,
+    invoked_as,
+    join_router,
+    open_router,
+    port_in_use,
+    retyped,
+)
 from turtlectl.runtime.session import close_session
 
 
@@ -22,7 +30,7 @@ def test_a_busy_port_is_cannot_start_naming_the_command_with_a_free_port():
                 close_session(open_router(port, "127.0.0.1", command))
             text = err.value.message
             assert text.startswith(f"cannot listen on tcp/127.0.0.1:{port}: the port is already in use")
-            assert f"another `turtlectl {command}`?" in text and f".venv/bin/turtlectl {command} --port " in text
+            assert f"another `turtlectl {command}`?" in text and f"turtlectl {command} --port " in text
             assert exit_code(err.value) == ExitCode.CANNOT_START
 
 
@@ -36,11 +44,42 @@ def test_no_router_to_join_is_unreachable_within_the_timeout():
     assert time.monotonic() - started < 3.0
 
 
-def test_a_busy_port_names_the_commands_that_avoid_it():
+def test_a_busy_port_names_the_command_that_avoids_it():
     text = port_in_use(7447, "launch")
     assert "the port is already in use" in text
-    assert '.venv/bin/turtlectl launch --port 7448 (or make run ARGS="--port 7448")' in text
-    assert port_in_use(65535, "router").endswith(".venv/bin/turtlectl router --port 65534")
+    assert text.endswith("choose another: turtlectl launch --port 7448")
+    assert port_in_use(65535, "router").endswith("turtlectl router --port 65534")
+
+
+def test_the_command_suggested_is_the_one_typed_with_its_launch_file_and_arguments(tmp_path):
+    argv = ["turtlectl", "--domain", "lab", "launch", "my fleet.toml", "--arg", "speed=2", "--port", "7447"]
+    assert (
+        retyped(argv, "launch", 7448, {}) == "turtlectl --domain lab launch 'my fleet.toml' --arg speed=2 --port 7448"
+    )
+    argv = ["./bin/turtlectl", "launch", "fleet.toml", "--port=7447", "--only", "sim"]
+    assert retyped(argv, "launch", 7450, {}) == "./bin/turtlectl launch fleet.toml --port=7450 --only sim"
+    assert (
+        retyped(["turtlectl", "launch", "fleet.toml"], "launch", 7448, {}) == "turtlectl launch fleet.toml --port 7448"
+    )
+    assert retyped(["turtlectl", "router"], "router", 7448, {}) == "turtlectl router --port 7448"
+    # another process's command line (a test's, an embedding's): the plain command
+    assert retyped(["pytest", "-q"], "launch", 7448, {}) == "turtlectl launch --port 7448"
+
+
+def test_under_make_run_the_suggestion_is_make_run_with_the_same_args():
+    argv = [".venv/bin/turtlectl", "launch", "examples/fleet/launch.toml", "--port", "7447"]
+    suggestion = retyped(argv, "launch", 7448, {MAKE_RUN_ENV: "1"})
+    assert suggestion == "make run ARGS='examples/fleet/launch.toml --port 7448'"
+
+
+def test_a_program_found_on_path_is_named_as_typed_and_any_other_by_its_path(tmp_path):
+    program = tmp_path / "turtlectl"
+    program.write_text("#!/bin/sh\n")
+    program.chmod(0o755)
+    assert invoked_as(str(program), path=str(tmp_path)) == ["turtlectl"]  # the shell gave its full path
+    assert invoked_as(str(program), path="/nonexistent") == [str(program)]
+    assert invoked_as(".venv/bin/turtlectl", path="/nonexistent") == [".venv/bin/turtlectl"]
+    assert invoked_as("/x/turtlectl/cli/__main__.py") == ["python", "-m", "turtlectl.cli"]
 
 
 def test_the_port_suggested_instead_of_a_busy_one_is_free():
