@@ -22,6 +22,7 @@ import zenoh
 
 from turtlectl.runtime.config import Credentials
 from turtlectl.runtime.endpoint import peer_timeout, tls_folder
+from turtlectl.runtime.sockets import Unlinger
 
 
 def _base(mode: str, domain: str = "") -> zenoh.Config:
@@ -151,6 +152,14 @@ def client_config(
     conf.insert_json5("connect/timeout_ms", str(int(timeout * 1000)))
     conf.insert_json5("connect/exit_on_failure", "true")
     return _log_in(_tls(conf, connect), credentials)
+
+
+def open_session(conf: zenoh.Config) -> zenoh.Session:
+    """``zenoh.open(conf)``, the one way every turtlectl process opens a session: its links toward
+    a peer that goes silent then close without stalling the process (runtime.sockets)."""
+    session = zenoh.open(conf)
+    Unlinger.ensure()
+    return session
 
 
 def close_session(session: zenoh.Session, timeout: float = 2.0) -> bool:

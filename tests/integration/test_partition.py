@@ -165,12 +165,6 @@ def endure(fleet: Fleet, fault, goal: tuple[float, float]) -> None:
     assert back is not None, f"turtle2's status not back on A within {BACK_WITHIN} s of the link"
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="every process of host A linked to host B stops for ~10 s when that link is closed: Zenoh's TCP "
-    "links set SO_LINGER 10 s, so closing a socket with unsent data toward a silent peer blocks for up to 10 s "
-    "inside Zenoh's routing (zenoh 1.10; eclipse-zenoh/zenoh#2675); not fixed yet",
-)
 def test_host_a_runs_on_through_host_b_link_down_for_20_s(fleet):
     def down() -> None:
         fleet.wire.down = True
