@@ -18,7 +18,7 @@ def test_a_lingering_tcp_socket_loses_its_linger_and_is_seen_once():
         unix.setsockopt(socket.SOL_SOCKET, socket.SO_LINGER, struct.pack("ii", 1, 10))
         seen: set[str] = set()
         assert unlinger_new_sockets(seen) >= 1
-        assert linger(tcp) == (0, 0)
+        assert linger(tcp)[0] == 0
         assert linger(unix)[0] == 1  # not a network socket: no link of Zenoh's, left as it is
         tcp.fileno()  # still open: only the duplicate was closed
         tcp.setsockopt(socket.SOL_SOCKET, socket.SO_LINGER, struct.pack("ii", 1, 10))
