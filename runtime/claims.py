@@ -7,7 +7,7 @@ import zenoh
 
 from turtlectl.messages.keys import ENTITY_TOKEN_PREFIX, EntityInfo, parse_entity_token
 from turtlectl.runtime.config import Credentials
-from turtlectl.runtime.session import client_config, close_session
+from turtlectl.runtime.session import client_config, close_session, open_session
 
 #: s to hear from the router which tokens it knows
 TIMEOUT = 1.0
@@ -19,7 +19,7 @@ def entities_on_router(connect: str, domain: str, credentials: Credentials | Non
     client at once, while a peer's own liveliness get, just after opening, often answers only
     part of them (zenoh 1.10)."""
     try:
-        asker = zenoh.open(client_config(connect, TIMEOUT, domain, credentials))
+        asker = open_session(client_config(connect, TIMEOUT, domain, credentials))
     except zenoh.ZError:
         return []
     try:

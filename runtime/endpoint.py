@@ -22,3 +22,28 @@ TLS_ENV = "TURTLECTL_TLS"  # the folder of `turtlectl certs` (ca.pem, client.pem
 def tls_folder() -> str:
     """The folder with the CA and client certificate for ``tls/`` endpoints ('' if not set)."""
     return os.environ.get(TLS_ENV, "")
+
+
+PEER_TIMEOUT_ENV = "TURTLECTL_PEER_TIMEOUT"
+#: s: a peer (router, node or tool) heard nothing from for this long is taken for gone and its link
+#: closed; nothing bound for it waits longer than this either.  See peer_timeout.
+DEFAULT_PEER_TIMEOUT = 3.0
+PEER_TIMEOUT_RANGE = (0.5, 60.0)  # s: the values TURTLECTL_PEER_TIMEOUT may take
+
+
+def peer_timeout() -> float:
+    """The bound, in s, within which a silent peer is detected (``TURTLECTL_PEER_TIMEOUT``, default
+    ``DEFAULT_PEER_TIMEOUT``): every session's link lease, and the longest a message that may not
+    be dropped waits for room in a link's queue before that link is closed.  A value that is no
+    number or lies outside ``PEER_TIMEOUT_RANGE`` gives ValueError, naming the variable."""
+    text = os.environ.get(PEER_TIMEOUT_ENV, "")
+    if not text:
+        return DEFAULT_PEER_TIMEOUT
+    low, high = PEER_TIMEOUT_RANGE
+    try:
+        value = float(text)
+    except ValueError:
+        value = float("nan")
+    if not low <= value <= high:
+        raise ValueError(f"{PEER_TIMEOUT_ENV}={text!r}: give seconds from {low:g} to {high:g}")
+    return value

@@ -38,7 +38,7 @@ from turtlectl.runtime.config import ENV_VAR, SUPERVISOR_PID_VAR, decode_config
 from turtlectl.runtime.exitcodes import ExitCode
 from turtlectl.runtime.interface import OutsideInterface, where
 from turtlectl.runtime.node import Node, NodeConflict, P
-from turtlectl.runtime.session import close_session, node_session_config
+from turtlectl.runtime.session import close_session, node_session_config, open_session
 
 _PR_SET_PDEATHSIG = 1
 _PARENT_CHECK_PERIOD = 0.5  # s
@@ -122,7 +122,7 @@ def run(node_class: Callable[[Node[P]], Any], params_type: type[P]) -> int:
         return ExitCode.BAD_INPUT
 
     try:
-        session = zenoh.open(node_session_config(config.connect, config.domain, config.credentials))
+        session = open_session(node_session_config(config.connect, config.domain, config.credentials))
     except zenoh.ZError as exc:
         log.error("cannot open a Zenoh session to %s: %s", config.connect, exc)
         return ExitCode.UNREACHABLE

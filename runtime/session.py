@@ -21,7 +21,8 @@ from typing import Any
 import zenoh
 
 from turtlectl.runtime.config import Credentials
-from turtlectl.runtime.endpoint import tls_folder
+from turtlectl.runtime.endpoint import peer_timeout, tls_folder
+from turtlectl.runtime.sockets import Unlinger
 
 
 def _base(mode: str, domain: str = "") -> zenoh.Config:
@@ -32,6 +33,14 @@ def _base(mode: str, domain: str = "") -> zenoh.Config:
     # delay in a router, and in about half of the peer opens here, multicast off or not); declarations
     # made before the router is reached are sent when it is
     conf.insert_json5("scouting/delay", "0")
+    # a peer heard nothing from for `bound` s is gone: its link's lease ends then (keep-alives every
+    # bound/4), a message that may not be dropped waits no longer for room toward it, and opening or
+    # accepting a link gives up as soon (Zenoh's defaults: 10 s, 5 s, 10 s, 10 s)
+    bound = peer_timeout()
+    conf.insert_json5("transport/link/tx/lease", str(int(bound * 1000)))
+    conf.insert_json5("transport/link/tx/queue/congestion_control/block/wait_before_close", str(int(bound * 1e6)))
+    conf.insert_json5("transport/unicast/open_timeout", str(int(bound * 1000)))
+    conf.insert_json5("transport/unicast/accept_timeout", str(int(bound * 1000)))
     if domain:  # every key this session uses is put under "<domain>/": systems on one router never mix
         conf.insert_json5("namespace", json.dumps(domain))
     return conf
@@ -143,6 +152,14 @@ def client_config(
     conf.insert_json5("connect/timeout_ms", str(int(timeout * 1000)))
     conf.insert_json5("connect/exit_on_failure", "true")
     return _log_in(_tls(conf, connect), credentials)
+
+
+def open_session(conf: zenoh.Config) -> zenoh.Session:
+    """``zenoh.open(conf)``, the one way every turtlectl process opens a session: its links toward
+    a peer that goes silent then close without stalling the process (runtime.sockets)."""
+    session = zenoh.open(conf)
+    Unlinger.ensure()
+    return session
 
 
 def close_session(session: zenoh.Session, timeout: float = 2.0) -> bool:

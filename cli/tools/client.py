@@ -32,7 +32,7 @@ from turtlectl.messages.keys import (
     turtle_namespace,
 )
 from turtlectl.runtime.endpoint import default_domain
-from turtlectl.runtime.session import client_config, close_session
+from turtlectl.runtime.session import client_config, close_session, open_session
 
 OPEN_TIMEOUT = 2.5  # s to reach the router before reporting "nothing to talk to"
 
@@ -134,7 +134,7 @@ def client_session(connect: str, domain: str | None = None) -> Iterator[zenoh.Se
     login = credentials.for_endpoint(connect)
     _ROLE[:] = [credentials.role()] if login is not None else []
     try:
-        session = zenoh.open(
+        session = open_session(
             client_config(connect, OPEN_TIMEOUT, default_domain() if domain is None else domain, login)
         )
     except zenoh.ZError:

@@ -23,7 +23,7 @@ import zenoh
 from turtlectl.cli import command_of
 from turtlectl.cli.errors import CannotStart, Unreachable
 from turtlectl.runtime.config import Credentials
-from turtlectl.runtime.session import client_config, close_session, router_config, zenoh_reason
+from turtlectl.runtime.session import client_config, close_session, open_session, router_config, zenoh_reason
 
 JOIN_TIMEOUT = 3.0  # s to reach the router that ``launch --connect`` joins
 MAKE_RUN_ENV = "TURTLECTL_MAKE_RUN"  # set by the Makefile's `run`: its command line is `make run ARGS=...`
@@ -100,7 +100,7 @@ def open_router(
     sessions that log in as one of its users), or CannotStart saying why (a busy port gives this
     process's ``command`` line, as typed, with a free one)."""
     try:
-        return zenoh.open(router_config(port, host, users_file, access, tls))
+        return open_session(router_config(port, host, users_file, access, tls))
     except zenoh.ZError as exc:
         reason = port_in_use(port, command, host, sys.argv) if "in use" in str(exc) else zenoh_reason(exc)
         raise CannotStart(f"cannot listen on {'tls' if tls else 'tcp'}/{host}:{port}: {reason}") from None
@@ -110,7 +110,7 @@ def join_router(endpoint: str, login: Credentials | None = None, timeout: float 
     """A client session of the router at ``endpoint`` (logged in with ``login``, if given), or
     Unreachable after ``timeout`` s."""
     try:
-        return zenoh.open(client_config(endpoint, timeout, credentials=login))
+        return open_session(client_config(endpoint, timeout, credentials=login))
     except zenoh.ZError:
         raise Unreachable(f"no router at {endpoint} to join") from None
 
