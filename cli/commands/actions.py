@@ -8,7 +8,7 @@ from typing import Any
 
 import typer
 
-from turtlectl.cli.commands.options import ConnectOption, DomainOption, format
+from turtlectl.cli.commands.options import ConnectOption, DomainOption, completer, format
 from turtlectl.cli.errors import Interrupted, goal_exit_code
 from turtlectl.cli.sigint import ignore_sigint
 
@@ -35,7 +35,9 @@ def action_list(
 
 @action_app.command("info")
 def action_info(
-    service: str = typer.Argument(..., metavar="KEY", help="The goal service's key."),
+    service: str = typer.Argument(
+        ..., metavar="KEY", autocompletion=completer("goal_services"), help="The goal service's key."
+    ),
     connect: str = ConnectOption,
     domain: str = DomainOption,
 ) -> None:
@@ -50,7 +52,9 @@ def action_info(
 
 @action_app.command("send-goal")
 def send_goal(
-    service: str = typer.Argument(..., metavar="KEY", help="The goal service's key."),
+    service: str = typer.Argument(
+        ..., metavar="KEY", autocompletion=completer("goal_services"), help="The goal service's key."
+    ),
     goal: str = typer.Argument("{}", metavar="JSON", help="The goal's fields as JSON."),
     feedback: bool = typer.Option(False, "--feedback", help="Print each feedback as it arrives."),
     timeout: float | None = typer.Option(

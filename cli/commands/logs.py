@@ -8,7 +8,7 @@ import time
 
 import typer
 
-from turtlectl.cli.commands.options import ConnectOption, DomainOption, ExitOnLossOption
+from turtlectl.cli.commands.options import ConnectOption, DomainOption, ExitOnLossOption, completer
 from turtlectl.cli.errors import Interrupted
 
 
@@ -25,6 +25,7 @@ def log(
         "--node",
         "-n",
         metavar="NAME",
+        autocompletion=completer("nodes"),
         help="Only this node's records; a glob matches several (turtle2/*); repeatable.",
     ),
     follow: bool = typer.Option(

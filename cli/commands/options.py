@@ -15,6 +15,18 @@ from turtlectl.runtime.endpoint import CONNECT_ENV, DEFAULT_ENDPOINT, DOMAIN_ENV
 format = lazy_module("turtlectl.cli.tools.format")  # msgspec and the message types load when a command prints one
 
 
+def completer(kind: str):
+    """A Typer ``autocompletion`` callback offering the running system's names of ``kind``
+    (cli.tools.complete: topics, services, goal_services, nodes, turtles, parameters)."""
+
+    def complete(ctx, incomplete):  # noqa: ANN001, ANN202 - Typer passes both by these names
+        from turtlectl.cli.tools import complete as live
+
+        return getattr(live, kind)(dict(ctx.params), incomplete)
+
+    return complete
+
+
 ConnectOption = typer.Option(
     DEFAULT_ENDPOINT, "--connect", envvar=CONNECT_ENV, help="Router endpoint of the system to talk to."
 )
@@ -49,6 +61,7 @@ TurtleOption = typer.Option(
     "",
     "--turtle",
     callback=use_turtle,
+    autocompletion=completer("turtles"),
     metavar="NAME",
     help="The turtle to act on (its nodes' namespace: turtle2 reaches turtle2/navigate_to, turtle2/robot/status); default turtle1.",
 )
@@ -105,6 +118,7 @@ NodeArgument = typer.Argument(
     ...,
     metavar="NODE",
     callback=use_node,
+    autocompletion=completer("nodes"),
     help="A node's name, as `turtlectl list` shows it (turtle2/navigator: in namespace turtle2; lab1:sim: in domain lab1).",
 )
 
@@ -112,6 +126,7 @@ NodesArgument = typer.Argument(
     ...,
     metavar="NODE",
     callback=use_nodes,
+    autocompletion=completer("nodes"),
     help="A node's name as `turtlectl list` shows it, a namespace or turtle (all its nodes: turtle2), "
     "or a glob ('turtle2/*', '*/navigator').",
 )

@@ -13,6 +13,7 @@ from turtlectl.cli.commands.options import (
     NodeArgument,
     NodesArgument,
     TurtleOption,
+    completer,
     format,
     result,
     use_node,
@@ -24,13 +25,22 @@ param_app = typer.Typer(
 )
 
 
-ParamArgument = typer.Argument(..., metavar="NAME", help="A parameter, e.g. goal_timeout or gains.lookahead.")
+ParamArgument = typer.Argument(
+    ...,
+    metavar="NAME",
+    autocompletion=completer("parameters"),
+    help="A parameter, e.g. goal_timeout or gains.lookahead.",
+)
 
 
 @param_app.command("list")
 def param_list(
     node: str | None = typer.Argument(
-        None, metavar="[NODE]", callback=use_node, help="A node's name (default: every running node)."
+        None,
+        metavar="[NODE]",
+        callback=use_node,
+        autocompletion=completer("nodes"),
+        help="A node's name (default: every running node).",
     ),
     json: bool = typer.Option(False, "--json", help="One JSON array of names (by node without NODE)."),
     turtle: str = TurtleOption,

@@ -11,14 +11,25 @@ from pathlib import Path
 import typer
 
 from turtlectl.cli import args
-from turtlectl.cli.commands.options import ConnectOption, DomainOption, ExitOnLossOption, JsonOption, format, result
+from turtlectl.cli.commands.options import (
+    ConnectOption,
+    DomainOption,
+    ExitOnLossOption,
+    JsonOption,
+    completer,
+    format,
+    result,
+)
 from turtlectl.cli.errors import BadInput
 from turtlectl.cli.sigint import stop_on_signals
 
 
 def record(
     topics: list[str] = typer.Argument(
-        None, metavar="[TOPIC]...", help="Key expressions to record, e.g. robot/status turtle1/*."
+        None,
+        metavar="[TOPIC]...",
+        autocompletion=completer("topics"),
+        help="Key expressions to record, e.g. robot/status turtle1/*.",
     ),
     all_topics: bool = typer.Option(False, "-a", "--all", help="Record every topic (streams and feedback)."),
     output: Path | None = typer.Option(

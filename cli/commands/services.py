@@ -8,13 +8,15 @@ from typing import Any
 
 import typer
 
-from turtlectl.cli.commands.options import ConnectOption, DomainOption, format
+from turtlectl.cli.commands.options import ConnectOption, DomainOption, completer, format
 from turtlectl.cli.errors import ExitCode, Interrupted
 from turtlectl.cli.sigint import ignore_sigint
 
 
 def call(
-    service: str = typer.Argument(..., metavar="SERVICE", help="Key of the queryable."),
+    service: str = typer.Argument(
+        ..., metavar="SERVICE", autocompletion=completer("services"), help="Key of the queryable."
+    ),
     request: str = typer.Argument("{}", metavar="JSON", help="The request's fields as JSON."),
     timeout: float | None = typer.Option(
         None,

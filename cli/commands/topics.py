@@ -16,6 +16,7 @@ from turtlectl.cli.commands.options import (
     ExitOnLossOption,
     JsonOption,
     TurtleOption,
+    completer,
     format,
     result,
 )
@@ -23,7 +24,9 @@ from turtlectl.cli.errors import Interrupted, Unreachable
 
 
 def echo(
-    topic: str = typer.Argument(..., metavar="TOPIC", help="Key expression, e.g. robot/status or turtle1/*."),
+    topic: str = typer.Argument(
+        ..., metavar="TOPIC", autocompletion=completer("topics"), help="Key expression, e.g. robot/status or turtle1/*."
+    ),
     once: bool = typer.Option(False, "--once", help="Print one message and exit."),
     count: int | None = typer.Option(None, "--count", min=1, help="Exit after N messages."),
     json: bool = typer.Option(False, "--json", help="One JSON object per line."),
@@ -113,7 +116,9 @@ def _echo(
 
 
 def hz(
-    names: list[str] = typer.Argument(..., metavar="TOPIC...", help="One or more key expressions."),
+    names: list[str] = typer.Argument(
+        ..., metavar="TOPIC...", autocompletion=completer("topics"), help="One or more key expressions."
+    ),
     window: int = typer.Option(100, "--window", min=2, help="At most N messages (of the last 5 s) per statistic."),
     duration: float | None = typer.Option(None, "--duration", min=0.5, help="Stop after S seconds."),
     json: bool = typer.Option(False, "--json", help="JSON lines."),
@@ -154,7 +159,7 @@ def hz(
 
 
 def pub(
-    topic: str = typer.Argument(..., metavar="TOPIC", help="Key to publish on."),
+    topic: str = typer.Argument(..., metavar="TOPIC", autocompletion=completer("topics"), help="Key to publish on."),
     message: str = typer.Argument(..., metavar="JSON", help="The message's fields as JSON."),
     rate: float | None = typer.Option(None, "--rate", min=0.01, help="Publish at HZ until Ctrl-C (or --times)."),
     once: bool = typer.Option(False, "--once", help="Publish once (the default without --rate)."),
@@ -194,7 +199,9 @@ topic_app = typer.Typer(
 
 @topic_app.command("info")
 def topic_info(
-    key: str = typer.Argument(..., metavar="KEY", help="A topic's key, e.g. turtle1/pose."),
+    key: str = typer.Argument(
+        ..., metavar="KEY", autocompletion=completer("topics"), help="A topic's key, e.g. turtle1/pose."
+    ),
     verbose: bool = typer.Option(False, "-v", "--verbose", help="Also measure its rate over a second."),
     json: bool = JsonOption,
     connect: str = ConnectOption,

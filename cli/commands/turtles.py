@@ -6,7 +6,7 @@ from __future__ import annotations
 import typer
 
 from turtlectl.cli import args
-from turtlectl.cli.commands.options import ConnectOption, DomainOption, result
+from turtlectl.cli.commands.options import ConnectOption, DomainOption, completer, result
 from turtlectl.cli.errors import Failed
 
 
@@ -40,7 +40,9 @@ def spawn(
 
 
 def kill(
-    name: str = typer.Argument(..., metavar="NAME", help="The turtle to remove (turtle2, ...)."),
+    name: str = typer.Argument(
+        ..., metavar="NAME", autocompletion=completer("turtles"), help="The turtle to remove (turtle2, ...)."
+    ),
     connect: str = ConnectOption,
     domain: str = DomainOption,
 ) -> None:
