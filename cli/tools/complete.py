@@ -46,7 +46,9 @@ def _starting(names: list[str], incomplete: str) -> list[str]:
     """The names beginning with ``incomplete``; the runtime's own (``turtlectl/...``: every node's
     parameters, node info, log) only once ``incomplete`` begins so, as ``list`` hides them without --all."""
     own = incomplete.startswith("turtlectl")
-    return sorted({name for name in names if name.startswith(incomplete) and (own or not name.startswith("turtlectl/"))})
+    return sorted(
+        {name for name in names if name.startswith(incomplete) and (own or not name.startswith("turtlectl/"))}
+    )
 
 
 def topics(params: dict[str, object], incomplete: str) -> list[str]:
