@@ -75,6 +75,12 @@ def launch(
     tls: Path | None = typer.Option(
         None, "--tls", metavar="DIR", help="With --secure: mutual TLS with the certificates of `turtlectl certs DIR`."
     ),
+    deny_host: list[str] = typer.Option(
+        [],
+        "--deny-host",
+        metavar="NAME",
+        help="With --tls: shut out the host whose certificate `certs DIR --issue NAME` made (repeatable).",
+    ),
     log_level: str = LogLevelOption,
     log_dir: Path | None = typer.Option(
         None, "--log-dir", envvar="TURTLECTL_LOG_DIR", help="Parent folder of run folders (default ~/.turtlectl/log)."
@@ -104,6 +110,12 @@ def launch(
     args.exposure(host, secure, insecure, joins=join is not None, tls=tls is not None)
     if tls is not None:
         args.tls_folder(tls)
+    if deny_host:
+        from turtlectl.cli.system.certs import allowed_common_names
+
+        if tls is None:
+            raise BadInput("--deny-host tells hosts apart by their certificates: give it with --secure --tls DIR")
+        allowed_common_names(tls, deny_host)  # BadInput for a host no certificate was issued to
     plan = launch_plan(file or default_launch_file(), only, exclude, set_, time_scale, arguments=arg)
     if check:
         typer.echo(format.plan_text(plan))
@@ -124,6 +136,7 @@ def launch(
         log_level=level,
         secure=secure,
         tls=tls,
+        deny_hosts=tuple(deny_host),
     )
     try:
         code = supervisor.run()
@@ -137,17 +150,46 @@ def certs(
         ..., metavar="DIR", help="Folder to write them into (made if missing; never overwritten)."
     ),
     host: list[str] = typer.Option([], "--host", help="A name or address the router is reached by (repeatable)."),
+    issue: str = typer.Option(
+        "",
+        "--issue",
+        metavar="NAME",
+        help="Issue host NAME its own certificate, signed by DIR's authority, in DIR/hosts/NAME/.",
+    ),
+    system: str = typer.Option(
+        "",
+        "--system",
+        metavar="ENDPOINT",
+        help="With --issue: also put the running --secure system's credentials entry (ENDPOINT's) in that folder.",
+    ),
 ) -> None:
     """Make a certificate authority and the router's and clients' certificates for
     `launch --secure --tls DIR` (mutual TLS); the keys are readable by you only.  Another
-    machine that joins copies ca.pem, client.pem and client.key and sets TURTLECTL_TLS.
+    machine that joins copies ca.pem, client.pem and client.key and sets TURTLECTL_TLS; or,
+    with --issue NAME, gets a folder of its own (its own certificate, which `launch --deny-host
+    NAME` can shut out, and with --system the running system's credentials entry it logs in
+    with, given again after each launch: every launch makes new logins): copy that folder to
+    the host and set the variables printed.
 
-    Example: turtlectl certs ~/.turtlectl/tls --host 192.168.1.20
+    Example: turtlectl certs ~/.turtlectl/tls --issue robot7 --system tls/192.168.1.20:7447
     """
-    from turtlectl.cli.system.certs import make
+    from turtlectl.cli.system import certs as tls_certs
+    from turtlectl.cli.system import credentials
 
-    written = make(folder, host)
-    result("wrote " + ", ".join(str(p) for p in written))
+    if not issue:
+        if system:
+            raise BadInput("--system goes with --issue NAME (the host whose folder gets the entry)")
+        written = tls_certs.make(folder, host)
+        result("wrote " + ", ".join(str(p) for p in written))
+        return
+    where = folder / tls_certs.HOSTS / issue
+    written = [] if (where / "client.pem").exists() and system else tls_certs.issue(folder, issue)
+    if system:
+        written.append(tls_certs.hand_credentials(folder, issue, credentials.entry_text(args.endpoint(system))))
+    lines = [f"wrote {', '.join(str(p) for p in written)}", f"on host {issue}: export TURTLECTL_TLS={where}"]
+    if system:
+        lines.append(f"on host {issue}: export TURTLECTL_CREDENTIALS={where / 'credentials.json'}")
+    result("\n".join(lines))
 
 
 def router(

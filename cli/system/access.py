@@ -136,13 +136,20 @@ def launch_goal_services(kinds: dict[str, NodeKind], remaps: dict[str, dict[str,
     return list(dict.fromkeys(keys))
 
 
-def access_control(users: dict[str, dict[str, tuple[str, ...]]], domain: str = "") -> dict[str, Any]:
+def access_control(
+    users: dict[str, dict[str, tuple[str, ...]]], domain: str = "", common_names: list[str] | None = None
+) -> dict[str, Any]:
     """The router's ``access_control`` section: deny by default; each user (a login name) may
-    do what its rights name (verb -> key expressions), in ``domain`` if given."""
+    do what its rights name (verb -> key expressions), in ``domain`` if given; with
+    ``common_names`` (a TLS system), only over a link whose certificate bears one of them (a host
+    left out is shut out: whatever its login, nothing it sends or is sent passes)."""
     prefix = f"{domain}/" if domain else ""
     rules, subjects, policies = [], [], []
     for user, rights in users.items():
-        subjects.append({"id": user, "usernames": [user]})
+        subject: dict[str, Any] = {"id": user, "usernames": [user]}
+        if common_names is not None:
+            subject["cert_common_names"] = list(common_names)
+        subjects.append(subject)
         ids = []
         for verb, keys in rights.items():
             if not keys:

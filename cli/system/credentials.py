@@ -127,6 +127,16 @@ def withdraw(endpoint: str, path: Path | None = None) -> None:
         _write_private(path, msgspec.json.encode(entries).decode())
 
 
+def entry_text(endpoint: str, path: Path | None = None) -> bytes:
+    """A credentials file holding only the system at ``endpoint``'s entry (its roles' logins and
+    those of its nodes that run on other hosts), for another host; BadInput if there is none."""
+    path = path or store_path()
+    entry = _entries(path).get(endpoint)
+    if entry is None:
+        raise BadInput(f"{path} has no entry for {endpoint}: is a `launch --secure` system running there?")
+    return msgspec.json.encode({endpoint: entry})
+
+
 def node_login(endpoint: str, name: str, path: Path | None = None) -> Credentials | None:
     """The login a ``launch --secure`` system at ``endpoint`` made for its node ``name`` that
     runs on another host (``launch --exclude``), if the credentials file has it."""

@@ -384,3 +384,53 @@ def test_an_operator_sends_goals_to_and_cancels_any_goal_service_a_viewer_none(s
         f"turtlectl: error: not permitted: the viewer role may not call {service} on this --secure system "
         "(may: operator, teleop; TURTLECTL_ROLE chooses the role)"
     )
+
+
+def test_each_host_its_own_certificate_and_a_denied_host_is_shut_out(store, tmp_path, monkeypatch):
+    """`certs DIR --issue NAME` gives a host a certificate of its own and, with --system, the
+    running system's credentials entry; `launch --deny-host NAME` lets nothing of that host
+    through, whatever its login, while the other hosts work on."""
+    from turtlectl.cli.system.certs import make
+
+    tls = tmp_path / "tls"
+    make(tls, [])
+    for host in ("robot7", "robot8"):
+        issued = subprocess.run([*turtlectl(), "certs", str(tls), "--issue", host], capture_output=True, text=True)
+        assert issued.returncode == 0, issued.stderr
+        assert f"export TURTLECTL_TLS={tls / 'hosts' / host}" in issued.stdout
+    unknown = subprocess.run(
+        [*turtlectl(), "launch", "--secure", "--tls", str(tls), "--deny-host", "robot9", "--check"],
+        capture_output=True,
+        text=True,
+    )
+    assert unknown.returncode == ExitCode.BAD_INPUT and "robot9: no certificate was issued" in unknown.stderr
+    monkeypatch.setenv("TURTLECTL_TLS", str(tls))
+    with running_system(extra_args=("--secure", "--tls", str(tls), "--deny-host", "robot8")) as system:
+
+        def as_host(host: str, *argv: str) -> subprocess.CompletedProcess[str]:
+            handed = subprocess.run(
+                [*turtlectl(), "certs", str(tls), "--issue", host, "--system", system.endpoint],
+                capture_output=True,
+                text=True,
+            )
+            assert handed.returncode == 0, handed.stderr
+            folder = tls / "hosts" / host
+            assert f"export TURTLECTL_CREDENTIALS={folder / 'credentials.json'}" in handed.stdout
+            env = {
+                **os.environ,
+                "TURTLECTL_TLS": str(folder),
+                credentials.ENV: str(folder / "credentials.json"),
+            }
+            return subprocess.run(
+                [*turtlectl(), *argv, "--connect", system.endpoint],
+                capture_output=True,
+                text=True,
+                timeout=60,
+                stdin=subprocess.DEVNULL,
+                env=env,
+            )
+
+        allowed = as_host("robot7", "param", "get", "navigator", "goal_timeout")
+        assert allowed.returncode == 0 and allowed.stdout.strip(), allowed.stderr
+        denied = as_host("robot8", "param", "get", "navigator", "goal_timeout")
+        assert denied.returncode != 0 and not denied.stdout.strip(), denied.stdout + denied.stderr

@@ -25,7 +25,7 @@ import zenoh
 
 from turtlectl import cli
 from turtlectl.cli.errors import BadInput, CannotStart, ExitCode, TurtlectlError
-from turtlectl.cli.system import access, credentials
+from turtlectl.cli.system import access, certs, credentials
 from turtlectl.cli.system.launchfile import LaunchPlan
 from turtlectl.cli.system.overrides import node_config
 from turtlectl.cli.system.supervisor import logs, zygote
@@ -58,6 +58,7 @@ class Supervisor:
         log_level: str = "INFO",
         secure: bool = False,
         tls: Path | None = None,
+        deny_hosts: tuple[str, ...] = (),
     ):
         self.plan = plan
         self.persist = persist  # a node started again keeps the parameters set at run time
@@ -81,6 +82,7 @@ class Supervisor:
         self.port = port
         self.host = host
         self.tls = tls  # the folder of `turtlectl certs`: the router listens on tls/, mutual TLS
+        self.deny_hosts = list(deny_hosts)  # hosts issued a certificate in tls/hosts/ that are shut out
         self.endpoint = f"{'tls' if tls else 'tcp'}/{host}:{port}" if port is not None else connect
         self.domain = domain
         self.printer = printer
@@ -108,7 +110,8 @@ class Supervisor:
         if self.tls is not None:
             tls = str(self.tls.resolve())
             os.environ[TLS_ENV] = tls  # the nodes (started from now on) show its client certificate
-        rules = access.access_control(rights, self.domain)
+        names = certs.allowed_common_names(self.tls, self.deny_hosts) if self.tls and self.deny_hosts else None
+        rules = access.access_control(rights, self.domain, names)
         session = open_router(self.port, self.host, "launch", str(users), rules, tls)
         remote = {
             credentials.NODE_ENTRY.format(name): self.logins[name] for name in self.plan.elsewhere
