@@ -46,6 +46,15 @@ def _base(mode: str, domain: str = "") -> zenoh.Config:
     return conf
 
 
+def listen_hosts(host: str) -> list[str]:
+    """The addresses a router told to listen on ``host`` listens on: ``host``, and loopback too
+    when ``host`` is one network address (its own machine's tools and nodes keep reaching it
+    at 127.0.0.1 without being told the network address); ``0.0.0.0``/``[::]`` include loopback."""
+    if host in ("0.0.0.0", "[::]") or host.startswith("127.") or host in ("[::1]", "localhost"):
+        return [host]
+    return [host, "[::1]" if host.startswith("[") else "127.0.0.1"]
+
+
 def router_config(
     port: int,
     host: str = "127.0.0.1",
@@ -53,12 +62,13 @@ def router_config(
     access: dict[str, Any] | None = None,
     tls: str | None = None,
 ) -> zenoh.Config:
-    """A router listening on ``host`` (loopback unless told otherwise) at ``port``; with
+    """A router listening on ``host`` (loopback unless told otherwise; ``listen_hosts``) at ``port``; with
     ``users_file`` (``user:password`` lines) it accepts only sessions that log in as one of
     them, and with ``access`` (Zenoh's ``access_control`` section) lets each do only that; with
     ``tls`` (the folder of ``turtlectl certs``) it listens on ``tls/`` with mutual TLS."""
     conf = _base("router")
-    conf.insert_json5("listen/endpoints", json.dumps([f"{'tls' if tls else 'tcp'}/{host}:{port}"]))
+    scheme = "tls" if tls else "tcp"
+    conf.insert_json5("listen/endpoints", json.dumps([f"{scheme}/{h}:{port}" for h in listen_hosts(host)]))
     if tls:  # mutual TLS: only sessions whose certificate the CA signed
         conf.insert_json5(
             "transport/link/tls",

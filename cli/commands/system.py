@@ -63,6 +63,11 @@ def launch(
         metavar="F",
         help="Simulated time, F times as fast as the wall clock: the simulator's real_time_factor, and every node on its clock (use_sim_time).",
     ),
+    use_sim_time: bool = typer.Option(
+        False,
+        "--use-sim-time",
+        help="Every node on simulated time (the clock key): the simulator's, or a replay's (`play --clock`) without one.",
+    ),
     persist: bool = typer.Option(
         False, "--persist", help="A node started again (respawn) keeps parameters changed by `param set`."
     ),
@@ -116,7 +121,9 @@ def launch(
         if tls is None:
             raise BadInput("--deny-host tells hosts apart by their certificates: give it with --secure --tls DIR")
         allowed_common_names(tls, deny_host)  # BadInput for a host no certificate was issued to
-    plan = launch_plan(file or default_launch_file(), only, exclude, set_, time_scale, arguments=arg)
+    plan = launch_plan(
+        file or default_launch_file(), only, exclude, set_, time_scale, arguments=arg, use_sim_time=use_sim_time
+    )
     if check:
         typer.echo(format.plan_text(plan))
         return

@@ -161,13 +161,25 @@ def launch_plan(
     settings: list[str],
     time_scale: float | None = None,
     arguments: list[str] | None = None,
+    use_sim_time: bool = False,
 ) -> LaunchPlan:
     """What ``turtlectl launch`` runs: the file at ``path`` with its ``--arg`` values
     (``arguments``), its ``--only``/``--exclude`` selection, then its ``--set`` overrides
-    (``settings``) and ``--time-scale`` (with_time_scale), all validated as the file is."""
+    (``settings``), ``--time-scale`` (with_time_scale) and ``--use-sim-time`` (with_sim_time),
+    all validated as the file is."""
     plan = select_nodes(load_launch(path, arguments), only, exclude)
     plan = with_overrides(plan, [parse_assignment(item, "--set", SET_FORM) for item in settings], "--set")
-    return plan if time_scale is None else with_time_scale(plan, time_scale)
+    plan = plan if time_scale is None else with_time_scale(plan, time_scale)
+    return with_sim_time(plan) if use_sim_time else plan
+
+
+def with_sim_time(plan: LaunchPlan) -> LaunchPlan:
+    """``launch --use-sim-time``: every node of the plan follows the ``clock`` key (``use_sim_time``),
+    the simulator's or a replay's (``play --clock``) when the plan runs none; a ``cmd`` program is
+    not a turtlectl node and keeps its own time.  The simulator, which publishes the clock, runs on
+    as it does."""
+    nodes = [msgspec.structs.replace(e, use_sim_time=not e.cmd) for e in plan.launch.node]
+    return msgspec.structs.replace(plan, launch=msgspec.structs.replace(plan.launch, node=nodes))
 
 
 def with_time_scale(plan: LaunchPlan, factor: float) -> LaunchPlan:
@@ -180,8 +192,7 @@ def with_time_scale(plan: LaunchPlan, factor: float) -> LaunchPlan:
         [parse_assignment(f"{name}.real_time_factor={factor!r}", "--time-scale", SET_FORM) for name in sims],
         "--time-scale",
     )
-    nodes = [msgspec.structs.replace(e, use_sim_time=not e.cmd) for e in plan.launch.node]
-    return msgspec.structs.replace(plan, launch=msgspec.structs.replace(plan.launch, node=nodes))
+    return with_sim_time(plan)
 
 
 def class_plan(

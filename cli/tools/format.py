@@ -251,10 +251,17 @@ def plan_notes(plan: LaunchPlan) -> list[str]:
     """What is valid in a launch file but likely not meant, or worth knowing at launch: a
     namespace whose turtle the simulator does not make at start (its nodes wait for a pose until
     one is spawned); simulated time at another pace than the wall clock's, and which nodes keep
-    the wall clock then."""
+    the wall clock then; nodes on simulated time in a launch without a simulator (their clock
+    comes from elsewhere: a replay's)."""
     sim = next((e for e in plan.launch.node if e.run == "sim"), None)
     if sim is None:
-        return []
+        timed = [e.name for e in plan.launch.node if e.use_sim_time]
+        if not timed:
+            return []
+        return [
+            f"simulated time without a simulator: {', '.join(timed)} follow{'s' * (len(timed) == 1)} the clock key, "
+            "and wait for it (a replay's: turtlectl play FILE --clock)"
+        ]
     made = {FIRST_TURTLE, *(t["name"] for t in plan.params[sim.name].get("turtles", []))}
     return _time_notes(plan, sim.name) + [
         f"no turtle {namespace} at start for the nodes of namespace {namespace}: add it to {sim.name}'s "

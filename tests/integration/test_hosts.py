@@ -120,6 +120,20 @@ def test_a_navigator_on_another_host_joins_the_system(hosts):
         assert_reached_3_3(goal.stdout)
         listed = sh("ip", "netns", "exec", a, *turtlectl(), "list", "--connect", endpoint)
         assert "navigator" in listed.stdout and "obstacle_detector" in listed.stdout
+        # host A's own tools reach it on loopback too, with no --connect but the port
+        local = sh(
+            "ip",
+            "netns",
+            "exec",
+            a,
+            *turtlectl(),
+            "echo",
+            "robot/status",
+            "--once",
+            "--connect",
+            f"tcp/127.0.0.1:{port}",
+        )
+        assert local.returncode == 0 and "battery" in local.stdout, local.stdout + local.stderr
         # and nothing of the system is reachable from the root namespace on loopback
         assert sh(*turtlectl(), "list", "--connect", f"tcp/127.0.0.1:{port}").returncode == 3
     finally:

@@ -163,6 +163,12 @@ def endure(fleet: Fleet, fault, goal: tuple[float, float]) -> None:
     pose = gaps(arrivals[POSE_A], start, end)
     assert max(pose) <= 10 * STEP, (max(pose), percentile(pose, 99), report)
     assert back is not None, f"turtle2's status not back on A within {BACK_WITHIN} s of the link"
+    periods = gaps(arrivals[STATUS_A[0]], start, end)
+    print(  # the figures of docs/how-to/fleet-across-hosts.md (pytest -s shows them)
+        f"\n{report}; robot/status period median {statistics.median(periods) * 1000:.1f} ms, "
+        f"p90 {percentile(periods, 90) * 1000:.1f} ms, max {max(periods) * 1000:.0f} ms; "
+        f"longest turtle1/pose gap {max(pose) * 1000:.0f} ms; turtle2 back {back - end:.2f} s after the link"
+    )
 
 
 def test_host_a_runs_on_through_host_b_link_down_for_20_s(fleet):
@@ -172,3 +178,19 @@ def test_host_a_runs_on_through_host_b_link_down_for_20_s(fleet):
         fleet.wire.down = False
 
     endure(fleet, down, (7.5, 5.5))
+
+
+def test_host_a_runs_on_through_30_percent_loss_and_200_ms_latency_on_host_b_s_link(fleet):
+    def lossy() -> None:
+        fleet.wire.loss, fleet.wire.latency = 0.3, 0.2
+        time.sleep(20.0)  # the fault: host B's link is lossy and slow this long
+        fleet.wire.loss, fleet.wire.latency = 0.0, 0.0
+
+    endure(fleet, lossy, (3.0, 7.5))
+
+
+def test_host_a_runs_on_through_host_b_s_link_flapping(fleet):
+    def flapping() -> None:
+        fleet.wire.flap(up=2.0, down=2.0, until=time.monotonic() + 20.0)  # the fault: 2 s down, 2 s up, for 20 s
+
+    endure(fleet, flapping, (7.5, 5.5))

@@ -38,7 +38,7 @@ from turtlectl.messages import DecodeError, ParameterEvent, decode
 from turtlectl.messages.keys import NODE_TOKEN_PREFIX, PARAMETER_EVENTS, domain_token, parse_node_token
 from turtlectl.runtime.config import ENV_VAR, Credentials, NodeConfig, encode_config
 from turtlectl.runtime.endpoint import TLS_ENV
-from turtlectl.runtime.session import close_session
+from turtlectl.runtime.session import close_session, listen_hosts
 
 
 class Supervisor:
@@ -116,18 +116,25 @@ class Supervisor:
         remote = {
             credentials.NODE_ENTRY.format(name): self.logins[name] for name in self.plan.elsewhere
         }  # for the host that runs them: copied with the clients' entry
-        where = credentials.publish(self.endpoint, self.client_logins | remote)
+        for endpoint in self._endpoints():  # the listened address's, and loopback's beside it
+            where = credentials.publish(endpoint, self.client_logins | remote)
         self.published = True
         self.printer.system(
             f"secure: only logged-in sessions join, each allowed what its node or role needs; clients log in with {where}"
         )
         return session
 
+    def _endpoints(self) -> list[str]:
+        """Every endpoint its router listens on (runtime.session.listen_hosts)."""
+        scheme = self.endpoint.split("/", 1)[0]
+        return [f"{scheme}/{h}:{self.port}" for h in listen_hosts(self.host)]
+
     def _forget_logins(self) -> None:
         if self.published:  # only what this launch wrote: a launch that failed on a busy port wrote nothing
             self.published = False
             try:
-                credentials.withdraw(self.endpoint)
+                for endpoint in self._endpoints():
+                    credentials.withdraw(endpoint)
             except OSError as exc:
                 self.printer.system(f"warning: could not remove this system's login from the credentials file: {exc}")
         if self.private is not None:

@@ -31,6 +31,25 @@ def test_defaults_are_filled_in():
     assert plan.launch.node[0].required is False
 
 
+def test_use_sim_time_puts_every_node_of_a_system_without_simulator_on_the_clock_key():
+    """`launch --exclude sim --use-sim-time`: a system a replay (`play --clock`) drives; each node
+    follows the clock, the simulator's speed untouched when it runs."""
+    from turtlectl.cli.system.overrides import launch_plan
+    from turtlectl.cli.tools.format import plan_notes
+
+    plan = launch_plan(ROOT / "launch.toml", [], ["sim"], [], use_sim_time=True)
+    assert [e.name for e in plan.launch.node] == ["navigator", "status_monitor", "obstacle_detector"]
+    assert all(e.use_sim_time for e in plan.launch.node)
+    assert node_config(plan, "status_monitor", "tcp/127.0.0.1:7447").use_sim_time
+    assert plan_notes(plan)  # --check and the launch say the nodes follow the clock
+    whole = launch_plan(ROOT / "launch.toml", [], [], [], use_sim_time=True)
+    assert (
+        all(e.use_sim_time for e in whole.launch.node)
+        and "real_time_factor" not in whole.params["sim"]
+        or (whole.params["sim"]["real_time_factor"] == 1.0)
+    )
+
+
 @pytest.mark.parametrize(
     "text, message",
     [
