@@ -39,10 +39,10 @@ from turtlectl.cli.commands import (
     verify,
 )
 from turtlectl.cli.commands.options import DomainOption
-from turtlectl.cli.errors import ExitCode, Interrupted, TurtlectlError, exit_code
+from turtlectl.cli.errors import BadInput, ExitCode, Interrupted, TurtlectlError, exit_code
 from turtlectl.cli.sigint import ignore_sigint, quiet_unraisable
 from turtlectl.cli.tools import presence
-from turtlectl.runtime.endpoint import CONNECT_ENV, DEFAULT_ENDPOINT
+from turtlectl.runtime.endpoint import CONNECT_ENV, DEFAULT_ENDPOINT, peer_timeout
 
 EXIT_CODES_HELP = """
 Exit codes: 0 success, or Ctrl-C on a command that runs until stopped (echo, hz,
@@ -128,6 +128,10 @@ def root(
 ) -> None:
     """A turtle robot over Zenoh, the ROS 2 way."""
     presence.set_tool(ctx.invoked_subcommand or "turtlectl")  # its client sessions are listed as this tool
+    try:
+        peer_timeout()  # every session this process and its nodes open reads it: wrong, nothing starts
+    except ValueError as exc:
+        raise BadInput(str(exc)) from None
     if ctx.invoked_subcommand not in STOPPED_BY_CTRL_C:
         # client commands handle Ctrl-C as KeyboardInterrupt (goto cancels, echo stops);
         # launch and router keep cli.entry's quiet handler until they install their own

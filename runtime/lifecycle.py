@@ -126,6 +126,9 @@ def run(node_class: Callable[[Node[P]], Any], params_type: type[P]) -> int:
     except zenoh.ZError as exc:
         log.error("cannot open a Zenoh session to %s: %s", config.connect, exc)
         return ExitCode.UNREACHABLE
+    except ValueError as exc:  # a bad TURTLECTL_PEER_TIMEOUT (runtime.endpoint.peer_timeout)
+        log.error("%s", exc)
+        return ExitCode.BAD_INPUT
 
     _await_router(session, _ROUTER_WAIT)
     stream: log_stream.LogStream | None = None

@@ -159,6 +159,14 @@ def test_a_domain_from_the_environment_is_checked_too(monkeypatch):
     assert bad_input("list") == DOMAIN_ERROR
 
 
+@pytest.mark.parametrize("value", ["abc", "0.1", "61", "nan"])
+def test_a_bad_peer_timeout_stops_every_command_before_it_starts(value, monkeypatch):
+    monkeypatch.setenv("TURTLECTL_PEER_TIMEOUT", value)
+    said = f"turtlectl: error: TURTLECTL_PEER_TIMEOUT={value!r}: give seconds from 0.5 to 60"
+    assert bad_input("list").strip() == said
+    assert bad_input("launch", "--check").strip() == said
+
+
 @pytest.mark.parametrize(
     "argv",
     [
