@@ -9,7 +9,9 @@ functions this uses).  The two namespaces share this machine's cores: the split 
 carries and that the fleet works over a network, not more capacity.
 
 Needs root (``ip netns``).  Usage: python bench/fleet_hosts.py [--turtles 10]
-(measures from inside host A: ``--measure ENDPOINT N`` is this script run there).
+(measures from inside host A: ``--measure ENDPOINT N`` is this script run there).  With
+``--fault down|loss|flap`` (repeatable) [``--before DIR``] it measures what host A keeps while host
+B's link fails instead (bench/fleet_faults.py).
 """
 
 from __future__ import annotations
@@ -194,7 +196,16 @@ def main() -> None:
     parser.add_argument("--turtles", type=int, default=10)
     parser.add_argument("--periods", type=int, default=50)
     parser.add_argument("--measure", nargs=2, metavar=("ENDPOINT", "N"), help=argparse.SUPPRESS)
+    parser.add_argument("--fault", action="append", choices=("down", "loss", "flap"), help="a fault on host B's link")
+    parser.add_argument("--before", type=Path, help="with --fault: a checkout of the code before, with its .venv")
+    parser.add_argument("--rounds", type=int, default=1, help="with --fault: runs of each, alternated")
     args = parser.parse_args()
+    if args.fault:
+        import fleet_faults
+
+        print(f"machine: {fleet.machine()}")
+        fleet_faults.run(args.fault, args.before, args.rounds)
+        return
     if args.measure:
         measure_inside(args.measure[0], int(args.measure[1]), args.periods)
         return
