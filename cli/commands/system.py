@@ -28,7 +28,11 @@ def launch(
         None, metavar="FILE", help="Launch file (default: ./launch.toml, else the packaged one)."
     ),
     port: int = typer.Option(DEFAULT_PORT, "--port", min=1, max=65535, help="Router port."),
-    listen: str = typer.Option("127.0.0.1", "--listen", help="Address the router listens on (other hosts: theirs)."),
+    listen: str = typer.Option(
+        "127.0.0.1",
+        "--listen",
+        help="Address the router listens on, loopback as well (this host's tools need no --connect; other hosts: ADDRESS).",
+    ),
     join: str | None = typer.Option(None, "--connect", help="Run no router: join the one at this endpoint."),
     only: list[str] = typer.Option(
         [],
@@ -202,7 +206,9 @@ def certs(
 def router(
     ctx: typer.Context,
     port: int = typer.Option(DEFAULT_PORT, "--port", min=1, max=65535, help="Port to listen on."),
-    listen: str = typer.Option("127.0.0.1", "--listen", help="Address to listen on (loopback by default)."),
+    listen: str = typer.Option(
+        "127.0.0.1", "--listen", help="Address to listen on, loopback as well (loopback alone by default)."
+    ),
     insecure: bool = typer.Option(
         False, "--insecure", help="Listen beyond loopback without logins (anyone who reaches it can drive)."
     ),

@@ -142,6 +142,33 @@ def test_a_navigator_on_another_host_joins_the_system(hosts):
         host_a.stop()
 
 
+def test_listen_on_a_network_address_keeps_loopback_for_the_hosts_own_tools(hosts):
+    """`launch --listen ADDRESS` on the default port: host A's own tools reach the router with
+    no --connect at all (loopback, as on one machine), host B at ADDRESS. Each namespace has a
+    network of its own, so the default port is free in it."""
+    a, b = hosts
+    env = {k: v for k, v in os.environ.items() if k != "TURTLECTL_CONNECT"}
+    host_a = Launch(a, "--listen", "10.231.7.1", "--insecure")
+    try:
+        host_a.wait_for(r"all 4 nodes ready", 30)
+        for argv in (
+            (a, "echo", "robot/status", "--once"),
+            (a, "node", "list"),
+            (b, "echo", "robot/status", "--once", "--connect", "tcp/10.231.7.1:7447"),
+        ):
+            done = subprocess.run(
+                ["ip", "netns", "exec", argv[0], *turtlectl(), *argv[1:]],
+                capture_output=True,
+                text=True,
+                timeout=20,
+                env=env,
+            )
+            assert done.returncode == 0, f"{argv}: {done.stdout}{done.stderr}"
+            assert ("battery" in done.stdout) if argv[1] == "echo" else ("navigator" in done.stdout), done.stdout
+    finally:
+        host_a.stop()
+
+
 def test_a_client_on_another_host_drives_a_secure_system_over_mutual_tls(hosts, tmp_path, monkeypatch):
     """Issue 14: beyond loopback, --secure --tls: logins and data encrypted, both ends certified."""
     a, b = hosts
