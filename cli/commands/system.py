@@ -218,12 +218,14 @@ def router(
     Example: turtlectl router --port 7447
     """
     from turtlectl.cli.system.supervisor.router import run_router
+    from turtlectl.runtime.session import listen_hosts
 
     if (ctx.obj or {}).get("connect") is not None:
         raise BadInput("router takes no --connect: it is the router the others connect to (see --port, --listen)")
     host = args.listen_address(listen)
     args.exposure(host, secure=False, insecure=insecure, can_secure=False)
-    run_router(port, host, lambda: typer.echo(f"router listening on tcp/{host}:{port}; Ctrl-C stops it", err=False))
+    where = " and ".join(f"tcp/{h}:{port}" for h in listen_hosts(host))
+    run_router(port, host, lambda: typer.echo(f"router listening on {where}; Ctrl-C stops it", err=False))
 
 
 def run(

@@ -151,6 +151,7 @@ def test_listen_on_a_network_address_keeps_loopback_for_the_hosts_own_tools(host
     host_a = Launch(a, "--listen", "10.231.7.1", "--insecure")
     try:
         host_a.wait_for(r"all 4 nodes ready", 30)
+        host_a.wait_for(r"router listening on tcp/10\.231\.7\.1:7447 and tcp/127\.0\.0\.1:7447", 1)
         for argv in (
             (a, "echo", "robot/status", "--once"),
             (a, "node", "list"),

@@ -192,7 +192,8 @@ class Supervisor:
             # outside the namespace (this session has none): clients without --domain find the domain
             announced = session.liveliness().declare_token(domain_token(self.domain)) if self.domain else None
             count = len(self.plan.launch.node)
-            where = f"router listening on {self.endpoint}" if self.port is not None else f"joining {self.endpoint}"
+            listening = " and ".join(self._endpoints()) if self.port is not None else ""
+            where = f"router listening on {listening}" if listening else f"joining {self.endpoint}"
             domain = f" in domain {self.domain!r}" if self.domain else ""
             self.printer.system(f"{where}{domain}; starting {count} node{'s' * (count != 1)}")
             code = self.supervision.run()
