@@ -14,7 +14,7 @@ import time
 import pytest
 
 from tests.integration.harness import running_system
-from turtlectl.messages import Clock, Pose, TurtleStatus, decode
+from turtlectl.messages import Clock, Pose, TurtleStatus, decode, encode
 from turtlectl.messages.keys import CLOCK, POSE, STATUS
 
 pytestmark = pytest.mark.integration
@@ -83,3 +83,52 @@ def test_verify_against_a_fast_system_measures_in_its_simulated_time_unasked(fas
     done = fast.run_cli("verify", str(spec), timeout=120)
     assert done.returncode == 0, done.stdout + done.stderr
     assert "the system's clock runs at 5x: measuring in its simulated time" in done.stderr
+
+
+def test_launch_use_sim_time_puts_a_system_without_simulator_on_a_clock_from_elsewhere():
+    """`launch --exclude sim --use-sim-time`, the system a replay (`play --clock`) drives: every
+    node follows the clock key, and what it publishes is stamped with that clock's time, not the
+    wall clock's (here the test publishes the clock and turtle1's pose, as a replay would)."""
+    with running_system(extra_args=("--exclude", "sim", "--use-sim-time"), ready=()) as system:
+        system.wait_ready(("navigator", "status_monitor", "obstacle_detector"))
+        for node in ("navigator", "status_monitor", "obstacle_detector"):
+            done = system.run_cli("node", "info", node)
+            assert done.returncode == 0, done.stderr
+            assert "use_sim_time (its time is the simulator's clock)" in done.stdout.splitlines()[0], done.stdout
+        assert system.session is not None
+        clock = system.session.declare_publisher(CLOCK)
+        pose = system.session.declare_publisher(POSE)
+        start = 10**18  # ns: 2001, far from the wall clock's time
+        statuses: queue.SimpleQueue[TurtleStatus] = queue.SimpleQueue()
+        sub = system.session.declare_subscriber(
+            STATUS, lambda s: statuses.put(decode(s.payload.to_bytes(), TurtleStatus))
+        )
+        try:
+            began = time.monotonic()
+            got: list[TurtleStatus] = []
+            while len(got) < 3:
+                assert time.monotonic() - began < 15.0, "no status on the published clock within 15 s"
+                now = start + int((time.monotonic() - began) * 1e9)
+                clock.put(encode(Clock(clock=now, stamp=now)))
+                pose.put(encode(Pose(x=5.5, y=5.5, theta=0.0, linear_velocity=0.0, angular_velocity=0.0, stamp=now)))
+                while not statuses.empty():
+                    got.append(statuses.get())
+                time.sleep(0.01)  # pacing: the clock's 100 Hz, as play --clock 100
+            elapsed = int((time.monotonic() - began) * 1e9)
+        finally:
+            sub.undeclare()
+            clock.undeclare()
+            pose.undeclare()
+        assert all(start <= s.stamp <= start + elapsed + 10**9 for s in got), [s.stamp for s in got]
+
+
+def test_launch_use_sim_time_with_its_simulator_runs_on_the_simulators_clock():
+    """With the simulator in the launch, `--use-sim-time` puts every node on its clock at the wall
+    clock's pace (as `--time-scale 1`); the simulator makes the clock and never waits for one."""
+    with running_system(extra_args=("--use-sim-time",)) as system:
+        done = system.run_cli("node", "info", "navigator")
+        assert "use_sim_time (its time is the simulator's clock)" in done.stdout.splitlines()[0], done.stdout
+        clocks = [m for _, m in system.collect(CLOCK, Clock, 3, timeout=10.0)]
+        assert {c.real_time_factor for c in clocks} == {1.0}
+        [(_, status)] = system.collect(STATUS, TurtleStatus, 1, timeout=10.0)
+        assert abs(status.stamp - clocks[-1].clock) < 5 * 10**9
