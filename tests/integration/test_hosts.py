@@ -186,6 +186,20 @@ def test_a_client_on_another_host_drives_a_secure_system_over_mutual_tls(hosts, 
         goal = sh("ip", "netns", "exec", b, *turtlectl(), "goto", "3", "3", "45", "--connect", endpoint)
         assert goal.returncode == 0, goal.stdout + goal.stderr
         assert_reached_3_3(goal.stdout)
+        # host A's own tools reach it on loopback too, over TLS with the logins of the same file
+        local = sh(
+            "ip",
+            "netns",
+            "exec",
+            a,
+            *turtlectl(),
+            "echo",
+            "robot/status",
+            "--once",
+            "--connect",
+            f"tls/127.0.0.1:{port}",
+        )
+        assert local.returncode == 0 and "battery" in local.stdout, local.stdout + local.stderr
         plain = sh("ip", "netns", "exec", b, *turtlectl(), "list", "--connect", f"tcp/10.231.7.1:{port}")
         assert plain.returncode == 3 and "speaks TLS only (connect with tls/HOST:PORT)" in plain.stderr, plain.stderr
         monkeypatch.setenv("TURTLECTL_TLS", str(other))
