@@ -170,6 +170,24 @@ def test_listen_on_a_network_address_keeps_loopback_for_the_hosts_own_tools(host
         host_a.stop()
 
 
+def test_listen_on_a_network_address_with_loopbacks_port_taken_says_so_and_a_port_free_on_both(hosts):
+    """A router listening on ADDRESS listens on loopback too: a port busy on loopback alone is
+    busy for it, and the message names both endpoints and a port free on both (7448 is taken on
+    loopback as well here, so 7449)."""
+    a, _ = hosts
+    held = [Launch(a, "--only", "status_monitor"), Launch(a, "--only", "status_monitor", "--port", "7448")]
+    try:
+        for launch in held:
+            launch.wait_for(r"1 node ready", 30)
+        done = sh("ip", "netns", "exec", a, *turtlectl(), "router", "--listen", "10.231.7.1", "--insecure")
+        assert done.returncode != 0, done.stdout
+        assert "cannot listen on tcp/10.231.7.1:7447 and tcp/127.0.0.1:7447: the port is already in use" in done.stderr
+        assert done.stderr.rstrip().endswith("--listen 10.231.7.1 --insecure --port 7449"), done.stderr
+    finally:
+        for launch in held:
+            launch.stop()
+
+
 def test_a_client_on_another_host_drives_a_secure_system_over_mutual_tls(hosts, tmp_path, monkeypatch):
     """Issue 14: beyond loopback, --secure --tls: logins and data encrypted, both ends certified."""
     a, b = hosts

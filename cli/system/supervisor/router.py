@@ -23,23 +23,37 @@ import zenoh
 from turtlectl.cli import command_of
 from turtlectl.cli.errors import CannotStart, Unreachable
 from turtlectl.runtime.config import Credentials
-from turtlectl.runtime.session import client_config, close_session, open_session, router_config, zenoh_reason
+from turtlectl.runtime.session import (
+    client_config,
+    close_session,
+    listen_hosts,
+    open_session,
+    router_config,
+    zenoh_reason,
+)
 
 JOIN_TIMEOUT = 3.0  # s to reach the router that ``launch --connect`` joins
 MAKE_RUN_ENV = "TURTLECTL_MAKE_RUN"  # set by the Makefile's `run`: its command line is `make run ARGS=...`
 
 
 def free_port_near(port: int, host: str = "127.0.0.1") -> int:
-    """The first port after ``port`` (wrapping below it at the top) that ``host`` can listen on now."""
+    """The first port after ``port`` (wrapping below it at the top) that a router told to listen
+    on ``host`` can listen on now: on every address it listens on (``listen_hosts``: loopback too)."""
     candidates = [p for p in range(port + 1, min(port + 50, 65536))] + list(range(port - 1, max(port - 50, 0), -1))
+    addresses = [h.strip("[]") for h in listen_hosts(host)]
     for candidate in candidates:
-        with socket.socket() as probe:
-            try:
-                probe.bind((host.strip("[]"), candidate))
-            except OSError:
-                continue
+        if all(_bindable(address, candidate) for address in addresses):
             return candidate
     return port + 1 if port < 65535 else port - 1
+
+
+def _bindable(address: str, port: int) -> bool:
+    with socket.socket(socket.AF_INET6 if ":" in address else socket.AF_INET) as probe:
+        try:
+            probe.bind((address, port))
+        except OSError:
+            return False
+        return True
 
 
 def invoked_as(program: str, path: str | None = None) -> list[str]:
@@ -103,7 +117,8 @@ def open_router(
         return open_session(router_config(port, host, users_file, access, tls))
     except zenoh.ZError as exc:
         reason = port_in_use(port, command, host, sys.argv) if "in use" in str(exc) else zenoh_reason(exc)
-        raise CannotStart(f"cannot listen on {'tls' if tls else 'tcp'}/{host}:{port}: {reason}") from None
+        where = " and ".join(f"{'tls' if tls else 'tcp'}/{h}:{port}" for h in listen_hosts(host))
+        raise CannotStart(f"cannot listen on {where}: {reason}") from None
 
 
 def join_router(endpoint: str, login: Credentials | None = None, timeout: float = JOIN_TIMEOUT) -> zenoh.Session:
