@@ -76,7 +76,7 @@ class NodeEntry(msgspec.Struct, forbid_unknown_fields=True, kw_only=True):
     cmd: Argv = []  # -: instead of run, any program and its arguments, e.g. ["./driver", "--port", "/dev/ttyUSB0"] (./ relative to the launch file; a bare name from PATH); ready once started; no params
     params: dict[str, Any] = msgspec.field(default_factory=dict)  # -: the kind's parameters (below), a class's Params
     remap: Remaps = {}  # -: ROS's remappings, { "turtle1/cmd_vel" = "safety/cmd_vel" }: a key as the node's code writes it (or absolute: /turtle2/cmd_vel) -> the key it uses instead, both resolved in its namespace
-    use_sim_time: bool = False  # -: its timers, timeouts and stamps follow the simulator's clock key, not the machine's (ROS's use_sim_time; launch --time-scale sets it on every node)
+    use_sim_time: bool = False  # -: its timers, timeouts and stamps follow the simulator's clock key, not the machine's (ROS's use_sim_time; launch --time-scale and launch --use-sim-time set it on every node)
     required: bool = False  # -: when it exits for good the whole system stops, exit code 1
     respawn: bool = False  # -: start it again when it exits
     respawn_delay: Delay = 1.0  # s: before the first respawn; twice as long after each crash in a row
