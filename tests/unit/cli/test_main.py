@@ -474,7 +474,7 @@ def test_a_log_level_is_one_of_the_four(argv):
     ],
 )
 def test_a_node_name_is_a_name_not_a_key_expression(argv, name):
-    """Review of issue 13: `param get '*'` answered for one node; where one node is meant, a glob is refused."""
+    """Where one node is meant (param list, describe, dump), a glob is refused: it would answer for one node only."""
     assert bad_input(*argv).startswith(f"turtlectl: error: {name!r} is not a node name: letters, digits, _ and -")
 
 
