@@ -161,7 +161,9 @@ def endure(fleet: Fleet, fault, goal: tuple[float, float]) -> None:
         assert percentile(periods, 90) <= 0.15, (key, percentile(periods, 90), max(periods), report)
         assert max(periods) < 1.0, (key, max(periods), report)
     pose = gaps(arrivals[POSE_A], start, end)
-    assert max(pose) <= 10 * STEP, (max(pose), percentile(pose, 99), report)
+    # 15 steps: closing the links to the silent host (at its lease, TURTLECTL_PEER_TIMEOUT after the
+    # fault starts) costs host A's processes up to ~170 ms on a loaded 2-core machine; a stall is seconds
+    assert max(pose) <= 15 * STEP, (max(pose), percentile(pose, 99), report)
     assert back is not None, f"turtle2's status not back on A within {BACK_WITHIN} s of the link"
     periods = gaps(arrivals[STATUS_A[0]], start, end)
     print(  # the figures of docs/how-to/fleet-across-hosts.md (pytest -s shows them)
