@@ -84,25 +84,19 @@ def one(python: str, fault: str) -> dict[str, float]:
         launch = [python, "-m", "turtlectl.cli", "launch", str(FLEET)]
         procs = []
         try:
-            host_a = subprocess.Popen(
-                ["ip", "netns", "exec", wire.a, *launch, "--exclude", "turtle2", "--listen", wire.a_addr]
-                + ["--insecure", "--port", str(port)],
-                stdout=subprocess.PIPE,
-                stderr=subprocess.STDOUT,
-                text=True,
-                start_new_session=True,
-            )
-            procs.append(host_a)
-            _wait(_lines(host_a), "nodes ready", 120)
-            host_b = subprocess.Popen(
-                ["ip", "netns", "exec", wire.b, *launch, "--only", "turtle2", "--connect", endpoint],
-                stdout=subprocess.PIPE,
-                stderr=subprocess.STDOUT,
-                text=True,
-                start_new_session=True,
-            )
-            procs.append(host_b)
-            _wait(_lines(host_b), "nodes ready", 120)
+            for netns, args in (
+                (wire.a, ["--exclude", "turtle2", "--listen", wire.a_addr, "--insecure", "--port", str(port)]),
+                (wire.b, ["--only", "turtle2", "--connect", endpoint]),
+            ):  # host A first: host B joins its router
+                host = subprocess.Popen(
+                    ["ip", "netns", "exec", netns, *launch, *args],
+                    stdout=subprocess.PIPE,
+                    stderr=subprocess.STDOUT,
+                    text=True,
+                    start_new_session=True,
+                )
+                procs.append(host)
+                _wait(_lines(host), "nodes ready", 120)
             probe = subprocess.Popen(
                 ["ip", "netns", "exec", wire.a, python, "-m", "tests.integration.partition_probe", endpoint]
                 + [STATUS_A, POSE_A, STATUS_B],
