@@ -209,7 +209,6 @@ def test_a_nodes_goal_whose_server_is_killed_ends_naming_it(caplog):
             node = Node(NodeConfig(name="caller", kind="test", connect=system.endpoint), NoParams(), session)
             client = node.goal_client("navigate_to", NavigateToRequest, NavigateToFeedback, NavigateToResponse)
             feedback: list[NavigateToFeedback] = []
-            future = client.send(NavigateToRequest(x=1.0, y=9.0, theta=0.0), on_feedback=feedback.append)
 
             def run_until(done, timeout: float, what: str) -> None:
                 deadline = time.monotonic() + timeout
@@ -221,7 +220,12 @@ def test_a_nodes_goal_whose_server_is_killed_ends_naming_it(caplog):
                         continue
                     fn(*args)
 
-            run_until(lambda: feedback, 10.0, "no feedback")
+            # A session just opened may not have the navigator's queryable routed yet: a goal
+            # sent then finds nothing serving it.  Its server's token says when it is reachable.
+            run_until(lambda: client.servers, 10.0, "navigate_to's server never seen")
+            future = client.send(NavigateToRequest(x=1.0, y=9.0, theta=0.0), on_feedback=feedback.append)
+            run_until(lambda: feedback or future.done(), 10.0, "no feedback")
+            assert not future.done(), future.exception()
             pid = system.alive["navigator"]
             with caplog.at_level("INFO"):
                 os.kill(pid, signal.SIGKILL)
