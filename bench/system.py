@@ -11,6 +11,9 @@ to back for N minutes and counts errors and memory growth.  Ends with the table 
 issue 10: each figure, its baseline, the ratio and the target.
 
 Usage: python bench/system.py [--minutes N] [--launches N] [--periods N] [--goals N]
+       python bench/system.py --before DIR [--rounds N] [--no-zygote]  (bench/versus.py: this
+       checkout against the code before, alternated, on launch-to-ready, --help, idle CPU and
+       memory, status latency)
 """
 
 from __future__ import annotations
@@ -202,7 +205,15 @@ def main() -> None:
         default=30,
         help="goals timed against time_taken (at least; more run while CPU is measured)",
     )
+    ap.add_argument("--before", type=Path, help="compare against this checkout of the code before (bench/versus.py)")
+    ap.add_argument("--rounds", type=int, default=6, help="with --before: launches of each checkout, alternated")
+    ap.add_argument("--no-zygote", action="store_true", help="with --before: also this checkout with every node exec'd")
     args = ap.parse_args()
+    if args.before is not None:
+        from bench.versus import compare
+
+        compare(ROOT, args.before.resolve(), args.rounds, 15, args.no_zygote)
+        return
     rng = random.Random(42)
 
     print(f"machine: {machine()}")
