@@ -46,7 +46,7 @@ PURE = [
     "nodes.params",
     "nodes.kinds",
     "cli.system.launchfile",
-    "cli.system.compose",  # arguments and includes of launch files (issue 28)
+    "cli.system.compose",  # arguments and includes of launch files
     "cli.system.report",
     "cli.system.overrides",
     "cli.args",
