@@ -15,7 +15,7 @@ install: $(BIN)/.installed
 
 # Our packages' bytecode, compiled where it is stale (pip does this for what it installs, not for an
 # editable project): Python reads __pycache__ even where PYTHONDONTWRITEBYTECODE forbids writing it,
-# and a launch otherwise compiles every module it imports each time (~100 ms of 0.4 s, issue 10).
+# and a launch otherwise compiles every module it imports each time (~100 ms of 0.4 s).
 bytecode: install
 	@$(BIN)/python -m compileall -q src messages runtime sim nodes cli
 

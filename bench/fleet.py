@@ -1,4 +1,4 @@
-"""Benchmark of many turtles (issue 27, "Scale, measured"): the whole system with N turtles, each
+"""Benchmark of many turtles: the whole system with N turtles, each
 with its own navigator, status monitor and obstacle detector (turtle1's outside a namespace,
 turtle2..N in [[group]]s), next to the raw zenoh-python floor of the same traffic in the same run.
 

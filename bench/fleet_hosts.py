@@ -1,4 +1,4 @@
-"""Benchmark of a fleet split over two hosts (issue 27, "the same N split over two hosts"): two
+"""Benchmark of a fleet split over two hosts (the same N turtles as bench/fleet.py): two
 network namespaces joined by a virtual cable stand for two machines, as
 tests/integration/test_hosts.py makes them.  Host A runs the simulator and the first half of the
 turtles' nodes (``--exclude`` the rest, listening on its cable address), host B the other half

@@ -1,4 +1,4 @@
-"""Benchmark of record and play (issue 11), on the real system in one run.
+"""Benchmark of record and play, on the real system in one run.
 
 1. Recorder at full rate: the default system runs goals back to back (every topic at its
    full rate: 62.5 Hz poses, 10 Hz status, 5 Hz scans, and feedback and cmd_vel while goals

@@ -8,7 +8,7 @@ latency of robot/status next to raw zenoh-python pub/sub in the same topology; C
 memory per process, idle and navigating, next to a raw 62.5 Hz publisher, a raw 62.5 Hz
 callback subscriber and an idle session; with --minutes N, a soak that sends goals back
 to back for N minutes and counts errors and memory growth.  Ends with the table of
-issue 10: each figure, its baseline, the ratio and the target.
+the targets: each figure, its baseline, the ratio and the target.
 
 Usage: python bench/system.py [--minutes N] [--launches N] [--periods N] [--goals N]
        python bench/system.py --before DIR [--rounds N] [--no-zygote]  (bench/versus.py: this
@@ -360,7 +360,7 @@ def main() -> None:
             ("status period, subscriber max", f"{max(jitter) * 1e3:.2f} ms", "", math.nan, "<= 10 ms"),
         ]
         print()
-        met = {  # each target of issue 10, checked on this run's figure
+        met = {  # each target, checked on this run's figure
             "launch -> all nodes ready, p50": pct(ready, 50) <= 0.4,
             "`turtlectl --help`, p50": pct(help_wall, 50) <= 0.15,
             "`echo robot/status --once`, p50": pct(echo_wall, 50) <= 0.3,

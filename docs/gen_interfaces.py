@@ -258,7 +258,7 @@ def names_section() -> list[str]:
         "**Recordings made before types were named by package** tag turtlectl's own types bare (`Pose`, "
         "`TurtleStatus`): `info`, `play` and `plot` read those as `turtlectl/Pose`, ..., and `play` sends them under "
         "their full names. A user's type recorded under a bare name keeps that name (it is read and replayed as it "
-        "was recorded). A client written for bare names must now send and expect full names.",
+        "was recorded). A client written for bare names must send and expect full names.",
     ]
 
 

@@ -9,7 +9,8 @@ then to the goal itself on its final straight run (control_step); the driver slo
 obstacles in the direction of travel, and stops driving (it only turns, and plans again)
 while one is within the safety distance.  Once the law is within the tolerances, or the
 turtle would come to rest within them if stopped now, it is stopped; it has arrived when it
-is at rest within them with nothing but a stop on its way (issue 22).
+is at rest within them with nothing but a stop on its way (a turtle answered while still turning
+could brake past its heading).
 
 Two events: ``step`` (a pose) returns a ``Step``, what to do: ``Drive`` (send this command),
 ``Arrived`` or ``Blocked`` (give up: blocked or no way for blocked_timeout); ``scanned``
@@ -53,7 +54,7 @@ from turtlectl.nodes.surroundings import Surroundings
 OFF_PATH = 0.3
 
 #: m/s and rad/s: a turtle this slow is at rest (a goal is reached only at rest within the
-#: tolerances: braking from a turn carried one 2 deg past its heading, issue 22)
+#: tolerances: braking from a turn can carry one 2 deg past its heading)
 REST_LINEAR = 1e-3
 REST_ANGULAR = 1e-3
 

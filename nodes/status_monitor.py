@@ -4,7 +4,7 @@ Publishes on an absolute-deadline schedule (the runtime's timer), so the
 period stays 100 ms without drift.  The battery drains with time and with
 distance travelled between consecutive 62.5 Hz poses (nodes.battery); jumps
 (teleport, reset) are not travel.  Every pose is taken, not the newest at each
-tick: 0.1 s apart, a 0.5 m teleport looked like driving (a review of issue 10).  They wait in
+tick: 0.1 s apart, a 0.5 m teleport would look like driving.  They wait in
 Zenoh between ticks (``Node.latest``'s ring, ``POSES_KEPT``) and are summed at each tick, so
 the 62.5 Hz poses wake this process only at its own rate.
 """

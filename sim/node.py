@@ -232,7 +232,7 @@ class Simulator:
             if contact and not turtle.contact:
                 s = turtle.state
                 what = "an obstacle" if touches(s, world.obstacles) else "another turtle"
-                who = "" if turtle.name == FIRST_TURTLE else f"{turtle.name}: "  # turtle1's line as before
+                who = "" if turtle.name == FIRST_TURTLE else f"{turtle.name}: "  # turtle1's line unprefixed
                 self.node.log.info("%scontact with %s at (%.3f, %.3f): stopped", who, what, s.x, s.y)
             turtle.contact = contact
             s = turtle.state

@@ -274,7 +274,7 @@ class SceneMaker:
 
     def _turtles(self, msg: Turtles, ns: int) -> SceneUpdate | None:
         """Every turtle but turtle1 (drawn from its pose) with its trail; those gone deleted
-        (None: turtle1 alone, as before)."""
+        (None: turtle1 alone)."""
         self._turtles_seen = True
         now = others(msg, but=FIRST_TURTLE)
         gone = self.others.keys() - {name for name, *_ in now}

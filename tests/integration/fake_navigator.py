@@ -1,6 +1,6 @@
 """A navigator that serves ``navigate_to`` only: feedback 10 times a second for as long as
 the caller waits (up to a minute), never a response, no ``navigate_to/cancel``, no
-caller-gone rule.  An old or foreign navigator, as issue 22 (item 4) met one.
+caller-gone rule.  An old or foreign navigator, as a client may meet one.
 
 ``python -m tests.integration.fake_navigator ENDPOINT [silent-cancel]``: with
 ``silent-cancel`` it also serves ``navigate_to/cancel`` but never answers.  It prints

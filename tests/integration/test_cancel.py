@@ -1,5 +1,5 @@
-"""A goal given up on (--timeout, Ctrl-C) is canceled, and the cancel's answer is checked
-(issue 22, item 4): against a navigator that serves navigate_to but not navigate_to/cancel
+"""A goal given up on (--timeout, Ctrl-C) is canceled, and the cancel's answer is checked:
+against a navigator that serves navigate_to but not navigate_to/cancel
 (or never answers it), goto and call say plainly that nobody confirmed the cancel and exit
 5, instead of "the navigator cancels it" while the turtle drives on."""
 

@@ -1,4 +1,4 @@
-"""Issue 24 (4): ``turtlectl.Client`` against the real system: the live graph, topics
+"""``turtlectl.Client`` against the real system: the live graph, topics
 (latest, subscribe by iteration and by callback, publish), a goal with its feedback,
 cancel, parameters (read, set, refused), and errors that carry the command line's exit codes."""
 
@@ -135,9 +135,9 @@ def test_no_system_is_unreachable_exit_3_and_close_is_idempotent(system):
 
 
 def test_a_script_that_ends_without_closing_its_client_ends(system):  # a hang: the subprocess timeout ends it
-    """Review of issue 27: a script that subscribed with a callback and never closed its client
-    printed its last line and then hung (zenoh-python runs each callback subscriber on a Python
-    thread of its own, not a daemon, which the interpreter waited for at exit)."""
+    """A script that subscribed with a callback and never closed its client ends after its last
+    line (zenoh-python runs each callback subscriber on a Python thread of its own, not a daemon,
+    which the interpreter would wait for at exit)."""
     import subprocess
     import sys
 

@@ -1,4 +1,4 @@
-"""Issue 28, launch composition: examples/compose/launch.toml includes one turtle's launch file
+"""Launch composition: examples/compose/launch.toml includes one turtle's launch file
 twice (turtle1's nodes, then turtle2's in its namespace), handing it an argument of its own
 (``--arg speed_limit=...`` -> ``max_speed = "$(arg speed_limit)"``) and remapping the navigator's
 ``turtle1/cmd_vel`` to ``safety/cmd_vel``, where a node class of the example (speed_limit.py)
@@ -31,7 +31,7 @@ def test_an_included_turtle_with_an_argument_and_a_remapped_key_drives_through_i
         rows = {line.split()[0]: line for line in listed.stdout.splitlines() if line.startswith("  turtle2/")}
         assert "pub: turtle2/navigator " in rows["turtle2/safety/cmd_vel"], rows  # the remapped key, as list says
         assert "sub: turtle2/speed_limit" in rows["turtle2/safety/cmd_vel"], rows
-        assert "pub: turtle2/speed_limit " in rows["turtle2/cmd_vel"], rows  # the navigator no longer publishes it
+        assert "pub: turtle2/speed_limit " in rows["turtle2/cmd_vel"], rows  # the navigator's remapped away
         limit = system.run_cli("param", "get", "turtle2/speed_limit", "max_speed")
         assert limit.stdout.strip() == str(LIMIT), limit.stdout + limit.stderr  # --arg -> include args -> params
 

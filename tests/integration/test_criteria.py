@@ -140,7 +140,7 @@ def test_criterion_3_the_system_keeps_operating_with_three_obstacles_detected(cu
         angles = scan.angle_min + scan.angle_increment * np.arange(len(scan.ranges))
         assert obstacles_in_view(np.asarray(scan.ranges), angles) >= 3
     pids = dict(custom.alive)
-    # a declared obstacle straight ahead: a goal behind it is reached round it (issue 12)
+    # a declared obstacle straight ahead: a goal behind it is reached round it
     poses: list[tuple[float, float]] = []
     sub = custom.session.declare_subscriber(POSE, lambda s: poses.append(_xy(s)))
     try:
@@ -230,7 +230,7 @@ def test_a_goal_is_reached_at_rest_within_a_centimetre_and_half_a_degree(system)
         assert math.hypot(pose.x - goal[0], pose.y - goal[1]) <= 0.01
         assert abs(math.degrees(math.remainder(pose.theta - math.radians(goal[2]), 2 * math.pi))) <= 0.5
         assert response.position_error <= 0.01 and response.heading_error <= 0.5
-        # the response's final pose is the pose it rests in (issue 22: it was still turning)
+        # the response's final pose is the pose it rests in (not one still turning)
         assert (response.x, response.y) == pytest.approx((pose.x, pose.y), abs=1e-6)
         assert abs(math.remainder(math.radians(response.theta) - pose.theta, 2 * math.pi)) <= 1e-6
 

@@ -1,4 +1,4 @@
-"""Issue 24 (5, 6): the example project (examples/patrol) passes its own tests from a folder of
+"""The example project (examples/patrol) passes its own tests from a folder of
 its own, through turtlectl's pytest plugin and FakeNode; and the plugin fails a test at once,
 with the node's traceback, when a node dies while the system starts, leaving no process behind."""
 
@@ -79,7 +79,7 @@ def test_a_node_dying_while_the_system_starts_fails_the_test_with_its_traceback(
 
 
 def test_a_projects_tests_run_in_simulated_time_with_the_plugins_option(tmp_path):
-    """Issue 28: ``pytest --turtlectl-time-scale 5`` starts turtlectl_system's system with
+    """``pytest --turtlectl-time-scale 5`` starts turtlectl_system's system with
     ``launch --time-scale 5``: the simulator's clock says 5, a goal's time is simulated seconds."""
     (tmp_path / "launch.toml").write_text(
         '[[node]]\nname = "sim"\nrun = "sim"\n\n[[node]]\nname = "navigator"\nrun = "navigator"\n'

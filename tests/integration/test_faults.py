@@ -206,7 +206,7 @@ def test_garbage_on_every_key_is_dropped_and_logged_once_per_key(system):
     assert system.alive == pids
     for node, key in [
         ("sim", "turtle1/cmd_vel"),
-        ("navigator", "turtle1/pose"),  # read when a goal starts (issue 27: a ring channel), garbage counted then
+        ("navigator", "turtle1/pose"),  # read when a goal starts (a ring channel), garbage counted then
         ("navigator", "navigate_to"),
         ("status_monitor", "turtle1/pose"),
         ("sim", "reset"),
@@ -329,7 +329,7 @@ respawn_max = 0
 
 
 def test_a_second_navigator_that_finds_navigate_to_served_is_not_respawned(system, tmp_path):
-    """Issue 22, item 7: its exit 4 (a conflict) would be the same at every start."""
+    """Its exit 4 (a conflict) would be the same at every start."""
     path = tmp_path / "second.toml"
     path.write_text(SECOND_NAVIGATOR)
     second = subprocess.run(
@@ -408,6 +408,6 @@ def test_a_node_whose_constructor_always_raises_hits_its_start_limit_and_the_lau
         )
         assert given_up, out
         assert Path(given_up[1]).read_text().count("Traceback") == 3  # every start's output is in its log
-        assert given_up_after < 20.0, out  # the old backoff took 33 s and never gave up
+        assert given_up_after < 20.0, out  # a backoff without a start limit would take 33 s and never give up
         assert system.stop(signal.SIGINT) == 1
         assert "stopped (received SIGINT; patrol never started); exit code 1" in system.all_output()

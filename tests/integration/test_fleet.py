@@ -1,4 +1,4 @@
-"""Issue 27: a fleet from one launch file (examples/fleet/launch.toml): three turtles, each with
+"""A fleet from one launch file (examples/fleet/launch.toml): three turtles, each with
 its navigator, status monitor and obstacle detector, turtle2's and turtle3's in namespaces
 (``[[group]]``).  Every tool reaches each turtle (``--turtle``), goals to all at once, two
 turtles sent across each other's way both arrive without touching, reset puts every turtle of
@@ -108,9 +108,9 @@ def _gap(sample) -> float:
 
 
 def test_two_turtles_swapping_places_head_on_both_arrive(fleet):
-    """Review of issue 27: sent to each other's places after standing in each other's scans,
-    both goals failed "blocked": an idle navigator took the other turtle's scan hits into its
-    costmap (it read `turtles` only while driving), so each goal lay in a remembered obstacle."""
+    """Sent to each other's places after standing in each other's scans, both goals are reached:
+    an idle navigator reads `turtles` too, so the other turtle's scan hits do not enter its
+    costmap (each goal would lie in a remembered obstacle)."""
     assert fleet.run_cli("reset").returncode == 0
     assert fleet.run_cli("teleport", "1", "1", "0").returncode == 0
     assert fleet.run_cli("teleport", "3", "5.5", "0", "--turtle", "turtle2").returncode == 0

@@ -158,10 +158,10 @@ def test_foxglove_sees_the_topics_the_scene_and_sends_a_goal():
                         3,
                         lambda got: any(e.id == "world" for p in got["scene"] for e in scene.FromString(p).entities),
                     )
-                    # review of issue 11: each unsubscribe printed "Callback failed: AttributeError: 'Bridge'
-                    # object has no attribute 'on_unsubscribe'"; the call after it is handled after it
+                    # an unsubscribe is handled (no "Callback failed: AttributeError: 'Bridge' object has no
+                    # attribute 'on_unsubscribe'"), and the call after it after it
                     await ws.send(json.dumps({"op": "unsubscribe", "subscriptionIds": [1]}))
-                    # issue 28: the navigator's log records of the goal, on `log` for Foxglove's Log panel
+                    # the navigator's log records of the goal, on `log` for Foxglove's Log panel
                     log = {"id": 9, "channelId": client.channels["log"]["id"]}
                     await ws.send(json.dumps({"op": "subscribe", "subscriptions": [log]}))
                     response = await client.call("navigate_to", {"x": 8.0, "y": 5.0, "theta": 90.0})

@@ -127,8 +127,8 @@ def test_cancel_stops_the_turtle_and_tells_the_caller(lifecycle):
         response, _, _ = goal.outcome()
         assert not response.success and response.reason == "canceled"
         # the navigator's last word on cmd_vel is a stop, and the turtle brakes to rest; the stop
-        # may arrive after the goal's response (a sample and a query's reply take separate ways: a
-        # CI run read the queue before the stop was in it), so wait for it, then nothing but stops
+        # may arrive after the goal's response (a sample and a query's reply take separate ways: the
+        # queue can be read before the stop is in it), so wait for it, then nothing but stops
         last = cmds.get(timeout=5.0)
         while last != Twist(linear=0.0, angular=0.0, stamp=last.stamp, seq=last.seq):
             last = cmds.get(timeout=5.0)

@@ -1,4 +1,4 @@
-"""Every declaration of a node returns a handle that can be undeclared (issue 24): with a real
+"""Every declaration of a node returns a handle that can be undeclared: with a real
 router, an undeclared subscription, service, liveliness watch, publisher or latest value stops
 at once, its graph token goes, and what was queued before is not delivered."""
 

@@ -189,7 +189,7 @@ def test_listen_on_a_network_address_with_loopbacks_port_taken_says_so_and_a_por
 
 
 def test_a_client_on_another_host_drives_a_secure_system_over_mutual_tls(hosts, tmp_path, monkeypatch):
-    """Issue 14: beyond loopback, --secure --tls: logins and data encrypted, both ends certified."""
+    """Beyond loopback, --secure --tls: logins and data encrypted, both ends certified."""
     a, b = hosts
     port = free_port()
     certs, other = tmp_path / "tls", tmp_path / "other"
@@ -231,7 +231,7 @@ FLEET = str(Path(__file__).resolve().parents[2] / "examples" / "fleet" / "launch
 
 
 def test_a_turtles_nodes_on_another_host_join_the_fleet(hosts):
-    """Issue 27: host A runs the world and turtle1's and turtle3's nodes, host B turtle2's
+    """Host A runs the world and turtle1's and turtle3's nodes, host B turtle2's
     (``--only turtle2``, a namespace's nodes), joining A's router; B drives turtle2."""
     a, b = hosts
     port = free_port()
@@ -256,7 +256,7 @@ def test_a_turtles_nodes_on_another_host_join_the_fleet(hosts):
 
 
 def test_a_turtles_nodes_on_another_host_join_a_secure_fleet_with_their_own_logins(hosts, tmp_path, monkeypatch):
-    """Issue 27: under --secure --tls, the nodes A leaves to another host (--exclude turtle2) get
+    """Under --secure --tls, the nodes A leaves to another host (--exclude turtle2) get
     their logins in A's entry of the credentials file (copied to B with the clients'); B's
     nodes log in with them over mutual TLS, each allowed its interface, and drive turtle2."""
     a, b = hosts

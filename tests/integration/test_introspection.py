@@ -1,4 +1,4 @@
-"""Introspection of the running system: node info, topic info, log levels (issue 13)."""
+"""Introspection of the running system: node info, topic info, log levels."""
 
 from __future__ import annotations
 

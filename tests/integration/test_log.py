@@ -1,4 +1,4 @@
-"""Issue 28 (one log stream): every node publishes each record it logs on turtlectl/log/<node>
+"""One log stream: every node publishes each record it logs on turtlectl/log/<node>
 and keeps its last ones for a get; ``turtlectl log`` reads every node's in one place, filtered
 by --node, --level and --since, and with --follow goes on with the new ones; a node run by
 hand (``turtlectl run``) is in the stream as the launched ones are; ``record -a`` keeps them.

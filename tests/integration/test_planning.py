@@ -1,4 +1,4 @@
-"""Issue 12 against the real processes: goals behind obstacles are reached round them, goals
+"""Planning against the real processes: goals behind obstacles are reached round them, goals
 walled in by declared obstacles or too near one are refused at once, what
 only the scan sees is planned round as it comes into view, and a goal walled in by it ends
 "blocked" after blocked_timeout.

@@ -1,4 +1,4 @@
-"""`turtlectl plot` against the real system (issue 28): a recording of it drawn into a PNG and an
+"""`turtlectl plot` against the real system: a recording of it drawn into a PNG and an
 SVG; the live plot in a pseudo-terminal, read back through a terminal emulator (pyte), ended by
 q and by Ctrl-C; a picture of the live system after --duration; nothing to plot is exit code 3
 with the reason.  No fixed sleeps: every wait is for the screen (or a file) under a deadline."""

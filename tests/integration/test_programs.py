@@ -1,4 +1,4 @@
-"""Issue 24 (2): a launch file runs any program (``cmd``, as ROS's ExecuteProcess) beside the
+"""A launch file runs any program (``cmd``, as ROS's ExecuteProcess) beside the
 built-ins: its output prefixed with its name, told its name, domain and router in
 TURTLECTL_NODE_NAME, TURTLECTL_DOMAIN and TURTLECTL_CONNECT, respawned after a kill -9,
 stopped with the system; a program that is not executable is one line, exit 2, nothing started."""

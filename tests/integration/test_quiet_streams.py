@@ -1,7 +1,7 @@
-"""Issue 22: `hz` and `echo` when a stream stops, and when the system goes away, against the
-real system.  `hz` printed its last rate long after a topic stopped (and ten more times after
-the system was stopped); `echo` waited silently forever once the system went away, its
-silence hint only for a topic on which nothing ever arrived."""
+"""`hz` and `echo` when a stream stops, and when the system goes away, against the real
+system: `hz` does not print its last rate long after a topic stopped (nor after the system
+stopped); `echo` says so once the system went away rather than wait silently, and gives its
+silence hint for a topic that stopped as for one on which nothing ever arrived."""
 
 from __future__ import annotations
 

@@ -103,7 +103,7 @@ def test_a_recorded_goal_holds_every_message_sent_meanwhile(goal_recording):
     assert counts == {k: len(v) for k, v in recorded.items()}
 
     # --scene: Foxglove's 3D scene is in the file too, the world with the launch file's obstacles;
-    # and the goal's log records for Foxglove's Log panel (issue 28), beside turtlectl/log/navigator
+    # and the goal's log records for Foxglove's Log panel, beside turtlectl/log/navigator
     assert {r.key for r in scene} == {"scene", "scene/scan", "log"}
     types = {t.key: t.type_name for t in recording.info().topics}
     assert types["scene"] == "foxglove.SceneUpdate" and types["scene/scan"] == "foxglove.LaserScan"
@@ -346,8 +346,8 @@ def test_space_pauses_and_resumes_play_on_a_terminal_and_the_terminal_is_restore
 
 
 def test_a_ros2_bag_plays_its_topics_without_the_leading_slash(tmp_path):
-    """Review of issue 11: `play` of a ROS 2 MCAP ended in a traceback (Zenoh refuses the key
-    '/chatter'), and neither --topics /chatter nor --remap could help."""
+    """`play` of a ROS 2 MCAP: no traceback (Zenoh refuses the key '/chatter'), and --topics
+    /chatter and --remap work."""
     from mcap.writer import Writer
 
     path = tmp_path / "ros.mcap"

@@ -128,7 +128,7 @@ def test_latest_keeps_the_newest_valid_message_and_wakes_nobody(node_and_client,
             func, args = node._queue.get()
             func(*args)
 
-    def read() -> None:  # issue 27: samples wait in a ring channel, decoded (garbage counted) when read
+    def read() -> None:  # samples wait in a ring channel, decoded (garbage counted) when read
         run_queued()
         latest.get()
 

@@ -1,4 +1,4 @@
-"""Issue 8, the node side, against the real processes: huge headings, declared obstacles known
+"""Safety, the node side, against the real processes: huge headings, declared obstacles known
 to the navigator without scans and solid in the simulator, goals behind them planned round and
 goals too near them refused at once, one navigator at a time, reply encodings, teleport and reset under a running goal.
 
@@ -173,9 +173,8 @@ def test_teleport_or_reset_cancel_a_running_goal(no_scans, how):
 def test_a_goal_sent_right_after_the_teleport_ack_starts_from_the_new_pose(no_scans):
     """(2, 10) lies behind the obstacle at (2, 9) seen from the spawn and 0.5 m straight ahead
     from (2, 10.5): a goal sent the moment the teleport is acknowledged must be planned from
-    where the turtle now is.  Before the fix the Ack came before the pose showed the teleport,
-    so the navigator often still had the old pose (then it refused the goal as unreachable;
-    now it would plan round the obstacle from the old place)."""
+    where the turtle is then: the Ack comes once the pose shows the teleport (before it, the
+    navigator could still have the old pose and plan round the obstacle from the old place)."""
     for _ in range(5):
         no_scans.teleport(5.544445, 5.544445, 0.0)
         replies = no_scans.call(TELEPORT, TeleportAbsolute(x=2.0, y=10.5, theta=-math.pi / 2))
@@ -196,8 +195,8 @@ def test_teleports_are_not_charged_to_the_battery(no_scans):
 
 
 def test_small_teleports_are_not_charged_to_the_battery_either(no_scans):
-    """Review of issue 10: poses read 0.1 s apart let 0.5 m teleports count as travel (1 % of battery
-    for twenty of them; time alone drains about 0.1 %)."""
+    """0.5 m teleports do not count as travel (read 0.1 s apart they would: 1 % of battery for
+    twenty of them; time alone drains about 0.1 %)."""
     before = no_scans.collect(STATUS, TurtleStatus, 1, timeout=2.0)[0][1].battery
     for k in range(20):
         no_scans.teleport(3.0 + 0.5 * (k % 2), 3.0, 0.0)
@@ -207,8 +206,8 @@ def test_small_teleports_are_not_charged_to_the_battery_either(no_scans):
 
 
 def test_a_node_run_in_another_domain_joins_that_domain_not_this_system(no_scans):
-    """A review found `turtlectl --domain lab3 run navigator` joining the plain system (and so
-    refused as a second navigator): run must start the node in its --domain."""
+    """`turtlectl --domain lab3 run navigator` starts the node in its --domain, not in the plain
+    system (where it would be refused as a second navigator)."""
     tokens: queue.SimpleQueue = queue.SimpleQueue()
     watch = no_scans.session.liveliness().declare_subscriber(
         "lab3/@turtlectl/node/**", lambda s: tokens.put(str(s.key_expr))
@@ -251,8 +250,8 @@ def test_a_node_run_in_another_domain_joins_that_domain_not_this_system(no_scans
 
 
 def test_reset_and_cancel_need_no_payload_at_all(no_scans):
-    """docs/interfaces.md says a request without fields may be sent empty; a review found an
-    ErrorReply ("Input data was truncated") for a get on `reset` without a payload."""
+    """docs/interfaces.md says a request without fields may be sent empty: a get on `reset`
+    without a payload is answered, not with an ErrorReply ("Input data was truncated")."""
     replies = list(
         no_scans.session.get(
             RESET, consolidation=zenoh.ConsolidationMode.NONE, target=zenoh.QueryTarget.ALL, timeout=5.0

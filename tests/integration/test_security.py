@@ -1,4 +1,4 @@
-"""Issue 14 (authentication): `launch --secure` lets in only the sessions that log in: its nodes
+"""Authentication: `launch --secure` lets in only the sessions that log in: its nodes
 with a login each, as clients of the router (nobody can reach a node directly), and local
 clients with the login the supervisor writes to the credentials file."""
 
@@ -183,8 +183,7 @@ def test_a_rogue_operator_publishing_cmd_vel_does_not_move_the_turtle(secure):
 
 
 def test_an_operator_spawns_a_turtle_the_teleop_role_drives_and_the_operator_kills(secure):
-    """Issue 27, found by a new user: on a --secure system a spawned turtle could not be driven
-    (no role might publish turtle2/cmd_vel)."""
+    """On a --secure system a spawned turtle can be driven (a role may publish turtle2/cmd_vel)."""
     spawned, _ = run_as(secure, {}, "spawn", "2", "2", "0", "--name", "secured")
     assert spawned.returncode == 0 and spawned.stdout.strip() == "secured", spawned.stderr
     try:
@@ -211,7 +210,7 @@ def test_only_the_navigator_may_serve_navigate_to(secure):
 
 
 def test_every_nodes_log_reaches_a_viewer_through_the_routers_rules(secure):
-    """Issue 28: each node may publish its own log key and answer a get on it for its recent
+    """Each node may publish its own log key and answer a get on it for its recent
     records, and a viewer may read both (the router drops what it does not allow without a word)."""
     viewer = {"TURTLECTL_ROLE": "viewer"}
     recent, _ = run_as(secure, viewer, "log", "--json")
@@ -251,7 +250,7 @@ def run_as(system, env: dict[str, str], *args: str) -> tuple[subprocess.Complete
 
 
 def test_secure_over_mutual_tls_takes_only_certificates_its_authority_signed(store, tmp_path, monkeypatch):
-    """Issue 14 on loopback (the two-host version runs in test_hosts where namespaces can be made)."""
+    """Authentication on loopback (the two-host version runs in test_hosts where namespaces can be made)."""
     from turtlectl.cli.system.certs import make
 
     make(tmp_path / "tls", [])
@@ -273,7 +272,7 @@ def test_secure_over_mutual_tls_takes_only_certificates_its_authority_signed(sto
 
 
 def test_a_second_secure_launch_on_a_busy_port_leaves_the_running_system_s_logins(secure, store):
-    """Review of issue 14: the failed launch withdrew the running system's entry, locking its clients out."""
+    """A failed launch leaves the running system's entry alone: withdrawn, it would lock its clients out."""
     port = secure.endpoint.rsplit(":", 1)[1]
     second = subprocess.run(
         [*turtlectl(), "launch", "--secure", "--port", port], capture_output=True, text=True, timeout=30

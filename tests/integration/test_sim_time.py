@@ -60,7 +60,7 @@ def test_a_goal_at_5x_has_the_outcome_of_1x_and_its_time_taken_in_simulated_seco
 
 
 def test_node_info_says_a_node_uses_sim_time(fast):
-    """A review found no way to see whether a running node follows the clock."""
+    """One can see whether a running node follows the clock."""
     done = fast.run_cli("node", "info", "navigator")
     assert done.returncode == 0, done.stderr
     assert "use_sim_time (its time is the simulator's clock)" in done.stdout.splitlines()[0]
@@ -73,8 +73,8 @@ def test_status_is_10_hz_of_simulated_time(fast):
 
 
 def test_verify_against_a_fast_system_measures_in_its_simulated_time_unasked(fast, tmp_path):
-    """A review found verify against a 5x system reading goals in wall clock ("reported 1.537 s,
-    the client measured 0.326 s"): it now sees the clock's factor and measures in simulated time."""
+    """verify against a 5x system sees the clock's factor and measures goals in simulated time (in
+    wall clock: "reported 1.537 s, the client measured 0.326 s")."""
     spec = tmp_path / "spec.toml"
     spec.write_text(
         'intent = "reported time"\n[[criterion]]\ncheck = "reported_time"\nname = "reported"\n'

@@ -1,4 +1,4 @@
-"""Keyboard teleop against the real system, through a pseudo-terminal (issue 13)."""
+"""Keyboard teleop against the real system, through a pseudo-terminal."""
 
 from __future__ import annotations
 

@@ -278,8 +278,8 @@ def test_echo_with_a_wildcard_says_which_key(system):
 
 
 def test_a_second_process_with_a_node_s_name_refuses_to_start(system):
-    """It used to run beside the first and the supervisor warned; since a review found two
-    status monitors alternating on robot/status, the second one refuses to start (issue 8)."""
+    """The second one refuses to start: beside the first, two status monitors would alternate on
+    robot/status."""
     node = subprocess.run(
         [*turtlectl(), "run", "status_monitor", "--connect", system.endpoint],
         capture_output=True,
@@ -292,7 +292,7 @@ def test_a_second_process_with_a_node_s_name_refuses_to_start(system):
 
 
 def test_param_list_get_and_dump_read_what_the_node_runs_with(system):
-    """Issue 13: `turtlectl param` against the real system; dump reads back as the launch file's table."""
+    """`turtlectl param` against the real system; dump reads back as the launch file's table."""
     import tomllib
 
     from tests.integration.harness import DEFAULT_LAUNCH

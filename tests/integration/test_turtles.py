@@ -1,4 +1,4 @@
-"""Issue 27 (a first part): several turtles in one world, as turtlesim's spawn and kill make
+"""Several turtles in one world, as turtlesim's spawn and kill make
 them: each turtle's keys under its name, refusals with their reasons, turtles solid to each
 other and seen by turtle1's scan, reset as turtlesim's (the others removed)."""
 

@@ -1,4 +1,4 @@
-"""Issue 22 (5) against the real system: the parameter commands work on a node of a kind the
+"""Against the real system: the parameter commands work on a node of a kind the
 command line does not know (a user's own node, written with the runtime API and started by
 hand beside a launched system), from what the node itself serves."""
 

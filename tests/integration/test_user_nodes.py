@@ -1,4 +1,4 @@
-"""Issue 24 (2): a launch file runs a user's own node class beside the built-ins, from a
+"""A launch file runs a user's own node class beside the built-ins, from a
 project in its own folder: ready, its parameters served, respawned after a kill -9, run in
 the foreground by ``turtlectl run ./patrol.py:Patrol``; a ``run`` that names no node class
 is one line and exit 2 with nothing started."""
@@ -99,7 +99,7 @@ LAUNCH = textwrap.dedent(
 )
 
 
-#: a project's own modules named as ours were (issue 24): they shadow nothing of turtlectl's
+#: a project's own modules named as turtlectl's packages: they shadow nothing of turtlectl's
 SHADOWS = {
     "messages.py": "import msgspec\n\n\nclass Waypoint(msgspec.Struct):\n    x: float\n",
     "runtime.py": "raise ImportError('the project runtime.py was imported by turtlectl')\n",
@@ -230,7 +230,7 @@ def test_params_of_a_user_node_that_do_not_validate_start_nothing(project):
 
 
 def test_a_declaration_outside_its_interface_stops_the_node_with_exit_2_not_respawned(project):
-    """Issue 24 (3): what --secure's router would drop silently is refused by the runtime at once,
+    """What --secure's router would drop silently is refused by the runtime at once,
     in every mode: one line naming the key and where, exit 2, and respawn cannot help."""
     (project / "launch.toml").write_text(
         '[[node]]\nname = "sim"\nrun = "sim"\n\n[[node]]\nname = "alarm"\nrun = "./patrol.py:Alarm"\n'
@@ -258,10 +258,9 @@ class Hello:
 
 
 def test_a_module_class_is_found_in_the_launch_files_folder_from_anywhere(tmp_path):
-    """Issue 24, found by a new user: ``nodes.hello:Hello`` (the project's own ``nodes/`` package)
-    was valid or not depending on the folder `launch` ran from and on the order of the nodes; the
-    node then ran in that folder.  Now it is found in the launch file's folder first (`run`: the
-    current folder), and user nodes and programs run in the launch file's folder."""
+    """``nodes.hello:Hello`` (the project's own ``nodes/`` package) is found in the launch file's
+    folder first (`run`: the current folder), whatever folder `launch` runs from and whatever the
+    order of the nodes, and user nodes and programs run in the launch file's folder."""
     project = tmp_path / "proj"
     (project / "nodes").mkdir(parents=True)
     (project / "nodes" / "__init__.py").write_text("")

@@ -1,4 +1,4 @@
-"""Issue 25: a user's own message type, defined in a project file and published by a user node,
+"""A user's own message type, defined in a project file and published by a user node,
 is understood by the tools without a build step: the node describes it on the wire, `echo`
 (block, --json, --field, --csv), `hz` (the publisher's rate), `interface list/show` and the
 Python client use the description; a raw undescribed payload is shown generically; two nodes
@@ -127,7 +127,7 @@ def test_interface_list_and_show_a_live_user_type(system):
     shown = system.run_cli("interface", "show", "WallState")
     assert shown.returncode == 0, shown.stderr
     assert "described by: wall (hash TH01_" in shown.stdout and "to the wall" in shown.stdout, shown.stdout
-    # issue 25 (a new user's findings): keys from the live graph, Python-like types, required
+    # keys from the live graph, Python-like types, required
     keys = next(line for line in shown.stdout.splitlines() if line.startswith("keys: "))
     assert "wall/state" in keys and "none of its own" not in keys, shown.stdout
     distance = next(line for line in shown.stdout.splitlines() if line.startswith("distance "))

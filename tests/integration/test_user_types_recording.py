@@ -1,8 +1,8 @@
-"""Issue 25: a user's own message type (tests/integration/test_user_types.py's WallState, published
+"""A user's own message type (tests/integration/test_user_types.py's WallState, published
 by the user node ./wall.py:Wall) is recorded with its JSON Schema as a built-in is, `info` names
 it, `play` publishes it back byte for byte under its own encoding, and `turtlectl foxglove`
 advertises it with its schema, its messages valid against it; a payload no node describes is
-recorded raw, as before, without an error."""
+recorded raw, without an error."""
 
 from __future__ import annotations
 

@@ -1,6 +1,6 @@
-"""Issue 25, a new user's findings in the real system: the Python client calls a service of the
-user's own types (its answer was "unreadable"); echo counts the undecodable payloads on a key
-however it ends, a --timeout included (the count never came)."""
+"""User types in the real system: the Python client calls a service of the user's own types
+(and reads its answer); echo counts the undecodable payloads on a key however it ends, a
+--timeout included."""
 
 from __future__ import annotations
 

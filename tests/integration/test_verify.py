@@ -1,4 +1,4 @@
-"""Issue 26: `turtlectl verify` checks a system against a specification file: the capstone's
+"""`turtlectl verify` checks a system against a specification file: the capstone's
 passes on the default system it launches (criterion 5 shortened); each kind of criterion fails,
 with its reason, on a system made to miss it (a status monitor slowed with `param set`; a user's
 own navigator that takes 3 s, misreports its time and logs errors; a key nobody publishes; a
@@ -95,8 +95,8 @@ def test_no_system_is_exit_3(tmp_path):
 
 
 def test_a_router_without_nodes_is_exit_3_not_a_vacuous_pass(tmp_path):
-    """Found by a new user: against a bare `turtlectl router`, verify ran 27 s and passed
-    no_errors and round_trip on no nodes and no topics (exit 1 for the rest)."""
+    """Against a bare `turtlectl router` verify says there is no system at once, rather than run
+    27 s and pass no_errors and round_trip on no nodes and no topics."""
     import subprocess
 
     from tests.integration.harness import Router
@@ -267,7 +267,7 @@ within_s = 0.1
 
 
 def test_verify_at_5x_measures_in_simulated_time_and_finishes_sooner(tmp_path):
-    """Issue 28: `verify --launch FILE --time-scale 5` runs the system five times as fast and
+    """`verify --launch FILE --time-scale 5` runs the system five times as fast and
     measures in its simulated time: half a minute without errors is 30 simulated seconds, a
     goal's time and its time_taken are in simulated seconds (they agree), all sooner."""
     import subprocess

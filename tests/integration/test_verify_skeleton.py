@@ -1,4 +1,4 @@
-"""Issue 26, `turtlectl spec`: the skeleton `spec from-system` writes of the default system
+"""`turtlectl spec`: the skeleton `spec from-system` writes of the default system
 verifies against that system; `spec show` prints a specification as the capstone's Markdown
 template, and a bad file is exit 2 naming the key."""
 

@@ -52,7 +52,7 @@ def _parent_of(pid: int) -> int:
 
 
 def test_nodes_are_forked_by_the_zygote_and_outlive_its_death(tmp_path):
-    """Issue 10: killing the zygote killed every node it had forked."""
+    """Killing the zygote kills no node it has forked."""
     path = tmp_path / "both.toml"
     path.write_text(BOTH_RESPAWN)
     with running_system(path, ready=("sim", "status_monitor")) as system:
@@ -76,8 +76,8 @@ def test_nodes_are_forked_by_the_zygote_and_outlive_its_death(tmp_path):
 
 @pytest.mark.parametrize("when", ["first node started", "all nodes started"])
 def test_a_supervisor_killed_while_its_nodes_start_leaves_nothing_within_a_second(when):
-    """Review of issue 10: nodes still starting lingered 1-2 s (a claim asking a router that had
-    died with the supervisor; a fork waiting for its parent)."""
+    """Nodes still starting do not linger 1-2 s (a claim asking a router that died with the
+    supervisor; a fork waiting for its parent)."""
     pattern = r"started sim \(pid" if when == "first node started" else r"started obstacle_detector \(pid"
     system = System()
     try:

@@ -91,7 +91,7 @@ def test_a_forked_node_leads_its_own_group_with_default_signals_and_its_own_envi
 
 
 def test_a_forked_node_holds_none_of_the_descriptors_its_supervisor_had_open():
-    """Review of issue 10: a shell's fd 9 (and the supervisor's own) lived on in every node."""
+    """A shell's fd 9 (and the supervisor's own) does not live on in any node."""
     read, write = os.pipe()
     z = start([MODULE])
     assert z is not None
@@ -139,8 +139,8 @@ def test_a_signal_is_reported_and_reaches_the_node_s_whole_group(zygote):
 
 
 def test_nodes_outlive_the_zygote_and_later_ones_start_as_new_processes_said_once(zygote):
-    """Issue 10: killing the zygote ended every node it had forked (a required sim without
-    respawn stopped the system), and their exit codes were guessed as SIGTERM."""
+    """Killing the zygote ends no node it has forked (a required sim without respawn would stop
+    the system), and their exit codes are read, not guessed as SIGTERM."""
     printer = Printer(["node"], stream=io.StringIO())
     child = _child(zygote, "sleep", printer)
     child.start()
@@ -270,8 +270,8 @@ def _kill_when_it_forks(zygote_pid: int, stop: threading.Event) -> None:
 
 
 def test_a_node_forked_as_the_zygote_dies_never_runs_untracked():
-    """Review of issue 10: a zygote killed while forking left that node running as the
-    supervisor's untracked child while the supervisor started another (two sims: exit 4)."""
+    """A zygote killed while forking leaves no node running as the supervisor's untracked child
+    while the supervisor starts another (two sims: exit 4)."""
     z = start([MODULE])
     assert z is not None
     before = _children_of(os.getpid())
@@ -317,7 +317,7 @@ SUPERVISOR_MID_FORK = textwrap.dedent(
 
 
 def test_a_supervisor_killed_while_a_node_is_forked_leaves_nothing_within_a_second():
-    """Review of issue 10: the node being forked waited out 2 s for a parent that was gone."""
+    """The node being forked does not wait out 2 s for a parent that is gone."""
     supervisor = subprocess.Popen(
         [sys.executable, "-c", SUPERVISOR_MID_FORK], cwd=ROOT, stdout=subprocess.PIPE, text=True, start_new_session=True
     )

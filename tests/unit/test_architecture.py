@@ -14,6 +14,7 @@ Modules are named here without their ``turtlectl.`` prefix (``runtime.node``).
 from __future__ import annotations
 
 import ast
+import re
 from pathlib import Path
 
 import pytest
@@ -46,7 +47,7 @@ PURE = [
     "nodes.params",
     "nodes.kinds",
     "cli.system.launchfile",
-    "cli.system.compose",  # arguments and includes of launch files (issue 28)
+    "cli.system.compose",  # arguments and includes of launch files
     "cli.system.report",
     "cli.system.overrides",
     "cli.args",
@@ -183,3 +184,78 @@ def test_the_checks_catch_what_they_name(tmp_path):
     assert wrong_way(graph) == ["runtime.node imports sim.world (sim is right of runtime)"]
     assert bare_imports(graph) == ["nodes.patrol imports messages", "nodes.patrol imports messages.Twist"]
     assert zenoh_reached(graph, "sim.kinematics") == ["sim.kinematics", "runtime.node", "zenoh"]
+
+
+# -- comments and docs give the reason, not the tracker's history ---------------------------------
+
+#: where code, tests and docs live: every .py below the packages, tests, benchmarks, examples and
+#: docs; every .md of docs/ and the README; the Makefile, pyproject.toml and every .toml (launch files)
+TEXT_FOLDERS = ["messages", "runtime", "sim", "nodes", "cli", "src", "tests", "bench", "examples", "docs"]
+SKIPPED_PARTS = {".venv", "site", "__pycache__", "node_modules", ".git"}
+
+#: a reader of the repository has no tracker: the word issue with a number (or an opening
+#: parenthesis before it), a number after # in parentheses or after "see"/"fixes", and the
+#: phrases that narrate a change instead of saying why the code is so
+HISTORY = re.compile(
+    r"\bissues?\s*#?\d+\b"
+    r"|[(]issue\b"
+    r"|(?:\(|\b(?:see|fixes|fixed|closes|closed|resolves|resolved)\s+)#\d+(?![\w-])"
+    r"|\bold code\b"
+    r"|\bbefore the fix\b"
+    r"|\bpreviously\b"
+    r"|\bfirst \w+ design\b"
+    r"|\ba review found\b"
+    r"|\bfound by a new user\b",
+    re.IGNORECASE,
+)
+
+
+def text_files(root: Path = ROOT) -> list[Path]:
+    """The files whose comments, docstrings and prose a reader reads."""
+    found: set[Path] = set()
+    for folder in TEXT_FOLDERS:
+        for pattern in ("*.py", "*.md", "*.toml"):
+            if pattern == "*.md" and folder != "docs":
+                continue
+            found.update((root / folder).rglob(pattern))
+    found.update(root.glob("*.toml"))
+    found.update(p for p in (root / "README.md", root / "Makefile") if p.exists())
+    return sorted(p for p in found if not SKIPPED_PARTS.intersection(p.relative_to(root).parts))
+
+
+def history_mentions(root: Path = ROOT) -> list[str]:
+    """``file:line: text`` of every issue number or narrated history."""
+    return [
+        f"{path.relative_to(root)}:{number}: {line.strip()}"
+        for path in text_files(root)
+        for number, line in enumerate(path.read_text(encoding="utf-8").splitlines(), 1)
+        if HISTORY.search(line)
+    ]
+
+
+def test_no_issue_numbers_or_history_in_code_tests_or_docs():
+    """A comment or a doc says why the code is so in today's terms; an issue number points to a
+    tracker no reader of the repository has."""
+    found = history_mentions()
+    assert not found, "say the reason instead:\n" + "\n".join(found)
+
+
+def test_the_history_check_catches_what_it_names(tmp_path):
+    """The patterns on a small tree, so the test above can fail (the words are split here so that
+    this file passes it)."""
+    issue, see = "iss" + "ue", "(see " + "#12)"
+    (tmp_path / "runtime").mkdir()
+    (tmp_path / "docs").mkdir()
+    (tmp_path / "runtime" / "node.py").write_text(
+        f"x = 1  # {issue} 22\ny = 2  # braking past the heading\n# {issue.capitalize()} #7: why\n"
+    )
+    (tmp_path / "docs" / "a.md").write_text(
+        f"ok: payload #1 on k, [8](#8-write-your-own), {issue}r\nbad {see} and the old " + "code\n"
+    )
+    (tmp_path / "README.md").write_text(f"a goal ({issue} 22, item 4)\n")
+    assert history_mentions(tmp_path) == [
+        f"README.md:1: a goal ({issue} 22, item 4)",
+        f"docs/a.md:2: bad {see} and the old " + "code",
+        f"runtime/node.py:1: x = 1  # {issue} 22",
+        f"runtime/node.py:3: # {issue.capitalize()} #7: why",
+    ]

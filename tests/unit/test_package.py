@@ -1,4 +1,4 @@
-"""Issue 24 (1): one package.  The wheel installs ``turtlectl`` and nothing else at the top of
+"""One package.  The wheel installs ``turtlectl`` and nothing else at the top of
 site-packages, typed (``py.typed``), with the launch file and Foxglove layout it reads; the
 installed package is the source tree's folders mapped under it, and its public names load
 lazily; in the source tree (the editable install) ``import messages`` finds nothing of ours."""

@@ -14,7 +14,7 @@ exits, and Linux hands the node to the nearest "child subreaper" above it, the s
 (``start`` makes it one).  So every node is the supervisor's own child, as one started by
 ``subprocess`` is: the supervisor reaps it and reads its real exit code, the node's
 parent-death signal and parent watch point at the supervisor, and killing the zygote ends no
-node (it only means the next starts are by exec; the first zygote design tied nodes to it).
+node (it only means the next starts are by exec).
 
 A node runs only once the supervisor knows it.  A forked node waits for one byte on its "go"
 pipe, which the supervisor writes once the zygote has told it the node's pid (by then the

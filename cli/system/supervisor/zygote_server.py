@@ -46,8 +46,8 @@ def _pdeathsig(sig: signal.Signals) -> None:
 
 def close_inherited(keep: int) -> None:
     """Close every descriptor above stderr but ``keep``: what the shell or the supervisor had open
-    must not live on in the zygote and its nodes (a Popen child gets close_fds=True; a review of
-    issue 10 found a shell's fd 9 held open by every node)."""
+    must not live on in the zygote and its nodes (a Popen child gets close_fds=True; without this a
+    shell's fd 9, for one, would be held open by every node)."""
     os.closerange(3, keep)
     os.closerange(keep + 1, os.sysconf("SC_OPEN_MAX"))
 

@@ -81,7 +81,7 @@ def test_publish_once_goes_alone(rate, times):
 
 
 def test_certs_make_an_authority_and_certificates_it_signed(tmp_path):
-    """Issue 14: `turtlectl certs DIR`; the keys readable by their owner only; nothing overwritten."""
+    """`turtlectl certs DIR`; the keys readable by their owner only; nothing overwritten."""
     import stat
 
     from cryptography import x509

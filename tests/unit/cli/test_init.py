@@ -13,7 +13,7 @@ from turtlectl.cli import STOPPED_BY_CTRL_C, command_of
         (["launch", "--port", "7448"], "launch"),
         (["--domain", "lab1", "launch"], "launch"),
         (["--domain=lab1", "router"], "router"),
-        (["--connect", "tcp/127.0.0.1:7448", "launch"], "launch"),  # review of issue 9: was "tcp/…", so exit 130
+        (["--connect", "tcp/127.0.0.1:7448", "launch"], "launch"),  # not "tcp/…" (then exit 130)
         (["--connect=tcp/127.0.0.1:7448", "--domain", "x", "router"], "router"),
         (["goto", "1", "2", "3"], "goto"),
         (["--version"], ""),

@@ -36,7 +36,7 @@ HEAVY = [
     "turtlectl.runtime.node",
     "turtlectl.runtime.lifecycle",
     "turtlectl.nodes.kinds",
-    "msgspec",  # issue 10: the message types cost --help 25 ms; the commands that send one import them
+    "msgspec",  # the message types would cost --help 25 ms; the commands that send one import them
 ]
 
 
@@ -301,7 +301,7 @@ def test_a_malformed_launch_file_names_the_key_path(tmp_path):
         # a file without its class (a new user's first try): not taken for a launch-file name
         (("./patrol.py",), "./patrol.py names a file: add its node class, as ./patrol.py:ClassName"),
         (("myrobot/patrol.py",), "myrobot/patrol.py names a file: add its node class"),
-        # a namespaced node of a launch file is a name, not a file (a review: "turtle2/navigator names a file")
+        # a namespaced node of a launch file is a name, not a file (not "turtle2/navigator names a file")
         (("turtle2/nav", "--file", str(FLEET)), "no node named 'turtle2/nav'; did you mean turtle2/navigator?"),
     ],
 )
@@ -351,8 +351,8 @@ def test_importing_the_command_line_does_not_import_numpy():
     ],
 )
 def test_domain_and_connect_work_before_and_after_the_command(args, monkeypatch):
-    """A review found `turtlectl goto 5 5 0 --domain lab1` refused ("unexpected extra argument")
-    right after a hint told the user to add --domain, and `turtlectl --connect ... list` refused."""
+    """`turtlectl goto 5 5 0 --domain lab1` (as a hint tells the user to add --domain) and
+    `turtlectl --connect ... list` are taken, not refused with "unexpected extra argument"."""
     monkeypatch.delenv(DOMAIN_ENV, raising=False)
     monkeypatch.delenv(CONNECT_ENV, raising=False)
     result = CliRunner().invoke(app, args)
@@ -368,7 +368,7 @@ def test_a_bad_domain_after_the_command_is_bad_input(monkeypatch):
 
 
 def test_connect_before_launch_joins_that_router_as_after_it(tmp_path):
-    """Review of issue 9: `turtlectl --connect E launch` ran its own router and ignored E."""
+    """`turtlectl --connect E launch` joins E rather than run a router of its own."""
     with socket.socket() as busy, socket.socket() as probe:
         busy.bind(("127.0.0.1", 0))
         busy.listen()
@@ -385,7 +385,7 @@ def test_connect_before_router_is_refused():
 
 
 def test_a_ctrl_c_is_reported_as_what_happened_not_as_an_error():
-    """Review of issue 9: Ctrl-C on goto read 'turtlectl: error: interrupted: …'."""
+    """Ctrl-C on goto does not read 'turtlectl: error: interrupted: …'."""
     assert error_line(Interrupted("interrupted: the navigator cancels the goal")) == (
         "turtlectl: interrupted: the navigator cancels the goal"
     )
@@ -393,8 +393,8 @@ def test_a_ctrl_c_is_reported_as_what_happened_not_as_an_error():
 
 
 def test_record_into_an_existing_file_is_refused_before_it_says_it_records(tmp_path):
-    """Review of issue 11: it printed "recording ** into a.mcap", then the refusal (or, with no
-    router, "no turtlectl system" and exit 3 though the file was the problem)."""
+    """The refusal comes first: not "recording ** into a.mcap" before it (nor, with no router,
+    "no turtlectl system" and exit 3 when the file is the problem)."""
     (tmp_path / "a.mcap").write_bytes(b"kept")
     result = CliRunner().invoke(app, ["record", "-a", "-o", "a.mcap", "--connect", "tcp/127.0.0.1:9"])
     assert isinstance(result.exception, BadInput), result.output
@@ -423,8 +423,8 @@ def test_play_from_past_the_end_says_how_long_the_recording_is(tmp_path):
     ],
 )
 def test_nan_is_no_rate_offset_or_duration(argv, option):
-    """Review of issue 11: `play --rate nan` published nothing and never ended; `record
-    --duration nan` recorded nothing and said so with exit 0 (Typer's ranges let NaN through)."""
+    """`play --rate nan` and `record --duration nan` are refused (Typer's ranges let NaN through:
+    play would publish nothing and never end, record would record nothing with exit 0)."""
     assert (
         bad_input(*argv, "--connect", "tcp/127.0.0.1:9")
         == f"turtlectl: error: {option} must be a finite number, got nan"
@@ -442,7 +442,7 @@ def _leaves(command, path=()):
 
 
 def test_help_groups_the_commands_and_every_command_has_an_example():
-    """Issue 13: `turtlectl --help` stays readable as it grows; each command shows how it is used."""
+    """`turtlectl --help` stays readable as it grows; each command shows how it is used."""
     import typer.main
 
     from turtlectl.cli.main import COMMAND_GROUPS
@@ -492,9 +492,9 @@ def test_a_node_selector_is_a_name_namespace_turtle_or_glob(argv, name):
 
 
 def test_a_node_name_may_have_ros_s_slash_a_namespace_or_the_domain_list_shows(monkeypatch):
-    """`/navigator` is navigator; `turtle2/navigator` navigator in namespace turtle2 (issue 27: a
-    namespace's nodes); `lab1:navigator` is navigator in domain lab1 (as `list` shows it; it was
-    `lab1/navigator` before namespaces)."""
+    """`/navigator` is navigator; `turtle2/navigator` navigator in namespace turtle2 (a
+    namespace's nodes); `lab1:navigator` is navigator in domain lab1 (as `list` shows it; the
+    slash is the namespace's)."""
     from turtlectl.cli import args
 
     assert args.node_name("/navigator") == ("", "navigator")
@@ -516,7 +516,7 @@ def test_warn_is_warning_as_ros_spells_it():
 
 
 def test_teleop_without_a_terminal_is_bad_input_before_any_router_is_asked():
-    """Second review of issue 13: with no router it said exit 3, hiding the input that cannot work."""
+    """Bad input is exit 2 even with no router (exit 3 would hide the input that cannot work)."""
     assert bad_input("teleop", "--connect", "tcp/127.0.0.1:1").endswith("its input is not one (run it in a terminal)")
 
 
@@ -537,7 +537,7 @@ def test_teleop_without_a_terminal_is_bad_input_before_any_router_is_asked():
     ],
 )
 def test_a_router_beyond_loopback_needs_insecure_to_insist(argv, message):
-    """Issue 14: nothing listens beyond loopback unless asked, and then with what it means said."""
+    """Nothing listens beyond loopback unless asked, and then with what it means said."""
     assert bad_input(*argv).startswith("turtlectl: error: " + message)
 
 
@@ -566,7 +566,7 @@ def test_secure_beyond_loopback_needs_tls_and_tls_needs_its_certificates(tmp_pat
 
 
 def test_usage_shows_an_argument_that_takes_several_as_name_dots():
-    """Issue 22: `hz`'s usage read `{TOPIC}` although it takes several topics."""
+    """`hz`'s usage says it takes several topics, not `{TOPIC}`."""
     import typer.main
 
     root = typer.main.get_command(app)
@@ -580,7 +580,7 @@ def test_usage_shows_an_argument_that_takes_several_as_name_dots():
 
 @pytest.mark.parametrize("command", [("goto", "1", "1", "0"), ("cancel",), ("echo", "robot/status"), ("hz", "pose")])
 def test_turtle_is_a_turtles_name(command):
-    """Issue 27: --turtle names the turtle whose nodes a command reaches (their namespace)."""
+    """--turtle names the turtle whose nodes a command reaches (their namespace)."""
     assert bad_input(*command, "--turtle", "a b") == (
         "turtlectl: error: --turtle 'a b': a turtle's name, letters, digits, _ and - (like turtle2)"
     )

@@ -1,4 +1,4 @@
-"""cli.verify.document (issue 26, `turtlectl spec`): a specification as the capstone's Markdown
+"""cli.verify.document (`turtlectl spec`): a specification as the capstone's Markdown
 template; a specification written as TOML that parses back to itself; the skeleton made from
 a live graph and its measured periods."""
 
@@ -131,9 +131,9 @@ def test_a_measured_period_gets_a_tolerance_of_10_percent_at_least_5_ms():
 
 
 def test_a_stall_in_the_measuring_window_does_not_make_the_skeletons_period():
-    """CI run of issue 27: the skeleton wrote `turtles every 71 ± 7.1 ms` for a 64 ms topic (its
-    publisher stalled once in the 2 s window, the mean of the gaps went up) and then failed its
-    own system (74 % within): the typical gap is the period."""
+    """The typical gap is the period: with the mean, a 64 ms topic whose publisher stalled once in
+    the 2 s window gave `turtles every 71 ± 7.1 ms`, and the skeleton failed its own system
+    (74 % within)."""
     from turtlectl.cli.verify.skeleton import period_of
 
     stamps = [i * 0.064 for i in range(25)] + [25 * 0.064 + 0.25 + i * 0.064 for i in range(6)]

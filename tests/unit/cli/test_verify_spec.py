@@ -1,4 +1,4 @@
-"""cli.verify.spec and report (issue 26, a first part): a specification file parsed strictly,
+"""cli.verify.spec and report: a specification file parsed strictly,
 each mistake one line naming the file and key path (exit 2); the table of verdicts."""
 
 from __future__ import annotations

@@ -1,5 +1,5 @@
 """messages.jsonform.message_class: a recording's JSON Schema of a type turtlectl was not built
-with (issue 25) made back into a class that reads the recorded JSON and sends the same msgpack
+with made back into a class that reads the recorded JSON and sends the same msgpack
 bytes as the original; a schema that is no message's is DescriptionError."""
 
 from __future__ import annotations

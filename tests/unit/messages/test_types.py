@@ -39,7 +39,7 @@ def test_new_fields_have_defaults_so_old_senders_stay_valid():
 
 
 def test_every_message_is_frozen_and_names_its_wire_tag_explicitly():
-    """Issue 9: a renamed class must never change the wire format, and a reply is built, not mutated."""
+    """A renamed class must never change the wire format, and a reply is built, not mutated."""
     for t in ALL_TYPES:
         assert t.__struct_config__.frozen, t
         assert f'tag="{type_short_name(t)}"' in inspect.getsource(t).splitlines()[0], t
@@ -61,7 +61,7 @@ def feedback(state) -> NavigateToFeedback:
 
 
 def test_the_states_are_exactly_the_words_the_wire_always_carried():
-    assert [s.value for s in GoalState] == ["turning", "driving", "blocked", "replanning"]  # issue 12 added the last
+    assert [s.value for s in GoalState] == ["turning", "driving", "blocked", "replanning"]  # the last: a detour
 
 
 @pytest.mark.parametrize("state", list(GoalState))

@@ -1,4 +1,4 @@
-"""Issue 25: a user's own message type needs nothing but its class.  The codec builds a type's
+"""A user's own message type needs nothing but its class.  The codec builds a type's
 decoder on first use (no fixed table), every failure is the one DecodeError (a ValueError) the
 runtime handles, and the supported field types round-trip: nested Structs, lists, tuples,
 dicts, optional fields, enums and bytes."""
@@ -143,8 +143,8 @@ def test_every_built_in_type_can_be_rebuilt_from_its_description():
 
 
 def test_a_rebuilt_class_fills_defaults_as_the_original_does():
-    """A new user's `pub` left `raw: bytes = b""` out: the rebuilt class sent the JSON default
-    "" (a str) and the real node dropped the message (Expected bytes, got str)."""
+    """`pub` leaving `raw: bytes = b""` out: the rebuilt class sends bytes, not the JSON default
+    "" (a str) that the real node would drop (Expected bytes, got str)."""
     from turtlectl.messages.described import describe, struct_from
 
     rebuilt = struct_from(describe(WallState))

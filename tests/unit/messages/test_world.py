@@ -10,7 +10,7 @@ from turtlectl.messages.world import Limits, Obstacle, World
     "value, field", [(World(), "size"), (Obstacle(x=1, y=1, radius=1), "x"), (Limits(), "max_linear_speed")]
 )
 def test_the_world_model_is_frozen(value, field):
-    """Review of issue 9: World, Obstacle and Limits travel between processes but could be changed in place."""
+    """World, Obstacle and Limits travel between processes: they cannot be changed in place."""
     with pytest.raises(AttributeError):
         setattr(value, field, 2.0)
     assert msgspec.structs.replace(value, **{field: 2.0}) != value  # a new one is built instead

@@ -184,9 +184,9 @@ def drive_late(start: TurtleState, goal: tuple[float, float, float], late_at: in
 
 @pytest.mark.parametrize("late", [1, 2, 3])
 def test_steps_missed_while_braking_cost_a_fraction_of_a_second(late):
-    """Criterion 1's goal from the spawn (3 m, heading reversed) took 2.83 s, not 1.76 s, now and
-    then on a busy machine: steps missed while braking, an overshoot, then a half turn to drive
-    the goal's first direction again (1.1 s).  Kept as the driver keeps it, the direction taken
+    """Criterion 1's goal from the spawn (3 m, heading reversed) on a busy machine: steps missed
+    while braking, an overshoot, then a half turn to drive the goal's first direction again
+    would take 2.83 s, not 1.76 s.  Kept as the driver keeps it, the direction taken
     close in holds: the overshoot is backed out of."""
     start, goal = TurtleState(x=5.544445, y=5.544445, theta=0.0), (8.5, 5.5, math.pi)
     on_time = drive_late(start, goal, 0, 0)

@@ -121,7 +121,7 @@ def test_a_turtle_off_its_path_gets_one_new_path_from_where_it_is():
 
 
 def test_it_stops_within_the_tolerances_and_arrives_only_at_rest_after_a_stop():
-    """Issue 22: a turtle turning through the goal heading is stopped, not answered; it has
+    """A turtle turning through the goal heading is stopped, not answered; it has
     arrived once it rests within the tolerances with nothing but the stop on its way."""
     d = driver()
     assert isinstance(d.step(Pose(x=2.0, y=5.0, theta=0.0), 0.0), Drive)  # drives: its last command is no stop
@@ -142,11 +142,10 @@ def test_at_rest_but_not_after_a_stop_it_is_not_arrived():
 
 
 def test_the_direction_taken_close_in_holds_for_the_rest_of_the_goal():
-    """Criterion 1's goal (3 m, heading reversed) took 2.83 s instead of 1.76 s now and then on a
-    busy machine: a step missed while braking made the turtle overshoot; close in (within
-    `near`) the law backs up rather than turn round, but the driver kept the goal's first
-    direction, so once more than `near` past it turned a half circle to drive that way again.
-    The direction the law returns now holds (tests/unit/nodes/test_control.py: the time)."""
+    """Criterion 1's goal (3 m, heading reversed) on a busy machine: a step missed while braking
+    makes the turtle overshoot; close in (within `near`) the law backs up rather than turn
+    round.  Kept to the goal's first direction, the driver would turn a half circle once more
+    than `near` past (2.83 s instead of 1.76 s), so the direction the law returns holds (tests/unit/nodes/test_control.py: the time)."""
     d = driver(8.5, 5.5, math.pi)
     d.step(Pose(x=5.5, y=5.5, theta=math.pi), 0.0)  # facing away: it drives there backwards
     assert d.direction == -1

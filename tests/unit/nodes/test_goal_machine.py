@@ -128,7 +128,7 @@ def test_an_invalid_goal_is_refused_at_once(request_, starts):
     reply = only_reply(actions)
     assert reply.to == "caller" and reply.response.refused and not reply.response.success
     assert reply.response.time_taken == 0.0
-    # review of issue 12: a short reason for programs, the sentence in detail (the reason held it all)
+    # a short reason for programs, the sentence in detail (not all of it in the reason)
     assert reply.response.reason == "invalid goal" and reply.response.detail.startswith(starts), reply
     assert (reply.response.x, reply.response.y) == (0.0, 0.0)  # no pose known: no position
     assert notes(actions)[0].startswith("refused goal (") and m.goal is None and twists(actions) == []
@@ -146,8 +146,8 @@ def test_a_goal_walled_in_by_declared_obstacles_is_refused_with_the_pose():
 
 
 def test_a_turtle_walled_in_is_told_so_not_that_the_goal_is():
-    """Review of issue 12: from inside a ring, a goal in open space was refused with "the goal is
-    walled in by obstacles"."""
+    """From inside a ring, a goal in open space is not refused with "the goal is walled in by
+    obstacles"."""
     ring = [Obstacle(x=2.0 + 1.2 * math.cos(a), y=5.0 + 1.2 * math.sin(a), radius=0.3) for a in range(0, 7)]
     m = machine(World(size=11.0, obstacles=ring))
     m.pose(pose(), 0.0)  # (2, 5): the ring's centre
@@ -160,8 +160,8 @@ def test_a_turtle_walled_in_is_told_so_not_that_the_goal_is():
     ("turtle", "target", "walled"), [((0.2, 0.2), (5.0, 5.0), "turtle"), ((5.0, 5.0), (0.2, 0.2), "goal")]
 )
 def test_a_pocket_between_an_obstacle_and_a_corner_is_told_as_walling_in_what_is_in_it(turtle, target, walled):
-    """Review of issue 12: a turtle in a corner closed off by an obstacle was told "the goal is
-    walled in": the pocket holds a corner of the world, which counted as reaching out."""
+    """A turtle in a corner closed off by an obstacle is not told "the goal is walled in": the
+    pocket holds a corner of the world, which must not count as reaching out."""
     m = machine(World(size=11.0, obstacles=[Obstacle(x=1.0, y=1.0, radius=0.6)]))
     m.pose(pose(*turtle), 0.0)
     reason = only_reply(submit(m, goal(*target), "caller", 0.0)).response.detail
@@ -214,8 +214,8 @@ def test_a_goal_reached_stops_the_turtle_then_answers():
 
 
 def test_a_turtle_still_turning_within_the_tolerances_is_not_reached_until_it_rests():
-    """Issue 22: success was declared while the turtle turned at speed through the goal
-    heading; braking carried it 2 deg past.  Reached means at rest within the tolerances,
+    """A turtle turning at speed through the goal heading has not succeeded: braking would
+    carry it 2 deg past.  Reached means at rest within the tolerances,
     and the response gives the pose it rests in."""
     m = machine()
     running(m, now=10.0)
@@ -405,8 +405,8 @@ def test_poses_that_stop_arriving_end_the_goal():
 
 
 def test_a_pose_heard_but_not_yet_stepped_keeps_the_goal_alive():
-    """bench/fleet.py at N=10 (issue 27): a navigator stalled on saturated cores ran its watchdog
-    before the poses queued meanwhile and failed a goal "no pose"; the shell now tells the
+    """bench/fleet.py at N=10: a navigator stalled on saturated cores runs its watchdog before the
+    poses queued meanwhile; so that it does not fail a goal "no pose", the shell tells the
     machine a newer pose came (Navigator.watchdog, from Node.latest's ring)."""
     m = machine()
     running(m)
@@ -516,7 +516,7 @@ def sensor(m: GoalMachine[str], start: float, end: float, blocking: bool) -> lis
 
 
 def test_a_goal_that_something_seen_sits_on_ends_blocked_saying_so():
-    """Review of issue 12: it said only "there was no way round what the scan sees"."""
+    """More than "there was no way round what the scan sees"."""
     m = machine()
     running(m, request=goal(x=3.0))
     m.scan(one_hit(1.1), 0.0)  # something 0.1 m beyond the goal, 1 m ahead
@@ -605,7 +605,7 @@ def test_an_obstacle_beyond_the_goal_does_not_block():
 # -- scans --------------------------------------------------------------------
 def test_a_stale_scan_is_forgotten_and_the_feedback_says_so():
     m, _ = walled_in()
-    # review of issue 9: the first scan said "scans are back" though nothing had said they stopped
+    # the first scan does not say "scans are back": nothing had said they stopped
     assert notes(m.tick(0.05)) == []
     assert m.tick(0.1) == []
     assert m.feedback(1.0).scan_stale is False
@@ -707,8 +707,8 @@ def _drive_with_scans(m: GoalMachine[str], start: TurtleState, seen: World, unti
 
 
 def test_a_goal_walled_in_by_what_only_the_scan_sees_ends_blocked_not_timeout():
-    """Review of issue 12: round a ring that only the scan sees, each scan showed a gap that the
-    last one had closed, so the turtle circled it for goal_timeout (30 s) and failed "timeout"."""
+    """Round a ring that only the scan sees, each scan shows a gap that the last one had closed;
+    the turtle must not circle it for goal_timeout (30 s) and fail "timeout"."""
     ring = [Obstacle(x=5.5 + 1.2 * math.cos(a * math.pi / 4), y=8.8 + 1.2 * math.sin(a * math.pi / 4), radius=0.5)
             for a in range(8)]  # fmt: skip
     seen = World(size=11.088889, obstacles=ring)
@@ -726,10 +726,9 @@ def test_a_goal_walled_in_by_what_only_the_scan_sees_ends_blocked_not_timeout():
     [(10.15, 3.0, 10.9), (10.2, 2.0, 10.7), (10.2, 2.0, 10.2), (10.15, 3.0, 10.2)],
 )
 def test_an_undeclared_obstacle_near_a_wall_is_passed_on_the_open_side_at_a_safe_distance(rock_y, start_x, start_y):
-    """Review of issue 12: an obstacle only the scan sees, about 0.39 m from the top wall.  Planned
-    from the latest scan's near-side estimate the path went over the top, between it and the
-    wall; the turtle came to 0.2 m of it, and sometimes ended "blocked" though the way below
-    was open."""
+    """An obstacle only the scan sees, about 0.39 m from the top wall.  Planned from the latest
+    scan's near-side estimate the path would go over the top, between it and the wall (the
+    turtle coming to 0.2 m of it, sometimes ending "blocked" though the way below is open)."""
     rock = Obstacle(x=5.5, y=rock_y, radius=0.5)
     seen = World(size=11.088889, obstacles=[rock])
     m = machine(World(size=11.088889), goal_timeout=30.0)
@@ -743,9 +742,9 @@ def test_an_undeclared_obstacle_near_a_wall_is_passed_on_the_open_side_at_a_safe
 
 @pytest.mark.parametrize(("goal_y", "rock_y"), [(7.0, 8.0), (7.1, 8.0), (7.12, 8.0), (7.14, 8.0)])
 def test_a_goal_just_beyond_the_margin_of_something_only_the_scan_sees_is_reached(goal_y, rock_y):
-    """Review of issue 12: a goal 0.5-0.6 m from an obstacle only the scan sees (the turtle keeps
-    0.45 m) waited 10 s and ended "blocked": the circles covering the costmap's cells reach
-    ~0.2 m in front of what was seen, so the goal seemed to lie within the margin."""
+    """A goal 0.5-0.6 m from an obstacle only the scan sees (the turtle keeps 0.45 m) is reached,
+    not "blocked" after 10 s: the circles covering the costmap's cells reach ~0.2 m in front
+    of what was seen, so the goal could seem to lie within the margin."""
     rock = Obstacle(x=5.5, y=rock_y, radius=0.4)
     m = machine(World(size=11.088889), goal_timeout=30.0)
     m.pose(Pose(x=5.5, y=5.0, theta=math.pi / 2), 0.0)
@@ -760,7 +759,7 @@ def test_a_goal_just_beyond_the_margin_of_something_only_the_scan_sees_is_reache
 
 
 def test_a_goal_canceled_by_teleop_says_the_keyboard_took_over():
-    """Issue 13: `turtlectl teleop` cancels a running goal with reason "teleop"."""
+    """`turtlectl teleop` cancels a running goal with reason "teleop"."""
     m = machine()
     m.pose(pose(x=2.0), 0.0)
     submit(m, NavigateToRequest(x=8.0, y=5.0, theta=0.0), "caller", 0.0)

@@ -1,4 +1,4 @@
-"""Issue 27: navigation among turtles (nodes.traffic), pure, on a fake clock: who gives way,
+"""Navigation among turtles (nodes.traffic), pure, on a fake clock: who gives way,
 where a turtle with the right of way is about to be, scan hits on a turtle not remembered as
 obstacles, and two navigators (goal machines) on the simulator's kinematics driving across
 each other's way: both arrive, and their centres never come within two turtle radii."""

@@ -1,4 +1,4 @@
-"""One table of exit codes for every turtlectl process (issue 22, item 7): a command and a
+"""One table of exit codes for every turtlectl process: a command and a
 node process give each number the same meaning, docs/reference/exit-codes.md lists each, and
 the supervisor respawns only the exits that a new start could change."""
 

@@ -1,5 +1,5 @@
 """runtime.fake: a node class unit-tested without Zenoh, through the real ``Node`` code on a
-fake clock and an in-memory session (issue 24, item 5b)."""
+fake clock and an in-memory session."""
 
 from __future__ import annotations
 
@@ -127,7 +127,7 @@ def test_garbage_is_logged_and_dropped_and_the_node_keeps_running(caplog):
 
 
 def test_a_latest_value_is_read_newest_first_its_garbage_logged_when_read(caplog):
-    """Issue 27: a latest value's samples wait in a ring channel (Zenoh keeps them, Python is not
+    """A latest value's samples wait in a ring channel (Zenoh keeps them, Python is not
     woken for each): read, every one that came is decoded oldest first, garbage counted and
     logged even when a valid sample followed it, the newest valid one kept."""
     fake = FakeNode(Counter)
@@ -236,7 +236,7 @@ def test_a_timer_reads_the_clock_it_was_given():
 
 
 class Talker:
-    """Publishes what its Interface does not name: refused at once (issue 24, item 3)."""
+    """Publishes what its Interface does not name: refused at once."""
 
     Params = CounterParams
     Interface = Interface(publishes=("chatter",))

@@ -101,7 +101,7 @@ def test_a_target_that_names_no_node_class_says_why_in_one_line(project, monkeyp
 def test_a_files_siblings_come_first_as_for_python_file_py(tmp_path, monkeypatch):
     """A user's own ``messages.py`` (or ``nodes/``) beside the node file is what it imports, as
     ``python patrol.py`` would give it; ours are ``turtlectl.messages`` and never in the way
-    (issue 24: the repository root on sys.path gave the node our messages package)."""
+    (with the repository root on sys.path the node would get our messages package)."""
     monkeypatch.setattr("sys.path", list(sys.path))
     for name in ("messages", "nodes"):
         monkeypatch.delitem(sys.modules, name, raising=False)

@@ -28,7 +28,7 @@ def test_a_resumed_timer_ticks_on_its_grid():
 
 
 def test_a_retimed_timer_ticks_a_new_period_from_now():
-    """Issue 13: `param set status_monitor rate 2` takes effect at once."""
+    """`param set status_monitor rate 2` takes effect at once."""
     t = Timer(0.1, lambda: None, start=100.0)
     t.retime(0.5, now=100.23)
     assert t.period == 0.5 and t.deadline == pytest.approx(100.73)

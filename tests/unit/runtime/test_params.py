@@ -38,7 +38,7 @@ def test_a_change_that_cannot_be_made_says_why(params, name, value, message):
 
 
 def test_describe_gives_every_parameter_with_its_value_now_and_why_it_cannot_change():
-    """Issue 22 (5): what every node serves on turtlectl/params/<node>/describe, whatever its kind."""
+    """What every node serves on turtlectl/params/<node>/describe, whatever its kind."""
     from turtlectl.runtime.params import describe
 
     params, _ = with_value(StatusMonitorParams(), "rate", 2)
@@ -99,7 +99,7 @@ class _Mine(msgspec.Struct):
     ],
 )
 def test_a_value_refused_says_what_it_must_be_in_one_line_without_msgspec_s_path(name, value, message):
-    """Issue 22 review (C): a user node's refusal read "rate: Expected `float` <= 50.0 - at `$.rate`"."""
+    """A user node's refusal reads as a built-in's, not as msgspec's "rate: Expected `float` <= 50.0 - at `$.rate`"."""
     with pytest.raises(ParamRefused) as refused:
         with_value(_Mine(), name, value)
     assert str(refused.value) == message

@@ -1,4 +1,4 @@
-"""Issue 28, launch composition: a node's ``remap`` (ROS's remappings) goes through the one key
+"""Launch composition: a node's ``remap`` (ROS's remappings) goes through the one key
 resolution, messages.keys.resolve, so that the keys a node uses, the interface it may declare
 (its access rules under --secure), its claims and what it announces all say the same key."""
 
@@ -27,7 +27,7 @@ SAFETY = {"turtle1/cmd_vel": "safety/cmd_vel"}
         ("turtle1/cmd_vel", "turtle2", {"/turtle2/cmd_vel": "/safety/cmd_vel"}, "safety/cmd_vel"),  # absolute
         ("turtle1/cmd_vel", "turtle2", {"turtle1/cmd_vel": "turtle1/cmd_vel_raw"}, "turtle2/cmd_vel_raw"),
         ("/turtles", "turtle2", {"turtles": "all_turtles"}, "turtle2/all_turtles"),  # world keys: never namespaced
-        ("turtle1/pose", "turtle2", SAFETY, "turtle2/pose"),  # another key: as before
+        ("turtle1/pose", "turtle2", SAFETY, "turtle2/pose"),  # another key: unchanged
         ("turtle1/cmd_vel", "turtle2", {"turtle2/cmd_vel": "x"}, "turtle2/cmd_vel"),  # relative: turtle2/turtle2/...
         ("turtle1/cmd_vel", "", {}, "turtle1/cmd_vel"),
     ],
@@ -61,7 +61,7 @@ def test_a_key_a_wildcard_of_the_interface_names_is_added_beside_it():
     sim = KINDS["sim"]  # subscribes to */cmd_vel: every turtle's
     i = interface_of("sim", sim.interface, {"turtle1/cmd_vel": "safe/cmd_vel_out"})
     assert i.subscribes == ("*/cmd_vel", "safe/cmd_vel_out")
-    assert interface_of("sim", sim.interface) == interface_of("sim", sim.interface, {})  # none: as before
+    assert interface_of("sim", sim.interface) == interface_of("sim", sim.interface, {})  # none: unchanged
 
 
 def test_an_undeclared_kinds_own_keys_stay_as_they_are_and_gain_the_remapped_ones():
@@ -87,6 +87,6 @@ def test_a_remapped_node_uses_the_remapped_key_and_its_interface_allows_it():
         assert [m.linear for m in fake.published("turtle2/safety/cmd_vel")] == [1.0]
         assert fake.published("turtle2/cmd_vel") == []
         assert fake.node.resolve("/turtle2/cmd_vel") == "turtle2/safety/cmd_vel"  # absolute, as ROS: remapped too
-        assert fake.node.interface.publishes == ("turtle2/safety/cmd_vel",)  # the key it no longer uses is not its own
+        assert fake.node.interface.publishes == ("turtle2/safety/cmd_vel",)  # the key remapped away is not its own
         with pytest.raises(OutsideInterface, match="may not publish turtle2/cmd_vel_in"):
             fake.node.publisher("/turtle2/cmd_vel_in", Twist)

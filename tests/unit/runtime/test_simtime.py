@@ -117,8 +117,8 @@ def test_between_two_clocks_the_time_runs_on_at_their_factor_by_at_most_a_step()
 
 
 def test_timers_made_before_the_first_clock_tick_a_period_after_it_not_on_a_grid_from_0():
-    """A review found a 1 s timer firing at once when the first Clock came, then on whole
-    seconds since 1970: its grid began at time 0."""
+    """A 1 s timer's grid starts at the first Clock, not at time 0 (it would fire at once, then
+    on whole seconds since 1970)."""
     node, session = sim_node()
     fired: list[float] = []
     node.timer(1.0, lambda: fired.append(node.clock()))
@@ -130,8 +130,8 @@ def test_timers_made_before_the_first_clock_tick_a_period_after_it_not_on_a_grid
 
 
 def test_a_jump_back_starts_the_timers_again_from_the_new_time(caplog):
-    """``play --loop --clock``: the recording's time starts again; a review found timers stopped
-    for good (the node's time would not go back)."""
+    """``play --loop --clock``: the recording's time starts again, and so do the
+    timers (they would stop for good if the node's time could not go back)."""
     node, session = sim_node()
     tick(session, 100_000_000_000)
     node._drain()
@@ -148,7 +148,7 @@ def test_a_jump_back_starts_the_timers_again_from_the_new_time(caplog):
 
 
 def test_a_node_with_no_clock_says_so_once(monkeypatch, caplog):
-    """A review found a use_sim_time node beside no simulator silent forever."""
+    """A use_sim_time node beside no simulator says so, rather than stay silent forever."""
     import threading
 
     import turtlectl.runtime.simtime as simtime

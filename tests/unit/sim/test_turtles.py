@@ -1,4 +1,4 @@
-"""sim.turtles (issue 27): where a spawned turtle may go, its name, and the others as solid
+"""sim.turtles: where a spawned turtle may go, its name, and the others as solid
 bodies; with sim.kinematics.collide, a turtle driven into another stops two radii from it."""
 
 from __future__ import annotations

@@ -1,5 +1,5 @@
 """`turtlectl echo` as a user reads it, its stream faked (no router): one field or several,
-as text, JSON or CSV, each with the header --csv promises (issue 22)."""
+as text, JSON or CSV, each with the header --csv promises."""
 
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""`turtlectl plot` as a user runs it, without a system (issue 28): a recording into a PNG, an
+"""`turtlectl plot` as a user runs it, without a system: a recording into a PNG, an
 SVG or the terminal; each mistake one line with exit code 2, nothing to plot exit code 3; and
 `turtlectl --help` does not pay for plotext and matplotlib."""
 
@@ -111,7 +111,7 @@ def test_help_does_not_import_the_plotting_libraries():
     assert out.strip() == "[]"
 
 
-# -- the new-user review -----------------------------------------------------------------------
+# -- what a new user meets -----------------------------------------------------------------------
 
 
 def test_one_sample_is_said_in_the_singular():

@@ -32,7 +32,7 @@ def _turtles(names):
 
 
 def test_every_turtle_is_drawn_named_with_its_trail_and_goal():
-    """Issue 27: each other turtle of ``turtles`` as turtle1 is (an arrow, its name above it, its
+    """Each other turtle of ``turtles`` as turtle1 is (an arrow, its name above it, its
     trail), its goal from its own navigator's feedback; one that leaves ``turtles`` is deleted."""
     from turtlectl.cli.foxglove.scene import SCENE, SceneMaker
     from turtlectl.messages import Pose
@@ -73,7 +73,7 @@ def test_every_turtle_is_drawn_named_with_its_trail_and_goal():
 
 
 def test_a_log_record_is_foxgloves_log_for_its_log_panel():
-    """Issue 28: every node's records on the ``log`` channel (the bridge, record --scene)."""
+    """Every node's records on the ``log`` channel (the bridge, record --scene)."""
     from turtlectl.cli.foxglove.scene import LOG, SceneMaker
     from turtlectl.messages import Log
     from turtlectl.messages.world import World

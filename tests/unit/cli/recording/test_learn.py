@@ -1,6 +1,6 @@
-"""record learns a type turtlectl was not built with before writing its sample (issue 25); the
+"""record learns a type turtlectl was not built with before writing its sample; the
 name in a raw payload's encoding can be anything, and only a name a node could describe is
-asked about (``a//b`` made an invalid key expression: a Zenoh error ended the recorder)."""
+asked about (``a//b`` would make an invalid key expression: a Zenoh error would end the recorder)."""
 
 from __future__ import annotations
 

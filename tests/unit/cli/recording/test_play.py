@@ -14,8 +14,8 @@ def record_of(message: msgspec.Struct, log_time: int = 5_000) -> Record:
 
 
 def test_messages_are_stamped_when_sent_but_a_log_record_keeps_when_it_was_logged():
-    """A review found replayed log records stamped with the replay's time: they read as live
-    records of a node that was not there."""
+    """Replayed log records keep their recorded stamps: stamped with the replay's time they would
+    read as live records of a node that is not there."""
     status = TurtleStatus(x=1, y=2, theta=0, vel_x=0, vel_y=0, battery=50, stamp=7)
     sent, _ = _payload(record_of(status), status, keep_stamps=False)
     assert decode_any(sent).stamp > 7

@@ -18,7 +18,7 @@ def test_roles_grow_viewer_operator_teleop():
 
 def test_each_node_may_do_what_its_kind_declares_and_no_more():
     sim = node_rights("sim", KINDS["sim"])
-    # every turtle's keys (issue 27: spawn), turtle1's among them
+    # every turtle's keys (spawn), turtle1's among them
     assert "*/cmd_vel" in sim["subscribe"] and "*/pose" in sim["publish"] and "spawn" in sim["serve"]
     assert "*/cmd_vel" not in sim["publish"] and "navigate_to" not in sim["serve"]
     nav = node_rights("navigator", KINDS["navigator"])
@@ -32,7 +32,7 @@ def test_the_router_section_denies_by_default_and_allows_per_user_in_the_domain(
     assert {s["id"]: s["usernames"] for s in section["subjects"]} == {"node-sim": ["node-sim"], "viewer": ["viewer"]}
     rules = {r["id"]: r for r in section["rules"]}
     put = rules["node-sim:publish:put:ingress"]
-    assert put["permission"] == "allow" and "lab1/*/pose" in put["key_exprs"]  # every turtle's (issue 27)
+    assert put["permission"] == "allow" and "lab1/*/pose" in put["key_exprs"]  # every turtle's
     assert all(
         r["permission"] == "allow" and all(k.startswith("lab1/") for k in r["key_exprs"]) for r in rules.values()
     )
@@ -41,8 +41,8 @@ def test_the_router_section_denies_by_default_and_allows_per_user_in_the_domain(
 
 
 def test_the_role_check_reads_a_domain_s_key_from_outside_it_and_roles_are_named(monkeypatch, tmp_path):
-    """Review of issue 14: `call lab1/navigate_to` as operator was "not permitted (may: no client role)";
-    an unknown TURTLECTL_ROLE looked like a missing login; a corrupt credentials file like an empty one."""
+    """`call lab1/navigate_to` as operator is not "not permitted (may: no client role)"; an unknown
+    TURTLECTL_ROLE does not look like a missing login, nor a corrupt credentials file like an empty one."""
     import pytest
 
     from turtlectl.cli.errors import BadInput
@@ -66,7 +66,7 @@ def test_the_role_check_reads_a_domain_s_key_from_outside_it_and_roles_are_named
 
 
 def test_every_node_serves_the_description_of_its_parameters_and_a_viewer_may_read_it():
-    """Issue 22 (5): `param describe` and `param set` ask turtlectl/params/<node>/describe."""
+    """`param describe` and `param set` ask turtlectl/params/<node>/describe."""
     assert "turtlectl/params/navigator/describe" in node_rights("navigator", KINDS["navigator"])["serve"]
     assert permitted("viewer", "call", "turtlectl/params/navigator/describe")
 
@@ -76,7 +76,7 @@ def test_a_user_kind_without_an_interface_may_do_what_teleop_may_and_use_its_own
     from turtlectl.sim.params import SimParams
 
     mine = node_rights("guard", NodeKind("/p/patrol.py:Patrol", SimParams))
-    # what teleop may: drive any turtle (issue 27), turtle1 among them
+    # what teleop may: drive any turtle, turtle1 among them
     assert "*/cmd_vel" in mine["publish"] and "guard/**" in mine["publish"] and mine["serve"][0] == "guard/**"
     assert mine["subscribe"] == ("**", "clock") and "navigate_to" in mine["call"]
     declared = node_rights("guard", NodeKind("/p/patrol.py:Patrol", SimParams, interface=Interface(publishes=("a",))))
@@ -86,7 +86,7 @@ def test_a_user_kind_without_an_interface_may_do_what_teleop_may_and_use_its_own
 
 
 def test_every_node_may_publish_and_serve_its_own_log_and_a_viewer_may_read_every_nodes():
-    """Issue 28: one log stream.  Zenoh drops a denied put without a word: a node's log key is
+    """One log stream.  Zenoh drops a denied put without a word: a node's log key is
     its own share under --secure, whatever its kind declares, and no other node's."""
     for name, kind in (("navigator", KINDS["navigator"]), ("turtle2/navigator", KINDS["navigator"])):
         rights = node_rights(name, kind)

@@ -1,4 +1,4 @@
-"""Issue 28, launch composition (cli.system.compose and its use by the launch file): arguments
+"""Launch composition (cli.system.compose and its use by the launch file): arguments
 with defaults and descriptions (``[arg.NAME]``, ``$(arg NAME)``, ``--arg NAME=VALUE``), includes of
 other launch files with arguments and a namespace (``[[include]]``), and a node's ``remap``.
 Errors name the chain of files and the key path; a cycle of includes is refused."""
@@ -332,7 +332,7 @@ def test_the_example_is_valid_and_the_how_to_shows_its_files():
                 assert code in text, (first, line)  # every line shown (comments aside) is the example's
 
 
-# -- the new-user review of launch composition ------------------------------------------------
+# -- launch composition as a new user writes it -----------------------------------------------
 REVIEW_TOP = """
 [arg.speed]
 default = 1.0

@@ -339,7 +339,7 @@ def _running(scan_timeout: float = 1.0, rate: float = 5.0) -> dict:
 
 
 def test_a_change_is_validated_against_what_runs_as_launch_set_validates_a_file():
-    """Issue 13: `param set` refuses what the launch file refuses, naming the rule it would break."""
+    """`param set` refuses what the launch file refuses, naming the rule it would break."""
     from turtlectl.cli.system.overrides import running_change
     from turtlectl.messages.world import World
 
@@ -357,8 +357,8 @@ def test_a_change_is_validated_against_what_runs_as_launch_set_validates_a_file(
 
 
 def test_a_system_that_already_breaks_a_rule_still_takes_changes_that_do_not_break_it_further():
-    """Review of issue 13: the navigator respawned with its launch file's scan_timeout (1 s) after the detector
-    was slowed to 0.8 Hz under a longer one: every `param set` on every node was refused from then on."""
+    """The navigator respawned with its launch file's scan_timeout (1 s) after the detector was
+    slowed to 0.8 Hz under a longer one: `param set` still takes what does not make it worse."""
     from turtlectl.cli.system.overrides import running_change
     from turtlectl.messages.world import World
 
@@ -371,7 +371,7 @@ def test_a_system_that_already_breaks_a_rule_still_takes_changes_that_do_not_bre
 
 
 def test_a_mistake_in_the_value_itself_is_named_as_such_not_as_a_broken_rule():
-    """Second review of issue 13: a list item's missing key read "it would break a rule of the running system"."""
+    """A list item's missing key is named, not "it would break a rule of the running system"."""
     from turtlectl.cli.system.overrides import running_change
     from turtlectl.messages.world import World
 
@@ -382,7 +382,7 @@ def test_a_mistake_in_the_value_itself_is_named_as_such_not_as_a_broken_rule():
     assert str(err.value) == "param set obstacle_detector.undeclared_obstacles[0].radius: missing required key"
 
 
-# -- issue 27: namespaces -------------------------------------------------------
+# -- namespaces -----------------------------------------------------------------
 FLEET = """
 [[node]]
 name = "sim"
@@ -500,9 +500,9 @@ def test_the_fleet_example_validates():
 
 
 def test_a_change_to_a_namespaced_node_is_validated_against_its_own_namespace():
-    """Issue 27: `param set turtle2/obstacle_detector rate 0.5` broke turtle2's navigator's scan_timeout
-    unnoticed: the running system's data named turtle2's nodes without their namespace, every
-    check failed the same before and after, so none counted."""
+    """`param set turtle2/obstacle_detector rate 0.5` that breaks turtle2's navigator's scan_timeout
+    is noticed: the running system's data names turtle2's nodes with their namespace (without it
+    every check would fail the same before and after, so none would count)."""
     from turtlectl.cli.system.overrides import running_change
     from turtlectl.messages.world import World
 
@@ -517,8 +517,8 @@ def test_a_change_to_a_namespaced_node_is_validated_against_its_own_namespace():
 
 
 def test_a_ros_namespace_may_be_written_with_its_slash_and_a_turtle_missing_at_start_is_noted():
-    """Review of issue 27: `namespace = "/turtle2"` (as PushRosNamespace is written) was refused;
-    a namespace whose turtle the simulator does not make passed --check without a word."""
+    """`namespace = "/turtle2"` (as PushRosNamespace is written) is taken; a namespace whose turtle
+    the simulator does not make gets a note from --check."""
     from turtlectl.cli.tools.format import plan_notes, plan_text
 
     plan = parse_launch(FLEET.replace('namespace = "turtle2"', 'namespace = "/turtle2"'), source="f.toml")
@@ -532,9 +532,9 @@ def test_a_ros_namespace_may_be_written_with_its_slash_and_a_turtle_missing_at_s
 
 
 def test_time_scale_puts_every_node_on_the_simulators_clock_and_check_says_so():
-    """Issue 28: `launch --time-scale 5` is the simulator's real_time_factor and every node's
+    """`launch --time-scale 5` is the simulator's real_time_factor and every node's
     use_sim_time (not a cmd program's); --check and the launch say it, the simulator as the one
-    that makes the clock (a review found `sim (...; use_sim_time)` confusing)."""
+    that makes the clock (`sim (...; use_sim_time)` would confuse)."""
     from turtlectl.cli.system.overrides import launch_plan
     from turtlectl.cli.tools.format import plan_notes, plan_text
 

@@ -1,4 +1,4 @@
-"""cli.system.launchfile with a user's node class as ``run`` (issue 24, 2): its parameters are
+"""cli.system.launchfile with a user's node class as ``run``: its parameters are
 validated by ``launch --check`` exactly as a built-in kind's (file, key path, nearest key), a
 ``run`` that names no node class is one line, and only kinds that claim something are one
 per system."""
@@ -125,7 +125,7 @@ def test_run_takes_a_node_class_with_its_defaults_and_overrides(tmp_path):
 
 
 def test_run_puts_a_node_class_in_a_namespace(tmp_path):
-    """Issue 27: `turtlectl run ./patrol.py:Patrol --namespace turtle2` is turtle2/patrol, its keys turtle2's."""
+    """`turtlectl run ./patrol.py:Patrol --namespace turtle2` is turtle2/patrol, its keys turtle2's."""
     from turtlectl.cli.system.overrides import node_config
 
     (tmp_path / "patrol.py").write_text(PATROL)

@@ -1,4 +1,4 @@
-"""cli.system.launchfile with a ``cmd`` node (issue 24, 2: any program, as ROS's
+"""cli.system.launchfile with a ``cmd`` node (any program, as ROS's
 ExecuteProcess): exactly one of run and cmd, the program exists and is executable (relative
 to the launch file), no params; ``launch --check`` says so in one line."""
 

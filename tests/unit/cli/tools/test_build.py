@@ -43,7 +43,7 @@ def test_a_known_key_keeps_its_type():
 
 
 def test_the_services_every_node_has_take_their_own_request_types():
-    """Issue 13: `call turtlectl/params/navigator/set '{...}'` needs no --type."""
+    """`call turtlectl/params/navigator/set '{...}'` needs no --type."""
     from turtlectl.messages import SetLogLevel, SetParameter
 
     assert service_request("turtlectl/params/navigator/set", '{"name": "goal_timeout", "value": 60}') == SetParameter(

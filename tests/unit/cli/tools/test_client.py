@@ -13,8 +13,8 @@ def test_keys_reached_across_a_domain(monkeypatch):
 
 
 def test_a_refused_client_is_told_where_its_login_was_looked_for(monkeypatch, tmp_path):
-    """Issue 22: with TURTLECTL_CREDENTIALS naming a missing file the message still advised
-    "(or set TURTLECTL_CREDENTIALS)"; it says the file named is not there."""
+    """With TURTLECTL_CREDENTIALS naming a missing file the message says the file named is not
+    there (not "(or set TURTLECTL_CREDENTIALS)")."""
     from turtlectl.cli.tools.client import _not_let_in
 
     monkeypatch.delenv("TURTLECTL_TLS", raising=False)

@@ -62,7 +62,7 @@ def test_an_empty_graph_says_what_to_do():
 
 
 def test_list_counts_the_services_every_node_has_instead_of_listing_them():
-    """Issue 13: parameters, node info and log level are served by every node: listed with --all."""
+    """Parameters, node info and log level are served by every node: listed with --all."""
     from turtlectl.cli.tools.graph import Graph, ServiceRow, without_node_services
 
     keys = [
@@ -86,7 +86,7 @@ def _fleet_keys(prefix: str = "") -> list[str]:
 
 
 def test_list_groups_the_nodes_by_turtle_when_namespaces_run():
-    """Issue 27: a heading per namespace, turtle1's nodes (outside any) first, each group indented."""
+    """A heading per namespace, turtle1's nodes (outside any) first, each group indented."""
     graph = build_graph(_fleet_keys(), now_ns=1)
     assert [(n.name, n.namespace) for n in graph.nodes] == [
         ("navigator", ""),
@@ -145,7 +145,7 @@ def test_one_long_publisher_list_widens_only_its_own_line():
 
 
 def test_list_counts_the_log_topic_every_node_has_instead_of_listing_it():
-    """Issue 28: every node publishes its log on turtlectl/log/<node>: listed with --all."""
+    """Every node publishes its log on turtlectl/log/<node>: listed with --all."""
     from turtlectl.cli.tools.graph import Graph, TopicRow, without_node_services
 
     keys = ["robot/status", "turtlectl/parameter_events", "turtlectl/log/sim", "turtlectl/log/turtle2.navigator"]

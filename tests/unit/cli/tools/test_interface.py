@@ -1,4 +1,4 @@
-"""`turtlectl interface list / show` (issue 13): every type of the wire contract, each with
+"""`turtlectl interface list / show`: every type of the wire contract, each with
 every field its Struct has, the units from the one reference (messages.reference)."""
 
 from __future__ import annotations
@@ -75,7 +75,7 @@ def test_an_unknown_type_is_one_line_naming_the_known_ones_exit_2():
 
 
 def test_list_gives_each_type_its_whole_first_sentence():
-    """Issue 22: `interface list` cut ParameterEvent's summary mid-sentence (its first line)."""
+    """`interface list` does not cut ParameterEvent's summary mid-sentence (its first line)."""
     from turtlectl.cli.tools.interface import listing
     from turtlectl.messages.fieldtext import doc
 

@@ -1,4 +1,4 @@
-"""Issue 25 (a new user's findings): `interface show` of a user type (from the description its
+"""`interface show` of a user type (from the description its
 nodes serve) is as complete as a built-in's: Python-like field types, `required`, a range or
 the values of each field, its nested Structs shown too, its keys from the live graph, and an
 unknown name answered with the live types as well as the built-ins."""

@@ -77,7 +77,7 @@ def test_the_status_line_shows_the_command_and_the_pose():
 
 
 def test_the_status_line_fits_the_terminal_so_redraws_never_wrap():
-    """Review of issue 13: at 80 columns the line with a note was 124 characters and each redraw left a line."""
+    """At 80 columns the line with a note fits (at 124 characters each redraw would leave a line)."""
     shown = Shown(command=Twist(linear=2.0), pose=(1.0, 2.5, 90.0), note="canceled the running goal (reason teleop)")
     for width in (200, 120, 80, 50, 30, 10):
         assert len(status_line(shown, width)) < width, width

@@ -68,7 +68,7 @@ def test_a_node_is_named_whole_or_by_a_glob():
     assert node_matches("turtle2/navigator", ("turtle2/*",)) and not node_matches("navigator", ("turtle2/*",))
     assert node_matches("status_monitor", ("sim", "status*"))
     assert not node_matches("Navigator", ("navigator",))  # names are case-sensitive, as keys are
-    # a review: a namespace names its nodes (as launch --only), and ROS's leading slash is dropped
+    # a namespace names its nodes (as launch --only), and ROS's leading slash is dropped
     assert node_matches("turtle2/navigator", ("turtle2",)) and not node_matches("turtle22/navigator", ("turtle2",))
     assert node_matches("navigator", ("/navigator",)) and node_matches("turtle2/navigator", ("/turtle2",))
 

@@ -49,7 +49,7 @@ def test_dump_is_toml_that_reads_back_as_the_same_table():
 
 
 def test_an_unknown_parameter_suggests_the_nearest():
-    """Review of issue 13: `param get` dumped the whole list where `param set` said "did you mean"."""
+    """`param get` says "did you mean" as `param set` does, rather than dump the whole list."""
     from turtlectl.cli.errors import BadInput
     from turtlectl.cli.tools.params import value
 
@@ -60,7 +60,7 @@ def test_an_unknown_parameter_suggests_the_nearest():
 
 
 def test_no_node_says_where_systems_run_when_none_runs_here(monkeypatch):
-    """Second review of issue 13: `--domain lab2 param get navigator ...` said "(running: none)" and no more."""
+    """`--domain lab2 param get navigator ...` says more than "(running: none)"."""
     from turtlectl.cli.tools.params import no_node
     from turtlectl.runtime.endpoint import DOMAIN_ENV
 
@@ -75,7 +75,7 @@ def test_no_node_says_where_systems_run_when_none_runs_here(monkeypatch):
     assert no_node("x", ["sim"], "ignored").message == "no node named 'x' answers in domain lab2 (running: sim)"
 
 
-# -- a value refused reads the same for every node kind (issue 22 review, C) -----------
+# -- a value refused reads the same for every node kind ---------------------------------
 def _described(node: str, kind: str, params: Any):
     from turtlectl.runtime.params import describe
 

@@ -1,4 +1,4 @@
-"""cli.tools.plot, the model of `turtlectl plot` (issue 28): KEY.FIELD as typed, the number a
+"""cli.tools.plot, the model of `turtlectl plot`: KEY.FIELD as typed, the number a
 message holds there (and what is said when it holds none), the live plot's sliding window and
 its status line; cli.tools.plot_draw's chart and pictures, and a recording read whole
 (cli.tools.plot_sources.from_recording), all without a system."""
@@ -408,7 +408,7 @@ def test_a_raw_payload_that_is_no_data_gives_no_number(recording):
     )
 
 
-# -- the new-user review -----------------------------------------------------------------------
+# -- what a new user meets -----------------------------------------------------------------------
 
 
 def scan(count: int, stamp: int = 0) -> LaserScan:

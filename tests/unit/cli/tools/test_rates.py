@@ -16,7 +16,7 @@ def test_rates_from_arrivals_and_stamps():
     assert rate_stats("k", [1.0], [1]) is None
 
 
-# -- issue 22: a rate is over a recent window; a topic that stops goes quiet, and says so ------
+# -- a rate is over a recent window; a topic that stops goes quiet, and says so ------
 
 
 def _feed(rates, key, start, stop, hz, stamped=True):
@@ -82,7 +82,7 @@ def test_quiet_is_due_once_per_silence_whether_or_not_anything_arrived():
 
 
 def test_a_type_without_stamps_says_no_publisher_rate():
-    """A review found `clock: 306.281 Hz (publisher 0.000 Hz)` (Clock had no stamp then): a type without stamps."""
+    """A type without stamps shows no publisher rate (not `clock: 306.281 Hz (publisher 0.000 Hz)`)."""
     from turtlectl.cli.tools.rates import rate_line
 
     unstamped = rate_stats("clock", [0.0, 0.016, 0.032], [0, 0, 0])

@@ -20,7 +20,7 @@ def test_an_answer_that_says_no_is_exit_code_1():
     assert reply_code(FEEDBACK) == ExitCode.OK
 
 
-# -- a goal given up on: its cancel's answer (issue 22, item 4) --------------------------
+# -- a goal given up on: its cancel's answer --------------------------------------------
 TIMED_OUT = "the goal did not end within --timeout 2 s"
 
 

@@ -53,7 +53,7 @@ def test_silence_outside_a_domain_points_into_the_domain_that_publishes():
 
 
 def test_silence_on_parameter_events_says_they_come_only_when_a_parameter_changes():
-    """Review of issue 13: an idle parameter_events topic was called "may be stalled"."""
+    """An idle parameter_events topic is not called "may be stalled"."""
     events = EntityInfo(node="sim", pid=4, role="pub", type_name="ParameterEvent", key="turtlectl/parameter_events")
     text = silence_text("turtlectl/parameter_events", _graph_with(events), lambda: "")
     assert text == (
@@ -63,7 +63,7 @@ def test_silence_on_parameter_events_says_they_come_only_when_a_parameter_change
 
 
 def test_a_stream_that_stopped_after_flowing_gets_the_same_reasons_without_yet():
-    """Issue 22: the hint came only if nothing ever arrived; a stream that stops says why too."""
+    """The hint comes when nothing ever arrived and also when a stream stops."""
     feedback_pub = EntityInfo(
         node="navigator", pid=2, role="pub", type_name="NavigateToFeedback", key="navigate_to/feedback"
     )
@@ -78,7 +78,7 @@ def test_a_stream_that_stopped_after_flowing_gets_the_same_reasons_without_yet()
 
 
 def test_silence_of_a_publisher_does_not_call_it_stalled_only():
-    """New-user review: a filter node publishes only when it gets commands; silence is not a stall."""
+    """A filter node publishes only when it gets commands; silence is not a stall."""
     pub = EntityInfo(node="turtle2/limiter", pid=3, role="pub", type_name="Twist", key="turtle2/cmd_vel")
     text = silence_text("turtle2/cmd_vel", _graph_with(pub), lambda: "")
     assert text.endswith(

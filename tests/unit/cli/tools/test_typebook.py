@@ -1,6 +1,6 @@
 """cli.tools.typebook and topics.learn: a type learnt from its descriptions; one name described
 two ways decodes each message by the description it fits; a payload that names a known type
-and is not one stays skipped, never shown as undescribed (a new user's findings, issue 25)."""
+and is not one stays skipped, never shown as undescribed."""
 
 from __future__ import annotations
 

@@ -92,7 +92,7 @@ def test_the_view_draws_the_goals_path_round_an_obstacle():
 
 
 def test_the_view_draws_every_turtle_and_names_the_others():
-    """Issue 27: spawned turtles are drawn as turtle1 is (an arrow along the heading) and named
+    """Spawned turtles are drawn as turtle1 is (an arrow along the heading) and named
     beside the legend with where they are."""
     from turtlectl.messages import Turtles
 
@@ -110,7 +110,7 @@ def test_the_view_draws_every_turtle_and_names_the_others():
     grid = "\n".join(lines[1:-3])
     assert grid.count("→") == 1 and grid.count("↑") == 1 and grid.count("←") == 1
     assert lines[-3].endswith("| also: turtle2 (2.0, 2.0), alice (8.0, 8.0)"), lines[-3]
-    # review of issue 27: the legend is cut at the terminal's width, so each is also named on the map
+    # the legend is cut at the terminal's width, so each is also named on the map
     assert next(line for line in lines if "↑turtle2" in line) and next(line for line in lines if "←alice" in line)
     assert any("↑turtle2" in line for line in render(scene, 80, 24))
     alone = render(Scene(world=World(size=10.0), pose=Pose(x=5.0, y=5.0, theta=0.0)), 120, 30)
@@ -118,7 +118,7 @@ def test_the_view_draws_every_turtle_and_names_the_others():
 
 
 def test_the_view_draws_the_other_turtles_trails_and_goals():
-    """Issue 27: each other turtle's trail (as turtle1's) and its running goal (path and X), the
+    """Each other turtle's trail (as turtle1's) and its running goal (path and X), the
     goal also said beside its name; a turtle without feedback has no goal drawn."""
     from turtlectl.messages import Turtles
 

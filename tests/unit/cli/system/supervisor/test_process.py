@@ -37,7 +37,7 @@ def test_a_node_run_on_its_own_watches_no_supervisor_even_one_inherited(monkeypa
 
 
 def test_a_signal_reaches_the_child_s_own_children_too(tmp_path):
-    """Issue 9: the supervisor signalled the child's pid only, so a node's own children lived on."""
+    """The supervisor signals the child's process group, so a node's own children do not live on."""
     script = (
         "import subprocess, sys, time\n"
         # the processes under test only stay alive until the signal (not a wait for readiness)
@@ -73,8 +73,8 @@ def _alive(pid: int) -> bool:
 
 
 def test_a_child_that_exits_takes_its_own_children_with_it():
-    """Review of issue 9: a node that crashed (and was respawned) left what it had started
-    running, because signals went to the group only while the node itself ran."""
+    """A node that crashed (and was respawned) leaves nothing it had started running: signals go
+    to the group even once the node itself is gone."""
     script = (
         "import subprocess, sys\n"
         "grandchild = subprocess.Popen([sys.executable, '-c', 'import time; time.sleep(60)'])\n"  # pacing: ok

@@ -83,7 +83,7 @@ def test_a_program_found_on_path_is_named_as_typed_and_any_other_by_its_path(tmp
 
 
 def test_the_port_suggested_instead_of_a_busy_one_is_free():
-    """A review found `--port 7544` suggested while 7544 was taken too."""
+    """A port suggested is free (not `--port 7544` while 7544 is taken too)."""
     with socket.socket() as busy, socket.socket() as next_busy:
         busy.bind(("127.0.0.1", 0))
         port = busy.getsockname()[1]

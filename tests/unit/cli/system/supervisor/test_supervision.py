@@ -347,7 +347,7 @@ def test_all_nodes_ready_is_reported_once_when_the_last_one_announces_itself():
 
 
 def test_ready_counts_from_when_the_command_began_not_from_the_first_start():
-    """Issue 10: "ready in" left out everything before the supervision began (imports, router)."""
+    """The "ready in" time counts everything before the supervision began too (imports, router)."""
     system = System(node("sim"), since=-0.7)
     system.process("sim", ready_after=0.4)
     system.stop_at(2.0)
@@ -428,7 +428,7 @@ def test_children_are_stopped_even_when_starting_one_fails():
     assert sim.signals() == [TERM]
 
 
-# -- exits that respawning cannot help (issue 22, item 7) -------------------------------
+# -- exits that respawning cannot help -----------------------------------------------
 @pytest.mark.parametrize(
     "code, why",
     [
@@ -469,7 +469,7 @@ def test_crashes_and_lost_sessions_are_still_respawned(code):
     assert not any("respawning cannot help" in line for line in system.lines())
 
 
-# -- readiness counts only this supervisor's processes (issue 22 review, A) -------------
+# -- readiness counts only this supervisor's processes ---------------------------------
 def test_another_process_calling_itself_by_a_node_s_name_does_not_make_that_node_ready():
     """A second launch joining a running system: its navigator conflicts with the running one
     (exit 4) and never announces itself; the other system's navigator token (another pid,
@@ -499,7 +499,7 @@ def test_another_process_going_away_does_not_unready_this_supervisor_s_node():
 
 
 def test_a_cmd_node_is_ready_once_started_and_stopped_with_sigint_as_a_ready_node():
-    """Issue 24, 2: a program (cmd) announces nothing: it counts as ready once started."""
+    """A program (cmd) announces nothing: it counts as ready once started."""
     system = System(node("sim") + '[[node]]\nname = "driver"\ncmd = ["sleep", "1000"]\n')
     system.process("sim", ready_after=0.4)
     driver = system.process("driver", ready_after=None, stops_on={INT: 0.1})
@@ -521,8 +521,8 @@ def test_a_system_of_cmd_nodes_only_is_ready_once_they_are_started():
 
 
 def test_when_an_optional_node_dies_while_starting_the_rest_is_reported_ready_with_who_is_missing():
-    """A new user's report: `broken` raised in its constructor and the launch never said that the
-    other nodes were ready (no line at all, only 'all N ready' existed)."""
+    """`broken` raises in its constructor: the launch still says which of the other nodes are
+    ready and which never started (one line; not only 'all N ready')."""
     system = System(node("sim") + node("navigator") + '[[node]]\nname = "broken"\nrun = "status_monitor"\n')
     system.process("sim", ready_after=0.4)
     system.process("navigator", ready_after=0.8)
