@@ -29,12 +29,19 @@ PEER_TIMEOUT_ENV = "TURTLECTL_PEER_TIMEOUT"
 #: closed; nothing bound for it waits longer than this either.  See peer_timeout.
 DEFAULT_PEER_TIMEOUT = 3.0
 PEER_TIMEOUT_RANGE = (0.5, 60.0)  # s: the values TURTLECTL_PEER_TIMEOUT may take
+#: s: the longest a message that may not be dropped (a declaration, a query's reply) waits for room
+#: in a link's queue before that link is closed.  Zenoh pushes declarations to every link while its
+#: routing tables are locked, so a slow link's full queue stalls every stream of the process for
+#: this long; a link to a live peer on this host never stays full this long, one over a lossy
+#: radio may.  At most the peer timeout.
+BLOCKED_LINK_WAIT = 0.5
 
 
 def peer_timeout() -> float:
     """The bound, in s, within which a silent peer is detected (``TURTLECTL_PEER_TIMEOUT``, default
-    ``DEFAULT_PEER_TIMEOUT``): every session's link lease, and the longest a message that may not
-    be dropped waits for room in a link's queue before that link is closed.  A value that is no
+    ``DEFAULT_PEER_TIMEOUT``): every session's link lease, and how long opening or accepting a
+    link may take (a message that may not be dropped waits at most ``BLOCKED_LINK_WAIT`` of it for
+    room in a link's queue before that link is closed).  A value that is no
     number or lies outside ``PEER_TIMEOUT_RANGE`` gives ValueError, naming the variable."""
     text = os.environ.get(PEER_TIMEOUT_ENV, "")
     if not text:

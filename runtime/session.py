@@ -21,7 +21,7 @@ from typing import Any
 import zenoh
 
 from turtlectl.runtime.config import Credentials
-from turtlectl.runtime.endpoint import peer_timeout, tls_folder
+from turtlectl.runtime.endpoint import BLOCKED_LINK_WAIT, peer_timeout, tls_folder
 from turtlectl.runtime.sockets import Unlinger
 
 
@@ -34,11 +34,13 @@ def _base(mode: str, domain: str = "") -> zenoh.Config:
     # made before the router is reached are sent when it is
     conf.insert_json5("scouting/delay", "0")
     # a peer heard nothing from for `bound` s is gone: its link's lease ends then (keep-alives every
-    # bound/4), a message that may not be dropped waits no longer for room toward it, and opening or
-    # accepting a link gives up as soon (Zenoh's defaults: 10 s, 5 s, 10 s, 10 s)
+    # bound/4), and opening or accepting a link gives up as soon; a message that may not be dropped
+    # waits at most BLOCKED_LINK_WAIT for room toward a peer, since the whole process's routing waits
+    # with it (Zenoh's defaults: 10 s, 10 s, 10 s, 5 s)
     bound = peer_timeout()
     conf.insert_json5("transport/link/tx/lease", str(int(bound * 1000)))
-    conf.insert_json5("transport/link/tx/queue/congestion_control/block/wait_before_close", str(int(bound * 1e6)))
+    blocked = min(bound, BLOCKED_LINK_WAIT)
+    conf.insert_json5("transport/link/tx/queue/congestion_control/block/wait_before_close", str(int(blocked * 1e6)))
     conf.insert_json5("transport/unicast/open_timeout", str(int(bound * 1000)))
     conf.insert_json5("transport/unicast/accept_timeout", str(int(bound * 1000)))
     if domain:  # every key this session uses is put under "<domain>/": systems on one router never mix
