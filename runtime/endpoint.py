@@ -30,10 +30,10 @@ PEER_TIMEOUT_ENV = "TURTLECTL_PEER_TIMEOUT"
 DEFAULT_PEER_TIMEOUT = 3.0
 PEER_TIMEOUT_RANGE = (0.5, 60.0)  # s: the values TURTLECTL_PEER_TIMEOUT may take
 #: s: the longest a message that may not be dropped (a declaration, a query's reply) waits for room
-#: in a link's queue before that link is closed.  Zenoh pushes declarations to every link while its
-#: routing tables are locked, so a slow link's full queue stalls every stream of the process for
-#: this long; a link to a live peer on this host never stays full this long, one over a lossy
-#: radio may.  At most the peer timeout.
+#: in a link's queue before that link is closed.  While it waits, Zenoh's routing and that link's
+#: droppable messages wait with it (eclipse-zenoh/zenoh#1876, #2584), so a slow link's full queue
+#: stalls every stream of the process for this long; a link to a live peer on this host never
+#: stays full this long, one over a lossy radio may.  At most the peer timeout.
 BLOCKED_LINK_WAIT = 0.5
 
 
