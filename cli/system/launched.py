@@ -27,6 +27,7 @@ from typing import TYPE_CHECKING, NamedTuple
 
 from turtlectl.cli.errors import CannotStart
 from turtlectl.cli.system.supervisor import notify
+from turtlectl.cli.system.supervisor.logs import LOG_DIR_ENV
 from turtlectl.runtime.exitcodes import node_exit
 
 if TYPE_CHECKING:
@@ -93,7 +94,7 @@ class LaunchedSystem:
         folder = tempfile.mkdtemp(prefix="turtlectl-notify-")  # 0700: only we write to its socket
         told = socket.socket(socket.AF_UNIX, socket.SOCK_DGRAM)
         told.bind(os.path.join(folder, "notify"))
-        env = {**os.environ, "PYTHONUNBUFFERED": "1", "TURTLECTL_LOG_DIR": str(self.log_dir)}
+        env = {**os.environ, "PYTHONUNBUFFERED": "1", LOG_DIR_ENV: str(self.log_dir)}
         self._proc = subprocess.Popen(
             [*argv, "--port", str(self.port), *self.args],
             cwd=self.launch_file.parent,
