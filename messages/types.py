@@ -219,9 +219,11 @@ class Cancel(Message, tag="Cancel"):
 
     reason: what its caller is told (default "canceled"; the simulator sends
     "teleported" or "reset" when it moves the turtle under a running goal).
+    detail: a sentence for people the caller is told with it (empty: the goal server's own).
     """
 
     reason: str = ""
+    detail: str = ""
 
 
 class TeleportAbsolute(Message, tag="TeleportAbsolute"):

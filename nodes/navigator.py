@@ -82,7 +82,7 @@ class Navigator:
 
     # -- inputs -------------------------------------------------------------
     def refuse(self, request: NavigateToRequest) -> NavigateToResponse | None:
-        self.catch_up()
+        self.feed_latest_inputs()
         refused = self.machine.refusal(request)
         if refused is None:
             return None
@@ -103,7 +103,7 @@ class Navigator:
     def on_end(self, goal: NavigateGoal, reason: str) -> None:
         """The goal server ends the goal (preempted, canceled, caller gone, timeout, shut
         down): the machine stops the turtle and finishes it with its answer."""
-        self.carry_out(self.machine.end(reason, self.node.clock()))
+        self.carry_out(self.machine.end(reason, self.node.clock(), goal.end_detail))
 
     def on_params(self, params: NavigatorParams) -> None:
         self.machine.set_params(params)
@@ -112,10 +112,10 @@ class Navigator:
 
     def on_pose(self, pose: Pose) -> None:
         now = self.node.clock()
-        self.others(now)
+        self.feed_other_turtles(now)
         self.carry_out(self.machine.pose(pose, now))
 
-    def others(self, now: float) -> None:
+    def feed_other_turtles(self, now: float) -> None:
         """Hand the machine the newest ``turtles`` (the other turtles: nodes.traffic)."""
         turtles = self.turtles.get()
         if turtles is not None and turtles is not self.turtles_seen:
@@ -123,7 +123,7 @@ class Navigator:
             self.machine.turtles(turtles, now)
 
     def on_scan(self, scan: LaserScan) -> None:
-        self.catch_up()
+        self.feed_latest_inputs()
         self.carry_out(self.machine.scan(scan, self.node.clock()))
 
     def watchdog(self) -> None:
@@ -133,14 +133,16 @@ class Navigator:
             self.machine.pose_heard(now)  # its control step is still queued: behind, not without poses
         self.carry_out(self.machine.tick(now))
 
-    def catch_up(self) -> None:
+    def feed_latest_inputs(self) -> None:
         """Hand the machine the newest status, and while no goal runs the newest pose (while
         one runs, each pose is already an event).  While idle a pose only updates where the
         turtle is (no control step), which is all the machine does with one then."""
         status = self.status.get()
         if status is not None:
             self.machine.status(status)
-        self.others(self.node.clock())  # also while idle: a scan's hits on another turtle are not remembered
+        self.feed_other_turtles(
+            self.node.clock()
+        )  # also while idle: a scan's hits on another turtle are not remembered
         if self.machine.goal is None:
             pose = self.pose.get()
             if pose is not None and pose is not self.machine.latest_pose:
