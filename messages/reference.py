@@ -171,6 +171,13 @@ FIELDS: dict[str, dict[str, tuple[str, str, str]]] = {
             "a sentence for people that the canceled goal's caller is told with the reason (empty: the server's own)",
         ),
     },
+    "Moving": {
+        "reason": (
+            "-",
+            '"teleported" or "reset"',
+            "why the simulator is about to move the turtle (a running goal ends with it)",
+        ),
+    },
     "TeleportAbsolute": {
         "x": (
             "m",

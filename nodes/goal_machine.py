@@ -11,7 +11,8 @@ A goal's lifecycle, as Nav2's NavigateToPose:
   ("blocked", the driver's say);
 * the goal server (runtime.goals) ends it for the rest, and this machine says the answer
   (``end``): a newer goal ("preempted"), a cancel ("canceled", or the reason the canceller
-  gives, with its own words for people: the simulator sends "teleported" and "reset"), its caller gone
+  gives, with its own words for people; the navigator's own "teleported" and "reset" when the
+  simulator is about to move the turtle), its caller gone
   ("caller gone"), ``goal_timeout`` ("timeout"), the navigator stopping ("navigator shut
   down").
 
@@ -98,8 +99,8 @@ class Goal(Generic[C]):
 
 
 #: the reason and detail of a goal the goal server ends, by the server's reason (runtime.goals);
-#: another reason is a canceller's own (the simulator's "teleported", "reset"), told with the
-#: canceller's own detail
+#: another reason is a canceller's own (teleop's "teleop"; the navigator's "teleported", "reset"),
+#: told with the canceller's own detail
 ENDINGS = {
     PREEMPTED: (PREEMPTED, "a new goal replaced it"),
     CANCELED: (CANCELED, ""),
