@@ -156,9 +156,8 @@ class Navigator:
         status = self.status.get()
         if status is not None:
             self.machine.status(status)
-        self.feed_other_turtles(
-            self.node.clock()
-        )  # also while idle: a scan's hits on another turtle are not remembered
+        # also while idle: a scan's hits on another turtle are not remembered
+        self.feed_other_turtles(self.node.clock())
         if self.machine.goal is None:
             pose = self.pose.get()
             if pose is not None and pose is not self.machine.latest_pose:
