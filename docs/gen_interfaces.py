@@ -285,7 +285,8 @@ def services_section() -> list[str]:
         "the navigator commands a stop at once.",
         "- **turtle1/teleport_absolute**: `TeleportAbsolute` (radians) -> `Ack` once the new pose has been published; "
         "an `ErrorReply` for a pose outside the world, inside a declared obstacle or not finite. A running goal is "
-        'canceled (reason "teleported"); a teleport is not charged to the battery.',
+        'canceled (reason "teleported": the simulator calls `turtle1/moving` first, and the navigator ends its goal); '
+        "a teleport is not charged to the battery.",
         "- **reset**: served by the sim (pose back to spawn) and the status monitor (its turtle's battery full): one `Ack` from "
         "each, but only with `QueryTarget.ALL` and `ConsolidationMode.NONE` (both replies come on the same key, so "
         'the default consolidation keeps one). A running goal is canceled (reason "reset").',

@@ -49,6 +49,13 @@ KEYS: dict[str, tuple[str, str, str, str, str]] = {
         "on request",
         "get; an ErrorReply (reply.err) for an impossible pose",
     ),
+    keys.MOVING: (
+        "service",
+        "Moving -> Ack from each server",
+        "sim -> navigator (whatever drives the turtle)",
+        "before a teleport or reset moves the turtle",
+        "the simulator moves the turtle once every server has answered (each turtle's, <turtle>/moving; a reset asks **/moving)",
+    ),
     keys.RESET: (
         "service",
         "Reset -> Ack from each server",

@@ -23,6 +23,7 @@ from turtlectl.messages.types import (
     Kill,
     LaserScan,
     Message,
+    Moving,
     NavigateToFeedback,
     NavigateToRequest,
     NavigateToResponse,
@@ -56,6 +57,12 @@ def pose_key(turtle: str) -> str:
 def teleport_key(turtle: str) -> str:
     """Service that puts turtle ``turtle`` somewhere else (TeleportAbsolute -> Ack)."""
     return f"{turtle}/teleport_absolute"
+
+
+def moving_key(turtle: str) -> str:
+    """Service the simulator calls before it moves turtle ``turtle`` (Moving -> Ack): whatever
+    drives the turtle stops first (the navigator ends its running goal)."""
+    return f"{turtle}/moving"
 
 
 def resolve(key: str, namespace: str, remaps: Mapping[str, str] | None = None) -> str:
@@ -172,6 +179,7 @@ NAVIGATE_TO = "navigate_to"
 CANCEL = "navigate_to/cancel"
 FEEDBACK = "navigate_to/feedback"
 TELEPORT = teleport_key(FIRST_TURTLE)
+MOVING = moving_key(FIRST_TURTLE)
 RESET = "reset"
 SPAWN = "spawn"
 KILL = "kill"
@@ -196,6 +204,7 @@ SERVICES: dict[str, tuple[type[Message], type[Message]]] = {
     NAVIGATE_TO: (NavigateToRequest, NavigateToResponse),  # also replies NavigateToFeedback while it runs
     CANCEL: (Cancel, Ack),
     TELEPORT: (TeleportAbsolute, Ack),
+    MOVING: (Moving, Ack),
     RESET: (Reset, Ack),  # served by the sim (pose) and the status monitor (battery)
     SPAWN: (SpawnRequest, SpawnResponse),
     KILL: (Kill, Ack),

@@ -165,6 +165,18 @@ FIELDS: dict[str, dict[str, tuple[str, str, str]]] = {
     },
     "Cancel": {
         "reason": ("-", "text, or empty", 'what the canceled goal\'s caller is told (empty: "canceled")'),
+        "detail": (
+            "-",
+            "text, or empty",
+            "a sentence for people that the canceled goal's caller is told with the reason (empty: the server's own)",
+        ),
+    },
+    "Moving": {
+        "reason": (
+            "-",
+            '"teleported" or "reset"',
+            "why the simulator is about to move the turtle (a running goal ends with it)",
+        ),
     },
     "TeleportAbsolute": {
         "x": (

@@ -217,11 +217,12 @@ class NavigateToResponse(Message, tag="NavigateToResponse"):
 class Cancel(Message, tag="Cancel"):
     """Request to ``navigate_to/cancel``: stop the running goal.
 
-    reason: what its caller is told (default "canceled"; the simulator sends
-    "teleported" or "reset" when it moves the turtle under a running goal).
+    reason: what its caller is told (default "canceled"; teleop sends "teleop").
+    detail: a sentence for people the caller is told with it (empty: the goal server's own).
     """
 
     reason: str = ""
+    detail: str = ""
 
 
 class TeleportAbsolute(Message, tag="TeleportAbsolute"):
@@ -230,6 +231,18 @@ class TeleportAbsolute(Message, tag="TeleportAbsolute"):
     x: float
     y: float
     theta: float
+
+
+class Moving(Message, tag="Moving"):
+    """Request to ``turtle1/moving``, from the simulator before it puts the turtle elsewhere; it
+    moves the turtle once every server has answered (an ``Ack``).  Whatever drives the turtle
+    serves it and stops first: the navigator ends its running goal with ``reason``, so it never
+    drives on from a pose that no longer holds.
+
+    reason: why the turtle moves: "teleported" or "reset".
+    """
+
+    reason: str = ""
 
 
 class Reset(Message, tag="Reset"):
@@ -361,6 +374,7 @@ ALL_TYPES: tuple[type[Message], ...] = (
     NavigateToFeedback,
     NavigateToResponse,
     Cancel,
+    Moving,
     TeleportAbsolute,
     Reset,
     SpawnRequest,

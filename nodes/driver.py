@@ -114,7 +114,7 @@ class Driver:
         self.progress = 0  # index of the turtle's place on the track
         self.off_path = 0.0  # m from the track, at the last step
         self.replans = 0
-        self.stopping = True  # the last command given was a stop (none yet: taken as one)
+        self.last_command_was_stop = True  # the last command given was a stop (none yet: taken as one)
         self._notes: list[Note] = []
 
     def set_params(self, params: NavigatorParams) -> None:
@@ -151,7 +151,7 @@ class Driver:
             # close in the law may change the direction (back up, never turn round): it holds from
             # then on, so an overshoot beyond `near` is backed out of, not turned round for
             self.phase, self.direction = cmd.phase, cmd.direction
-            if self.stopping and at_rest(pose) and self._within_tolerances(pose):
+            if self.last_command_was_stop and at_rest(pose) and self._within_tolerances(pose):
                 # at rest, and no command but a stop on its way to the simulator: it stays here
                 return Arrived(self._said())
             if cmd.phase is Phase.DONE or self._stops_inside(pose):
@@ -271,7 +271,7 @@ class Driver:
 
     def _command(self, twist: Twist) -> Twist:
         """``twist``, remembering whether it was a stop."""
-        self.stopping = twist.linear == 0.0 and twist.angular == 0.0
+        self.last_command_was_stop = twist.linear == 0.0 and twist.angular == 0.0
         return twist
 
     def _within_tolerances(self, pose: Pose) -> bool:

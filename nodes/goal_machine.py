@@ -11,7 +11,8 @@ A goal's lifecycle, as Nav2's NavigateToPose:
   ("blocked", the driver's say);
 * the goal server (runtime.goals) ends it for the rest, and this machine says the answer
   (``end``): a newer goal ("preempted"), a cancel ("canceled", or the reason the canceller
-  gives: the simulator sends "teleported" and "reset", teleop "teleop"), its caller gone
+  gives, with its own words for people; the navigator's own "teleported" and "reset" when the
+  simulator is about to move the turtle), its caller gone
   ("caller gone"), ``goal_timeout`` ("timeout"), the navigator stopping ("navigator shut
   down").
 
@@ -98,11 +99,11 @@ class Goal(Generic[C]):
 
 
 #: the reason and detail of a goal the goal server ends, by the server's reason (runtime.goals);
-#: another reason is a canceller's own (the simulator's "teleported", "reset")
+#: another reason is a canceller's own (teleop's "teleop"; the navigator's "teleported", "reset"),
+#: told with the canceller's own detail
 ENDINGS = {
     PREEMPTED: (PREEMPTED, "a new goal replaced it"),
     CANCELED: (CANCELED, ""),
-    "teleop": ("teleop", "the keyboard took over (turtlectl teleop)"),
     CALLER_GONE: (CALLER_GONE, "its caller went away: Ctrl-C, killed, or its own --timeout"),
     SHUT_DOWN: ("navigator shut down", "the navigator was stopped"),
 }
@@ -179,18 +180,18 @@ class GoalMachine(Generic[C]):
         self._step(now)
         return self._flush()
 
-    def end(self, reason: str, now: float) -> list[Action]:
+    def end(self, reason: str, now: float, detail: str = "") -> list[Action]:
         """The goal server ends the running goal with ``reason`` (runtime.goals: "preempted",
-        "canceled", "caller gone", "timeout", "shut down", or a canceller's own): stop the
-        turtle, then its answer."""
+        "canceled", "caller gone", "timeout", "shut down", or a canceller's own, with its
+        ``detail`` for people if it gave one): stop the turtle, then its answer."""
         goal = self.goal
         if goal is None:
             return []
         if reason == TIMEOUT:
-            why, detail = TIMEOUT, f"not there after the navigator's goal_timeout of {self.params.goal_timeout:g} s"
+            why, told = TIMEOUT, f"not there after the navigator's goal_timeout of {self.params.goal_timeout:g} s"
         else:
-            why, detail = ENDINGS.get(reason, (reason, f"the turtle was {reason} while it drove"))
-        self._finish(now, False, why, detail)
+            why, told = ENDINGS.get(reason, (reason, f"the turtle was {reason} while it drove"))
+        self._finish(now, False, why, detail or told)
         return self._flush()
 
     def pose(self, pose: Pose, now: float) -> list[Action]:
@@ -284,18 +285,10 @@ class GoalMachine(Generic[C]):
         """Those of the latest scan's hits that the declared obstacles do not explain."""
         return self.surroundings.unknown_points
 
-    @unknown_points.setter
-    def unknown_points(self, points: np.ndarray) -> None:
-        self.surroundings.unknown_points = points
-
     @property
     def scan_time(self) -> float:
         """When (s) the latest scan came (-inf: none yet)."""
         return self.surroundings.scan_time
-
-    @scan_time.setter
-    def scan_time(self, now: float) -> None:
-        self.surroundings.scan_time = now
 
     # -- inside -------------------------------------------------------------
     def _step(self, now: float) -> None:

@@ -17,27 +17,20 @@ from pathlib import Path
 
 import msgspec
 
-from turtlectl.messages.keys import (
-    CANCEL,
-    CLOCK,
-    CMD_VEL,
-    KILL,
-    NAVIGATE_TO,
-    OBSTACLES,
-    POSE,
-    RESET,
-    SPAWN,
-    STATUS,
-    TURTLES,
-    WORLD_KEY,
-    cmd_vel_key,
-    pose_key,
-    teleport_key,
+from turtlectl.nodes.params import (
+    NAVIGATOR_CLAIMS,
+    NAVIGATOR_INTERFACE,
+    OBSTACLE_DETECTOR_CLAIMS,
+    OBSTACLE_DETECTOR_INTERFACE,
+    STATUS_MONITOR_CLAIMS,
+    STATUS_MONITOR_INTERFACE,
+    NavigatorParams,
+    ObstacleDetectorParams,
+    StatusMonitorParams,
 )
-from turtlectl.nodes.params import NavigatorParams, ObstacleDetectorParams, StatusMonitorParams
 from turtlectl.runtime.config import Claim, Interface
 from turtlectl.runtime.loader import LoadError, absolute, is_target, load, suggestion
-from turtlectl.sim.params import SimParams
+from turtlectl.sim.params import SIM_CLAIMS, SIM_INTERFACE, SimParams
 
 
 class NodeKind(msgspec.Struct, frozen=True):
@@ -57,8 +50,10 @@ class NodeKind(msgspec.Struct, frozen=True):
         return " and ".join(claim.phrase() for claim in self.claims)
 
 
-def _builtin(target: str, params: type[msgspec.Struct], claim: Claim, interface: Interface) -> NodeKind:
-    return NodeKind(target, params, (claim,), interface, builtin=True)
+def _builtin(target: str, params: type[msgspec.Struct], claims: tuple[Claim, ...], interface: Interface) -> NodeKind:
+    """A built-in kind: its class's ``Params``, ``Claims`` and ``Interface``, declared once beside
+    its parameters (nodes.params, sim.params) so that this registry stays pure."""
+    return NodeKind(target, params, claims, interface, builtin=True)
 
 
 class KindError(ValueError):
@@ -91,37 +86,20 @@ def kind_of(run: str, base: Path) -> NodeKind:
 
 
 KINDS: dict[str, NodeKind] = {
-    "sim": _builtin(
-        "turtlectl.sim.node:Simulator",
-        SimParams,
-        Claim("pub", POSE),
-        Interface(
-            publishes=(pose_key("*"), TURTLES, CLOCK),
-            subscribes=(cmd_vel_key("*"),),
-            serves=(teleport_key("*"), RESET, SPAWN, KILL, WORLD_KEY),
-            calls=(CANCEL, f"**/{CANCEL}"),  # a moved turtle's navigator, in any namespace
-        ),
-    ),
+    "sim": _builtin("turtlectl.sim.node:Simulator", SimParams, SIM_CLAIMS, SIM_INTERFACE),
     "navigator": _builtin(
-        "turtlectl.nodes.navigator:Navigator",
-        NavigatorParams,
-        Claim("srv", NAVIGATE_TO),
-        Interface(
-            publishes=(CMD_VEL,),
-            subscribes=(POSE, STATUS, OBSTACLES, f"/{TURTLES}"),
-            goals=(NAVIGATE_TO,),  # navigate_to, its cancel, its feedback, its callers' tokens
-        ),
+        "turtlectl.nodes.navigator:Navigator", NavigatorParams, NAVIGATOR_CLAIMS, NAVIGATOR_INTERFACE
     ),
     "status_monitor": _builtin(
         "turtlectl.nodes.status_monitor:StatusMonitor",
         StatusMonitorParams,
-        Claim("pub", STATUS),
-        Interface(publishes=(STATUS,), subscribes=(POSE,), serves=(f"/{RESET}",)),
+        STATUS_MONITOR_CLAIMS,
+        STATUS_MONITOR_INTERFACE,
     ),
     "obstacle_detector": _builtin(
         "turtlectl.nodes.obstacle_detector:ObstacleDetector",
         ObstacleDetectorParams,
-        Claim("pub", OBSTACLES),
-        Interface(publishes=(OBSTACLES,), subscribes=(POSE, f"/{TURTLES}")),
+        OBSTACLE_DETECTOR_CLAIMS,
+        OBSTACLE_DETECTOR_INTERFACE,
     ),
 }

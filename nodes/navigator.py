@@ -7,7 +7,8 @@ away, ``goal_timeout``, feedback at ``feedback_rate`` (to the caller and on
 lifecycle (refused, driven, reached, no pose, blocked, and each answer's content) is
 nodes.goal_machine, and the driving of a goal (path, control law, obstacles, arriving at
 rest) nodes.driver, both pure and tested with a fake clock; this module is their wiring.
-Each input (a goal, a pose, a scan, a status, the watchdog timer, the server ending a goal)
+Each input (a goal, a pose, a scan, a status, the watchdog timer, the server ending a goal,
+the simulator about to move the turtle: ``turtle1/moving``)
 becomes an event of the machine with ``self.node.clock()``, and what the machine returns is
 carried out: ``turtle1/cmd_vel`` published, goals finished, lines logged.  It publishes
 ``turtle1/cmd_vel`` only while a goal runs, and refuses to start while another navigator
@@ -23,7 +24,9 @@ needs them: before a goal starts (where from, battery) and before a scan (its or
 from __future__ import annotations
 
 from turtlectl.messages import (
+    Ack,
     LaserScan,
+    Moving,
     NavigateToFeedback,
     NavigateToRequest,
     NavigateToResponse,
@@ -35,6 +38,7 @@ from turtlectl.messages import (
 from turtlectl.messages.angles import degrees_0_360
 from turtlectl.messages.keys import (
     CMD_VEL,
+    MOVING,
     NAVIGATE_TO,
     OBSTACLES,
     POSE,
@@ -42,8 +46,8 @@ from turtlectl.messages.keys import (
     TURTLES,
 )
 from turtlectl.nodes.goal_machine import Action, GoalMachine, Reply
-from turtlectl.nodes.params import NavigatorParams
-from turtlectl.runtime import Node, run_main
+from turtlectl.nodes.params import NAVIGATOR_CLAIMS, NAVIGATOR_INTERFACE, NavigatorParams
+from turtlectl.runtime import Node, Request, run_main
 from turtlectl.runtime.goals import GoalHandle
 
 #: a goal of navigate_to, as the goal server hands it over
@@ -53,6 +57,10 @@ WATCHDOG_PERIOD = 0.05  # s
 
 
 class Navigator:
+    Params = NavigatorParams
+    Claims = NAVIGATOR_CLAIMS
+    Interface = NAVIGATOR_INTERFACE
+
     def __init__(self, node: Node[NavigatorParams]):
         self.node = node
         self.machine: GoalMachine[NavigateGoal] = GoalMachine(
@@ -64,6 +72,7 @@ class Navigator:
         self.turtles = node.latest(f"/{TURTLES}", Turtles)  # the others (nodes.traffic), read at each control step
         self.turtles_seen: Turtles | None = None
         node.subscribe(OBSTACLES, LaserScan, self.on_scan)
+        node.serve(MOVING, Moving, Ack, self.on_moving)
         self.server = node.goal_server(
             NAVIGATE_TO,
             NavigateToRequest,
@@ -82,7 +91,7 @@ class Navigator:
 
     # -- inputs -------------------------------------------------------------
     def refuse(self, request: NavigateToRequest) -> NavigateToResponse | None:
-        self.catch_up()
+        self.feed_latest_inputs()
         refused = self.machine.refusal(request)
         if refused is None:
             return None
@@ -103,7 +112,14 @@ class Navigator:
     def on_end(self, goal: NavigateGoal, reason: str) -> None:
         """The goal server ends the goal (preempted, canceled, caller gone, timeout, shut
         down): the machine stops the turtle and finishes it with its answer."""
-        self.carry_out(self.machine.end(reason, self.node.clock()))
+        self.carry_out(self.machine.end(reason, self.node.clock(), goal.end_detail))
+
+    def on_moving(self, request: Request[Moving]) -> None:
+        """The simulator is about to put the turtle elsewhere (a teleport, a reset): the running
+        goal ends with its reason ("teleported", "reset") before the turtle moves, so no command
+        is computed from a pose that no longer holds."""
+        ended = self.server.cancel(request.body.reason)
+        request.respond(Ack(detail="ended the running goal" if ended else "no goal is running"))
 
     def on_params(self, params: NavigatorParams) -> None:
         self.machine.set_params(params)
@@ -112,10 +128,10 @@ class Navigator:
 
     def on_pose(self, pose: Pose) -> None:
         now = self.node.clock()
-        self.others(now)
+        self.feed_other_turtles(now)
         self.carry_out(self.machine.pose(pose, now))
 
-    def others(self, now: float) -> None:
+    def feed_other_turtles(self, now: float) -> None:
         """Hand the machine the newest ``turtles`` (the other turtles: nodes.traffic)."""
         turtles = self.turtles.get()
         if turtles is not None and turtles is not self.turtles_seen:
@@ -123,7 +139,7 @@ class Navigator:
             self.machine.turtles(turtles, now)
 
     def on_scan(self, scan: LaserScan) -> None:
-        self.catch_up()
+        self.feed_latest_inputs()
         self.carry_out(self.machine.scan(scan, self.node.clock()))
 
     def watchdog(self) -> None:
@@ -133,14 +149,15 @@ class Navigator:
             self.machine.pose_heard(now)  # its control step is still queued: behind, not without poses
         self.carry_out(self.machine.tick(now))
 
-    def catch_up(self) -> None:
+    def feed_latest_inputs(self) -> None:
         """Hand the machine the newest status, and while no goal runs the newest pose (while
         one runs, each pose is already an event).  While idle a pose only updates where the
         turtle is (no control step), which is all the machine does with one then."""
         status = self.status.get()
         if status is not None:
             self.machine.status(status)
-        self.others(self.node.clock())  # also while idle: a scan's hits on another turtle are not remembered
+        # also while idle: a scan's hits on another turtle are not remembered
+        self.feed_other_turtles(self.node.clock())
         if self.machine.goal is None:
             pose = self.pose.get()
             if pose is not None and pose is not self.machine.latest_pose:

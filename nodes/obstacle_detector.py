@@ -17,13 +17,17 @@ import numpy as np
 from turtlectl.messages import LaserScan, Pose, Turtles
 from turtlectl.messages.keys import OBSTACLES, POSE, TURTLES
 from turtlectl.messages.world import Obstacle, World
-from turtlectl.nodes.params import ObstacleDetectorParams
+from turtlectl.nodes.params import OBSTACLE_DETECTOR_CLAIMS, OBSTACLE_DETECTOR_INTERFACE, ObstacleDetectorParams
 from turtlectl.runtime import Node, run_main
 from turtlectl.sim.lidar import beam_angles, cast_rays, new_phantoms
 from turtlectl.sim.turtles import others
 
 
 class ObstacleDetector:
+    Params = ObstacleDetectorParams
+    Claims = OBSTACLE_DETECTOR_CLAIMS
+    Interface = OBSTACLE_DETECTOR_INTERFACE
+
     def __init__(self, node: Node[ObstacleDetectorParams]):
         self.node = node
         p = node.params

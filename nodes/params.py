@@ -1,4 +1,7 @@
-"""Parameters of each node, with their defaults: the one source of truth.
+"""Parameters of each node, with their defaults: the one source of truth; and what each
+declares, its ``Claims`` and ``Interface`` (runtime.config), written once here, pure, so that the
+node class carries them as a user's node class does and nodes.kinds reads them without
+importing the node (tests/unit/nodes/test_kinds.py checks each against what the node declares).
 
 The launch file's ``[node.params]`` tables are validated against these Structs
 before anything starts (constraints carry the key path into the error); each
@@ -11,9 +14,11 @@ from typing import Annotated, ClassVar
 
 import msgspec
 
+from turtlectl.messages.keys import CMD_VEL, MOVING, NAVIGATE_TO, OBSTACLES, POSE, RESET, STATUS, TURTLES
 from turtlectl.messages.units import LongTimeout, NonNegative, Percent, Positive, Rate, ShortTimeout
 from turtlectl.messages.world import Obstacle
 from turtlectl.nodes.control import Gains
+from turtlectl.runtime.config import Claim, Interface
 
 Degrees = Annotated[float, msgspec.Meta(ge=-360.0, le=360.0)]
 PhantomRate = Annotated[float, msgspec.Meta(ge=0.0, le=100.0)]
@@ -85,3 +90,16 @@ class ObstacleDetectorParams(msgspec.Struct, forbid_unknown_fields=True, kw_only
             raise ValueError("angle_max must be above angle_min and at most 360 degrees from it")
         if not self.range_min < self.range_max:
             raise ValueError("range_min must be below range_max")
+
+
+NAVIGATOR_CLAIMS = (Claim("srv", NAVIGATE_TO),)
+NAVIGATOR_INTERFACE = Interface(
+    publishes=(CMD_VEL,),
+    subscribes=(POSE, STATUS, OBSTACLES, f"/{TURTLES}"),
+    serves=(MOVING,),  # the simulator about to move the turtle: the running goal ends
+    goals=(NAVIGATE_TO,),  # navigate_to, its cancel, its feedback, its callers' tokens
+)
+STATUS_MONITOR_CLAIMS = (Claim("pub", STATUS),)
+STATUS_MONITOR_INTERFACE = Interface(publishes=(STATUS,), subscribes=(POSE,), serves=(f"/{RESET}",))
+OBSTACLE_DETECTOR_CLAIMS = (Claim("pub", OBSTACLES),)
+OBSTACLE_DETECTOR_INTERFACE = Interface(publishes=(OBSTACLES,), subscribes=(POSE, f"/{TURTLES}"))

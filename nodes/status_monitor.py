@@ -14,7 +14,7 @@ from __future__ import annotations
 from turtlectl.messages import Ack, Pose, Reset, TurtleStatus
 from turtlectl.messages.keys import POSE, RESET, STATUS
 from turtlectl.nodes.battery import drain, make_status, travelled
-from turtlectl.nodes.params import StatusMonitorParams
+from turtlectl.nodes.params import STATUS_MONITOR_CLAIMS, STATUS_MONITOR_INTERFACE, StatusMonitorParams
 from turtlectl.runtime import Node, Request, run_main
 
 FULL = 100.0  # %
@@ -23,6 +23,10 @@ POSES_KEPT = 1024
 
 
 class StatusMonitor:
+    Params = StatusMonitorParams
+    Claims = STATUS_MONITOR_CLAIMS
+    Interface = STATUS_MONITOR_INTERFACE
+
     def __init__(self, node: Node[StatusMonitorParams]):
         self.node = node
         self.pose: Pose | None = None

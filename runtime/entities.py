@@ -8,10 +8,10 @@ import time
 from collections.abc import Callable
 from typing import TYPE_CHECKING, Any, Generic, TypeVar
 
-import msgspec
 import zenoh
 
 from turtlectl.messages import ErrorReply, Message, decode, encode, encoding_for
+from turtlectl.messages.stamps import with_stamp
 from turtlectl.runtime.handles import Declaration
 
 if TYPE_CHECKING:
@@ -48,15 +48,13 @@ class Publisher(Generic[M]):
         self._now_ns = now_ns  # the node's time (ns): the wall clock, or the simulated one
         self._pub = session.declare_publisher(key, encoding=sample_encoding(msg_type))
         self._seq = 0
-        fields = msg_type.__struct_fields__
-        self._stamped = "stamp" in fields and "seq" in fields
         self._declaration = declared  # the publisher and its graph token
         declared.add(self._pub)
 
     def publish(self, msg: M) -> M:
         """Stamp ``msg`` with the node's time (ns: the wall clock, or the simulated one with
         ``use_sim_time``) and the next sequence number, then send it."""
-        stamped = msgspec.structs.replace(msg, stamp=self._now_ns(), seq=self._seq) if self._stamped else msg
+        stamped = with_stamp(msg, self._now_ns, self._seq)
         self._seq += 1
         self._pub.put(encode(stamped))
         return stamped

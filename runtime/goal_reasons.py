@@ -1,5 +1,5 @@
 """Why a goal server (runtime.goals) ends a goal: the ``reason`` its ``on_cancel(goal, reason)``
-is told, and the reason of a goal refused for itself.  A ``Cancel``'s own reason (the simulator's "teleported", teleop's "teleop") is passed
+is told, and the reason of a goal refused for itself.  A ``Cancel``'s own reason (teleop's "teleop") is passed
 on as it is.  Pure: a node's pure goal logic (nodes.goal_machine) reads them too."""
 
 from __future__ import annotations

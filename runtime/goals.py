@@ -85,7 +85,8 @@ def summary(goal: Message) -> str:
 class GoalHandle(Generic[G, F, R]):
     """One goal a goal server accepted, handed to its ``execute``: ``request`` (the goal),
     ``started`` (s, the node's clock), ``caller`` (its caller's liveliness key, "" if none),
-    ``summary`` (how the cancel's Ack names it; set it to your own words).  ``feedback(msg)``
+    ``summary`` (how the cancel's Ack names it; set it to your own words), ``end_detail`` (the
+    ``detail`` of the ``Cancel`` that ended it: its canceller's words, "" if none).  ``feedback(msg)``
     sends progress, ``finish(result)`` ends it: both from any callback of the node."""
 
     def __init__(self, server: GoalServer[G, F, R], request: Request[G], started: float, caller: str):
@@ -94,6 +95,7 @@ class GoalHandle(Generic[G, F, R]):
         self.started = started
         self.caller = caller
         self.summary = summary(request.body)
+        self.end_detail = ""
         self._server = server
         self._call = request
 
@@ -231,6 +233,7 @@ class GoalServer(Generic[G, F, R]):
         if goal is None:
             request.respond(Ack(ok=False, detail="no goal is running"))
             return
+        goal.end_detail = request.body.detail
         self._end(request.body.reason or CANCELED)
         request.respond(Ack(detail=f"canceled the goal {goal.summary}"))
 

@@ -10,10 +10,11 @@ spawn (made again if it was killed), every other turtle removed.
 
 Declared obstacles are solid, as the walls are, and so are the turtles to each other (two
 centres stay ``2 * world.turtle_radius`` apart): a turtle driven into one stops on its surface
-and its pose says ``contact``.  A teleport or reset of turtle1 first cancels a running goal
-(reason "teleported" / "reset", so the navigator stops driving from a pose that no longer
-holds), then moves the turtle; an Ack (for spawn: its name) is sent once the new pose has
-been published, so a goal sent after it starts from there.
+and its pose says ``contact``.  Before a teleport or reset moves a turtle, the simulator calls
+``<turtle>/moving`` (``Moving``, reason "teleported" / "reset"; a reset calls every turtle's)
+and moves it once whatever drives the turtle has answered (the navigator ends its running goal
+with that reason, so it stops driving from a pose that no longer holds); an Ack (for spawn: its
+name) is sent once the new pose has been published, so a goal sent after it starts from there.
 
 The simulator makes the time (runtime.simtime): after every step it publishes ``clock``, its
 simulated time (ns since the epoch, from the wall-clock time it started, 16 ms more per step).
@@ -34,10 +35,10 @@ import msgspec
 
 from turtlectl.messages import (
     Ack,
-    Cancel,
     Clock,
     Kill,
     Message,
+    Moving,
     Pose,
     Reset,
     SpawnRequest,
@@ -48,7 +49,6 @@ from turtlectl.messages import (
 )
 from turtlectl.messages.angles import heading_degrees
 from turtlectl.messages.keys import (
-    CANCEL,
     CLOCK,
     FIRST_TURTLE,
     KILL,
@@ -57,17 +57,16 @@ from turtlectl.messages.keys import (
     TURTLES,
     WORLD_KEY,
     cmd_vel_key,
+    moving_key,
     pose_key,
-    resolve,
     teleport_key,
-    turtle_namespace,
 )
 from turtlectl.messages.world import Obstacle
 from turtlectl.runtime import Node, Request, run_main
 from turtlectl.runtime.entities import Publisher
 from turtlectl.runtime.handles import Declaration
 from turtlectl.sim.kinematics import STEP, TurtleState, accelerate, collide, effective_command, step, wrap_angle
-from turtlectl.sim.params import SimParams
+from turtlectl.sim.params import SIM_CLAIMS, SIM_INTERFACE, SimParams
 from turtlectl.sim.turtles import bodies, free_name, placement_problem, spawn_problem
 
 #: steps between two ``turtles`` messages
@@ -109,6 +108,10 @@ class Turtle:
 
 
 class Simulator:
+    Params = SimParams
+    Claims = SIM_CLAIMS
+    Interface = SIM_INTERFACE
+
     def __init__(self, node: Node[SimParams]):
         self.node = node
         p = node.params
@@ -184,15 +187,14 @@ class Simulator:
             self.turtles.pop(name).remove()
         removed = f"; removed {', '.join(others)}" if others else ""
         back = "turtle back at its spawn pose" if len(self.starts) == 1 else "turtles back at their spawn poses"
-        self.move(request, self.starts, "reset", f"{back}{removed}", f"**/{CANCEL}")
+        self.move(request, self.starts, "reset", f"{back}{removed}", moving_key("**"))
 
     def move(
-        self, request: Request[Any], places: dict[str, TurtleState], reason: str, detail: str, cancel: str = ""
+        self, request: Request[Any], places: dict[str, TurtleState], reason: str, detail: str, moving: str = ""
     ) -> None:
-        """Put each turtle of ``places`` there (made again if it is gone) once the running goals
-        of their navigators are canceled with ``reason`` (on ``cancel``; by default each turtle's
-        own, in its namespace, ``<name>/navigate_to/cancel``, and turtle1's also outside any,
-        ``navigate_to/cancel``); the Ack follows the first pose published there."""
+        """Put each turtle of ``places`` there (made again if it is gone) once whatever drives
+        them has answered ``Moving`` with ``reason`` (on ``moving``; by default each turtle's own
+        ``<name>/moving``); the Ack follows the first pose published there."""
 
         def apply(_: list[Message]) -> None:
             for name, place in places.items():
@@ -203,17 +205,15 @@ class Simulator:
                 turtle.cmd_time = None  # a moved turtle stands still until told otherwise
             self.acks.append((request, Ack(detail=detail)))
 
-        # turtle1's navigator may run outside any namespace or in namespace turtle1: both are asked
-        spaces = [ns for name in places for ns in dict.fromkeys((turtle_namespace(name), name))]
-        keys = [cancel] if cancel else list(dict.fromkeys(resolve(CANCEL, ns) for ns in spaces))
+        keys = [moving] if moving else [moving_key(name) for name in places]
 
-        def cancel_next(_: list[Message]) -> None:
+        def tell_next(_: list[Message]) -> None:
             if keys:
-                self.node.call(keys.pop(), Cancel(reason=reason), cancel_next)
+                self.node.call(keys.pop(), Moving(reason=reason), tell_next)
             else:
                 apply([])
 
-        cancel_next([])
+        tell_next([])
 
     def tick(self) -> None:
         limits, world = self.node.limits, self.node.world

@@ -1,4 +1,6 @@
-"""Parameters of the simulator process (set in the launch file's ``[node.params]``)."""
+"""Parameters of the simulator process (set in the launch file's ``[node.params]``), and what it
+declares, its ``SIM_CLAIMS`` and ``SIM_INTERFACE`` (written once here, pure: the Simulator class
+carries them and nodes.kinds reads them, as nodes.params does for the other built-in nodes)."""
 
 from __future__ import annotations
 
@@ -6,8 +8,22 @@ from typing import ClassVar
 
 import msgspec
 
+from turtlectl.messages.keys import (
+    CLOCK,
+    KILL,
+    POSE,
+    RESET,
+    SPAWN,
+    TURTLES,
+    WORLD_KEY,
+    cmd_vel_key,
+    moving_key,
+    pose_key,
+    teleport_key,
+)
 from turtlectl.messages.units import Finite, ShortTimeout, TimeFactor
 from turtlectl.messages.world import TURTLESIM_SIZE
+from turtlectl.runtime.config import Claim, Interface
 
 
 class TurtleSpawn(msgspec.Struct, frozen=True, forbid_unknown_fields=True, kw_only=True):
@@ -39,3 +55,12 @@ class SimParams(msgspec.Struct, forbid_unknown_fields=True, kw_only=True):
         name: "the spawn pose is read once, at start (`turtlectl teleport` moves the turtle)"
         for name in ("x", "y", "theta")
     } | {"turtles": "the turtles are made once, at start (`turtlectl spawn` adds one)"}
+
+
+SIM_CLAIMS = (Claim("pub", POSE),)
+SIM_INTERFACE = Interface(
+    publishes=(pose_key("*"), TURTLES, CLOCK),
+    subscribes=(cmd_vel_key("*"),),
+    serves=(teleport_key("*"), RESET, SPAWN, KILL, WORLD_KEY),
+    calls=(moving_key("**"),),  # whatever drives a turtle it moves, in any namespace
+)

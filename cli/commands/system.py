@@ -19,6 +19,7 @@ from turtlectl.cli.commands.options import (
     result,
 )
 from turtlectl.cli.errors import BadInput
+from turtlectl.cli.system.supervisor.logs import LOG_DIR_ENV
 from turtlectl.runtime.endpoint import DEFAULT_PORT, default_domain
 
 
@@ -92,7 +93,7 @@ def launch(
     ),
     log_level: str = LogLevelOption,
     log_dir: Path | None = typer.Option(
-        None, "--log-dir", envvar="TURTLECTL_LOG_DIR", help="Parent folder of run folders (default ~/.turtlectl/log)."
+        None, "--log-dir", envvar=LOG_DIR_ENV, help="Parent folder of run folders (default ~/.turtlectl/log)."
     ),
     domain: str = DomainOption,
 ) -> None:

@@ -51,6 +51,7 @@ from turtlectl.messages.keys import (
     resolve,
     service_types,
 )
+from turtlectl.messages.stamps import with_stamp
 from turtlectl.messages.world import World
 from turtlectl.runtime.endpoint import CONNECT_ENV, DEFAULT_ENDPOINT, default_domain
 from turtlectl.runtime.futures import Future
@@ -152,6 +153,7 @@ class Client:
         self.namespace = live_turtle_namespace(self._session, self.turtle)
         self._driven: str | None = None if not self.turtle else self.namespace  # goto's and cancel's
         self._publishers: dict[str, presence.Announced] = {}
+        self._sent: dict[str, int] = {}  # each topic's count of messages published (their seq)
         self._declared: list[Declaration] = []  # its subscriptions, undeclared by close
         self._book = TypeBook(self._session)  # the message types it has learnt from the nodes
         self._lock = threading.Lock()
@@ -261,7 +263,8 @@ class Client:
     # topics ------------------------------------------------------------------------------------
 
     def publish(self, topic: str, message: Message) -> None:
-        """Publish ``message`` on ``topic`` (its publisher is kept until ``close``)."""
+        """Publish ``message`` on ``topic``, stamped as a node's publisher stamps it (messages.stamps:
+        ``stamp`` now, ``seq`` its count on ``topic``); its publisher is kept until ``close``."""
         key = check_key(self._key(topic), publish=True)
         require("publish", key)
         with self._lock:
@@ -269,7 +272,8 @@ class Client:
             if pub is None:
                 pub = presence.publisher(self._session, key, type_name(type(message)), encoding_for(type(message)))
                 self._publishers[key] = pub
-        pub.put(encode(message))
+            seq = self._sent[key] = self._sent.get(key, -1) + 1
+        pub.put(encode(with_stamp(message, time.time_ns, seq)))
 
     def subscribe(self, topic: str, callback: Callable[[Message], None] | None = None) -> Subscription:
         """Messages on ``topic`` (a key expression: ``robot/status``, ``turtle1/*``), decoded."""

@@ -12,11 +12,11 @@ import msgspec
 from turtlectl.cli import args
 from turtlectl.cli.errors import BadInput, Failed
 from turtlectl.cli.tools.graph import Graph
+from turtlectl.cli.tools.params import TIMEOUT  # s a node has to answer
 from turtlectl.cli.tools.services import NoAnswer, NobodyServes, Raw, call_service
 from turtlectl.messages import Ack, SetLogLevel
 from turtlectl.messages.keys import NodeDetails, log_level_key, node_key
 
-TIMEOUT = 3.0  # s a node has to answer
 RATE_WINDOW = 1.0  # s over which `topic info -v` measures the rate
 
 

@@ -53,6 +53,8 @@ from turtlectl.messages.keys import (
 POLL = 0.02  # s: the longest a key waits to be read
 LINE_PERIOD = 0.1  # s between redraws of the status line
 GOAL_SEEN = 0.5  # s: feedback this recent means a goal is running
+#: what the caller of a goal teleop cancels is told
+TAKEN_OVER = "the keyboard took over (turtlectl teleop)"
 NOT_A_TERMINAL = "teleop reads keys from a terminal, and its input is not one (run it in a terminal)"
 HELP = "arrows or w/a/s/d drive (held: go, released: stop); space stops; q quits"
 
@@ -79,7 +81,7 @@ class _Goals:
         self.session.get(
             self.cancel_key,
             lambda _reply: None,
-            payload=encode(Cancel(reason="teleop")),
+            payload=encode(Cancel(reason="teleop", detail=TAKEN_OVER)),
             encoding=zenoh.Encoding(encoding_for(Cancel)),
             timeout=2.0,
         )

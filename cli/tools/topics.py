@@ -30,6 +30,7 @@ from turtlectl.cli.tools.typebook import TypeBook, conflicts, generic
 from turtlectl.messages import DecodeError, Message, decode, decode_any, encode, encoding_for, type_from_encoding
 from turtlectl.messages.codec import MEDIA_TYPE, TYPES_BY_NAME, type_name
 from turtlectl.messages.keys import CMD_VEL, DOMAIN_GRAPHS, FEEDBACK, GRAPH, LOG, PARAMETER_EVENTS, SERVICES, TOPICS
+from turtlectl.messages.stamps import with_stamp
 from turtlectl.runtime.endpoint import default_domain
 
 WHILE_A_GOAL_RUNS = (FEEDBACK, CMD_VEL)  # published by the navigator only while a goal runs
@@ -290,10 +291,7 @@ def publish(connect: str, topic: str, message: Message, rate: float | None, time
             while times is None or sent < times:
                 if sent:
                     time.sleep(max(0.0, start + sent * period - time.monotonic()))  # absolute schedule
-                stamped = message
-                if "stamp" in type(message).__struct_fields__:
-                    stamped = msgspec.structs.replace(message, stamp=time.time_ns(), seq=sent)
-                pub.put(encode(stamped))
+                pub.put(encode(with_stamp(message, time.time_ns, sent)))
                 sent += 1
         finally:
             pub.undeclare()

@@ -1,8 +1,10 @@
-"""Run the real system for a test: `turtlectl launch` on a free port, readiness from
-liveliness tokens, fail fast when the supervisor dies, and always clean up.
+"""Run the real system for a test: `turtlectl launch` on a free port through
+``LaunchedSystem`` (the public plugin's: ready on the supervisor's ``READY=1``), each node's pid
+from its liveliness token, fail fast when the supervisor dies, and always clean up.
 
-No fixed sleeps: every wait is on an event (an output line, a token, a message)
-under a deadline, and checks that the supervisor is still alive while waiting.
+No fixed sleeps: every wait is on an event (a notify datagram, a token, a message, an
+output line a test asserts on) under a deadline, and checks that the supervisor is still
+alive while waiting.
 """
 
 from __future__ import annotations
@@ -21,7 +23,6 @@ import subprocess
 import sys
 import tempfile
 import termios
-import threading
 import time
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
@@ -34,6 +35,7 @@ import psutil
 import zenoh
 
 from turtlectl.cli.system import credentials
+from turtlectl.cli.system.launched import LaunchedSystem, StartFailed
 from turtlectl.cli.system.launched import free_port as free_port  # one way to pick a port
 from turtlectl.messages import (
     Message,
@@ -172,7 +174,9 @@ class SupervisorDied(AssertionError):
 
 
 class System:
-    """A running `turtlectl launch` with a client session to its router."""
+    """A running `turtlectl launch` (a ``LaunchedSystem``, as ``turtlectl.testing``'s) with a
+    client session to its router: ready when the supervisor says so (its ``READY=1``), each
+    node's pid from its liveliness token."""
 
     def __init__(
         self,
@@ -183,31 +187,27 @@ class System:
         cwd: Path | None = None,
     ):
         """``join``: run no router, join the one at that endpoint.  ``domain``: the system's key prefix.
-        ``cwd``: the folder it runs in (a user's project)."""
-        self.port = free_port()
-        scheme = "tls" if "--tls" in extra_args else "tcp"  # a --secure --tls system (TURTLECTL_TLS for us)
-        self.endpoint = join or f"{scheme}/127.0.0.1:{self.port}"
-        self.domain = domain
+        ``cwd``: the folder it runs in (a user's project; default: this process's)."""
         self.log_dir = Path(tempfile.mkdtemp(prefix="turtlectl-logs-"))
-        self.lines: list[str] = []
-        self._line_event = threading.Condition()
-        self._eof = False
-        where = ("--connect", join) if join else ("--port", str(self.port))
-        self.proc = subprocess.Popen(
-            [*turtlectl(), *(("--domain", domain) if domain else ()), "launch", str(launch_file), *where, *extra_args],
-            stdout=subprocess.PIPE,
-            stderr=subprocess.STDOUT,
-            stdin=subprocess.DEVNULL,
-            start_new_session=True,
-            text=True,
-            env={**os.environ, "PYTHONUNBUFFERED": "1", "TURTLECTL_LOG_DIR": str(self.log_dir)},
-            cwd=cwd,
-        )
         self.child_pids: dict[int, float] = {}  # pid -> its start time, so a reused pid is never killed
+        self.launched = LaunchedSystem(
+            launch_file,
+            extra_args,
+            domain,
+            self.log_dir,
+            join=join,
+            port=free_port(),  # this module's: a bench may choose its own range
+            cwd=cwd or Path.cwd(),
+            on_line=self._on_line,
+        )
+        self.port = self.launched.port
+        self.endpoint = self.launched.endpoint
+        self.domain = domain
+        self.lines = self.launched.lines  # the launch's output, as it is read
+        self.proc = self.launched.launch().process
         self.session: zenoh.Session | None = None
         self.alive: dict[str, int] = {}  # node -> pid, from liveliness
         self._token_events: queue.SimpleQueue[tuple[bool, str, int]] = queue.SimpleQueue()
-        threading.Thread(target=self._read, daemon=True).start()
 
     def _remember(self, pid: int) -> None:
         """Note a child of the system with its start time (gone already: nothing to kill later)."""
@@ -218,61 +218,38 @@ class System:
                 pass
 
     # -- output ---------------------------------------------------------------
-    def _read(self) -> None:
-        assert self.proc.stdout is not None
-        for line in self.proc.stdout:
-            m = re.search(r"started \S+ \(pid (\d+)\)", line)
-            if m:
-                self._remember(int(m.group(1)))
-            with self._line_event:
-                self.lines.append(line.rstrip("\n"))
-                self._line_event.notify_all()
-        with self._line_event:
-            self._eof = True
-            self._line_event.notify_all()
+    def _on_line(self, line: str) -> None:
+        m = re.search(r"started \S+ \(pid (\d+)\)", line)  # every child, to kill at the end whatever happens
+        if m:
+            self._remember(int(m.group(1)))
 
     def output(self) -> str:
-        return "\n".join(self.lines)
+        return self.launched.output()
 
     def all_output(self, timeout: float = 5.0) -> str:
         """Everything the supervisor wrote, once it has exited and its output is read to the end."""
-        deadline = time.monotonic() + timeout
-        with self._line_event:
-            while not self._eof:
-                remaining = deadline - time.monotonic()
-                if remaining <= 0:
-                    raise AssertionError(f"output not closed within {timeout} s:\n{self.output()}")
-                self._line_event.wait(min(remaining, 0.1))
-        return self.output()
+        return self.launched.all_output(timeout)
 
     def check_alive(self) -> None:
         if self.proc.poll() is not None:
             raise SupervisorDied(f"turtlectl launch exited with {self.proc.returncode}:\n{self.output()}")
 
     def wait_line(self, pattern: str, timeout: float, start: int = 0) -> int:
-        """Index of the first output line from ``start`` matching ``pattern``."""
-        deadline = time.monotonic() + timeout
-        rx = re.compile(pattern)
-        with self._line_event:
-            while True:
-                for i in range(start, len(self.lines)):
-                    if rx.search(self.lines[i]):
-                        return i
-                if self.proc.poll() is not None and not any(rx.search(line) for line in self.lines[start:]):
-                    # give the reader a moment to drain, then fail fast
-                    self._line_event.wait(0.2)
-                    if not any(rx.search(line) for line in self.lines[start:]):
-                        raise SupervisorDied(
-                            f"launch exited ({self.proc.returncode}) before {pattern!r}:\n{self.output()}"
-                        )
-                remaining = deadline - time.monotonic()
-                if remaining <= 0:
-                    raise AssertionError(f"no line matching {pattern!r} within {timeout} s:\n{self.output()}")
-                self._line_event.wait(min(remaining, 0.1))
+        """Index of the first output line from ``start`` matching ``pattern`` (for a test that
+        asserts on what the launch prints; readiness is ``wait_ready``'s)."""
+        try:
+            return self.launched.wait_line(pattern, timeout, start)
+        except StartFailed as exc:
+            raise SupervisorDied(str(exc)) from None
 
     # -- readiness -------------------------------------------------------------
     def connect(self, timeout: float = 20.0) -> zenoh.Session:
-        self.wait_line(r"router listening|joining", timeout)
+        """A client session to the system's router, once the supervisor says its nodes are ready
+        (its ``READY=1``: the router listens long before), and their liveliness tokens followed."""
+        try:
+            self.launched.wait_ready(timeout, fail_on_exit=False)  # a node that fails is the test's to see
+        except StartFailed as exc:
+            raise SupervisorDied(str(exc)) from None
         login = credentials.for_endpoint(self.endpoint)  # a --secure system's, from TURTLECTL_CREDENTIALS
         self.session = zenoh.open(client_config(self.endpoint, 3.0, self.domain, login))
         self.session.liveliness().declare_subscriber(f"{NODE_TOKEN_PREFIX}/**", self._on_token, history=True)
@@ -423,20 +400,13 @@ class System:
         if self.session is not None:
             close_session(self.session)
             self.session = None
-        try:
-            os.killpg(self.proc.pid, signal.SIGKILL)
-        except (ProcessLookupError, PermissionError):
-            pass
+        self.launched.kill()
         for pid, started in self.child_pids.items():
             try:  # only the process seen then: after hours of tests a pid is reused (pid_max 32768 here)
                 if psutil.Process(pid).create_time() == started:
                     os.kill(pid, signal.SIGKILL)
             except (psutil.Error, ProcessLookupError, PermissionError):
                 pass
-        try:
-            self.proc.wait(5)
-        except subprocess.TimeoutExpired:
-            pass
         shutil.rmtree(self.log_dir, ignore_errors=True)
 
 

@@ -1,8 +1,8 @@
 """One supervised child process: start, stream its output, signal, reap.
 
 A launch file's node is a node (``node_command``) or any program (``program_command``, a
-``cmd`` node: exec'd, never forked by the zygote, told who it is in NODE_NAME_VAR, DOMAIN_VAR
-and CONNECT_VAR).
+``cmd`` node: exec'd, never forked by the zygote, told who it is in NODE_NAME_VAR, DOMAIN_ENV
+and CONNECT_ENV).
 
 Children run in their own process group, so a Ctrl-C on the terminal reaches
 only the supervisor, which then signals each child exactly once per step.
@@ -22,12 +22,11 @@ from turtlectl.cli.system.supervisor.printer import Printer
 from turtlectl.cli.system.supervisor.zygote import Zygote, ZygoteUnavailable
 from turtlectl.nodes.kinds import KINDS, NodeKind
 from turtlectl.runtime.config import ENV_VAR, SUPERVISOR_PID_VAR, NodeConfig, encode_config
+from turtlectl.runtime.endpoint import CONNECT_ENV, DOMAIN_ENV
 
-#: what a ``cmd`` node is told: its name in the launch file, the system's domain (key prefix,
-#: empty for none) and the router's endpoint; the last two are what the CLI reads too
+#: what a ``cmd`` node is told: its name in the launch file; with the system's domain (key prefix,
+#: empty for none) and the router's endpoint in runtime.endpoint's variables, which the CLI reads too
 NODE_NAME_VAR = "TURTLECTL_NODE_NAME"
-DOMAIN_VAR = "TURTLECTL_DOMAIN"
-CONNECT_VAR = "TURTLECTL_CONNECT"
 
 
 class Child:
@@ -194,7 +193,7 @@ def program_command(name: str, argv: list[str], connect: str, domain: str) -> tu
     """The argv and environment that start ``cmd`` node ``name``: its argv as the launch file
     resolved it, this environment without a node's config, plus its name, domain and endpoint."""
     env = {k: v for k, v in os.environ.items() if k not in (ENV_VAR, SUPERVISOR_PID_VAR)}
-    env |= {NODE_NAME_VAR: name, DOMAIN_VAR: domain, CONNECT_VAR: connect, "PYTHONUNBUFFERED": "1"}
+    env |= {NODE_NAME_VAR: name, DOMAIN_ENV: domain, CONNECT_ENV: connect, "PYTHONUNBUFFERED": "1"}
     return list(argv), env
 
 

@@ -10,6 +10,7 @@ from turtlectl.messages import (
     Kill,
     LaserScan,
     Log,
+    Moving,
     NavigateToFeedback,
     NavigateToRequest,
     NavigateToResponse,
@@ -60,6 +61,7 @@ SAMPLES = [
         replans=3,
     ),  # fmt: skip
     Cancel(),
+    Moving(reason="teleported"),
     TeleportAbsolute(x=1.0, y=2.0, theta=0.5),
     Reset(),
     SpawnRequest(x=1.0, y=2.0, theta=0.5, name="turtle2"),

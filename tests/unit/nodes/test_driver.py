@@ -125,9 +125,9 @@ def test_it_stops_within_the_tolerances_and_arrives_only_at_rest_after_a_stop():
     arrived once it rests within the tolerances with nothing but the stop on its way."""
     d = driver()
     assert isinstance(d.step(Pose(x=2.0, y=5.0, theta=0.0), 0.0), Drive)  # drives: its last command is no stop
-    assert not d.stopping
+    assert not d.last_command_was_stop
     turning = d.step(Pose(x=8.0, y=5.0, theta=0.001, angular_velocity=2.0), 1.0)
-    assert isinstance(turning, Drive) and turning.twist == Twist() and d.stopping
+    assert isinstance(turning, Drive) and turning.twist == Twist() and d.last_command_was_stop
     drifting = d.step(Pose(x=8.0, y=5.0, theta=0.0, linear_velocity=0.3), 1.02)
     assert isinstance(drifting, Drive)  # not at rest: not there yet
     assert isinstance(d.step(Pose(x=8.0, y=5.0, theta=0.003), 1.05), Arrived)

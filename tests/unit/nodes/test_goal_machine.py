@@ -10,6 +10,7 @@ import msgspec
 import numpy as np
 import pytest
 
+from turtlectl.cli.tools.teleop import TAKEN_OVER
 from turtlectl.messages import GoalState, LaserScan, NavigateToRequest, Pose, TurtleStatus, Twist
 from turtlectl.messages.world import Limits, Obstacle, World
 from turtlectl.nodes.goal_machine import GoalMachine, Note, Reply
@@ -549,7 +550,7 @@ def test_something_close_ahead_stops_driving_but_not_turning_and_a_new_way_is_ta
     m = machine()
     running(m)
     # seen 0.35 m ahead on the straight way, not yet planned round (as if a scan had not come through scan())
-    m.unknown_points, m.scan_time = np.array([[2.35, 5.0]]), 0.0
+    m.surroundings.unknown_points, m.surroundings.scan_time = np.array([[2.35, 5.0]]), 0.0
     actions = m.pose(pose(), 0.0)
     assert notes(actions)[0] == "something the scan sees within 0.40 m in the direction of travel: stopped"
     (cmd,) = twists(actions)
@@ -759,11 +760,12 @@ def test_a_goal_just_beyond_the_margin_of_something_only_the_scan_sees_is_reache
 
 
 def test_a_goal_canceled_by_teleop_says_the_keyboard_took_over():
-    """`turtlectl teleop` cancels a running goal with reason "teleop"."""
+    """`turtlectl teleop` cancels a running goal with reason "teleop" and its own words,
+    which the goal server hands on as the cancel's detail."""
     m = machine()
     m.pose(pose(x=2.0), 0.0)
     submit(m, NavigateToRequest(x=8.0, y=5.0, theta=0.0), "caller", 0.0)
-    actions = m.end("teleop", 0.1)
+    actions = m.end("teleop", 0.1, TAKEN_OVER)
     reply = next(a for a in actions if isinstance(a, Reply))
     assert (reply.response.reason, reply.response.detail) == (
         "teleop",

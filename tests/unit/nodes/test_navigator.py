@@ -3,21 +3,12 @@
 from __future__ import annotations
 
 from turtlectl.messages import NavigateToRequest
-from turtlectl.nodes.kinds import KINDS
 from turtlectl.nodes.navigator import Navigator
-from turtlectl.nodes.params import NavigatorParams
 from turtlectl.runtime.fake import FakeNode
 
 
-class LaunchedNavigator(Navigator):
-    """The navigator as a launch file's ``kind = "navigator"`` runs it: its kind's interface."""
-
-    Params = NavigatorParams
-    Interface = KINDS["navigator"].interface
-
-
 def test_a_navigator_in_a_namespace_says_no_pose_on_the_key_it_waits_for():
-    with FakeNode(LaunchedNavigator, name="turtle2/navigator") as fake:
+    with FakeNode(Navigator, name="turtle2/navigator") as fake:
         goal = fake.send_goal("turtle2/navigate_to", NavigateToRequest(x=8.0, y=5.0, theta=0.0))
         fake.advance(2.0)
         assert goal.result is not None and goal.result.reason == "no pose", goal.replies

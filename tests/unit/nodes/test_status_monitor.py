@@ -5,20 +5,11 @@ from __future__ import annotations
 import pytest
 
 from turtlectl.messages import Ack, Reset
-from turtlectl.nodes.kinds import KINDS
-from turtlectl.nodes.params import StatusMonitorParams
 from turtlectl.nodes.status_monitor import StatusMonitor
 from turtlectl.runtime.fake import FakeNode
 
 
-class LaunchedStatusMonitor(StatusMonitor):
-    """The status monitor as a launch file's ``kind = "status_monitor"`` runs it: its kind's interface."""
-
-    Params = StatusMonitorParams
-    Interface = KINDS["status_monitor"].interface
-
-
 @pytest.mark.parametrize("name, turtle", [("status_monitor", "turtle1"), ("turtle2/status_monitor", "turtle2")])
 def test_a_reset_is_acknowledged_naming_the_turtle_whose_battery_is_full(name, turtle):
-    with FakeNode(LaunchedStatusMonitor, name=name) as fake:
+    with FakeNode(StatusMonitor, name=name) as fake:
         assert fake.request("reset", Reset()) == [Ack(ok=True, detail=f"{turtle}: battery full")]

@@ -7,7 +7,7 @@ from __future__ import annotations
 import msgspec
 import pytest
 
-from turtlectl.messages import Ack, Message
+from turtlectl.messages import Ack, Cancel, Message
 from turtlectl.messages.keys import parse_entity_token
 from turtlectl.runtime.config import Interface
 from turtlectl.runtime.fake import FakeNode
@@ -42,6 +42,7 @@ class Lapper:
         self.node = node
         self.laps = 0
         self.ended: list[tuple[int, str]] = []  # (laps asked, why) of each goal the server ended
+        self.details: list[str] = []  # the canceller's words of each (Cancel.detail), "" if none
         self.server = node.goal_server(
             "lapper/laps",
             Laps,
@@ -65,6 +66,7 @@ class Lapper:
 
     def on_cancel(self, goal, reason: str) -> LapsResult:
         self.ended.append((goal.request.laps, reason))
+        self.details.append(goal.end_detail)
         return LapsResult(reason=reason, laps=self.laps)
 
     def lap(self) -> None:
@@ -130,6 +132,14 @@ def test_cancel_ends_the_goal_with_the_cancels_reason_and_acknowledges():
         assert goal.cancel() == Ack(ok=False, detail="no goal is running")
         again = fake.send_goal(KEY, Laps(laps=5))
         assert again.cancel("teleported").ok and again.result.reason == "teleported"
+
+
+def test_the_cancels_detail_reaches_on_cancel_with_the_goal():
+    """A canceller's own words (``Cancel.detail``) are the goal's ``end_detail`` when on_cancel runs."""
+    with FakeNode(Lapper) as fake:
+        goal = fake.send_goal(KEY, Laps(laps=5))
+        replies = fake.request(f"{KEY}/cancel", Cancel(reason="teleop", detail="the keyboard took over"))
+        assert replies[0].ok and fake.instance.details == ["the keyboard took over"] and goal.result.reason == "teleop"
 
 
 def test_a_caller_that_goes_away_has_its_goal_ended_and_no_other_caller_does():

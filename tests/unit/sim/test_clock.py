@@ -8,17 +8,10 @@ import pytest
 
 from turtlectl.messages import Clock, Pose, Twist, decode, encode
 from turtlectl.messages.keys import CLOCK, CMD_VEL, POSE
-from turtlectl.nodes.kinds import KINDS
 from turtlectl.runtime.fake import FakeNode
 from turtlectl.sim.kinematics import STEP
 from turtlectl.sim.node import Simulator
 from turtlectl.sim.params import SimParams
-
-
-@pytest.fixture(autouse=True)
-def sim_interface(monkeypatch):
-    """The simulator's interface as a launch file gives it (FakeNode reads a class's own)."""
-    monkeypatch.setattr(Simulator, "Interface", KINDS["sim"].interface, raising=False)
 
 
 def published(fake: FakeNode, key: str, kind: type) -> list:

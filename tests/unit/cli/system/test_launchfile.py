@@ -416,7 +416,7 @@ def test_a_groups_nodes_are_named_and_keyed_in_its_namespace():
     config = node_config(plan, "turtle2/navigator", "tcp/127.0.0.1:1")
     assert [c.key for c in config.claims] == ["turtle2/navigate_to"]
     assert config.interface is not None
-    assert set(config.interface.serves) == {"turtle2/navigate_to", "turtle2/navigate_to/cancel"}
+    assert set(config.interface.serves) == {"turtle2/navigate_to", "turtle2/navigate_to/cancel", "turtle2/moving"}
     assert "turtle2/pose" in config.interface.subscribes and "turtles" in config.interface.subscribes
     assert config.interface.publishes[0] == "turtle2/cmd_vel"
 
