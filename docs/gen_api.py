@@ -39,7 +39,7 @@ def _signature(obj: object) -> str:
 
 def _members(cls: type) -> list[str]:
     """The public methods and properties of ``cls``, its own first, then those it takes from a
-    base class of turtlectl's (``Node``'s loop: runtime.loop.NodeLoop)."""
+    base class of turtlectl's (``Node``'s calls: runtime.calls.NodeCalls)."""
     lines = []
     seen: set[str] = set()
     owned = [c for c in cls.__mro__ if c.__module__.startswith("turtlectl")]

@@ -1,8 +1,8 @@
 """What a node asks of others: queries (``Node.call``, a ``Future`` of the replies) and goal
 services, as ROS 2 actions (``Node.goal_server`` serves one, ``Node.goal_client`` sends goals
-to one).  ``NodeCalls`` is a base of ``runtime.node.Node``; it reaches the node only through the
-public declarations (``resolve``, ``serve``, ``publisher``, ...) and the internal methods below,
-whose contracts ``Node`` implements.
+to one).  ``NodeCalls`` is a base of ``runtime.node.Node``; it reaches the node only through its
+core (runtime.core.NodeCore: ``declare``, ``enqueue``) and its public declarations (``serve``,
+``publisher``, ...).
 """
 
 from __future__ import annotations
@@ -10,13 +10,13 @@ from __future__ import annotations
 import itertools
 import os
 from collections.abc import Callable
-from typing import Any, TypeVar
+from typing import TypeVar
 
 import zenoh
 
 from turtlectl.messages import Message, decode_any, encode
 from turtlectl.messages.keys import ENTITY_TOKEN_PREFIX, client_token, parse_entity_token
-from turtlectl.runtime.config import Interface
+from turtlectl.runtime.core import Kind, NodeCore
 from turtlectl.runtime.entities import sample_encoding
 from turtlectl.runtime.futures import Future
 from turtlectl.runtime.goal_client import GoalClient
@@ -30,33 +30,18 @@ R = TypeVar("R", bound=Message)
 _client_ids = itertools.count(1)
 
 
+#: a goal service: its three graph tokens (``turtlectl action list``); the services and
+#: publisher it is made of are checked against the interface as they are declared
+GOAL_SERVICE = Kind("goal service", None, GOAL_ROLES)
+#: a goal client: it calls the service's keys (its caller token is not an entity's)
+GOAL_CLIENT = Kind("goal client", "call")
+
+
 class NodeCalls:
-    """``call``, ``goal_server`` and ``goal_client`` of a ``Node`` (the attributes below are the
-    node's, set by ``Node.__init__``)."""
+    """``call``, ``goal_server`` and ``goal_client`` of a ``Node``, built on its ``core``
+    (runtime.core.NodeCore) and its public declarations (``serve``, ``publisher``, ...)."""
 
-    name: str
-    interface: Interface | None
-    session: zenoh.Session
-
-    # -- the node's side (runtime.node.Node implements them) -----------------------------------
-    def resolve(self, key: str) -> str:  # pragma: no cover - Node's
-        raise NotImplementedError
-
-    def _post(self, fn: Callable[..., None], *args: Any) -> None:
-        """Run ``fn(*args)`` on the node's thread, after what is queued already (from any thread)."""
-        raise NotImplementedError  # pragma: no cover - Node's
-
-    def _declaration(self, what: str, key: str) -> Declaration:
-        """A new declaration (``what`` on ``key``, resolved) among the node's, undeclared with it."""
-        raise NotImplementedError  # pragma: no cover - Node's
-
-    def _uses(self, msg_type: type[Message]) -> None:
-        """The node uses ``msg_type``: its own services describe it (runtime.own_services)."""
-        raise NotImplementedError  # pragma: no cover - Node's
-
-    def _announce(self, role: str, msg_type: type[Message] | str, key: str) -> zenoh.LivelinessToken:
-        """The graph's token of this node's ``role`` on ``key`` with ``msg_type``."""
-        raise NotImplementedError  # pragma: no cover - Node's
+    core: NodeCore
 
     # -- the API -------------------------------------------------------------------------------
     def call(
@@ -75,9 +60,10 @@ class NodeCalls:
         (``then``, ``add_done_callback``: on the node thread), or give ``on_done(replies)``.
         ``on_reply(message)`` runs on the node thread for each reply as it comes (a goal's
         feedback); ``attachment``: bytes the query carries beside the request."""
-        key = self.resolve(key)
-        check(self.name, self.interface, "call", key)
-        self._uses(type(request))
+        core = self.core
+        key = core.resolve(key)
+        check(core.name, core.interface, "call", key)
+        core.uses(type(request))
         replies: list[Message] = []
         future: Future[list[Message]] = Future.of_node()
         if on_done is not None:
@@ -90,12 +76,12 @@ class NodeCalls:
             except (ValueError, AttributeError):
                 return
             if on_reply is not None:
-                self._post(on_reply, message)
+                core.enqueue(on_reply, message)
             replies.append(message)
 
-        self.session.get(
+        core.session.get(
             key,
-            zenoh.handlers.Callback(on_zenoh_reply, lambda: self._post(future.set_result, replies)),
+            zenoh.handlers.Callback(on_zenoh_reply, lambda: core.enqueue(future.set_result, replies)),
             payload=encode(request),
             encoding=sample_encoding(type(request)),
             target=zenoh.QueryTarget.ALL,
@@ -130,11 +116,12 @@ class NodeCalls:
         ``feedback_rate`` Hz while a goal runs (None: nothing this time).  ``timeout``: s a goal
         may run (None: no limit; ``server.timeout`` changes it while running)."""
         types = (goal_type, feedback_type, result_type)
-        declared = self._declaration("goal service", self.resolve(key))
-        server = GoalServer(self, declared, key, types, execute, refuse, on_cancel, feedback, feedback_rate, timeout)
-        for role, msg_type in zip(GOAL_ROLES, types, strict=True):  # the goal service in the graph (action list)
-            declared.add(self._announce(role, msg_type, declared.key))
-        return server
+        return self.core.declare(
+            GOAL_SERVICE,
+            key,
+            types,
+            lambda d: GoalServer(self, d, key, types, execute, refuse, on_cancel, feedback, feedback_rate, timeout),
+        )
 
     def goal_client(
         self, key: str, goal_type: type[G], feedback_type: type[F], result_type: type[R]
@@ -145,18 +132,23 @@ class NodeCalls:
         follows the graph's tokens of the service's servers: when the last one goes away (its
         node exits, its host is cut off) the node logs it once and the running goals end
         (``GoalFailed`` naming it); when one is back, it logs that once."""
-        declared = self._declaration("goal client", self.resolve(key))
-        check(self.name, self.interface, "call", declared.key)
-        client_id = f"{self.name.replace('/', '.')}.{os.getpid()}.{next(_client_ids)}"
-        declared.add(self.session.liveliness().declare_token(client_token(client_id)))
-        client = GoalClient(self, declared, key, (goal_type, feedback_type, result_type), client_id)
+        core = self.core
 
-        def on_token(sample: zenoh.Sample) -> None:  # Zenoh thread: hand over only
-            entity = parse_entity_token(str(sample.key_expr))
-            if entity is not None and entity.role == "goal" and entity.key == declared.key:
-                alive = sample.kind == zenoh.SampleKind.PUT
-                self._post(client.server_seen, alive, entity.node, entity.pid)
+        def build(declared: Declaration) -> GoalClient[G, F, R]:
+            client_id = f"{core.name.replace('/', '.')}.{os.getpid()}.{next(_client_ids)}"
+            declared.add(core.session.liveliness().declare_token(client_token(client_id)))
+            client = GoalClient(self, declared, key, (goal_type, feedback_type, result_type), client_id)
 
-        servers = f"{ENTITY_TOKEN_PREFIX}/*/*/goal/*/{declared.key}"  # the runtime's own graph: no interface check
-        declared.add(self.session.liveliness().declare_subscriber(servers, on_token, history=True))
-        return client
+            def on_token(sample: zenoh.Sample) -> None:  # Zenoh thread: hand over only
+                entity = parse_entity_token(str(sample.key_expr))
+                if entity is not None and entity.role == "goal" and entity.key == declared.key:
+                    alive = sample.kind == zenoh.SampleKind.PUT
+                    core.enqueue(client.server_seen, alive, entity.node, entity.pid)
+
+            servers = (
+                f"{ENTITY_TOKEN_PREFIX}/*/*/goal/*/{declared.key}"  # the runtime's own graph: not the node's interface
+            )
+            declared.add(core.session.liveliness().declare_subscriber(servers, on_token, history=True))
+            return client
+
+        return core.declare(GOAL_CLIENT, key, (), build)

@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import time
 from collections.abc import Callable
-from typing import TYPE_CHECKING, Any, Generic, TypeVar
+from typing import TYPE_CHECKING, Generic, TypeVar
 
 import zenoh
 
@@ -15,7 +15,7 @@ from turtlectl.messages.stamps import with_stamp
 from turtlectl.runtime.handles import Declaration
 
 if TYPE_CHECKING:
-    from turtlectl.runtime.node import Node
+    from turtlectl.runtime.core import NodeCore
 
 M = TypeVar("M", bound=Message)
 
@@ -83,7 +83,7 @@ class Latest(Generic[M]):
 
     def __init__(
         self,
-        node: Node[Any],
+        core: NodeCore,
         key: str,
         msg_type: type[M],
         declared: Declaration,
@@ -91,17 +91,17 @@ class Latest(Generic[M]):
         follow: bool = False,
     ):
         self.key = key
-        self._node = node
+        self._core = core
         self._type = msg_type
         self._value: M | None = None
         self._callback: Callable[[M], None] | None = None
         self._generation = 0  # which callback a queued message was received for
-        self._ring = node.session.declare_subscriber(key, zenoh.handlers.RingChannel(keep))
+        self._ring = core.session.declare_subscriber(key, zenoh.handlers.RingChannel(keep))
         self._each: zenoh.Subscriber | None = None  # the callback subscriber, once needed
         self._declaration = declared  # the subscribers and its graph token
         declared.add(self._ring)
         if follow:
-            self._each = node.session.declare_subscriber(key, self._on_sample)
+            self._each = core.session.declare_subscriber(key, self._on_sample)
             declared.add(self._each)
 
     def _on_sample(self, sample: zenoh.Sample) -> None:  # Zenoh thread: decode and queue, while each() is set
@@ -110,12 +110,12 @@ class Latest(Generic[M]):
         try:
             msg = decode(sample.payload.to_bytes(), self._type)
         except ValueError as exc:
-            self._node._queue.put((self._node._rejected, (self.key, str(exc))))
+            self._core.enqueue(self._core.reject, self.key, str(exc))
             return
         self._value = msg  # one reference swapped: the node thread reads whole messages only
         generation = self._generation  # read before the callback: a change in between drops msg
         if self._callback is not None:
-            self._node._queue.put((self._dispatch, (msg, generation)))
+            self._core.enqueue(self._dispatch, msg, generation)
 
     def get(self) -> M | None:
         """The newest valid message received so far (None: none yet)."""
@@ -133,7 +133,7 @@ class Latest(Generic[M]):
             try:
                 got.append(decode(sample.payload.to_bytes(), self._type))
             except ValueError as exc:
-                self._node._rejected(self.key, str(exc))
+                self._core.reject(self.key, str(exc))
         if got:
             self._value = got[-1]
         return got
@@ -149,7 +149,7 @@ class Latest(Generic[M]):
         self._generation += 1
         self._callback = callback
         if callback is not None and self._each is None and self._declaration.active:
-            self._each = self._node.session.declare_subscriber(self.key, self._on_sample)
+            self._each = self._core.session.declare_subscriber(self.key, self._on_sample)
             self._declaration.add(self._each)
 
     def _dispatch(self, msg: M, generation: int) -> None:
@@ -199,10 +199,16 @@ class Request(Generic[M]):
 
 class Timer:
     """A periodic callback on an absolute grid (tick k due at ``start + k * period``); a
-    paused timer is not due at all, so it does not wake the node.  ``clock`` (s) is the node's."""
+    paused timer is not due at all, so it does not wake the node.  ``clock`` (s) is the node's;
+    ``owner``: the list of timers the node fires, which it joins (and leaves when undeclared)."""
 
     def __init__(
-        self, period: float, callback: Callable[[], None], start: float, clock: Callable[[], float] = time.monotonic
+        self,
+        period: float,
+        callback: Callable[[], None],
+        start: float,
+        clock: Callable[[], float] = time.monotonic,
+        owner: list[Timer] | None = None,
     ):
         self.period = period
         self.callback = callback
@@ -211,8 +217,10 @@ class Timer:
         self.deadline = start + period
         self.active = True
         self.undeclared = False
-        self._owner: list[Timer] | None = None  # the node's timers, set by Node.timer
+        self._owner = owner
         self._clock = clock  # s: read when ``retime``/``resume`` are not told ``now`` (the node's)
+        if owner is not None:
+            owner.append(self)
 
     def retime(self, period: float, now: float | None = None) -> None:
         """Tick every ``period`` s from now on (a grid starting ``now``; the next tick is one

@@ -150,24 +150,25 @@ class FakeNode(Generic[P]):
         return replies.refresh()
 
     def _ran(self) -> None:
-        self.node._drain()
+        self.node.core.drain()
         for replies in self._pending:
             replies.refresh()
 
     def advance(self, seconds: float) -> None:
         """Move the fake clock ``seconds`` on, firing each timer due meanwhile at its own
-        deadline, in order, and running what it queued, as the node's loop would."""
+        deadline, in order, and running what it queued, as the node's loop would (its core's
+        ``fire_due`` and ``drain``, deadline by deadline)."""
         if seconds < 0:
             raise ValueError(f"the clock only moves forward (advance({seconds}))")
         until = self.now + seconds
+        core = self.node.core
         self._ran()
         while True:
-            due = [t.deadline for t in self.node._timers if t.active]
-            deadline = min(due, default=None)
+            deadline = core.next_deadline()
             if deadline is None or deadline > until + _EPSILON:
                 break
             self.now = max(self.now, deadline)
-            self.node._fire_due(self.now)
+            core.fire_due(self.now)
             self._ran()
         self.now = max(self.now, until)
 

@@ -86,8 +86,8 @@ class LogStream(logging.Handler):
             self.key, encoding=self._encoding, congestion_control=zenoh.CongestionControl.DROP
         )
         self._queryable = session.declare_queryable(self.key, self._on_query)
-        self._token = node._announce("pub", Log, self.key)  # `turtlectl list --all` shows it, tools learn its type
-        node._own.uses(Log)
+        self._token = node.core.announce("pub", Log, self.key)  # `turtlectl list --all` shows it, tools learn its type
+        node.core.uses(Log)
 
     def handle(self, record: logging.LogRecord) -> bool:  # type: ignore[override]
         """``emit`` without logging's lock around it: the ring has its own, and a publish from

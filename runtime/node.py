@@ -33,7 +33,6 @@ from __future__ import annotations
 
 import logging
 import os
-import queue
 import time
 from collections.abc import Callable
 from typing import Any, Generic, TypeVar
@@ -41,28 +40,18 @@ from typing import Any, Generic, TypeVar
 import msgspec
 import zenoh
 
-from turtlectl.messages import (
-    Message,
-    decode,
-)
-from turtlectl.messages.codec import type_name
-from turtlectl.messages.keys import (
-    EntityInfo,
-    entity_token,
-    namespace_of,
-    resolve,
-    turtle_of,
-)
+from turtlectl.messages import Message
+from turtlectl.messages.keys import namespace_of, turtle_of
 from turtlectl.messages.world import Limits, World
+from turtlectl.runtime import declarations
 from turtlectl.runtime.calls import NodeCalls
 from turtlectl.runtime.claims import entities_on_router
 from turtlectl.runtime.config import Claim, Interface, NodeConfig
+from turtlectl.runtime.core import NodeCore
 from turtlectl.runtime.entities import RING, Latest, Publisher, Request, Timer
 from turtlectl.runtime.handles import Declaration
-from turtlectl.runtime.interface import check
-from turtlectl.runtime.loop import NodeLoop
 from turtlectl.runtime.own_services import OwnServices
-from turtlectl.runtime.simtime import SimClock, follow_clock
+from turtlectl.runtime.simtime import follow_clock
 
 P = TypeVar("P", bound=msgspec.Struct)
 M = TypeVar("M", bound=Message)
@@ -74,7 +63,7 @@ class NodeConflict(Exception):
     """Another running node already does what this one claims to do alone."""
 
 
-class Node(NodeLoop, NodeCalls, Generic[P]):
+class Node(NodeCalls, Generic[P]):
     """A running node, handed to a node class's constructor (``def __init__(self, node)``);
     the runtime makes it, a node's code never does.
 
@@ -87,7 +76,12 @@ class Node(NodeLoop, NodeCalls, Generic[P]):
     ``interface`` (what it may declare).  What it declares: ``publisher``, ``subscribe``,
     ``latest``, ``serve``, ``call``, ``timer``, ``watch_liveliness`` (each returns a handle
     with ``undeclare()``), and the hooks ``on_params`` and ``on_shutdown``.  Every callback
-    runs on the node's one thread."""
+    runs on the node's one thread: ``spin`` runs it until ``stop``; a script or test that
+    drives a node from its own thread calls ``spin_once`` or ``spin_until`` instead.
+
+    ``core`` is the node's ``runtime.core.NodeCore`` (its queue, timers, time source and
+    declarations): the runtime's modules and a new declaration kind build on it; node code
+    uses the methods here."""
 
     def __init__(
         self,
@@ -103,38 +97,51 @@ class Node(NodeLoop, NodeCalls, Generic[P]):
         #: and the turtle it is about (the namespace's, or turtle1 outside one)
         self.namespace = namespace_of(config.name)
         self.turtle = turtle_of(self.namespace)
-        self.remaps: dict[str, str] = dict(config.remaps)  # key as written -> key used (its launch file's remap)
-        self.clock = clock  # s: what timers run on (``runtime.fake`` gives a fake one)
         self._machine_clock = clock
         self._use_sim_time = config.use_sim_time
-        self._time_ns: Callable[[], int] = time.time_ns  # what messages are stamped with
-        self._sim: SimClock | None = None  # with use_sim_time: the simulator's clock
         self.kind = config.kind
         self.started_ns = time.time_ns() if started_ns is None else started_ns
         self._connect, self._domain, self._credentials = config.connect, config.domain, config.credentials
         self.params: P = params
-        self.interface: Interface | None = None  # the runtime's own declarations below are every node's share
         self.world: World = config.world
         self.limits: Limits = config.limits
         self.session = session
         self.log = logging.getLogger(config.name)
-        self._queue: queue.SimpleQueue[tuple[Callable[..., None], tuple[Any, ...]]] = queue.SimpleQueue()
-        self._timers: list[Timer] = []
-        self._entities: list[Declaration] = []  # what it declared, still declared
-        self._bad_payloads: dict[str, int] = {}
-        self._running = True
-        self._on_shutdown: list[Callable[[], None]] = []
-        self._on_params: list[Callable[[P], None]] = []
+        self.core = NodeCore(
+            config.name,
+            session,
+            self.log,
+            clock,
+            time.time_ns,
+            namespace=self.namespace,
+            remaps=config.remaps,
+            interface=config.interface,
+        )
         self._own = OwnServices(self)  # every node's: its parameters, what it is, its log level, its types
         if config.use_sim_time:
-            self._sim = follow_clock(self)
-        self.interface = config.interface  # from here on, what the node declares is checked against it
+            follow_clock(self.core)
+
+    @property
+    def interface(self) -> Interface | None:
+        """What the node may declare (runtime.interface; None: anything)."""
+        return self.core.interface
+
+    @property
+    def remaps(self) -> dict[str, str]:
+        """Key as written -> key used (its launch file's ``remap`` of the node)."""
+        return self.core.remaps
+
+    @property
+    def clock(self) -> Callable[[], float]:
+        """The node's clock: ``node.clock()`` is the time in s its timers run on (monotonic; the
+        simulated time with ``use_sim_time``; a fake one under ``FakeNode``)."""
+        return self.core.clock
 
     def now_ns(self) -> int:
         """The node's time in ns since the Unix epoch, what its messages are stamped with: the
         wall clock, or with ``use_sim_time`` the simulated one (0 before the simulator's first
         ``Clock``)."""
-        return self._time_ns()
+        return self.core.now_ns()
 
     @property
     def uses_sim_time(self) -> bool:
@@ -147,10 +154,10 @@ class Node(NodeLoop, NodeCalls, Generic[P]):
         node that makes the time itself, as the simulator does (its poses carry its simulated
         time).  Its timers and ``clock()`` are the machine's (they pace it), even with
         ``use_sim_time``: call it before declaring a timer."""
-        if self._sim is not None:  # it makes the time: it does not follow it
-            self._sim.declared.undeclare()
-            self._sim, self.clock = None, self._machine_clock
-        self._time_ns = now_ns
+        sim = self.core.sim
+        if sim is not None and sim.declared is not None:  # it makes the time: it does not follow it
+            sim.declared.undeclare()
+        self.core.set_time_source(self._machine_clock, now_ns)
 
     # -- declarations -------------------------------------------------------
     def resolve(self, key: str) -> str:
@@ -158,48 +165,23 @@ class Node(NodeLoop, NodeCalls, Generic[P]):
         outside a namespace; in ``turtle2``, ``turtle1/pose`` is ``turtle2/pose`` and
         ``robot/status`` is ``turtle2/robot/status``; ``/turtles`` is always ``turtles``; then
         the launch file's ``remap`` of the node (``remaps``)."""
-        return resolve(key, self.namespace, self.remaps)
-
-    def _announce(self, role: str, msg_type: type[Message] | str, key: str) -> zenoh.LivelinessToken:
-        """A liveliness token for the graph (``turtlectl list``): this node's role on ``key``
-        with a message type (or a type's name, such as "JSON")."""
-        name = msg_type if isinstance(msg_type, str) else type_name(msg_type)
-        entity = EntityInfo(node=self.name, pid=os.getpid(), role=role, type_name=name, key=key)
-        return self.session.liveliness().declare_token(entity_token(entity))
+        return self.core.resolve(key)
 
     def publisher(self, key: str, msg_type: type[M]) -> Publisher[M]:
         """A publisher of ``msg_type`` on ``key`` (``publish``; ``undeclare`` withdraws it)."""
-        key = self.resolve(key)
-        check(self.name, self.interface, "publish", key)
-        self._own.uses(msg_type)
-        declared = Declaration(self._entities, "publisher", key)
-        pub = Publisher(self.session, key, msg_type, declared, self.now_ns)
-        declared.add(self._announce("pub", msg_type, key))
-        return pub
+        return declarations.publisher(self.core, key, msg_type)
 
     def subscribe(self, key: str, msg_type: type[M], callback: Callable[[M], None]) -> Declaration:
         """Call ``callback(msg)`` on the node thread for each valid ``msg_type`` on ``key``,
         until the returned declaration is undeclared."""
-        key = self.resolve(key)
-        check(self.name, self.interface, "subscribe", key)
-        self._own.uses(msg_type)
-        declared = Declaration(self._entities, "subscription", key)
-        declared.add(self.session.declare_subscriber(key, self._queuing(key, msg_type, callback, declared)))
-        declared.add(self._announce("sub", msg_type, key))
-        return declared
+        return declarations.subscription(self.core, key, msg_type, callback)
 
     def latest(self, key: str, msg_type: type[M], keep: int = RING, follow: bool = False) -> Latest[M]:
         """Keep the newest ``msg_type`` on ``key`` for the node to read at its own pace
         (``.get()``; every one since the last read: ``.received()``, up to ``keep``), without
         waking the node for each message (see ``Latest``); ``follow``: it will also take every
         message at times (``.each(callback)``), ready from now on."""
-        key = self.resolve(key)
-        check(self.name, self.interface, "subscribe", key)
-        self._own.uses(msg_type)
-        declared = Declaration(self._entities, "subscription", key)
-        latest = Latest(self, key, msg_type, declared, keep, follow)
-        declared.add(self._announce("sub", msg_type, key))
-        return latest
+        return declarations.latest(self.core, key, msg_type, keep, follow)
 
     def serve(
         self,
@@ -210,18 +192,7 @@ class Node(NodeLoop, NodeCalls, Generic[P]):
     ) -> Declaration:
         """Serve a queryable; ``handler(request)`` runs on the node thread and responds when it
         likes, until the returned declaration is undeclared."""
-        key = self.resolve(key)
-        check(self.name, self.interface, "serve", key)
-        self._own.uses(request_type)
-        self._own.uses(response_type)
-        declared = Declaration(self._entities, "service", key)
-
-        def on_query(query: zenoh.Query) -> None:  # Zenoh thread: queue only
-            self._queue.put((self._handle_query, (key, request_type, response_type, query, handler, declared)))
-
-        declared.add(self.session.declare_queryable(key, on_query))
-        declared.add(self._announce("srv", request_type, key))
-        return declared
+        return declarations.service(self.core, key, request_type, response_type, handler)
 
     def claim(self, claim: Claim) -> None:
         """Make sure no other running node is the ``claim.role`` ("pub", "srv") of ``claim.key``:
@@ -243,113 +214,63 @@ class Node(NodeLoop, NodeCalls, Generic[P]):
         """Answer every query on ``key`` with a JSON ``document``, or what ``document()``
         returns then (read-only: answered right on the Zenoh thread; a callable must only
         read attributes the node thread swaps whole)."""
-        key = self.resolve(key)
-        check(self.name, self.interface, "serve", key)
-
-        def on_query(query: zenoh.Query) -> None:
-            body = document() if callable(document) else document
-            query.reply(key, body, encoding=zenoh.Encoding.APPLICATION_JSON)
-
-        declared = Declaration(self._entities, "JSON answer", key)
-        declared.add(self.session.declare_queryable(key, on_query))
-        declared.add(self._announce("srv", "JSON", key))
-        return declared
+        return declarations.json_answer(self.core, key, document)
 
     def watch_liveliness(self, key_expr: str, callback: Callable[[str, bool], None]) -> Declaration:
         """Call ``callback(key, alive)`` on the node thread when a matching token appears or
         vanishes, until the returned declaration is undeclared."""
-        key_expr = self.resolve(key_expr)
-        check(self.name, self.interface, "watch", key_expr)
-        declared = Declaration(self._entities, "liveliness watch", key_expr)
-
-        def live(key: str, alive: bool) -> None:
-            if declared.active:
-                callback(key, alive)
-
-        def on_sample(sample: zenoh.Sample) -> None:  # Zenoh thread: queue only
-            self._queue.put((live, (str(sample.key_expr), sample.kind == zenoh.SampleKind.PUT)))
-
-        declared.add(self.session.liveliness().declare_subscriber(key_expr, on_sample))
-        return declared
+        return declarations.liveliness_watch(self.core, key_expr, callback)
 
     def timer(self, period: float, callback: Callable[[], None]) -> Timer:
         """Call ``callback()`` every ``period`` s on an absolute schedule (until paused)."""
-        timer = Timer(period, callback, self.clock(), clock=self.clock)
-        timer._owner = self._timers
-        self._timers.append(timer)
-        return timer
+        return self.core.timer(period, callback)
 
     def on_params(self, callback: Callable[[P], None]) -> None:
         """Call ``callback(params)`` on the node thread after a parameter changed at run time
         (``self.params`` is already the new Struct): a node that keeps something made from a
         parameter (a timer's period, a table of beam angles) makes it again here.  A node that
         reads ``node.params`` where it uses them needs no hook."""
-        self._on_params.append(callback)
+        self._own.on_params(callback)
 
     def on_shutdown(self, callback: Callable[[], None]) -> None:
         """Run ``callback()`` on the node thread when the node stops (e.g. to stop the turtle)."""
-        self._on_shutdown.append(callback)
+        self.core.on_shutdown(callback)
 
-    # -- internals ----------------------------------------------------------
-    def _post(self, fn: Callable[..., None], *args: Any) -> None:
-        """Run ``fn(*args)`` on the node's thread, after what is queued already (from any thread)."""
-        self._queue.put((fn, args))
+    # -- running ------------------------------------------------------------
+    @property
+    def stopping(self) -> bool:
+        """Whether ``stop`` was asked for (a signal, the parent's death, the node itself)."""
+        return self.core.stop_requested
 
-    def _declaration(self, what: str, key: str) -> Declaration:
-        """A new declaration (``what`` on ``key``, resolved) among the node's, undeclared with it."""
-        return Declaration(self._entities, what, key)
+    def stop(self, *_: Any) -> None:
+        """Ask the node to stop (safe from signal handlers and other threads)."""
+        self.core.stop()
 
-    def _uses(self, msg_type: type[Message]) -> None:
-        """The node uses ``msg_type``: its own services describe it (runtime.own_services)."""
-        self._own.uses(msg_type)
+    def spin(self) -> bool:
+        """Run timers and queued callbacks on this thread until ``stop``, then the shutdown
+        hooks.  Returns False if node code raised: the traceback is logged once and the
+        node stops as if asked to (its hooks still run, so a navigator still stops the turtle)."""
+        return self.core.run()
 
-    def _queuing(
-        self, key: str, msg_type: type[M], callback: Callable[[M], None], declared: Declaration
-    ) -> Callable[[zenoh.Sample], None]:
-        """A Zenoh sample callback that only queues ``callback``'s delivery for the node thread."""
+    def spin_once(self, timeout: float = 0.0) -> bool:
+        """One turn of ``spin`` on the calling thread, for a script or test that drives the node
+        itself (as rclpy's ``spin_once``): the timers due fire, then one queued callback runs,
+        waited for at most ``timeout`` s.  True if a callback ran.  Node code that raises
+        propagates."""
+        return self.core.run_once(timeout)
 
-        def on_sample(sample: zenoh.Sample) -> None:  # Zenoh thread: queue only
-            self._queue.put((self._deliver, (key, msg_type, sample.payload.to_bytes(), callback, declared)))
+    def spin_until(self, condition: Callable[[], object], timeout: float) -> bool:
+        """``spin_once`` until ``condition()`` is true or ``timeout`` s (the machine's clock) have
+        passed (as rclpy's ``spin_until_future_complete``: ``spin_until(future.done, 5.0)``).
+        Whether ``condition()`` held."""
+        deadline = time.monotonic() + timeout
+        while not condition():
+            left = deadline - time.monotonic()
+            if left <= 0:
+                return bool(condition())
+            self.core.run_once(min(left, 0.1))
+        return True
 
-        return on_sample
-
-    def _rejected(self, key: str, reason: str) -> None:
-        """Count a bad payload; log the first per key and then every 100th."""
-        count = self._bad_payloads.get(key, 0) + 1
-        self._bad_payloads[key] = count
-        if count == 1 or count % 100 == 0:
-            self.log.warning("dropped malformed payload #%d on %s: %s", count, key, reason)
-
-    def _deliver(
-        self, key: str, msg_type: type[M], payload: bytes, callback: Callable[[M], None], declared: Declaration
-    ) -> None:
-        if not declared.active:  # queued before it was undeclared
-            return
-        try:
-            msg = decode(payload, msg_type)
-        except ValueError as exc:
-            self._rejected(key, str(exc))
-            return
-        callback(msg)
-
-    def _handle_query(
-        self,
-        key: str,
-        request_type: type[M],
-        response_type: type[Message],
-        query: zenoh.Query,
-        handler: Callable[[Request[M]], None],
-        declared: Declaration,
-    ) -> None:
-        if not declared.active:  # queued before the service was undeclared
-            Request(key, query, None).fail(f"{key} is no longer served by {self.name}")
-            return
-        # no payload at all is an empty map: `reset` and `navigate_to/cancel` need no fields
-        payload = query.payload.to_bytes() if query.payload is not None else b"\x80"
-        try:
-            body = decode(payload, request_type)
-        except ValueError as exc:
-            self._rejected(key, str(exc))
-            Request(key, query, None).fail(str(exc))
-            return
-        handler(Request(key, query, body))
+    def shutdown(self) -> None:
+        """Run the shutdown hooks once, each even if an earlier one raised."""
+        self.core.shutdown()

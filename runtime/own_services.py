@@ -1,14 +1,16 @@
 """What every node serves about itself, whatever its kind: its parameters (read, described,
 set at run time, each change told on ``turtlectl/parameter_events``), what it is (node info),
 its log level, and the description of every message type it uses
-(``turtlectl/types/<name>/<node>``, messages.described: how tools understand a user's type).  Declared by ``Node`` before its own code runs (outside its interface: every
-node's share)."""
+(``turtlectl/types/<name>/<node>``, messages.described: how tools understand a user's type).
+Declared by ``Node`` before its own code runs, as the runtime's own (``own=True``: whatever the
+node's interface names, every node serves them)."""
 
 from __future__ import annotations
 
 import logging
 import os
 import socket
+from collections.abc import Callable
 from typing import TYPE_CHECKING, Any
 
 import msgspec
@@ -29,6 +31,7 @@ from turtlectl.messages.keys import (
 )
 from turtlectl.messages.params import ParamInfo
 from turtlectl.runtime.config import LOG_LEVELS
+from turtlectl.runtime.declarations import json_answer, publisher, service
 from turtlectl.runtime.entities import Request
 from turtlectl.runtime.params import ParamRefused, describe, lookup, param_infos, with_value
 
@@ -58,26 +61,33 @@ ERRORS = ErrorCount()
 
 
 class OwnServices:
-    """A node's own services, declared on ``node``."""
+    """A node's own services, declared on ``node``'s core; ``on_params`` hooks run after a
+    parameter set."""
 
     def __init__(self, node: Node[Any]):
         self.node = node
-        node._own = self  # its declarations below describe their types through this, as the node's will
+        self._on_params: list[Callable[[Any], None]] = []
         self._infos: list[ParamInfo] | None = None  # made at the first describe
         self._types: dict[type[Message], list[Any]] = {}  # each type it uses: [its description (JSON), when asked]
         self._queryables: list[Any] = []  # kept: a dropped queryable would go
         if ERRORS not in logging.getLogger().handlers:
             logging.getLogger().addHandler(ERRORS)
-        node.answer_json(params_key(node.name), lambda: msgspec.json.encode(node.params))
-        node.answer_json(param_describe_key(node.name), self.describe_params)
-        node.answer_json(node_key(node.name), self.details)
-        self._events = node.publisher(PARAMETER_EVENTS, ParameterEvent)
-        node.serve(param_set_key(node.name), SetParameter, Ack, self.set_param)
-        node.serve(log_level_key(node.name), SetLogLevel, Ack, self.set_log_level)
+        core = node.core
+        core.on_type(self.uses)  # every type the node uses, these first, is described
+        json_answer(core, params_key(node.name), lambda: msgspec.json.encode(node.params), own=True)
+        json_answer(core, param_describe_key(node.name), self.describe_params, own=True)
+        json_answer(core, node_key(node.name), self.details, own=True)
+        self._events = publisher(core, PARAMETER_EVENTS, ParameterEvent, own=True)
+        service(core, param_set_key(node.name), SetParameter, Ack, self.set_param, own=True)
+        service(core, log_level_key(node.name), SetLogLevel, Ack, self.set_log_level, own=True)
+
+    def on_params(self, callback: Callable[[Any], None]) -> None:
+        """Call ``callback(params)`` after each parameter set (``Node.on_params``)."""
+        self._on_params.append(callback)
 
     def uses(self, msg_type: type[Message]) -> None:
-        """The node uses ``msg_type``: known by its name in this process from now on, and its
-        description served (made the first time it is asked for)."""
+        """The node uses ``msg_type`` (its core tells, once per type): known by its name in this
+        process from now on, and its description served (made the first time it is asked for)."""
         if msg_type in self._types:
             return
         register(msg_type)  # ValueError: a second class under a name this process knows
@@ -125,8 +135,8 @@ class OwnServices:
             request.fail(f"{self.node.name}: {exc}")
             return
         self.node.params = new  # type: ignore[assignment]  # with_value keeps the Struct's type
-        for callback in self.node._on_params:
-            callback(new)  # type: ignore[arg-type]
+        for callback in self._on_params:
+            callback(new)
         value = lookup(msgspec.to_builtins(new), name)  # as converted: 60 -> 60.0 for a float
         self.node.log.info("parameter %s: %s -> %s", name, _shown(old), _shown(value))
         self._events.publish(ParameterEvent(node=self.node.name, name=name, old_value=old, new_value=value))

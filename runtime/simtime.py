@@ -20,14 +20,15 @@ import logging
 import math
 import time
 from collections.abc import Callable
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 from turtlectl.messages import Clock, decode
 from turtlectl.messages.keys import CLOCK
+from turtlectl.runtime.declarations import SUBSCRIPTION
 from turtlectl.runtime.handles import Declaration
 
 if TYPE_CHECKING:
-    from turtlectl.runtime.node import Node
+    from turtlectl.runtime.core import NodeCore
 
 #: s: with use_sim_time, how long a node waits for the first Clock before it says so
 WAIT_FOR_CLOCK = 3.0
@@ -140,21 +141,24 @@ class SimClock:
             self._wake()
 
 
-def follow_clock(node: Node[Any]) -> SimClock:
-    """Put ``node`` on the simulator's clock (``use_sim_time``): its ``clock()``, its timers and
-    its stamps follow the ``Clock`` messages on ``clock``; when the time begins or jumps back,
-    its timers start again from it (on its own thread).  The subscription is the runtime's own
-    (``list`` shows it); ``Node.use_time`` undeclares it for a node that makes the time itself."""
-    wake = node._queue.put
+def follow_clock(core: NodeCore) -> SimClock:
+    """Put the node of ``core`` on the simulator's clock (``use_sim_time``): its ``clock()``, its
+    timers and its stamps follow the ``Clock`` messages on ``clock``; when the time begins or jumps
+    back, its timers start again from it (on its own thread).  The subscription is the runtime's
+    own (``list`` shows it); ``Node.use_time`` undeclares it for a node that makes the time itself."""
+    enqueue = core.enqueue
     sim = SimClock(
-        lambda: wake((_nothing, ())),
-        lambda why: wake((node._rejected, (CLOCK, why))),
-        restarted=lambda back: wake((_restarted, (node, sim, back))),
+        lambda: enqueue(_nothing),
+        lambda why: enqueue(core.reject, CLOCK, why),
+        restarted=lambda back: enqueue(_restarted, core, sim, back),
     )
-    node.clock, node._time_ns = sim.now, sim.now_ns
-    sim.declared = Declaration(node._entities, "subscription", CLOCK)
-    sim.declared.add(node.session.declare_subscriber(CLOCK, lambda sample: sim.heard(sample.payload.to_bytes())))
-    sim.declared.add(node._announce("sub", Clock, CLOCK))
+    core.set_time_source(sim.now, sim.now_ns, sim)
+
+    def build(declared: Declaration) -> Declaration:
+        declared.add(core.session.declare_subscriber(CLOCK, lambda sample: sim.heard(sample.payload.to_bytes())))
+        return declared
+
+    sim.declared = core.declare(SUBSCRIPTION, CLOCK, (Clock,), build, own=True)
     return sim
 
 
@@ -162,14 +166,12 @@ def _nothing() -> None:
     """A queue item that only wakes the node's thread (it then fires what is due)."""
 
 
-def _restarted(node: Node[Any], sim: SimClock, back: float) -> None:
+def _restarted(core: NodeCore, sim: SimClock, back: float) -> None:
     """The simulated time began (``back`` 0.0) or jumped back ``back`` s: every timer of the node
     starts again from it, its first tick a period on (ROS resets its timers on a jump back)."""
-    if node._sim is not sim:  # it makes the time itself meanwhile (use_time)
+    if core.sim is not sim:  # it makes the time itself meanwhile (use_time)
         return
     sim.accept()
-    now = node.clock()
-    for timer in node._timers:
-        timer.retime(timer.period, now)
+    core.restart_timers(core.clock())
     if back:
-        node.log.warning("the clock went back %.3f s (a replay looping?): timers start again from it", back)
+        core.log.warning("the clock went back %.3f s (a replay looping?): timers start again from it", back)

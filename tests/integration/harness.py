@@ -444,7 +444,8 @@ class NoParams(msgspec.Struct):
 @contextmanager
 def node_in_process(name: str) -> Iterator[tuple[Node[NoParams], zenoh.Session]]:
     """A Node (a peer session) and a client session, both on a router opened here, in the
-    test's own process: the test drains ``node._queue`` itself, as the node thread would."""
+    test's own process: the test runs what the node queued itself, as the node's thread would
+    (``node.spin_once``, ``node.spin_until``; ``node.core.drain()`` without waiting)."""
     port = free_port()
     endpoint = f"tcp/127.0.0.1:{port}"
     router = zenoh.open(router_config(port))

@@ -23,9 +23,8 @@ def node_and_client():
 
 
 def run_queued(node: Node) -> None:
-    while not node._queue.empty():
-        func, args = node._queue.get()
-        func(*args)
+    """What the node's thread does with what was queued for it."""
+    node.core.drain()
 
 
 def _try(check) -> bool:
@@ -56,12 +55,12 @@ def test_an_undeclared_subscription_delivers_nothing_more_not_even_what_was_queu
     _until(lambda: seen, act=lambda: (pub.put(encode(Pose(x=1.0, y=0.0, theta=0.0))), run_queued(node)))
     _until(lambda: ("sub", "test/handles/pose") in graph(client))
     pub.put(encode(Pose(x=2.0, y=0.0, theta=0.0)))
-    _until(lambda: not node._queue.empty())  # queued, not yet run
+    _until(lambda: node.core.pending())  # queued, not yet run
     sub.undeclare()
     seen.clear()
     run_queued(node)
     pub.put(encode(Pose(x=3.0, y=0.0, theta=0.0)))
-    assert seen == [] and node._queue.empty()
+    assert seen == [] and node.core.pending() == 0
     _until(lambda: ("sub", "test/handles/pose") not in graph(client))
     sub.undeclare()  # twice: nothing more
 
@@ -85,7 +84,7 @@ def test_an_undeclared_service_is_gone_and_a_query_queued_before_gets_an_error(n
     _until(answered)
     calls.clear()
     replies = client.get("test/handles/reset", payload=encode(Reset()), timeout=2.0)
-    _until(lambda: not node._queue.empty())
+    _until(lambda: node.core.pending())
     service.undeclare()
     run_queued(node)
     answers = list(replies)

@@ -211,14 +211,7 @@ def test_a_nodes_goal_whose_server_is_killed_ends_naming_it(caplog):
             feedback: list[NavigateToFeedback] = []
 
             def run_until(done, timeout: float, what: str) -> None:
-                deadline = time.monotonic() + timeout
-                while not done():
-                    assert time.monotonic() < deadline, what
-                    try:
-                        fn, args = node._queue.get(timeout=0.1)
-                    except Exception:
-                        continue
-                    fn(*args)
+                assert node.spin_until(done, timeout), what
 
             # A session just opened may not have the navigator's queryable routed yet: a goal
             # sent then finds nothing serving it.  Its server's token says when it is reachable.

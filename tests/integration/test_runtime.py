@@ -121,12 +121,10 @@ def test_latest_keeps_the_newest_valid_message_and_wakes_nobody(node_and_client,
         pub.put(_pose(float(x)))
     _until(lambda: latest.get().x == 50.0)
     assert latest.get().x == 50.0  # read again: still the newest
-    assert node._queue.empty()  # nothing was queued for the node thread: no per-message wake-up
+    assert node.core.pending() == 0  # nothing was queued for the node thread: no per-message wake-up
 
     def run_queued() -> None:  # what the node thread does with what was queued for it
-        while not node._queue.empty():
-            func, args = node._queue.get()
-            func(*args)
+        node.core.drain()
 
     def read() -> None:  # samples wait in a ring channel, decoded (garbage counted) when read
         run_queued()
@@ -134,13 +132,13 @@ def test_latest_keeps_the_newest_valid_message_and_wakes_nobody(node_and_client,
 
     with caplog.at_level(logging.WARNING):
         pub.put(b"\xc1 not msgpack")
-        _until(lambda: node._bad_payloads.get(LATEST_KEY) == 1, act=read)
+        _until(lambda: node.core.rejections().get(LATEST_KEY) == 1, act=read)
         assert latest.get().x == 50.0  # the previous valid message is kept
         # a full test run found garbage hidden by the valid sample right after it (a ring channel
         # of one kept only the newest): every malformed payload is counted, whatever follows it
         pub.put(b"garbage")
         pub.put(_pose(51.0))
-        _until(lambda: node._bad_payloads.get(LATEST_KEY) == 2 and latest.get().x == 51.0, act=read)
+        _until(lambda: node.core.rejections().get(LATEST_KEY) == 2 and latest.get().x == 51.0, act=read)
     assert f"dropped malformed payload #1 on {LATEST_KEY}" in caplog.text
 
     tokens = _until(
@@ -161,9 +159,7 @@ def test_latest_each_calls_back_for_every_message_only_while_set(node_and_client
     seen: list[float] = []
 
     def run_queued() -> None:
-        while not node._queue.empty():
-            func, args = node._queue.get()
-            func(*args)
+        node.core.drain()
 
     latest.each(lambda pose: seen.append(pose.x))
     _until(lambda: seen, act=lambda: (pub.put(_pose(-1.0)), run_queued()))
@@ -185,7 +181,7 @@ def test_latest_each_calls_back_for_every_message_only_while_set(node_and_client
     # must not be fed the last goal's poses still queued)
     latest.each(lambda pose: seen.append(pose.x))
     pub.put(_pose(7.0))
-    _until(lambda: not node._queue.empty())  # queued for the first callback, not yet run
+    _until(lambda: node.core.pending())  # queued for the first callback, not yet run
     later: list[float] = []
     latest.each(None)
     latest.each(lambda pose: later.append(pose.x))
@@ -212,8 +208,6 @@ def test_latest_each_set_again_to_the_same_callback_loses_nothing_queued(node_an
     latest.each(follower.on_pose)
     for x in range(1, 21):
         pub.put(_pose(float(x)))
-    _until(lambda: node._queue.qsize() >= 20)  # all queued before the first is handled
-    while not node._queue.empty():
-        func, args = node._queue.get()
-        func(*args)
+    _until(lambda: node.core.pending() >= 20)  # all queued before the first is handled
+    node.core.drain()
     assert seen == [float(x) for x in range(1, 21)]

@@ -140,7 +140,7 @@ def test_a_latest_value_is_read_newest_first_its_garbage_logged_when_read(caplog
         fake.deliver("demo/pose", b"\x01garbage")
         assert fake.instance.pose.get() == Pose(x=1.0, y=2.0, theta=0.0)
     assert "dropped malformed payload #2 on demo/pose" not in caplog.text  # counted, logged 1st and every 100th
-    assert fake.node._bad_payloads["demo/pose"] == 2
+    assert fake.node.core.rejections()["demo/pose"] == 2
 
 
 def test_a_request_gets_its_reply_and_garbage_an_error_reply():

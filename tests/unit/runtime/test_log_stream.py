@@ -63,8 +63,10 @@ def fake_node(name: str = "turtle2/navigator") -> SimpleNamespace:
     return SimpleNamespace(
         name=name,
         session=Session(),
-        _announce=lambda role, msg_type, key: announced.append((role, msg_type, key)) or Entity(key),
-        _own=SimpleNamespace(uses=used.append),
+        core=SimpleNamespace(
+            announce=lambda role, msg_type, key: announced.append((role, msg_type, key)) or Entity(key),
+            uses=used.append,
+        ),
         used=used,
         announced=announced,
     )

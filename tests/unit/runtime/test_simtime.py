@@ -41,7 +41,7 @@ def test_the_time_is_zero_until_the_first_clock_then_the_clocks():
     pub.publish(Twist())
     tick(session, 5_000_000_000)
     assert node.clock() == 0.0  # until the node's thread takes the new time (its timers with it)
-    node._drain()
+    node.core.drain()
     assert node.clock() == 5.0 and node.now_ns() == 5_000_000_000
     pub.publish(Twist())
     assert stamps(session, "out") == [0, 5_000_000_000]  # stamped with the simulated time
@@ -60,28 +60,28 @@ def test_without_use_sim_time_the_machines_clock_and_no_clock_subscription():
 def test_timers_run_on_the_simulated_time_and_a_clock_past_the_next_deadline_wakes_the_node():
     node, session = sim_node()
     tick(session, 10_000_000_000)
-    node._drain()
+    node.core.drain()
     fired: list[float] = []
     node.timer(0.1, lambda: fired.append(node.clock()))
-    node._sim.wake_at = node._timers[0].deadline  # as the node's loop sets it before it waits
+    node.core.sim.wake_at = node.core.next_deadline()  # as the node's loop sets it before it waits
     tick(session, 10_050_000_000)
-    assert node._queue.empty()  # not due: the thread sleeps on
-    node._fire_due(node.clock())
+    assert node.core.pending() == 0  # not due: the thread sleeps on
+    node.core.fire_due(node.clock())
     assert fired == []
     tick(session, 10_100_000_000)
-    assert not node._queue.empty()  # due: the thread is woken
-    node._drain()
-    node._fire_due(node.clock())
+    assert node.core.pending()  # due: the thread is woken
+    node.core.drain()
+    node.core.fire_due(node.clock())
     assert fired == [pytest.approx(10.1, abs=0.016)]  # at most a step on, as the time runs between Clocks
 
 
 def test_a_malformed_clock_is_counted_and_logged_and_the_time_holds(caplog):
     node, session = sim_node()
     tick(session, 7_000_000_000)
-    node._drain()
+    node.core.drain()
     session.deliver(CLOCK, b"garbage")
-    node._drain()
-    assert node._bad_payloads == {CLOCK: 1}
+    node.core.drain()
+    assert node.core.rejections() == {CLOCK: 1}
     assert "dropped malformed payload #1 on clock" in caplog.text
     assert node.clock() == 7.0
 
@@ -123,10 +123,10 @@ def test_timers_made_before_the_first_clock_tick_a_period_after_it_not_on_a_grid
     fired: list[float] = []
     node.timer(1.0, lambda: fired.append(node.clock()))
     tick(session, 1_795_659_174_987_000_000)
-    node._drain()
-    node._fire_due(node.clock())
+    node.core.drain()
+    node.core.fire_due(node.clock())
     assert fired == []
-    assert node._timers[0].deadline == pytest.approx(1_795_659_175.987)
+    assert node.core.next_deadline() == pytest.approx(1_795_659_175.987)
 
 
 def test_a_jump_back_starts_the_timers_again_from_the_new_time(caplog):
@@ -134,16 +134,16 @@ def test_a_jump_back_starts_the_timers_again_from_the_new_time(caplog):
     timers (they would stop for good if the node's time could not go back)."""
     node, session = sim_node()
     tick(session, 100_000_000_000)
-    node._drain()
+    node.core.drain()
     node.timer(0.5, lambda: None)
     tick(session, 100_400_000_000)
     tick(session, 100_300_000_000)  # a late one: ignored
-    node._drain()
+    node.core.drain()
     assert node.clock() == pytest.approx(100.4, abs=0.02)
     tick(session, 96_000_000_000)  # 4.4 s back: the replay looped
-    node._drain()
+    node.core.drain()
     assert node.clock() == pytest.approx(96.0, abs=0.02)
-    assert node._timers[0].deadline == pytest.approx(96.5, abs=0.02)
+    assert node.core.next_deadline() == pytest.approx(96.5, abs=0.02)
     assert "the clock went back 4.400 s" in caplog.text
 
 
