@@ -5,7 +5,7 @@ Each group of commands is a module of cli.commands (system, driving, topics, ser
 parameters, introspection, recording), a thin layer of Typer commands: they parse options,
 call logic that never prints (client tools in cli.tools, the launch side in cli.system,
 recordings in cli.recording, the Foxglove bridge in cli.foxglove; argument checks in
-cli.args), and print what it returns.  Logic raises errors by meaning (cli.errors); ``main``
+cli.args), and print what it returns.  Logic raises errors by meaning (runtime.client.errors); ``main``
 is the one place that prints them on stderr and exits with their exit code.
 
 ``turtlectl --help`` must stay quick: modules that cost time to import (sessions, launch
@@ -39,9 +39,9 @@ from turtlectl.cli.commands import (
     verify,
 )
 from turtlectl.cli.commands.options import DomainOption
-from turtlectl.cli.errors import BadInput, ExitCode, Interrupted, TurtlectlError, exit_code
-from turtlectl.cli.sigint import ignore_sigint, quiet_unraisable
-from turtlectl.cli.tools import presence
+from turtlectl.runtime.client import presence
+from turtlectl.runtime.client.errors import BadInput, ExitCode, Interrupted, TurtlectlError, exit_code
+from turtlectl.runtime.client.sigint import ignore_sigint, quiet_unraisable
 from turtlectl.runtime.endpoint import CONNECT_ENV, DEFAULT_ENDPOINT, peer_timeout
 
 EXIT_CODES_HELP = """
@@ -167,7 +167,7 @@ def error_line(error: TurtlectlError) -> str:
 
 def main() -> None:
     """Console entry point: run the app; the one place where an error becomes its message on
-    stderr and its exit code (cli.errors.exit_code)."""
+    stderr and its exit code (runtime.client.errors.exit_code)."""
     sys.unraisablehook = quiet_unraisable
     try:
         app()

@@ -9,8 +9,8 @@ from typing import Any
 import typer
 
 from turtlectl.cli.commands.options import ConnectOption, DomainOption, completer, format
-from turtlectl.cli.errors import Interrupted, goal_exit_code
-from turtlectl.cli.sigint import ignore_sigint
+from turtlectl.runtime.client.errors import Interrupted, goal_exit_code
+from turtlectl.runtime.client.sigint import ignore_sigint
 
 action_app = typer.Typer(
     help="Goal services, any node's (as `ros2 action`): list, info, send-goal.\n\nExample: turtlectl action list"
@@ -71,7 +71,8 @@ def send_goal(
 
     Example: turtlectl action send-goal patrol/laps '{"laps": 2}' --feedback
     """
-    from turtlectl.cli.tools import actions, services
+    from turtlectl.cli.tools import actions
+    from turtlectl.runtime.client import services
 
     def show(message: Any) -> None:
         if isinstance(message, services.Raw):

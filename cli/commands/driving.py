@@ -11,7 +11,14 @@ import typer
 
 from turtlectl.cli import args
 from turtlectl.cli.commands.options import ConnectOption, DomainOption, ExitOnLossOption, TurtleOption, format, result
-from turtlectl.cli.errors import CancelUnconfirmed, ExitCode, Failed, GoalCanceled, Interrupted, goal_exit_code
+from turtlectl.runtime.client.errors import (
+    CancelUnconfirmed,
+    ExitCode,
+    Failed,
+    GoalCanceled,
+    Interrupted,
+    goal_exit_code,
+)
 
 
 def goto(
@@ -40,9 +47,9 @@ def goto(
 
     Example: turtlectl goto 8 5 90   or   turtlectl goto 2 2 0 --turtle turtle2
     """
-    from turtlectl.cli.tools import goals
-    from turtlectl.cli.tools.api import Client
     from turtlectl.messages import NavigateToFeedback
+    from turtlectl.runtime.client import goals
+    from turtlectl.runtime.client.api import Client
 
     goal = args.finite_number(x, "x"), args.finite_number(y, "y"), args.finite_number(theta, "theta")
     live = sys.stdout.isatty() and not json
@@ -76,7 +83,7 @@ def cancel(turtle: str = TurtleOption, connect: str = ConnectOption, domain: str
 
     Example: turtlectl cancel
     """
-    from turtlectl.cli.tools.api import Client
+    from turtlectl.runtime.client.api import Client
 
     with Client(connect, turtle=turtle) as client:
         ack = client.cancel()
@@ -96,9 +103,9 @@ def teleport(
 
     Example: turtlectl teleport 2 2 45
     """
-    from turtlectl.cli.tools import services
     from turtlectl.messages import TeleportAbsolute, keys
     from turtlectl.messages.angles import heading_radians
+    from turtlectl.runtime.client import services
 
     degrees = args.finite_number(theta, "theta")
     request = TeleportAbsolute(
@@ -117,8 +124,8 @@ def reset(connect: str = ConnectOption, domain: str = DomainOption) -> None:
 
     Example: turtlectl reset
     """
-    from turtlectl.cli.tools import services
     from turtlectl.messages import Reset, keys
+    from turtlectl.runtime.client import services
 
     acks = services.simple_call(connect, keys.RESET, Reset(), everyone=True)
     result(format.reset_lines(acks))
@@ -151,9 +158,9 @@ def teleop(
 
     Example: turtlectl teleop --linear 1.0
     """
-    from turtlectl.cli.tools import client
     from turtlectl.cli.tools.teleop import run_teleop, terminal_fd
     from turtlectl.messages.keys import FIRST_TURTLE
+    from turtlectl.runtime.client import session as client
 
     args.finite_option(linear, "--linear")
     args.finite_option(angular, "--angular")

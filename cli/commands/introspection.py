@@ -40,7 +40,7 @@ def list_graph(
     Example: turtlectl list
     """
     from turtlectl.cli.tools import topics
-    from turtlectl.cli.tools.graph import graph_text, without_node_services
+    from turtlectl.runtime.client.graph import graph_text, without_node_services
 
     current = topics.graph(connect)
     if not all_:
@@ -148,8 +148,9 @@ def view(
 
     Example: turtlectl view --turtle turtle2
     """
-    from turtlectl.cli.tools import client, services
     from turtlectl.cli.tools.view import run_view  # curses: only for this command
+    from turtlectl.runtime.client import services
+    from turtlectl.runtime.client import session as client
 
     try:
         with client.client_session(connect) as session:

@@ -9,7 +9,7 @@ import time
 import typer
 
 from turtlectl.cli.commands.options import ConnectOption, DomainOption, ExitOnLossOption, completer
-from turtlectl.cli.errors import Interrupted
+from turtlectl.runtime.client.errors import Interrupted
 
 
 def log(

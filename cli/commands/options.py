@@ -8,8 +8,9 @@ import os
 import typer
 
 from turtlectl.cli import args, lazy_module
-from turtlectl.cli.errors import BadInput
-from turtlectl.cli.sigint import ignore_sigint
+from turtlectl.runtime.client import checks
+from turtlectl.runtime.client.errors import BadInput
+from turtlectl.runtime.client.sigint import ignore_sigint
 from turtlectl.runtime.endpoint import CONNECT_ENV, DEFAULT_ENDPOINT, DOMAIN_ENV
 
 format = lazy_module("turtlectl.cli.tools.format")  # msgspec and the message types load when a command prints one
@@ -54,7 +55,7 @@ JsonOption = typer.Option(False, "--json", help="One JSON object.")
 
 def use_turtle(text: str) -> str:
     """``--turtle`` checked: a turtle's name (its nodes' namespace), or "" for turtle1."""
-    return args.turtle_name(text)
+    return checks.turtle_name(text)
 
 
 TurtleOption = typer.Option(

@@ -53,7 +53,7 @@ def param_list(
     Example: turtlectl param list navigator
     """
     from turtlectl.cli.tools import params
-    from turtlectl.cli.tools.client import node_of_turtle
+    from turtlectl.runtime.client.session import node_of_turtle
 
     if node is None:
         by_node = params.listing_all(connect)  # every node's: --turtle names none
@@ -86,8 +86,8 @@ def param_set(
     Example: turtlectl param set navigator goal_timeout 60 --turtle turtle2
     """
     from turtlectl.cli.tools import params
-    from turtlectl.cli.tools.client import node_of_turtle
     from turtlectl.cli.tools.introspect import nodes_named
+    from turtlectl.runtime.client.session import node_of_turtle
 
     node = node_of_turtle(connect, node, turtle)
     chosen = nodes_named(connect, node)
@@ -112,7 +112,7 @@ def param_describe(
     Example: turtlectl param describe navigator goal_timeout
     """
     from turtlectl.cli.tools import params
-    from turtlectl.cli.tools.client import node_of_turtle
+    from turtlectl.runtime.client.session import node_of_turtle
 
     node = node_of_turtle(connect, node, turtle)
     info, now = params.describe(connect, node, name)
@@ -136,15 +136,16 @@ def param_get(
     Example: turtlectl param get navigator goal_timeout --turtle turtle2
     """
     from turtlectl.cli.tools import params
-    from turtlectl.cli.tools.client import node_of_turtle
     from turtlectl.cli.tools.introspect import nodes_named
+    from turtlectl.runtime.client import answers
+    from turtlectl.runtime.client.session import node_of_turtle
 
     node = node_of_turtle(connect, node, turtle)
     chosen = nodes_named(connect, node)
     if chosen is None:
-        result(format.json_value(params.value(params.fetch(connect, node), node, name)))
+        result(format.json_value(answers.value(params.fetch(connect, node), node, name)))
         return
-    values = {n: format.json_value(params.value(params.fetch(connect, n), n, name)) for n in chosen}
+    values = {n: format.json_value(answers.value(params.fetch(connect, n), n, name)) for n in chosen}
     result("\n".join(f"{n}: {v}" for n, v in values.items()))
 
 
@@ -161,7 +162,7 @@ def param_dump(
     Example: turtlectl param dump navigator > navigator.toml
     """
     from turtlectl.cli.tools import params
-    from turtlectl.cli.tools.client import node_of_turtle
+    from turtlectl.runtime.client.session import node_of_turtle
 
     node = node_of_turtle(connect, node, turtle)
     values = params.fetch(connect, node)

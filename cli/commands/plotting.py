@@ -18,7 +18,7 @@ import typer
 
 from turtlectl.cli import args
 from turtlectl.cli.commands.options import ConnectOption, DomainOption, ExitOnLossOption, TurtleOption, result
-from turtlectl.cli.errors import BadInput, Unreachable
+from turtlectl.runtime.client.errors import BadInput, Unreachable
 
 
 def plot(
@@ -67,8 +67,8 @@ def plot(
     Example: turtlectl plot robot/status.battery turtle1/pose.x
     """
     from turtlectl.cli.tools import plot as model
-    from turtlectl.cli.tools.client import turtle_namespace_at
     from turtlectl.messages.keys import turtle_namespace
+    from turtlectl.runtime.client.session import turtle_namespace_at
 
     # the namespace of --turtle's nodes: the running system's; a recording's, turtle1's outside any
     turtle = turtle_namespace_at(connect, turtle) if recording is None else turtle_namespace(turtle)
@@ -150,8 +150,9 @@ def _live(
 ) -> Iterator[tuple[Any, threading.Event]]:
     """A running system's numbers (plot_sources.Live, closed after the block) and the event
     Ctrl-C, SIGTERM and ``signals`` set; ``intro`` (if any) and the typo notes said first."""
-    from turtlectl.cli.sigint import stop_on_signals
-    from turtlectl.cli.tools import client, plot_sources
+    from turtlectl.cli.tools import plot_sources
+    from turtlectl.runtime.client import session as client
+    from turtlectl.runtime.client.sigint import stop_on_signals
 
     with client.client_session(connect) as session, stop_on_signals(signals) as stop:
         live = plot_sources.Live(session, connect, series, stamps, turtle, exit_on_loss)

@@ -20,8 +20,8 @@ from turtlectl.cli.commands.options import (
     format,
     result,
 )
-from turtlectl.cli.errors import BadInput
-from turtlectl.cli.sigint import stop_on_signals
+from turtlectl.runtime.client.errors import BadInput
+from turtlectl.runtime.client.sigint import stop_on_signals
 
 
 def record(
@@ -237,7 +237,7 @@ def foxglove(
 
 
 def client_key(text: str) -> str:
-    from turtlectl.cli.tools.client import check_key
+    from turtlectl.runtime.client.session import check_key
 
     return check_key(text, publish=True)
 

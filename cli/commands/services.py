@@ -9,8 +9,8 @@ from typing import Any
 import typer
 
 from turtlectl.cli.commands.options import ConnectOption, DomainOption, completer, format
-from turtlectl.cli.errors import ExitCode, Interrupted
-from turtlectl.cli.sigint import ignore_sigint
+from turtlectl.runtime.client.errors import ExitCode, Interrupted
+from turtlectl.runtime.client.sigint import ignore_sigint
 
 
 def call(
@@ -38,7 +38,9 @@ def call(
     it); an Ack with ok false or a response with success false is exit code 1.
     Example: turtlectl call turtle1/teleport_absolute '{"x": 2, "y": 2, "theta": 0}'
     """
-    from turtlectl.cli.tools import build, client, services, topics
+    from turtlectl.cli.tools import build, topics
+    from turtlectl.runtime.client import services
+    from turtlectl.runtime.client import session as client
 
     key = client.check_key(service)
     type_name = topics.learn_type(connect, client.base_key(key), type_name)  # yours: from the nodes using it

@@ -18,7 +18,8 @@ from turtlectl.cli.commands.options import (
     format,
     result,
 )
-from turtlectl.cli.errors import BadInput
+from turtlectl.runtime.client import checks
+from turtlectl.runtime.client.errors import BadInput
 from turtlectl.runtime.endpoint import DEFAULT_PORT, default_domain
 
 
@@ -131,7 +132,7 @@ def launch(
     if check:
         typer.echo(format.plan_text(plan))
         return
-    connect = args.endpoint(join) if join is not None else ""
+    connect = checks.endpoint(join) if join is not None else ""
     printer = Printer([e.name for e in plan.launch.node])
     for note in format.plan_notes(plan):
         printer.system(f"note: {note}")
@@ -185,7 +186,7 @@ def certs(
     Example: turtlectl certs ~/.turtlectl/tls --issue robot7 --system tls/192.168.1.20:7447
     """
     from turtlectl.cli.system import certs as tls_certs
-    from turtlectl.cli.system import credentials
+    from turtlectl.runtime.client import credentials
 
     if not issue:
         if system:
@@ -196,7 +197,7 @@ def certs(
     where = folder / tls_certs.HOSTS / issue
     written = [] if (where / "client.pem").exists() and system else tls_certs.issue(folder, issue)
     if system:
-        written.append(tls_certs.hand_credentials(folder, issue, credentials.entry_text(args.endpoint(system))))
+        written.append(tls_certs.hand_credentials(folder, issue, credentials.entry_text(checks.endpoint(system))))
     lines = [f"wrote {', '.join(str(p) for p in written)}", f"on host {issue}: export TURTLECTL_TLS={where}"]
     if system:
         lines.append(f"on host {issue}: export TURTLECTL_CREDENTIALS={where / 'credentials.json'}")
@@ -279,7 +280,7 @@ def run(
     if not is_target(node) and is_file(node) and (node.endswith(".py") or Path(node).is_file()):
         raise BadInput(f"{node} names a file: add its node class, as {node}:ClassName")
     level = args.log_level(log_level)
-    endpoint = args.endpoint(connect)
+    endpoint = checks.endpoint(connect)
     if name is not None and not NAME_RE.match(name):
         raise BadInput(f"--name {name!r}: use letters, digits, _ and - (like patrol2)")
     if is_target(node) and arg:

@@ -20,7 +20,7 @@ from turtlectl.cli.commands.options import (
     format,
     result,
 )
-from turtlectl.cli.errors import Interrupted, Unreachable
+from turtlectl.runtime.client.errors import Interrupted, Unreachable
 
 
 def echo(
@@ -53,8 +53,8 @@ def echo(
     message names its key.  Example: turtlectl echo robot/status --field battery
     """
     from turtlectl.cli.tools import topics
-    from turtlectl.cli.tools.client import turtle_namespace_at
     from turtlectl.messages.keys import resolve
+    from turtlectl.runtime.client.session import turtle_namespace_at
 
     args.one_format(json, csv)
     limit = args.echo_limit(once, count)
@@ -137,9 +137,9 @@ def hz(
     --duration.  Example: turtlectl hz robot/status obstacles --duration 10
     """
     from turtlectl.cli.tools import topics
-    from turtlectl.cli.tools.client import turtle_namespace_at
     from turtlectl.cli.tools.rates import rate_line
     from turtlectl.messages.keys import resolve
+    from turtlectl.runtime.client.session import turtle_namespace_at
 
     printed = False
     namespace = turtle_namespace_at(connect, turtle)
@@ -175,8 +175,9 @@ def pub(
     the last message is exit code 130.
     Example: turtlectl pub turtle1/cmd_vel '{"linear": 1.0, "angular": 0.5}' --rate 10
     """
-    from turtlectl.cli.tools import build, client, topics
+    from turtlectl.cli.tools import build, topics
     from turtlectl.messages.codec import type_name as full_name
+    from turtlectl.runtime.client import session as client
 
     key = client.check_key(topic, publish=True)
     type_name = topics.learn_type(connect, client.base_key(key), type_name)  # yours: from the nodes using it

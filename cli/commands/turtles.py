@@ -7,7 +7,7 @@ import typer
 
 from turtlectl.cli import args
 from turtlectl.cli.commands.options import ConnectOption, DomainOption, completer, result
-from turtlectl.cli.errors import Failed
+from turtlectl.runtime.client.errors import Failed
 
 
 def spawn(
@@ -25,9 +25,9 @@ def spawn(
 
     Example: turtlectl spawn 2 2 90 --name turtle2
     """
-    from turtlectl.cli.tools import services
     from turtlectl.messages import SpawnRequest, SpawnResponse, keys
     from turtlectl.messages.angles import heading_radians
+    from turtlectl.runtime.client import services
 
     degrees = args.finite_number(theta, "theta")
     request = SpawnRequest(
@@ -51,8 +51,8 @@ def kill(
 
     Example: turtlectl kill turtle2
     """
-    from turtlectl.cli.tools import services
     from turtlectl.messages import Kill, keys
+    from turtlectl.runtime.client import services
 
     acks = services.simple_call(connect, keys.KILL, Kill(name=name))
     if not acks:

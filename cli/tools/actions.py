@@ -6,14 +6,15 @@ from __future__ import annotations
 from collections.abc import Callable
 from typing import Any
 
-from turtlectl.cli.errors import Unreachable
-from turtlectl.cli.tools import build, goals
-from turtlectl.cli.tools.client import check_key
-from turtlectl.cli.tools.graph import GoalRow
-from turtlectl.cli.tools.services import service_session
-from turtlectl.cli.tools.topics import graph, live_graph
-from turtlectl.cli.tools.typebook import TypeBook
+from turtlectl.cli.tools import build
+from turtlectl.cli.tools.topics import graph
 from turtlectl.messages import Message
+from turtlectl.runtime.client import goals
+from turtlectl.runtime.client.errors import Unreachable
+from turtlectl.runtime.client.graph import GoalRow
+from turtlectl.runtime.client.services import service_session
+from turtlectl.runtime.client.session import check_key, live_graph
+from turtlectl.runtime.client.typebook import TypeBook
 
 
 def goal_services(connect: str) -> list[GoalRow]:

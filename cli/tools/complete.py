@@ -33,8 +33,8 @@ def _quietly() -> Iterator[None]:
 
 
 def _graph(params: dict[str, object]):  # -> Graph | None
-    from turtlectl.cli.tools import client
-    from turtlectl.cli.tools.topics import live_graph
+    from turtlectl.runtime.client import session as client
+    from turtlectl.runtime.client.session import live_graph
 
     with client.client_session(_connect(params)) as session:
         return live_graph(session)

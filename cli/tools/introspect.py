@@ -10,11 +10,13 @@ from typing import Any
 import msgspec
 
 from turtlectl.cli import args
-from turtlectl.cli.errors import BadInput, Failed
-from turtlectl.cli.tools.graph import Graph
-from turtlectl.cli.tools.services import NoAnswer, NobodyServes, Raw, call_service
 from turtlectl.messages import Ack, SetLogLevel
 from turtlectl.messages.keys import NodeDetails, log_level_key, node_key
+from turtlectl.runtime.client import answers
+from turtlectl.runtime.client.answers import parse_details
+from turtlectl.runtime.client.errors import BadInput, Failed
+from turtlectl.runtime.client.graph import Graph
+from turtlectl.runtime.client.services import NoAnswer, NobodyServes, call_service
 
 TIMEOUT = 3.0  # s a node has to answer
 RATE_WINDOW = 1.0  # s over which `topic info -v` measures the rate
@@ -47,18 +49,6 @@ def _no_node(node: str, graph: Graph) -> NobodyServes:
     from turtlectl.cli.tools.params import no_node
 
     return no_node(node, [n.name for n in graph.nodes], graph.hint)
-
-
-def parse_details(node: str, answers: list[Any]) -> NodeDetails:
-    """What ``node`` says about itself, from the answers to ``turtlectl/nodes/<node>`` (the
-    last JSON one); Failed if there is none or it does not read."""
-    raw = [a for a in answers if isinstance(a, Raw)]
-    if not raw:
-        raise Failed(f"{node} did not say what it is")
-    try:
-        return msgspec.json.decode(raw[-1].payload, type=NodeDetails)
-    except msgspec.DecodeError as exc:
-        raise Failed(f"{node} sent an unreadable answer: {exc}") from None
 
 
 def _asked(connect: str, node: str, key: str, request: Any, what: str) -> list[Any]:
@@ -133,7 +123,7 @@ def node_text(report: NodeReport) -> str:
         "PARAMETERS",
     ]
     for name in params.names(report.parameters):
-        lines.append(f"  {name} = {msgspec.json.encode(params.value(report.parameters, report.name, name)).decode()}")
+        lines.append(f"  {name} = {msgspec.json.encode(answers.value(report.parameters, report.name, name)).decode()}")
     return "\n".join(lines)
 
 
@@ -159,7 +149,7 @@ def topic_report(connect: str, key: str, verbose: bool) -> TopicReport:
     """Topic ``key`` from the live graph; with ``verbose`` its rate measured over a second.
     A key no node publishes or subscribes to is NobodyServes (exit 3) naming the known topics."""
     from turtlectl.cli.tools import topics
-    from turtlectl.cli.tools.client import check_key
+    from turtlectl.runtime.client.session import check_key
 
     key = check_key(key)
     graph = topics.graph(connect)
@@ -195,7 +185,7 @@ def _measure(connect: str, key: str) -> tuple[int, float]:
     the last arrival; 0 below two messages)."""
     import queue
 
-    from turtlectl.cli.tools.client import client_session
+    from turtlectl.runtime.client.session import client_session
 
     arrivals: queue.SimpleQueue[float] = queue.SimpleQueue()
     with client_session(connect) as session:
@@ -242,9 +232,8 @@ def nodes_named(connect: str, selector: str) -> list[str] | None:
     None when it names one node as its name does, or no node and is no glob: the caller asks
     that name, and a node that does not run is said as for any name (with the running ones)."""
     from turtlectl.cli.selection import is_glob, selected
-    from turtlectl.cli.tools.client import client_session
     from turtlectl.cli.tools.params import no_node
-    from turtlectl.cli.tools.topics import live_graph
+    from turtlectl.runtime.client.session import client_session, live_graph
 
     with client_session(connect) as session:
         graph = live_graph(session)

@@ -19,13 +19,12 @@ from collections.abc import Iterator, Mapping
 import zenoh
 
 from turtlectl.cli.args import level_named
-from turtlectl.cli.errors import BadInput, Unreachable
 from turtlectl.cli.selection import selects
-from turtlectl.cli.tools.client import client_session, domain_hint
 from turtlectl.cli.tools.routerwatch import watch
-from turtlectl.cli.tools.topics import live_graph
 from turtlectl.messages import DecodeError, Log, decode, to_json
 from turtlectl.messages.keys import LOG_KEYS
+from turtlectl.runtime.client.errors import BadInput, Unreachable
+from turtlectl.runtime.client.session import client_session, domain_hint, live_graph
 from turtlectl.runtime.loader import nearest
 
 #: the levels by name, as Python's logging and ROS number them (ROS's FATAL is CRITICAL)

@@ -14,9 +14,14 @@ from typing import Any
 
 import msgspec
 
-from turtlectl.cli.errors import BadInput, Failed, Unreachable
-from turtlectl.cli.tools.graph import Graph
-from turtlectl.cli.tools.services import (
+from turtlectl.messages import Ack, SetParameter
+from turtlectl.messages.keys import NodeDetails, node_key, node_name, param_describe_key, param_set_key, params_key
+from turtlectl.messages.params import ParamDescription, ParamInfo
+from turtlectl.messages.world import World
+from turtlectl.runtime.client.answers import names, no_param, parse_params
+from turtlectl.runtime.client.errors import BadInput, Failed, Unreachable
+from turtlectl.runtime.client.graph import Graph
+from turtlectl.runtime.client.services import (
     NoAnswer,
     NobodyServes,
     Raw,
@@ -26,21 +31,9 @@ from turtlectl.cli.tools.services import (
     service_session,
     world,
 )
-from turtlectl.messages import Ack, SetParameter
-from turtlectl.messages.keys import NodeDetails, node_key, node_name, param_describe_key, param_set_key, params_key
-from turtlectl.messages.params import ParamDescription, ParamInfo
-from turtlectl.messages.world import World
-from turtlectl.runtime.params import lookup
 
 #: s a node has to answer
 TIMEOUT = 3.0
-
-
-def _no_param(node: str, name: str, known: list[str]) -> BadInput:
-    """An unknown parameter: the nearest one suggested, all of them named."""
-    from turtlectl.cli.system.launchfile import suggestion
-
-    return BadInput(f"{node} has no parameter {name!r}{suggestion(name, known)} (it has: {', '.join(known)})")
 
 
 def no_node(node: str, running: list[str], hint: str = "") -> NobodyServes:
@@ -113,17 +106,6 @@ def fetch(connect: str, node: str) -> dict[str, Any]:
     return parse_params(node, _served(connect, params_key(node), node, "its parameters"))
 
 
-def parse_params(node: str, payload: bytes) -> dict[str, Any]:
-    """``node``'s answer on ``turtlectl/params/<node>`` as its table of parameters; Failed if it is none."""
-    try:
-        params = msgspec.json.decode(payload)
-    except msgspec.DecodeError as exc:
-        raise Failed(f"{node} sent unreadable parameters: {exc}") from None
-    if not isinstance(params, dict):
-        raise Failed(f"{node} sent parameters that are not a table")
-    return params
-
-
 def description(connect: str, node: str) -> ParamDescription:
     """What ``node`` serves about its parameters, whatever its kind (NobodyServes naming the
     live nodes)."""
@@ -142,25 +124,6 @@ def _entries(described: ParamDescription, name: str) -> list[str]:
     if here is not None and isinstance(here.value, dict):  # a map: its keys now
         inside += names(here.value, name + ".")
     return inside
-
-
-def value(params: dict[str, Any], node: str, name: str) -> Any:
-    """The parameter ``name`` (a dotted path reaches into a table: ``gains.lookahead``)."""
-    try:
-        return lookup(params, name)
-    except KeyError:
-        raise _no_param(node, name, names(params)) from None
-
-
-def names(params: dict[str, Any], prefix: str = "") -> list[str]:
-    """Every parameter's name, tables' entries dotted (``gains.lookahead``), in the node's order."""
-    out = []
-    for key, item in params.items():
-        if isinstance(item, dict):
-            out += names(item, f"{prefix}{key}.")
-        else:
-            out.append(prefix + key)
-    return out
 
 
 def toml_value(item: Any) -> str:
@@ -227,7 +190,7 @@ def describe(connect: str, node: str, name: str) -> tuple[ParamInfo, Any]:
     if name not in infos and entries:
         raise BadInput(f"{node} {name} is a table: describe one of its entries ({', '.join(entries)})")
     if name not in infos:
-        raise _no_param(node, name, list(infos))
+        raise no_param(node, name, list(infos))
     return infos[name], infos[name].value
 
 

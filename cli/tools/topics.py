@@ -1,6 +1,6 @@
 """Topics for the command-line tools: echo's stream, hz's rates, pub, and the live graph.
 
-Nothing here prints; functions return data or raise a TurtlectlError (cli.errors).
+Nothing here prints; functions return data or raise a turtlectl.Error (runtime.client.errors).
 """
 
 from __future__ import annotations
@@ -9,89 +9,31 @@ import contextlib
 import queue
 import time
 from collections.abc import Callable, Iterator
-from typing import Any
 
 import msgspec
 import zenoh
 
-from turtlectl.cli.errors import Unreachable
-from turtlectl.cli.tools import presence
-from turtlectl.cli.tools.client import (
+from turtlectl.cli.tools.rates import SILENCE, Quiet, Rates, RateStats
+from turtlectl.cli.tools.routerwatch import watch
+from turtlectl.messages import Message, encode, encoding_for
+from turtlectl.messages.codec import TYPES_BY_NAME, type_name
+from turtlectl.messages.keys import CMD_VEL, FEEDBACK, LOG, PARAMETER_EVENTS, SERVICES, TOPICS
+from turtlectl.runtime.client import presence
+from turtlectl.runtime.client.errors import Unreachable
+from turtlectl.runtime.client.graph import Graph
+from turtlectl.runtime.client.samples import Received, decode_sample, learn
+from turtlectl.runtime.client.session import (
     base_key,
     check_key,
     client_session,
     domain_hint,
+    live_graph,
     require,
 )
-from turtlectl.cli.tools.graph import Graph, build_graph, without_client
-from turtlectl.cli.tools.rates import SILENCE, Quiet, Rates, RateStats
-from turtlectl.cli.tools.routerwatch import watch
-from turtlectl.cli.tools.typebook import TypeBook, conflicts, generic
-from turtlectl.messages import DecodeError, Message, decode, decode_any, encode, encoding_for, type_from_encoding
-from turtlectl.messages.codec import MEDIA_TYPE, TYPES_BY_NAME, type_name
-from turtlectl.messages.keys import CMD_VEL, DOMAIN_GRAPHS, FEEDBACK, GRAPH, LOG, PARAMETER_EVENTS, SERVICES, TOPICS
+from turtlectl.runtime.client.typebook import TypeBook, conflicts
 from turtlectl.runtime.endpoint import default_domain
 
 WHILE_A_GOAL_RUNS = (FEEDBACK, CMD_VEL)  # published by the navigator only while a goal runs
-
-
-class Received:
-    """One sample as echo sees it: the key, the decoded message or why it is not one.  A type
-    not known here keeps its payload (``unknown``: its name) for the reader's thread to learn
-    it (``learn``); a payload no description explains is ``generic`` (decoded as what it is)."""
-
-    def __init__(self, key: str, message: Message | None, problem: str = "", payload: bytes = b"", encoding: str = ""):
-        self.key = key
-        self.message = message
-        self.problem = problem
-        self.payload = payload
-        self.encoding = encoding
-        self.generic: Any = None  # an undescribed payload's data (dict, list, ...)
-
-    @property
-    def type_name(self) -> str:
-        """The message type the sample's encoding names ('' for none)."""
-        media, _, name = self.encoding.partition(";")
-        return name if media == MEDIA_TYPE else ""
-
-    @property
-    def unknown(self) -> str:
-        """The type name the sample's encoding gives, when no type of that name is known here."""
-        name = self.type_name
-        return name if self.message is None and name and name not in TYPES_BY_NAME else ""
-
-
-def decode_sample(key: str, payload: bytes, encoding: str) -> Received:
-    """Decode by the type named in the sample's encoding (any tagged message otherwise)."""
-    msg_type = type_from_encoding(encoding)
-    try:
-        message = decode(payload, msg_type) if msg_type is not None else decode_any(payload)
-    except DecodeError as exc:
-        return Received(key, None, f"{exc} (encoding {encoding!r}, {len(payload)} bytes)", payload, encoding)
-    return Received(key, message)
-
-
-def learn(item: Received, book: TypeBook) -> Received:
-    """``item`` again, on the reader's thread: decoded by its type learnt from the nodes that
-    use it (when they describe one name two ways, by the description it fits), else (no
-    description anywhere) decoded generically and marked so.  A payload that names a known
-    type and is not one stays what it is: skipped, never shown as undescribed."""
-    if item.message is not None:
-        return item
-    name = item.type_name
-    if item.unknown and book.resolve(item.unknown) is not None:
-        item = decode_sample(item.key, item.payload, item.encoding)
-    for variant in book.variants(name) if item.message is None else ():
-        try:
-            return Received(item.key, decode(item.payload, variant))
-        except DecodeError:
-            continue
-    if item.message is not None or (name and book.resolve(name) is not None):
-        return item
-    data = generic(item.payload, item.encoding)
-    if data is not None:
-        item.generic, item.problem = data, ""
-    return item
 
 
 @contextlib.contextmanager
@@ -282,7 +224,7 @@ def publish(connect: str, topic: str, message: Message, rate: float | None, time
     key = check_key(topic)
     sent = 0
     with client_session(connect) as session:
-        require("publish", key)
+        require(session, "publish", key)
         pub = presence.publisher(session, key, type_name(type(message)), encoding_for(type(message)))
         period = 1.0 / rate if rate else 0.0
         start = time.monotonic()
@@ -329,21 +271,6 @@ def learn_type(connect: str, key: str, type_name: str | None) -> str | None:
     except Unreachable:
         pass  # no system: build says what it can without one
     return type_name if type_name is None else which_type(type_name, TYPES_BY_NAME) or type_name
-
-
-def live_graph(session: zenoh.Session, domain: str | None = None) -> Graph:
-    """The live graph as this session (in ``domain``, default: the environment's) sees it.
-    Outside any domain that includes every domain's graph, its names and keys prefixed with
-    the domain (``lab1:sim``, ``lab1/robot/status``): tokens declared in a Zenoh namespace are ``lab1/@turtlectl/...``,
-    which ``@turtlectl/**`` cannot match (Zenoh never matches a chunk starting with ``@`` by
-    a wildcard), hence the second query."""
-    selectors = [GRAPH] if (default_domain() if domain is None else domain) else [GRAPH, DOMAIN_GRAPHS]
-    keys = {
-        str(r.ok.key_expr) for sel in selectors for r in session.liveliness().get(sel, timeout=2.0) if r.ok is not None
-    }
-    current = build_graph(sorted(keys), time.time_ns())
-    me = presence.of(session)
-    return current if me is None else without_client(current, me.name)  # every participant but the one asking
 
 
 def graph(connect: str) -> Graph:

@@ -41,7 +41,9 @@ if not os.path.isdir(os.path.join(os.path.dirname(__file__), "messages")):  # th
     __path__.append(os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)))))
 
 if TYPE_CHECKING:
-    from turtlectl.cli.errors import (
+    from turtlectl.messages.types import Message
+    from turtlectl.runtime.client.api import Client, Subscription
+    from turtlectl.runtime.client.errors import (
         BadInput,
         CancelUnconfirmed,
         CannotStart,
@@ -50,9 +52,7 @@ if TYPE_CHECKING:
         Interrupted,
         Unreachable,
     )
-    from turtlectl.cli.errors import TurtlectlError as Error
-    from turtlectl.cli.tools.api import Client, Subscription
-    from turtlectl.messages.types import Message
+    from turtlectl.runtime.client.errors import TurtlectlError as Error
     from turtlectl.runtime.config import Claim, Interface
     from turtlectl.runtime.entities import Latest, Publisher, Request, Timer
     from turtlectl.runtime.futures import Future
@@ -92,16 +92,16 @@ __all__ = [
 ]
 
 _HOME = {
-    "BadInput": "turtlectl.cli.errors",
-    "CancelUnconfirmed": "turtlectl.cli.errors",
-    "CannotStart": "turtlectl.cli.errors",
-    "Client": "turtlectl.cli.tools.api",
-    "Error": "turtlectl.cli.errors",
-    "Failed": "turtlectl.cli.errors",
-    "GoalCanceled": "turtlectl.cli.errors",
-    "Interrupted": "turtlectl.cli.errors",
-    "Subscription": "turtlectl.cli.tools.api",
-    "Unreachable": "turtlectl.cli.errors",
+    "BadInput": "turtlectl.runtime.client.errors",
+    "CancelUnconfirmed": "turtlectl.runtime.client.errors",
+    "CannotStart": "turtlectl.runtime.client.errors",
+    "Client": "turtlectl.runtime.client.api",
+    "Error": "turtlectl.runtime.client.errors",
+    "Failed": "turtlectl.runtime.client.errors",
+    "GoalCanceled": "turtlectl.runtime.client.errors",
+    "Interrupted": "turtlectl.runtime.client.errors",
+    "Subscription": "turtlectl.runtime.client.api",
+    "Unreachable": "turtlectl.runtime.client.errors",
     "Claim": "turtlectl.runtime.config",
     "Declaration": "turtlectl.runtime.handles",
     "Future": "turtlectl.runtime.futures",

@@ -8,9 +8,11 @@ import time
 import pytest
 
 from tests.integration.harness import free_port, running_system, turtlectl
-from turtlectl.cli.errors import ExitCode, TurtlectlError, exit_code
-from turtlectl.cli.tools import client, goals, topics
+from turtlectl.cli.tools import topics
 from turtlectl.messages import NavigateToRequest
+from turtlectl.runtime.client import goals
+from turtlectl.runtime.client import session as client
+from turtlectl.runtime.client.errors import ExitCode, TurtlectlError, exit_code
 
 pytestmark = pytest.mark.integration
 

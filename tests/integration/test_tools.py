@@ -12,10 +12,10 @@ import pyte
 import pytest
 
 from tests.integration.harness import NODES, pump, running_system, set_winsize, turtlectl, view_in_pty
-from turtlectl.cli.errors import ExitCode, TurtlectlError, exit_code
-from turtlectl.cli.tools import services
 from turtlectl.messages import TurtleStatus
 from turtlectl.messages.keys import GRAPH, STATUS
+from turtlectl.runtime.client import services
+from turtlectl.runtime.client.errors import ExitCode, TurtlectlError, exit_code
 
 pytestmark = pytest.mark.integration
 

@@ -16,9 +16,9 @@ from pathlib import Path
 import pytest
 from typer.testing import CliRunner
 
-from turtlectl.cli.errors import BadInput, ExitCode, Interrupted, TurtlectlError, exit_code
 from turtlectl.cli.main import app, error_line, main
 from turtlectl.cli.system.launchfile import PACKAGED_LAUNCH
+from turtlectl.runtime.client.errors import BadInput, ExitCode, Interrupted, TurtlectlError, exit_code
 from turtlectl.runtime.endpoint import CONNECT_ENV, DOMAIN_ENV
 
 FLEET = Path(__file__).resolve().parents[3] / "examples" / "fleet" / "launch.toml"
@@ -27,8 +27,8 @@ HEAVY = [
     "numpy",
     "curses",
     "turtlectl.cli.tools.view",
-    "turtlectl.cli.tools.client",
-    "turtlectl.cli.tools.services",
+    "turtlectl.runtime.client.session",
+    "turtlectl.runtime.client.services",
     "turtlectl.cli.tools.topics",
     "turtlectl.cli.system.launchfile",
     "turtlectl.cli.system.supervisor.manager",
@@ -587,11 +587,11 @@ def test_turtle_is_a_turtles_name(command):
 
 
 def test_a_turtles_namespace_is_its_name_and_turtle1s_the_running_systems():
-    from turtlectl.cli import args
     from turtlectl.messages.keys import resolve, turtle_namespace
+    from turtlectl.runtime.client import checks
 
-    assert args.turtle_name("turtle1") == "turtle1" and args.turtle_name("") == ""
-    assert args.turtle_name("/turtle2") == "turtle2"
+    assert checks.turtle_name("turtle1") == "turtle1" and checks.turtle_name("") == ""
+    assert checks.turtle_name("/turtle2") == "turtle2"
     # turtle1's nodes outside any namespace (the default launch file), or in turtle1 as any turtle's
     assert turtle_namespace("turtle1") == "" and turtle_namespace("") == ""
     assert turtle_namespace("turtle1", {"turtle1", "turtle2"}) == "turtle1"

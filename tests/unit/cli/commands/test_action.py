@@ -8,12 +8,12 @@ import contextlib
 import pytest
 from typer.testing import CliRunner
 
-from turtlectl.cli.errors import ExitCode, TurtlectlError, exit_code
 from turtlectl.cli.main import app, error_line
 from turtlectl.cli.tools import actions
-from turtlectl.cli.tools.graph import GoalRow, Graph
 from turtlectl.messages import NavigateToFeedback, NavigateToRequest, NavigateToResponse
 from turtlectl.messages.codec import type_name
+from turtlectl.runtime.client.errors import ExitCode, TurtlectlError, exit_code
+from turtlectl.runtime.client.graph import GoalRow, Graph
 
 NAVIGATE = GoalRow(
     key="navigate_to",
@@ -106,7 +106,7 @@ def test_a_goal_service_that_is_not_running_is_named_with_those_that_are():
 
 def test_action_list_names_each_goal_services_types_and_server():
     from turtlectl.cli.tools.actions import rows_text
-    from turtlectl.cli.tools.graph import GoalRow
+    from turtlectl.runtime.client.graph import GoalRow
 
     row = GoalRow("navigate_to", "turtlectl/NavigateToRequest", "turtlectl/NavigateToFeedback", "r", ["navigator"])
     assert rows_text([row]) == (

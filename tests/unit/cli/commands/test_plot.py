@@ -11,9 +11,9 @@ import pytest
 import typer
 from typer.testing import CliRunner
 
-from turtlectl.cli.errors import ExitCode, TurtlectlError, Unreachable, exit_code
 from turtlectl.cli.main import app, error_line
 from turtlectl.messages import Pose, TurtleStatus, encode, encoding_for
+from turtlectl.runtime.client.errors import ExitCode, TurtlectlError, Unreachable, exit_code
 
 START = 1_700_000_000_000_000_000
 
@@ -201,8 +201,9 @@ def live_plot(monkeypatch, capsys, samples, silent):
     import contextlib
 
     from turtlectl.cli.commands import plotting
-    from turtlectl.cli.tools import client, plot_draw, plot_sources
+    from turtlectl.cli.tools import plot_draw, plot_sources
     from turtlectl.cli.tools.plot import Series
+    from turtlectl.runtime.client import session as client
 
     series = [Series("turtle1/pose", "x"), Series("nobody/here", "x")]
     monkeypatch.setattr(plotting, "result", typer.echo)

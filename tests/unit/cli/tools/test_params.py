@@ -8,10 +8,11 @@ from typing import Annotated, Any
 import msgspec
 import pytest
 
-from turtlectl.cli.errors import BadInput, ExitCode, exit_code
-from turtlectl.cli.tools.params import dump, names, value
+from turtlectl.cli.tools.params import dump
 from turtlectl.messages.keys import NodeDetails
 from turtlectl.messages.world import World
+from turtlectl.runtime.client.answers import names, value
+from turtlectl.runtime.client.errors import BadInput, ExitCode, exit_code
 
 PARAMS = {
     "goal_timeout": 30.0,
@@ -50,8 +51,8 @@ def test_dump_is_toml_that_reads_back_as_the_same_table():
 
 def test_an_unknown_parameter_suggests_the_nearest():
     """Review of issue 13: `param get` dumped the whole list where `param set` said "did you mean"."""
-    from turtlectl.cli.errors import BadInput
-    from turtlectl.cli.tools.params import value
+    from turtlectl.runtime.client.answers import value
+    from turtlectl.runtime.client.errors import BadInput
 
     with pytest.raises(
         BadInput, match=r"navigator has no parameter 'goal_timeot'; did you mean goal_timeout\? \(it has: "
@@ -85,7 +86,8 @@ def _described(node: str, kind: str, params: Any):
 def test_a_user_node_s_refusal_is_its_one_line_reason_exit_2(monkeypatch):
     """It read "turtlectl/params/mine/set rejected the request: mine: rate: Expected `float`
     <= 50.0 - at `$.rate`"."""
-    from turtlectl.cli.tools import params, services
+    from turtlectl.cli.tools import params
+    from turtlectl.runtime.client import services
     from turtlectl.runtime.params import ParamRefused, with_value
 
     mine = _Mine()
@@ -130,7 +132,7 @@ class _Mine(msgspec.Struct):
 
 # -- a node that runs but does not answer: said as it is -------------------------------
 def _graph_with_patrol():
-    from turtlectl.cli.tools.graph import Graph, NodeRow
+    from turtlectl.runtime.client.graph import Graph, NodeRow
 
     return Graph(nodes=[NodeRow(name="patrol", pid=4242, host="vm", uptime=12.0)], topics=[], services=[])
 
@@ -139,7 +141,8 @@ def _graph_with_patrol():
 def silent_patrol(monkeypatch):
     """``patrol`` in the graph (its liveliness token there), its services silent: its thread
     blocked, each query running out of time."""
-    from turtlectl.cli.tools import introspect, params, services, topics
+    from turtlectl.cli.tools import introspect, params, topics
+    from turtlectl.runtime.client import services
 
     monkeypatch.setattr(topics, "graph", lambda connect: _graph_with_patrol())
 
@@ -167,8 +170,8 @@ SILENT = (
 def test_a_running_node_that_does_not_answer_is_said_to_run_not_to_be_missing(silent_patrol, command, what):
     """`param set patrol speed 1` on a node listed as running said "no node named 'patrol'
     answers (running: patrol)"."""
-    from turtlectl.cli.errors import Unreachable
     from turtlectl.cli.tools import params
+    from turtlectl.runtime.client.errors import Unreachable
 
     with pytest.raises(Unreachable) as silent:
         command(params)
@@ -177,8 +180,8 @@ def test_a_running_node_that_does_not_answer_is_said_to_run_not_to_be_missing(si
 
 
 def test_a_change_a_running_node_does_not_confirm_may_still_apply(silent_patrol, monkeypatch):
-    from turtlectl.cli.errors import Unreachable
     from turtlectl.cli.tools import params
+    from turtlectl.runtime.client.errors import Unreachable
 
     monkeypatch.setattr(params, "description", lambda connect, node: _described(node, "mine", _Mine()))
     with pytest.raises(Unreachable) as silent:
@@ -191,8 +194,8 @@ def test_a_change_a_running_node_does_not_confirm_may_still_apply(silent_patrol,
 
 
 def test_node_info_and_log_level_of_a_silent_node_say_it_runs(silent_patrol):
-    from turtlectl.cli.errors import Unreachable
     from turtlectl.cli.tools import introspect
+    from turtlectl.runtime.client.errors import Unreachable
 
     with pytest.raises(Unreachable) as silent:
         introspect.node_report("tcp/127.0.0.1:1", "patrol")
@@ -204,8 +207,9 @@ def test_node_info_and_log_level_of_a_silent_node_say_it_runs(silent_patrol):
 
 def test_a_node_listed_as_running_whose_service_is_gone_is_not_said_to_be_missing(monkeypatch):
     """Nothing serves its key (it is stopping, or not yet serving): it runs, named with its pid."""
-    from turtlectl.cli.errors import Unreachable
-    from turtlectl.cli.tools import params, services, topics
+    from turtlectl.cli.tools import params, topics
+    from turtlectl.runtime.client import services
+    from turtlectl.runtime.client.errors import Unreachable
 
     monkeypatch.setattr(topics, "graph", lambda connect: _graph_with_patrol())
 

@@ -21,15 +21,6 @@ from typing import Any
 
 import zenoh
 
-from turtlectl.cli.args import endpoint, turtle_name
-from turtlectl.cli.errors import BadInput, Failed, Unreachable
-from turtlectl.cli.tools import goals, presence
-from turtlectl.cli.tools import params as _params
-from turtlectl.cli.tools.client import check_key, client_session, live_turtle_namespace, require
-from turtlectl.cli.tools.graph import GoalRow, Graph, NodeRow, ServiceRow, TopicRow
-from turtlectl.cli.tools.services import Raw, Rejected, hinted, replies
-from turtlectl.cli.tools.topics import Received, decode_sample, learn, live_graph
-from turtlectl.cli.tools.typebook import TypeBook
 from turtlectl.messages import (
     Ack,
     Cancel,
@@ -52,6 +43,14 @@ from turtlectl.messages.keys import (
     service_types,
 )
 from turtlectl.messages.world import World
+from turtlectl.runtime.client import answers, goals, presence
+from turtlectl.runtime.client.checks import endpoint, turtle_name
+from turtlectl.runtime.client.errors import BadInput, Failed, Unreachable
+from turtlectl.runtime.client.graph import GoalRow, Graph, NodeRow, ServiceRow, TopicRow
+from turtlectl.runtime.client.samples import Received, decode_sample, learn
+from turtlectl.runtime.client.services import Raw, Rejected, hinted, replies
+from turtlectl.runtime.client.session import check_key, client_session, live_graph, live_turtle_namespace, require
+from turtlectl.runtime.client.typebook import TypeBook
 from turtlectl.runtime.endpoint import CONNECT_ENV, DEFAULT_ENDPOINT, default_domain
 from turtlectl.runtime.futures import Future
 from turtlectl.runtime.goal_reasons import CANCELED
@@ -263,7 +262,7 @@ class Client:
     def publish(self, topic: str, message: Message) -> None:
         """Publish ``message`` on ``topic`` (its publisher is kept until ``close``)."""
         key = check_key(self._key(topic), publish=True)
-        require("publish", key)
+        require(self._session, "publish", key)
         with self._lock:
             pub = self._publishers.get(key)
             if pub is None:
@@ -274,7 +273,7 @@ class Client:
     def subscribe(self, topic: str, callback: Callable[[Message], None] | None = None) -> Subscription:
         """Messages on ``topic`` (a key expression: ``robot/status``, ``turtle1/*``), decoded."""
         key = check_key(self._key(topic))
-        require("subscribe", key)
+        require(self._session, "subscribe", key)
         if callback is not None:  # a callback runs on Zenoh's thread, which must not ask: learn the topic's types now
             for row in self.topics():
                 if zenoh.KeyExpr(row.key).intersects(zenoh.KeyExpr(key)):
@@ -316,20 +315,18 @@ class Client:
             answers = list(replies(self._session, params_key(node), b"", CALL_TIMEOUT))
         if not answers or not isinstance(answers[-1], Raw):
             raise Failed(f"{node} sent no parameters")
-        return _params.parse_params(node, answers[-1].payload)
+        return answers.parse_params(node, answers[-1].payload)
 
     def param(self, node: str, name: str) -> Any:
         """``node``'s parameter ``name`` (dotted into a table: ``gains.lookahead``)."""
-        return _params.value(self.params(node), self._key(node), name)
+        return answers.value(self.params(node), self._key(node), name)
 
     def node_info(self, node: str) -> NodeDetails:
         """What ``node`` says about itself: kind, pid, host, start time, log level, and how
         many records at ERROR or worse it has logged (``errors``, ``last_error``)."""
-        from turtlectl.cli.tools.introspect import parse_details
-
         node = self._key(node)
         with self._hinted():
-            return parse_details(node, list(replies(self._session, node_key(node), b"", CALL_TIMEOUT)))
+            return answers.parse_details(node, list(replies(self._session, node_key(node), b"", CALL_TIMEOUT)))
 
     def set_param(self, node: str, name: str, value: Any) -> str:
         """Set ``node``'s parameter ``name`` to ``value`` while it runs; the node's answer.
@@ -353,7 +350,7 @@ class Client:
     def world(self) -> World:
         """The world the simulator declares: its size and obstacles (m); the default world
         when no simulator answers."""
-        from turtlectl.cli.tools.services import world
+        from turtlectl.runtime.client.services import world
 
         with self._hinted():
             return world(self._session)

@@ -20,10 +20,11 @@ from typing import Any
 import msgspec
 import zenoh
 
-from turtlectl.cli.errors import CancelUnconfirmed, Failed, GoalCanceled, Interrupted, TurtlectlError
-from turtlectl.cli.sigint import sigint_deferred
-from turtlectl.cli.tools.client import base_key, caller_token
-from turtlectl.cli.tools.services import (
+from turtlectl.messages import Ack, Cancel, Message, NavigateToFeedback, NavigateToRequest, NavigateToResponse
+from turtlectl.messages.codec import type_name
+from turtlectl.messages.keys import NAVIGATE_TO
+from turtlectl.runtime.client.errors import CancelUnconfirmed, Failed, GoalCanceled, Interrupted, TurtlectlError
+from turtlectl.runtime.client.services import (
     ROUTER_LOSS_WAIT,
     NoAnswer,
     Raw,
@@ -32,9 +33,8 @@ from turtlectl.cli.tools.services import (
     router_lost_soon,
     service_session,
 )
-from turtlectl.messages import Ack, Cancel, Message, NavigateToFeedback, NavigateToRequest, NavigateToResponse
-from turtlectl.messages.codec import type_name
-from turtlectl.messages.keys import NAVIGATE_TO
+from turtlectl.runtime.client.session import caller_token
+from turtlectl.runtime.client.sigint import sigint_deferred
 from turtlectl.runtime.goal_reasons import CANCELED
 
 __all__ = [
@@ -70,7 +70,7 @@ class GoalService(msgspec.Struct, frozen=True):
     @property
     def is_navigate_to(self) -> bool:
         """A navigator's ``navigate_to`` (any turtle's, any domain's): its own words apply."""
-        return base_key(self.key).rsplit("/", 1)[-1] == NAVIGATE_TO
+        return self.key.rsplit("/", 1)[-1] == NAVIGATE_TO
 
     @property
     def server(self) -> str:

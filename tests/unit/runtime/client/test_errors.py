@@ -1,10 +1,12 @@
-"""cli.errors: each error by meaning has its exit code, in the one table."""
+"""runtime.client.errors: each error by meaning has its exit code, in the one table."""
 
 from __future__ import annotations
 
 import pytest
 
-from turtlectl.cli.errors import (
+from turtlectl.cli.system.launchfile import LaunchFileError
+from turtlectl.messages import NavigateToResponse
+from turtlectl.runtime.client.errors import (
     BadInput,
     CannotStart,
     ExitCode,
@@ -14,9 +16,7 @@ from turtlectl.cli.errors import (
     exit_code,
     goal_exit_code,
 )
-from turtlectl.cli.system.launchfile import LaunchFileError
-from turtlectl.cli.tools.services import NoAnswer, NobodyServes, RouterLost, reply_code
-from turtlectl.messages import NavigateToResponse
+from turtlectl.runtime.client.services import NoAnswer, NobodyServes, RouterLost, reply_code
 
 
 @pytest.mark.parametrize(

@@ -1,13 +1,13 @@
 """Service calls of the command-line tools: any queryable, goals with feedback, simple Acks.
 
-Nothing here prints; functions return data or raise a TurtlectlError (cli.errors).
+Nothing here prints; functions return data or raise a TurtlectlError (runtime.client.errors).
 
 The rules every call follows (``goto``, ``cancel``, ``teleport``, ``reset`` and ``call``
 alike): replies are handed on as they arrive; an answer that says no (``Ack.ok`` false,
 ``NavigateToResponse.success`` false) is exit code 1 (a goal refused as invalid: 2, as a
-teleport refused there, cli.errors.goal_exit_code); nobody serving the key is exit
+teleport refused there, runtime.client.errors.goal_exit_code); nobody serving the key is exit
 code 3, with a hint when systems run in other domains.  A goal (its caller token, its
-cancel when given up on) is cli.tools.goals', built on ``replies``.
+cancel when given up on) is runtime.client.goals', built on ``replies``.
 """
 
 from __future__ import annotations
@@ -21,15 +21,6 @@ from typing import Any
 import msgspec
 import zenoh
 
-from turtlectl.cli.errors import BadInput, ExitCode, Failed, Unreachable, goal_exit_code
-from turtlectl.cli.tools.client import (
-    base_key,
-    check_key,
-    client_session,
-    domain_hint,
-    require,
-    router_lost,
-)
 from turtlectl.messages import (
     Ack,
     DecodeError,
@@ -47,6 +38,15 @@ from turtlectl.messages import (
 from turtlectl.messages.codec import MEDIA_TYPE
 from turtlectl.messages.keys import NAVIGATE_TO, WORLD_KEY
 from turtlectl.messages.world import World
+from turtlectl.runtime.client.errors import BadInput, ExitCode, Failed, Unreachable, goal_exit_code
+from turtlectl.runtime.client.session import (
+    base_key,
+    check_key,
+    client_session,
+    domain_hint,
+    require,
+    router_lost,
+)
 from turtlectl.runtime.endpoint import default_domain
 
 ZENOH_GRACE = 1.0  # s: Zenoh's own query timeout is ours plus this; our deadline decides
@@ -134,10 +134,10 @@ def replies(
     (Unreachable) if the router goes away, NoAnswer (Failed) when ``timeout`` s pass
     before the replies end, BadInput if the service rejects the request.  ``attachment``:
     bytes the query carries beside the request (a goal's caller id); ``goal``: ``key`` is a goal
-    service or its ``/cancel`` (a --secure role's check: cli.tools.client.require); ``idle``:
+    service or its ``/cancel`` (a --secure role's check: runtime.client.session.require); ``idle``:
     also yield None each 0.1 s without a reply (a caller keeping a deadline of its own).
     """
-    require("call", key, goal_service=goal)
+    require(session, "call", key, goal_service=goal)
     inbox: queue.SimpleQueue[zenoh.Reply | None] = queue.SimpleQueue()
     started = time.monotonic()
     deadline = started + timeout
@@ -230,7 +230,7 @@ def call_service(
     key = check_key(key)
     with service_session(connect) as session:
         if base_key(key) == NAVIGATE_TO and isinstance(request, NavigateToRequest):
-            from turtlectl.cli.tools import goals  # which builds on this module
+            from turtlectl.runtime.client import goals  # which builds on this module
 
             service = goals.navigate_to(key)
             limit = goals.NO_LIMIT if timeout is None else timeout

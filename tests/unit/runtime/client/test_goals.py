@@ -1,12 +1,12 @@
-"""cli.tools.goals: a goal given up on is said in the words of the goal service it went to."""
+"""runtime.client.goals: a goal given up on is said in the words of the goal service it went to."""
 
 from __future__ import annotations
 
 import pytest
 
-from turtlectl.cli.errors import ExitCode, exit_code
-from turtlectl.cli.tools.goals import GoalService, given_up, navigate_to
 from turtlectl.messages import Ack
+from turtlectl.runtime.client.errors import ExitCode, exit_code
+from turtlectl.runtime.client.goals import GoalService, given_up, navigate_to
 
 TIMED_OUT = "the goal did not end within --timeout 2 s"
 PATROL = GoalService("patrol/laps", "StudentLapsResult", ("patrol",))
@@ -46,9 +46,9 @@ def test_a_goal_service_without_known_servers_is_named_by_its_key():
 
 
 def test_a_goal_canceled_by_its_timeout_or_by_a_cancel_is_one_error_carrying_the_result_and_last_feedback():
-    from turtlectl.cli.errors import CancelUnconfirmed, GoalCanceled
-    from turtlectl.cli.tools.goals import API_LIMIT, canceled, in_cli_terms
     from turtlectl.messages import NavigateToFeedback, NavigateToResponse
+    from turtlectl.runtime.client.errors import CancelUnconfirmed, GoalCanceled
+    from turtlectl.runtime.client.goals import API_LIMIT, canceled, in_cli_terms
 
     why = f"the goal did not end within {API_LIMIT.format(1.5)}"
     assert why == "the goal did not end within timeout=1.5 s"  # the Python client's own terms
