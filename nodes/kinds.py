@@ -35,6 +35,7 @@ from turtlectl.messages.keys import (
     teleport_key,
 )
 from turtlectl.nodes.params import NavigatorParams, ObstacleDetectorParams, StatusMonitorParams
+from turtlectl.runtime.client.errors import BadInput
 from turtlectl.runtime.config import Claim, Interface
 from turtlectl.runtime.loader import LoadError, absolute, is_target, load, suggestion
 from turtlectl.sim.params import SimParams
@@ -61,8 +62,8 @@ def _builtin(target: str, params: type[msgspec.Struct], claim: Claim, interface:
     return NodeKind(target, params, (claim,), interface, builtin=True)
 
 
-class KindError(ValueError):
-    """A ``run`` that names no kind: str() is the one line saying why."""
+class KindError(BadInput, ValueError):
+    """A ``run`` that names no kind: str() is the one line saying why (exit code 2)."""
 
 
 def kind_of(run: str, base: Path) -> NodeKind:

@@ -81,7 +81,7 @@ def send_goal(
             typer.echo(format.message_json(message) if json else format.message_block(message))
 
     try:
-        result = actions.send_goal(connect, service, goal, timeout, show if feedback else None)
+        result = actions.send_goal(connect, domain, service, goal, timeout, show if feedback else None)
     except KeyboardInterrupt:
         raise Interrupted("interrupted") from None
     ignore_sigint()

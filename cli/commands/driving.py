@@ -12,7 +12,6 @@ import typer
 from turtlectl.cli import args
 from turtlectl.cli.commands.options import ConnectOption, DomainOption, ExitOnLossOption, TurtleOption, format, result
 from turtlectl.runtime.client.errors import (
-    CancelUnconfirmed,
     ExitCode,
     Failed,
     GoalCanceled,
@@ -58,16 +57,14 @@ def goto(
         typer.echo("\r\033[K" + format.progress_line(fb, shutil.get_terminal_size().columns), nl=False)
 
     try:
-        with Client(connect, turtle=turtle) as client:
+        with Client(connect, domain, turtle, timeout_named=goals.CLI_LIMIT) as client:
             response = client.goto(*goal, timeout=timeout, on_feedback=show if live else None)
-    except KeyboardInterrupt:  # before the goal was sent (one running is canceled and checked in navigate)
+    except KeyboardInterrupt:  # before the goal was sent (one running is canceled and checked in run_goal)
         raise Interrupted("interrupted") from None
     except GoalCanceled as canceled:
         if canceled.timeout is not None or canceled.response is None:  # --timeout's: an error, in its words
-            raise goals.in_cli_terms(canceled, timeout) from None
+            raise
         response = canceled.response  # canceled by anyone: the navigator's outcome, as any goal not reached
-    except (CancelUnconfirmed, Interrupted) as given_up:
-        raise goals.in_cli_terms(given_up, timeout) from None
     finally:
         if live:
             typer.echo("\r\033[K", nl=False)
@@ -85,7 +82,7 @@ def cancel(turtle: str = TurtleOption, connect: str = ConnectOption, domain: str
     """
     from turtlectl.runtime.client.api import Client
 
-    with Client(connect, turtle=turtle) as client:
+    with Client(connect, domain, turtle) as client:
         ack = client.cancel()
     result(ack.detail)
     raise typer.Exit(ExitCode.OK if ack.ok else ExitCode.FAILED)

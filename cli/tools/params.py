@@ -176,7 +176,7 @@ def running(connect: str) -> Running:
             name: msgspec.json.decode(body, type=NodeDetails) for name, body in _answers(session, node_key("*")).items()
         }
         if not details:
-            raise NobodyServes("no node is running (is `turtlectl launch` running?)")
+            raise NobodyServes("no node is running", "is `turtlectl launch` running?")
         params = {name: msgspec.json.decode(body) for name, body in _answers(session, params_key("*")).items()}
         return Running(details=details, params=params, world=world(session))
 

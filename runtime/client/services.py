@@ -49,6 +49,7 @@ from turtlectl.runtime.client.session import (
 )
 from turtlectl.runtime.endpoint import default_domain
 
+CALL_TIMEOUT = 5.0  # s: a service call's default (`call`, Client.call) for services other than a goal's
 ZENOH_GRACE = 1.0  # s: Zenoh's own query timeout is ours plus this; our deadline decides
 
 
@@ -63,11 +64,46 @@ class NoAnswer(Failed):
 
 
 class NobodyServes(Unreachable):
-    """No queryable matches the key."""
+    """No queryable matches the key: ``what`` went unanswered (``nothing serves KEY``), in
+    ``domain`` ("": none said), ``advice`` what to check, ``hint`` where systems run instead
+    (from ``session.domain_hint``, starting with "; ")."""
+
+    def __init__(self, what: str, advice: str = "", *, domain: str = "", hint: str = ""):
+        where = f" in domain {domain}" if domain else ""
+        super().__init__(what + where + (f" ({advice})" if advice else "") + hint)
+        self.what, self.advice, self.domain, self.hint = what, advice, domain, hint
+
+    @property
+    def said(self) -> str:
+        return self.what + (f" in domain {self.domain}" if self.domain else "")
+
+    def located(self, domain: str, hint: str) -> NobodyServes:
+        """This error in ``domain``, with ``hint``."""
+        return NobodyServes(self.what, self.advice, domain=domain if self.advice else "", hint=hint)
 
 
 class RouterLost(Unreachable):
-    """The client session lost its router while waiting."""
+    """The client session lost its router ``during`` something ("while waiting for KEY"); the
+    router's endpoint ``connect`` when known.  A plain message for a loss said otherwise."""
+
+    def __init__(self, message: str = "", *, during: str = "", connect: str = ""):
+        if during:
+            at = f" at {connect}" if connect else ""
+            message = f"lost the router{at} {during} (did `turtlectl launch` stop?)"
+        super().__init__(message)
+        self.during, self.connect = during, connect
+
+    @property
+    def said(self) -> str:
+        return (
+            f"lost the router{f' at {self.connect}' if self.connect else ''} {self.during}"
+            if self.during
+            else self.message
+        )
+
+    def located(self, connect: str) -> RouterLost:
+        """This error naming the router's endpoint ``connect``."""
+        return RouterLost(during=self.during, connect=connect) if self.during else self
 
 
 class Raw(msgspec.Struct):
@@ -93,10 +129,9 @@ def hinted(connect: str, domain: str | None = None) -> Iterator[None]:
     try:
         yield
     except RouterLost as exc:
-        raise RouterLost(exc.message.replace("lost the router", f"lost the router at {connect}", 1)) from None
+        raise exc.located(connect) from None
     except NobodyServes as exc:
-        where = f" in domain {domain}" if domain else ""
-        raise NobodyServes(exc.message.replace(" (", f"{where} (", 1) + domain_hint(connect)) from None
+        raise exc.located(domain, domain_hint(connect, domain)) from None
 
 
 ROUTER_LOSS_WAIT = 0.5  # s: how long a query's end may come before the session notices its router is gone
@@ -173,9 +208,9 @@ def replies(
         answered = True
         yield _read_reply(reply, key, timeout)
     if router_lost(session) or (not answered and router_lost_soon(session, time.monotonic() - started)):
-        raise RouterLost(f"lost the router while waiting for {key} (did `turtlectl launch` stop?)")
+        raise RouterLost(during=f"while waiting for {key}")
     if not answered:
-        raise NobodyServes(f"nothing serves {key} (is the node running?)")
+        raise NobodyServes(f"nothing serves {key}", "is the node running?")
 
 
 class Rejected(BadInput):
@@ -206,10 +241,9 @@ def _read_reply(reply: zenoh.Reply, key: str, timeout: float) -> Message | Raw:
     raise Failed(f"{key} failed: {payload.decode('utf-8', 'replace') or 'unknown error'}")
 
 
-CALL_TIMEOUT = 5.0  # s: default of `call` for services other than navigate_to
-
-
-def simple_call(connect: str, key: str, request: Message, everyone: bool = False, timeout: float = 5.0) -> list[Ack]:
+def simple_call(
+    connect: str, key: str, request: Message, everyone: bool = False, timeout: float = CALL_TIMEOUT
+) -> list[Ack]:
     """Call a simple service (Ack answers); with ``everyone``, collect every server's answer."""
     with service_session(connect) as session:
         return [m for m in replies(session, key, request, timeout, everyone) if isinstance(m, Ack)]

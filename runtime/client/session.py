@@ -105,6 +105,10 @@ class NotPermitted(Failed):
         super().__init__(f"not permitted: the {role} role may not {verb} {key} on this --secure system ({how})")
         self.role, self.verb, self.key, self.who = role, verb, key, who
 
+    @property
+    def said(self) -> str:
+        return f"not permitted: the {self.role} role may not {self.verb} {self.key} on this --secure system"
+
 
 def permitted(role: str, verb: str, key: str, goal_service: bool = False) -> bool:
     """Whether a client of ``role`` may ``verb`` (publish, call, ...) on ``key``;

@@ -12,6 +12,7 @@ from turtlectl.cli.main import app, error_line
 from turtlectl.cli.tools import actions
 from turtlectl.messages import NavigateToFeedback, NavigateToRequest, NavigateToResponse
 from turtlectl.messages.codec import type_name
+from turtlectl.runtime.client import api
 from turtlectl.runtime.client.errors import ExitCode, TurtlectlError, exit_code
 from turtlectl.runtime.client.graph import GoalRow, Graph
 
@@ -31,7 +32,7 @@ def a_running_navigator(monkeypatch):
     SESSIONS.clear()
 
     @contextlib.contextmanager
-    def session(connect):
+    def session(connect, domain=None, role=None):
         SESSIONS.append(connect)
         yield object()
 
@@ -42,11 +43,11 @@ def a_running_navigator(monkeypatch):
         def learn_all(self):
             pass
 
-    monkeypatch.setattr(actions, "service_session", session)
+    monkeypatch.setattr(api, "client_session", session)  # send-goal's Client, on no router
     graph = Graph(nodes=[], topics=[], services=[], goals=[NAVIGATE])
-    monkeypatch.setattr(actions, "live_graph", lambda session: graph)
+    monkeypatch.setattr(api, "live_graph", lambda session, domain=None: graph)
     monkeypatch.setattr(actions, "graph", lambda connect: graph)
-    monkeypatch.setattr(actions, "TypeBook", Book)
+    monkeypatch.setattr(api, "TypeBook", Book)
     monkeypatch.setattr(actions.goals, "run_goal", lambda *a, **k: pytest.fail("sent a goal it should refuse"))
 
 
