@@ -100,15 +100,17 @@ def teleport(
 
     Example: turtlectl teleport 2 2 45
     """
-    from turtlectl.messages import TeleportAbsolute, keys
+    from turtlectl.messages import Ack, TeleportAbsolute, keys
     from turtlectl.messages.angles import heading_radians
-    from turtlectl.runtime.client import services
+    from turtlectl.runtime.client.api import Client
 
     degrees = args.finite_number(theta, "theta")
     request = TeleportAbsolute(
         x=args.finite_number(x, "x"), y=args.finite_number(y, "y"), theta=heading_radians(degrees)
     )
-    acks = services.simple_call(connect, keys.teleport_key(turtle or keys.FIRST_TURTLE), request)
+    with Client(connect, domain) as client:  # the simulator's key for the turtle: no namespace
+        replies = client.call_all(keys.teleport_key(turtle or keys.FIRST_TURTLE), request)
+    acks = [a for a in replies if isinstance(a, Ack)]
     if not all(a.ok for a in acks):  # the simulator's own words (they are in radians, as its request)
         raise Failed(format.ack_lines(acks))
     line = format.teleport_line(request.x, request.y, degrees)
@@ -121,10 +123,11 @@ def reset(connect: str = ConnectOption, domain: str = DomainOption) -> None:
 
     Example: turtlectl reset
     """
-    from turtlectl.messages import Reset, keys
-    from turtlectl.runtime.client import services
+    from turtlectl.messages import Ack, Reset, keys
+    from turtlectl.runtime.client.api import Client
 
-    acks = services.simple_call(connect, keys.RESET, Reset(), everyone=True)
+    with Client(connect, domain) as client:
+        acks = [a for a in client.call_all(keys.RESET, Reset(), everyone=True) if isinstance(a, Ack)]
     result(format.reset_lines(acks))
     raise typer.Exit(ExitCode.OK if all(a.ok for a in acks) else ExitCode.FAILED)
 
@@ -156,15 +159,13 @@ def teleop(
     Example: turtlectl teleop --linear 1.0
     """
     from turtlectl.cli.tools.teleop import run_teleop, terminal_fd
-    from turtlectl.messages.keys import FIRST_TURTLE
-    from turtlectl.runtime.client import session as client
+    from turtlectl.runtime.client.api import Client
 
     args.finite_option(linear, "--linear")
     args.finite_option(angular, "--angular")
     fd = terminal_fd(sys.stdin)
-    with client.client_session(connect) as session:
-        namespace = client.live_turtle_namespace(session, turtle or FIRST_TURTLE)
-        run_teleop(session, linear, angular, connect, fd, sys.stdout, namespace, force, exit_on_loss)
+    with Client(connect, domain, turtle) as client:
+        run_teleop(client.session, linear, angular, client.connect, fd, sys.stdout, client.driven, force, exit_on_loss)
 
 
 def register(app: typer.Typer) -> None:

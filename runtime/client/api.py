@@ -229,6 +229,20 @@ class Client:
             raise goals.canceled(service, result, last[0])
         return result
 
+    @property
+    def session(self) -> zenoh.Session:
+        """Its Zenoh session (in its domain, with its login), for a tool built on this client
+        (``turtlectl teleop``); closed by ``close``."""
+        return self._session
+
+    @property
+    def driven(self) -> str:
+        """The namespace of the turtle ``goto`` and ``cancel`` drive: this client's turtle's,
+        turtle1's without one (asked of the running system once)."""
+        if self._driven is None:
+            self._driven = live_turtle_namespace(self._session, FIRST_TURTLE)
+        return self._driven
+
     def _key(self, key: str) -> str:
         """``key`` as a node of this client's turtle writes it (messages.keys.resolve); a node's
         name the same way (``navigator`` in turtle2 is ``turtle2/navigator``)."""
@@ -236,9 +250,7 @@ class Client:
 
     def _goal_key(self, key: str) -> str:
         """``key`` of the turtle ``goto`` and ``cancel`` drive: this client's, or turtle1 without one."""
-        if self._driven is None:
-            self._driven = live_turtle_namespace(self._session, FIRST_TURTLE)
-        return resolve(key, self._driven)
+        return resolve(key, self.driven)
 
     # topics ------------------------------------------------------------------------------------
 
@@ -287,6 +299,16 @@ class Client:
         if not isinstance(last, Message):
             raise Failed(f"{key} answered with something that is not a message")
         return last
+
+    def call_all(
+        self, service: str, request: Message, *, everyone: bool = False, timeout: float = CALL_TIMEOUT
+    ) -> list[Message]:
+        """Every reply of ``service`` to ``request`` (the messages among them), as they came;
+        with ``everyone``, from every node that serves it (``reset``: the simulator's and each
+        status monitor's).  ``Unreachable`` if nothing serves it."""
+        key = check_key(self._key(service))
+        with self._hinted():
+            return [m for m in replies(self._session, key, request, timeout, everyone) if isinstance(m, Message)]
 
     # parameters --------------------------------------------------------------------------------
 

@@ -241,14 +241,6 @@ def _read_reply(reply: zenoh.Reply, key: str, timeout: float) -> Message | Raw:
     raise Failed(f"{key} failed: {payload.decode('utf-8', 'replace') or 'unknown error'}")
 
 
-def simple_call(
-    connect: str, key: str, request: Message, everyone: bool = False, timeout: float = CALL_TIMEOUT
-) -> list[Ack]:
-    """Call a simple service (Ack answers); with ``everyone``, collect every server's answer."""
-    with service_session(connect) as session:
-        return [m for m in replies(session, key, request, timeout, everyone) if isinstance(m, Ack)]
-
-
 def call_service(
     connect: str,
     key: str,
