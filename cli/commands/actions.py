@@ -29,7 +29,7 @@ def action_list(
     """
     from turtlectl.cli.tools import actions
 
-    rows = actions.goal_services(connect)
+    rows = actions.goal_services(connect, domain)
     typer.echo(format.json_value(rows) if json else actions.rows_text(rows))
 
 
@@ -47,7 +47,7 @@ def action_info(
     """
     from turtlectl.cli.tools import actions
 
-    typer.echo(actions.row_text(actions.goal_service(connect, service)))
+    typer.echo(actions.row_text(actions.goal_service(connect, domain, service)))
 
 
 @action_app.command("send-goal")

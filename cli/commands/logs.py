@@ -64,7 +64,7 @@ def log(
     )
     colour = not json and logs.use_colour(sys.stdout.isatty())
     try:
-        for item in logs.read(connect, wanted, follow, exit_on_loss):
+        for item in logs.read(connect, domain, wanted, follow, exit_on_loss):
             if isinstance(item, logs.Notice):
                 typer.echo(item.text, err=True)
             else:

@@ -56,11 +56,11 @@ def param_list(
     from turtlectl.runtime.client.session import node_of_turtle
 
     if node is None:
-        by_node = params.listing_all(connect)  # every node's: --turtle names none
+        by_node = params.listing_all(connect, domain)  # every node's: --turtle names none
         result(format.json_value(by_node) if json else params.listing_text(by_node))
         return
-    node = node_of_turtle(connect, node, turtle)
-    names = params.names(params.fetch(connect, node))
+    node = node_of_turtle(connect, node, turtle, domain)
+    names = params.names(params.fetch(connect, domain, node))
     result(format.json_value(names) if json else "\n".join(names))
 
 
@@ -89,12 +89,12 @@ def param_set(
     from turtlectl.cli.tools.introspect import nodes_named
     from turtlectl.runtime.client.session import node_of_turtle
 
-    node = node_of_turtle(connect, node, turtle)
-    chosen = nodes_named(connect, node)
+    node = node_of_turtle(connect, node, turtle, domain)
+    chosen = nodes_named(connect, domain, node)
     if chosen is None:
-        result(params.set_value(connect, node, name, value))
+        result(params.set_value(connect, domain, node, name, value))
         return
-    result("\n".join(f"{n}: {params.set_value(connect, n, name, value)}" for n in chosen))
+    result("\n".join(f"{n}: {params.set_value(connect, domain, n, name, value)}" for n in chosen))
 
 
 @param_app.command("describe")
@@ -114,8 +114,8 @@ def param_describe(
     from turtlectl.cli.tools import params
     from turtlectl.runtime.client.session import node_of_turtle
 
-    node = node_of_turtle(connect, node, turtle)
-    info, now = params.describe(connect, node, name)
+    node = node_of_turtle(connect, node, turtle, domain)
+    info, now = params.describe(connect, domain, node, name)
     if json:
         result(format.json_value({**params.plain(info), "value": now}))
     else:
@@ -140,12 +140,12 @@ def param_get(
     from turtlectl.runtime.client import answers
     from turtlectl.runtime.client.session import node_of_turtle
 
-    node = node_of_turtle(connect, node, turtle)
-    chosen = nodes_named(connect, node)
+    node = node_of_turtle(connect, node, turtle, domain)
+    chosen = nodes_named(connect, domain, node)
     if chosen is None:
-        result(format.json_value(answers.value(params.fetch(connect, node), node, name)))
+        result(format.json_value(answers.value(params.fetch(connect, domain, node), node, name)))
         return
-    values = {n: format.json_value(answers.value(params.fetch(connect, n), n, name)) for n in chosen}
+    values = {n: format.json_value(answers.value(params.fetch(connect, domain, n), n, name)) for n in chosen}
     result("\n".join(f"{n}: {v}" for n, v in values.items()))
 
 
@@ -164,8 +164,8 @@ def param_dump(
     from turtlectl.cli.tools import params
     from turtlectl.runtime.client.session import node_of_turtle
 
-    node = node_of_turtle(connect, node, turtle)
-    values = params.fetch(connect, node)
+    node = node_of_turtle(connect, node, turtle, domain)
+    values = params.fetch(connect, domain, node)
     result(format.json_value(values) if json else params.dump(node, values))
 
 

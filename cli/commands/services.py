@@ -43,7 +43,7 @@ def call(
     from turtlectl.runtime.client import session as client
 
     key = client.check_key(service)
-    type_name = topics.learn_type(connect, client.base_key(key), type_name)  # yours: from the nodes using it
+    type_name = topics.learn_type(connect, domain, client.base_key(key), type_name)  # yours: from the nodes using it
     body = build.service_request(client.base_key(key), request, type_name)
 
     def show(reply: Any) -> None:
@@ -54,7 +54,7 @@ def call(
 
     code = ExitCode.OK
     try:  # a goal's feedback is shown from inside the call: a Ctrl-C there cancels the goal and checks
-        for reply in services.call_service(connect, key, body, timeout, on_feedback=show):
+        for reply in services.call_service(connect, domain, key, body, timeout, on_feedback=show):
             ignore_sigint()  # an answer (feedback never comes here): a Ctrl-C from now on changes nothing
             show(reply)
             if not isinstance(reply, services.Raw):

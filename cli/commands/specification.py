@@ -54,7 +54,7 @@ def from_system(
     from turtlectl.cli.verify import document, report, skeleton
     from turtlectl.runtime.client.api import Client
 
-    with Client(connect) as client:
+    with Client(connect, domain) as client:
         text = document.to_toml(skeleton.from_system(client))
     if output is None:
         result(text.rstrip("\n"))

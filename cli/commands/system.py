@@ -20,7 +20,7 @@ from turtlectl.cli.commands.options import (
 )
 from turtlectl.runtime.client import checks
 from turtlectl.runtime.client.errors import BadInput
-from turtlectl.runtime.endpoint import DEFAULT_PORT, default_domain
+from turtlectl.runtime.endpoint import DEFAULT_PORT
 
 
 def launch(
@@ -141,7 +141,7 @@ def launch(
         printer,
         None if join else port,
         connect,
-        default_domain(),
+        domain,
         host,
         log_dir or logs.default_parent(),
         persist=persist,
@@ -288,7 +288,7 @@ def run(
     if is_target(node):  # a node's name has no ':'
         plan, named = class_plan(node, param, Path.cwd(), name, namespace)
         typer.echo(f"running {node} as node {named} (turtlectl list shows it so; --name changes it)", err=True)
-        exec_node(on_sim_time(node_config(plan, named, endpoint, None, default_domain(), level)), plan.kinds[named])
+        exec_node(on_sim_time(node_config(plan, named, endpoint, None, domain, level)), plan.kinds[named])
     if name is not None or namespace:
         which = "--name renames" if name is not None else "--namespace places"
         raise BadInput(
@@ -296,7 +296,7 @@ def run(
             "(a namespaced node of it: turtle2/navigator)"
         )
     plan = load_launch(file or default_launch_file(), arg)
-    exec_node(on_sim_time(node_config(plan, node, endpoint, param, default_domain(), level)), plan.kinds[node])
+    exec_node(on_sim_time(node_config(plan, node, endpoint, param, domain, level)), plan.kinds[node])
 
 
 def log_level_command(
@@ -312,7 +312,7 @@ def log_level_command(
     """
     from turtlectl.cli.tools import introspect
 
-    result(introspect.set_log_levels(connect, node, level))
+    result(introspect.set_log_levels(connect, domain, node, level))
 
 
 new_app = typer.Typer(help="Start something of your own (as `ros2 pkg create`).\n\nExample: turtlectl new node patrol")

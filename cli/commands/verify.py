@@ -92,7 +92,7 @@ def verify(
             verdicts = measured(client, launch_file_plan(launch, time_scale) if compares else None)
     else:
         plan = launch_file_plan(launch_file) if compares and launch_file is not None else None
-        with Client(connect) as client:
+        with Client(connect, domain) as client:
             verdicts = measured(client, plan)
     if junit is not None:
         report.write_junit(junit, str(spec), verdicts)

@@ -202,11 +202,16 @@ class Bridge(ServerListener):
 
 
 def serve(
-    connect: str, host: str, port: int, stop: threading.Event, started: Callable[[Any], None] = lambda _s: None
+    connect: str,
+    domain: str,
+    host: str,
+    port: int,
+    stop: threading.Event,
+    started: Callable[[Any], None] = lambda _s: None,
 ) -> Iterator[int]:
     """Serve the system at ``connect`` on ws://``host``:``port`` until ``stop`` is set; calls
     ``started(server)`` once it listens, then yields the number of channels each second."""
-    with client_session(connect) as session:
+    with client_session(connect, domain) as session:
         if logged_in_as(session) not in (None, "viewer"):
             raise Failed(
                 f"foxglove serves what its role may to anyone who reaches its WebSocket, without a login: on a "

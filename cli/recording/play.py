@@ -129,6 +129,7 @@ def serve_world(session: zenoh.Session, document: bytes | None) -> zenoh.Queryab
 
 def play(
     connect: str,
+    domain: str,
     recording: Recording,
     rate: float,
     start_offset: float,
@@ -164,7 +165,7 @@ def play(
         except BadInput as exc:
             raise BadInput(f"{recording.path}: channel {topic!r} cannot be played: {exc.message}") from None
     first = records[0].log_time
-    with client_session(connect) as session:
+    with client_session(connect, domain) as session:
         world = serve_world(session, recording.world())  # kept: a queryable lives while referenced
         described = serve_types(session, user_types(records))
         publishers: dict[tuple[str, str], zenoh.Publisher] = {}

@@ -98,6 +98,7 @@ class _Drawing:
 
 def record(
     connect: str,
+    domain: str,
     keys: list[str],
     exclude: list[str],
     path: Path,
@@ -129,7 +130,7 @@ def record(
 
         return on_sample
 
-    with client_session(connect) as session:
+    with client_session(connect, domain) as session:
         writer = BagWriter(path, library)
         try:
             world = World()

@@ -15,15 +15,15 @@ from turtlectl.runtime.client.graph import GoalRow
 from turtlectl.runtime.client.session import check_key
 
 
-def goal_services(connect: str) -> list[GoalRow]:
+def goal_services(connect: str, domain: str) -> list[GoalRow]:
     """Every goal service running now, by key."""
-    return graph(connect).goals
+    return graph(connect, domain).goals
 
 
-def goal_service(connect: str, key: str) -> GoalRow:
+def goal_service(connect: str, domain: str, key: str) -> GoalRow:
     """The goal service ``key``; Unreachable naming those that run when it does not."""
     key = check_key(key)
-    rows = goal_services(connect)
+    rows = goal_services(connect, domain)
     for row in rows:
         if row.key == key:
             return row

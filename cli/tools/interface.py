@@ -35,7 +35,7 @@ def summary(cls: type) -> str:
 Keys = dict[str, list[str]]  # type name -> the keys that carry it in the live graph
 
 
-def live_types(connect: str, domain: str | None = None) -> tuple[Live, Keys]:
+def live_types(connect: str, domain: str) -> tuple[Live, Keys]:
     """What the running system's nodes say of the types they use, and the keys (topics and
     services) that carry each in the live graph (both {} when none runs)."""
     from turtlectl.runtime.client.session import client_session, live_graph

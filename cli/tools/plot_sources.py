@@ -26,7 +26,7 @@ from turtlectl.runtime.client import presence
 from turtlectl.runtime.client.errors import Unreachable
 from turtlectl.runtime.client.graph import Graph
 from turtlectl.runtime.client.samples import Received, decode_sample, learn
-from turtlectl.runtime.client.session import live_graph
+from turtlectl.runtime.client.session import domain_of, live_graph
 from turtlectl.runtime.client.typebook import TypeBook, generic
 
 
@@ -213,7 +213,7 @@ class Live:
     def _silence(self, key: str, graph: Graph, flowed: bool = False) -> str:
         """Why ``key`` is silent (as echo says it), with "did you mean" for a key that looks like
         a typo of a built-in one."""
-        why = silence_reason(key, graph, self.connect, flowed)
+        why = silence_reason(key, graph, self.connect, domain_of(self.session), flowed)
         near = self.typos.get(key, "").partition(": ")[2]
         return f"{why.split(' (')[0]}: {near}" if near else why
 

@@ -27,11 +27,11 @@ from turtlectl.runtime.client.session import (
     check_key,
     client_session,
     domain_hint,
+    domain_of,
     live_graph,
     require,
 )
 from turtlectl.runtime.client.typebook import TypeBook, conflicts
-from turtlectl.runtime.endpoint import default_domain
 
 WHILE_A_GOAL_RUNS = (FEEDBACK, CMD_VEL)  # published by the navigator only while a goal runs
 
@@ -108,18 +108,18 @@ def silence_text(key: str, current: Graph, hint: Callable[[], str], domain: str 
     return f"nothing published on {key} {yet}: no turtlectl node runs {where} (is `turtlectl launch` running?){hint()}"
 
 
-def silence_reason(key: str, current: Graph, connect: str, flowed: bool = False) -> str:
-    """``silence_text`` as a client of ``connect`` in this machine's domain says it (the domain
-    hint asked only when no node runs at all)."""
-    return silence_text(key, current, lambda: domain_hint(connect), default_domain(), flowed)
+def silence_reason(key: str, current: Graph, connect: str, domain: str, flowed: bool = False) -> str:
+    """``silence_text`` as a client of ``connect`` in ``domain`` says it (the domain hint asked
+    only when no node runs at all)."""
+    return silence_text(key, current, lambda: domain_hint(connect, domain), domain, flowed)
 
 
 def _silence(session: zenoh.Session, connect: str, key: str, flowed: bool) -> Silence:
-    return Silence(key, silence_reason(key, live_graph(session), connect, flowed))
+    return Silence(key, silence_reason(key, live_graph(session), connect, domain_of(session), flowed))
 
 
 def stream(
-    connect: str, topic: str, count: int | None, timeout: float | None, exit_on_loss: bool = False
+    connect: str, domain: str, topic: str, count: int | None, timeout: float | None, exit_on_loss: bool = False
 ) -> Iterator[Received | Notice]:
     """Decoded samples on ``key`` until ``count`` valid messages or ``timeout`` s.
 
@@ -129,7 +129,7 @@ def stream(
     silence is reported meanwhile); with ``exit_on_loss``, RouterLost (Unreachable) instead.
     """
     key = check_key(topic)
-    with client_session(connect) as session, subscription(session, key) as samples:
+    with client_session(connect, domain) as session, subscription(session, key) as samples:
         book = TypeBook(session)
         warned: set[str] = set()  # the type names whose conflict was said
         started = time.monotonic()
@@ -178,7 +178,7 @@ def _stamp(payload: bytes) -> int:
 
 
 def measure_rates(
-    connect: str, topics: list[str], window: int, duration: float | None, exit_on_loss: bool = False
+    connect: str, domain: str, topics: list[str], window: int, duration: float | None, exit_on_loss: bool = False
 ) -> Iterator[list[RateStats] | Notice]:
     """Every second, the rate statistics of the topics that had messages since the last
     report, each over its last SPAN s (at most ``window`` messages; cli.tools.rates); ends after
@@ -187,7 +187,7 @@ def measure_rates(
     router and its return are a Notice each, as echo's (with ``exit_on_loss``, RouterLost)."""
     keys = [check_key(t) for t in topics]
     inbox: queue.SimpleQueue[tuple[str, float, bytes]] = queue.SimpleQueue()
-    with client_session(connect) as session:
+    with client_session(connect, domain) as session:
         subs = [
             presence.subscriber(session, k, lambda s, k=k: inbox.put((k, time.monotonic(), s.payload.to_bytes())))
             for k in keys
@@ -218,12 +218,12 @@ def measure_rates(
                 sub.undeclare()
 
 
-def publish(connect: str, topic: str, message: Message, rate: float | None, times: int | None) -> int:
+def publish(connect: str, domain: str, topic: str, message: Message, rate: float | None, times: int | None) -> int:
     """Publish ``message`` on ``topic`` ``times`` times (None: until Ctrl-C) at ``rate`` Hz,
     stamping each copy; returns how many were sent."""
     key = check_key(topic)
     sent = 0
-    with client_session(connect) as session:
+    with client_session(connect, domain) as session:
         require(session, "publish", key)
         pub = presence.publisher(session, key, type_name(type(message)), encoding_for(type(message)))
         period = 1.0 / rate if rate else 0.0
@@ -242,7 +242,7 @@ def publish(connect: str, topic: str, message: Message, rate: float | None, time
     return sent
 
 
-def learn_type(connect: str, key: str, type_name: str | None) -> str | None:
+def learn_type(connect: str, domain: str, key: str, type_name: str | None) -> str | None:
     """Before a message for ``key`` is built from JSON (``pub``, ``call``): a type this process
     does not know (``type_name``, or else the one the live graph says ``key`` carries) is learnt
     from the nodes that use it, so it is validated and encoded as a built-in is.  Returns the
@@ -257,7 +257,7 @@ def learn_type(connect: str, key: str, type_name: str | None) -> str | None:
     if type_name is None and (key in TOPICS or key in SERVICES):
         return None
     try:
-        with client_session(connect) as session:
+        with client_session(connect, domain) as session:
             from_graph = None
             if type_name is None:
                 current = live_graph(session)
@@ -273,12 +273,12 @@ def learn_type(connect: str, key: str, type_name: str | None) -> str | None:
     return type_name if type_name is None else which_type(type_name, TYPES_BY_NAME) or type_name
 
 
-def graph(connect: str) -> Graph:
+def graph(connect: str, domain: str) -> Graph:
     """The live graph: asked of the router's liveliness table now, never cached; with the type
     names its nodes describe differently (``conflicts``)."""
-    with client_session(connect) as session:
+    with client_session(connect, domain) as session:
         current = live_graph(session)
         current.conflicts = conflicts(session)
     if not current.nodes:
-        current.hint = domain_hint(connect).removeprefix("; ")
+        current.hint = domain_hint(connect, domain).removeprefix("; ")
     return current

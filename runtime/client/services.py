@@ -115,9 +115,9 @@ class Raw(msgspec.Struct):
 
 
 @contextlib.contextmanager
-def service_session(connect: str) -> Iterator[zenoh.Session]:
+def service_session(connect: str, domain: str) -> Iterator[zenoh.Session]:
     """A client session whose "nothing serves" errors say which domains have a system."""
-    with client_session(connect) as session, hinted(connect):
+    with client_session(connect, domain) as session, hinted(connect):
         yield session
 
 
@@ -243,6 +243,7 @@ def _read_reply(reply: zenoh.Reply, key: str, timeout: float) -> Message | Raw:
 
 def call_service(
     connect: str,
+    domain: str,
     key: str,
     request: Message | bytes,
     timeout: float | None,
@@ -254,7 +255,7 @@ def call_service(
     arrives, and only its response is yielded.  ``timeout`` None: the navigator's
     goal_timeout for goals, CALL_TIMEOUT s otherwise."""
     key = check_key(key)
-    with service_session(connect) as session:
+    with service_session(connect, domain) as session:
         if base_key(key) == NAVIGATE_TO and isinstance(request, NavigateToRequest):
             from turtlectl.runtime.client import goals  # which builds on this module
 

@@ -113,7 +113,7 @@ def test_goto_with_no_navigator_exits_3_within_3_seconds(tmp_path):
 def test_a_malformed_endpoint_is_bad_input_at_once(endpoint):
     result = run("list", "--connect", endpoint)
     assert result.returncode == 2 and "write it as tcp/HOST:PORT" in result.stderr, result.stderr
-    error, seconds = waited(lambda: topics.graph(endpoint))
+    error, seconds = waited(lambda: topics.graph(endpoint, ""))
     assert exit_code(error) == ExitCode.BAD_INPUT
     assert seconds < client.OPEN_TIMEOUT / 2, seconds  # refused before any connection attempt
 

@@ -5,7 +5,6 @@ become exit codes in ``main`` only; ``turtlectl --help`` imports nothing heavy; 
 
 from __future__ import annotations
 
-import os
 import re
 import signal
 import socket
@@ -55,6 +54,23 @@ def plain_environment(monkeypatch, tmp_path):
     for name in (DOMAIN_ENV, CONNECT_ENV, "TURTLECTL_LOG_DIR"):
         monkeypatch.delenv(name, raising=False)
     monkeypatch.chdir(tmp_path)
+
+
+def sessions_opened(monkeypatch) -> list[str]:
+    """The domain of each client session a command opens from now on (none opens: each raises
+    NoSystem, as with nothing listening at its endpoint)."""
+    from turtlectl.cli.tools import topics
+    from turtlectl.runtime.client import api, services, session
+
+    domains: list[str] = []
+
+    def opened(connect, domain=None, role=None):
+        domains.append(domain)
+        raise session.NoSystem(connect)
+
+    for module in (session, topics, api, services):
+        monkeypatch.setattr(module, "client_session", opened)
+    return domains
 
 
 def invoke(*argv: str) -> tuple[int, str]:
@@ -355,10 +371,11 @@ def test_domain_and_connect_work_before_and_after_the_command(args, monkeypatch)
     right after a hint told the user to add --domain, and `turtlectl --connect ... list` refused."""
     monkeypatch.delenv(DOMAIN_ENV, raising=False)
     monkeypatch.delenv(CONNECT_ENV, raising=False)
+    domains = sessions_opened(monkeypatch)
     result = CliRunner().invoke(app, args)
     assert isinstance(result.exception, TurtlectlError), result.output  # it ran: nothing listens on port 1
     assert exit_code(result.exception) == ExitCode.UNREACHABLE and "tcp/127.0.0.1:1" in result.exception.message
-    assert os.environ[DOMAIN_ENV] == "lab9"
+    assert domains == ["lab9"]  # the command's session, in the domain given before or after it
 
 
 def test_a_bad_domain_after_the_command_is_bad_input(monkeypatch):
@@ -504,9 +521,9 @@ def test_a_node_name_may_have_ros_s_slash_a_namespace_or_the_domain_list_shows(m
     assert args.node_name("lab1:turtle2/navigator") == ("lab1", "turtle2/navigator")
     code, text = invoke("--domain", "lab2", "param", "get", "lab1:navigator", "rate")
     assert code == ExitCode.BAD_INPUT and "node 'lab1:navigator' is in domain 'lab1', not in --domain 'lab2'" in text
-    monkeypatch.delenv(DOMAIN_ENV)  # the command set it for its sessions
+    domains = sessions_opened(monkeypatch)
     code, text = invoke("param", "get", "lab1:navigator", "rate", "--connect", "tcp/127.0.0.1:1")
-    assert code == ExitCode.UNREACHABLE and os.environ.get(DOMAIN_ENV) == "lab1"
+    assert code == ExitCode.UNREACHABLE and domains == ["lab1"]  # the command's session, in the node's domain
 
 
 def test_warn_is_warning_as_ros_spells_it():

@@ -46,7 +46,7 @@ def a_running_navigator(monkeypatch):
     monkeypatch.setattr(api, "client_session", session)  # send-goal's Client, on no router
     graph = Graph(nodes=[], topics=[], services=[], goals=[NAVIGATE])
     monkeypatch.setattr(api, "live_graph", lambda session, domain=None: graph)
-    monkeypatch.setattr(actions, "graph", lambda connect: graph)
+    monkeypatch.setattr(actions, "graph", lambda connect, domain: graph)
     monkeypatch.setattr(api, "TypeBook", Book)
     monkeypatch.setattr(actions.goals, "run_goal", lambda *a, **k: pytest.fail("sent a goal it should refuse"))
 

@@ -207,11 +207,11 @@ def live_plot(monkeypatch, capsys, samples, silent):
 
     series = [Series("turtle1/pose", "x"), Series("nobody/here", "x")]
     monkeypatch.setattr(plotting, "result", typer.echo)
-    monkeypatch.setattr(client, "client_session", lambda connect: contextlib.nullcontext())
+    monkeypatch.setattr(client, "client_session", lambda connect, domain: contextlib.nullcontext())
     monkeypatch.setattr(plot_sources, "Live", lambda *a, **k: FakeLive([(series[0], t, 3.0) for t in samples], silent))
     monkeypatch.setattr(plot_draw, "screen", lambda out: contextlib.nullcontext(FakeScreen()))
     try:
-        plotting._plot_live(series, 10.0, 1.0, "tcp/x:1", stamps=False)
+        plotting._plot_live(series, 10.0, 1.0, "tcp/x:1", "", stamps=False)
     except TurtlectlError as error:
         return capsys.readouterr().out, error
     return capsys.readouterr().out, None
