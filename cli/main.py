@@ -15,7 +15,6 @@ imported inside the commands that use them, not in the group modules nor here.
 
 from __future__ import annotations
 
-import os
 import signal
 import sys
 from typing import Any
@@ -38,7 +37,7 @@ from turtlectl.cli.commands import (
     turtles,
     verify,
 )
-from turtlectl.cli.commands.options import DomainOption
+from turtlectl.cli.commands.options import CONNECT_KEY, DomainOption
 from turtlectl.runtime.client import presence
 from turtlectl.runtime.client.errors import BadInput, ExitCode, Interrupted, TurtlectlError, exit_code
 from turtlectl.runtime.client.sigint import ignore_sigint, quiet_unraisable
@@ -136,8 +135,8 @@ def root(
         # client commands handle Ctrl-C as KeyboardInterrupt (goto cancels, echo stops);
         # launch and router keep cli.entry's quiet handler until they install their own
         signal.signal(signal.SIGINT, signal.default_int_handler)
-    if connect is not None:  # the commands read it as their --connect default (before their own options)
-        os.environ[CONNECT_ENV] = connect
+    if connect is not None:  # the commands' --connect when they are given none of their own (options.use_connect)
+        ctx.meta[CONNECT_KEY] = connect
         ctx.obj = {"connect": connect}  # launch joins it, as with its own --connect; router refuses it
 
 

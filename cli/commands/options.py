@@ -4,6 +4,7 @@ command prints its result."""
 from __future__ import annotations
 
 import typer
+from click.core import ParameterSource
 
 from turtlectl.cli import args, lazy_module
 from turtlectl.runtime.client import checks
@@ -26,8 +27,23 @@ def completer(kind: str):
     return complete
 
 
+#: where the root's --connect (given before the command) is kept for the invocation
+CONNECT_KEY = "turtlectl.connect"
+
+
+def use_connect(ctx: typer.Context, param: typer.CallbackParam, connect: str) -> str:
+    """``--connect`` after the command; when it is not given there, the one given before the
+    command (``turtlectl --connect tcp/... list``), else TURTLECTL_CONNECT, else the default."""
+    given_after = ctx.get_parameter_source(param.name or "connect") is ParameterSource.COMMANDLINE
+    return connect if given_after else ctx.meta.get(CONNECT_KEY, connect)
+
+
 ConnectOption = typer.Option(
-    DEFAULT_ENDPOINT, "--connect", envvar=CONNECT_ENV, help="Router endpoint of the system to talk to."
+    DEFAULT_ENDPOINT,
+    "--connect",
+    envvar=CONNECT_ENV,
+    callback=use_connect,
+    help="Router endpoint of the system to talk to.",
 )
 
 
