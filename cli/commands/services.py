@@ -43,8 +43,10 @@ def call(
     from turtlectl.runtime.client import session as client
 
     key = client.check_key(service)
-    type_name = topics.learn_type(connect, domain, client.base_key(key), type_name)  # yours: from the nodes using it
-    body = build.service_request(client.base_key(key), request, type_name)
+    type_name = topics.learn_type(
+        connect, domain, client.base_key(key, domain), type_name
+    )  # yours: from the nodes using it
+    body = build.service_request(client.base_key(key, domain), request, type_name)
 
     def show(reply: Any) -> None:
         if isinstance(reply, services.Raw):

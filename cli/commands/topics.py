@@ -188,8 +188,10 @@ def pub(
     from turtlectl.runtime.client import session as client
 
     key = client.check_key(topic, publish=True)
-    type_name = topics.learn_type(connect, domain, client.base_key(key), type_name)  # yours: from the nodes using it
-    msg = build.topic_message(client.base_key(key), message, type_name)
+    type_name = topics.learn_type(
+        connect, domain, client.base_key(key, domain), type_name
+    )  # yours: from the nodes using it
+    msg = build.topic_message(client.base_key(key, domain), message, type_name)
     count = args.publish_count(once, rate, times)
     try:
         sent = topics.publish(connect, domain, topic, msg, rate if rate is not None else 10.0, count)

@@ -83,14 +83,14 @@ def silence_text(key: str, current: Graph, hint: Callable[[], str], domain: str 
     publishers = sorted({p for t in published for p in t.publishers})
     if publishers:
         who = f"{', '.join(publishers)} publish{'es' * (len(publishers) == 1)} it"
-        if all(base_key(t.key) in WHILE_A_GOAL_RUNS for t in published):
+        if all(base_key(t.key, domain) in WHILE_A_GOAL_RUNS for t in published):
             return f"nothing published on {key} {yet}: {who} only while a goal runs (start one with `turtlectl goto X Y THETA`)"
-        if all(base_key(t.key) == PARAMETER_EVENTS for t in published):
+        if all(base_key(t.key, domain) == PARAMETER_EVENTS for t in published):
             return (
                 f"nothing published on {key} {yet}: {who} only when a parameter changes "
                 "(`turtlectl param set NODE NAME VALUE`)"
             )
-        if all(base_key(t.key).startswith(f"{LOG}/") for t in published):
+        if all(base_key(t.key, domain).startswith(f"{LOG}/") for t in published):
             return f"nothing published on {key} {yet}: {who} only when {'it logs' if len(publishers) == 1 else 'they log'} a record (`turtlectl log` shows the recent ones)"
         return (
             f"nothing published on {key} for {SILENCE:g} s although {who}: it may be idle "

@@ -256,7 +256,7 @@ def call_service(
     goal_timeout for goals, CALL_TIMEOUT s otherwise."""
     key = check_key(key)
     with service_session(connect, domain) as session:
-        if base_key(key) == NAVIGATE_TO and isinstance(request, NavigateToRequest):
+        if base_key(key, domain) == NAVIGATE_TO and isinstance(request, NavigateToRequest):
             from turtlectl.runtime.client import goals  # which builds on this module
 
             service = goals.navigate_to(key)
