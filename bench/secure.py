@@ -27,10 +27,10 @@ sys.path.insert(0, str(ROOT))
 
 from bench.system import Stamped, machine, summary  # noqa: E402
 from tests.integration.harness import running_system  # noqa: E402
-from turtlectl.cli.system import credentials  # noqa: E402
 from turtlectl.cli.system.certs import make  # noqa: E402
 from turtlectl.messages import Pose, decode  # noqa: E402
 from turtlectl.messages.keys import POSE  # noqa: E402
+from turtlectl.runtime.client import credentials  # noqa: E402
 from turtlectl.runtime.endpoint import TLS_ENV  # noqa: E402
 from turtlectl.runtime.session import close_session, node_session_config  # noqa: E402
 

@@ -14,7 +14,7 @@ import sys
 import time
 from types import FrameType, ModuleType
 
-from turtlectl.cli.errors import ExitCode
+from turtlectl.runtime.client.errors import ExitCode
 
 #: when this command began (time.monotonic, s): the first thing the console script runs, so that
 #: `launch` can say how long its nodes took to be ready from the user's point of view

@@ -12,12 +12,10 @@ import re
 from collections.abc import Collection
 from pathlib import Path
 
-from turtlectl.cli.errors import BadInput
+from turtlectl.runtime.client.errors import BadInput
 
 #: ``--domain``: one key chunk; a number like ROS_DOMAIN_ID is fine
 DOMAIN_RE = re.compile(r"^[A-Za-z0-9_\-]+$")
-#: ``--connect``: a Zenoh endpoint, ``PROTOCOL/HOST:PORT`` ([..] around an IPv6 address)
-ENDPOINT_RE = re.compile(r"^(tcp|udp|tls|quic|ws)/(\[[0-9A-Fa-f:.]+\]|[^\s/:\[\]]+):(\d{1,5})$")
 
 
 def finite_number(text: str, name: str) -> float:
@@ -78,27 +76,6 @@ def node_selector(text: str) -> tuple[str, str]:
 
 
 SELECTOR_CHUNK = re.compile(r"^[A-Za-z0-9_\-*?\[\]!]+$")
-
-
-def turtle_name(text: str) -> str:
-    """``--turtle``: a turtle's name, checked ("": none given).  The namespace its nodes run in
-    is the running system's to say (cli.tools.client.live_turtle_namespace)."""
-    from turtlectl.sim.turtles import NAME
-
-    text = text.strip().strip("/")
-    if text and not NAME.match(text):
-        raise BadInput(f"--turtle {text!r}: a turtle's name, letters, digits, _ and - (like turtle2)")
-    return text
-
-
-def endpoint(connect: str) -> str:
-    """``connect`` if it is a Zenoh endpoint (``tcp/HOST:PORT``)."""
-    match = ENDPOINT_RE.match(connect)
-    if not match or not 0 < int(match.group(3)) <= 65535:
-        raise BadInput(
-            f"{connect!r} is not an endpoint: write it as tcp/HOST:PORT (from --connect or TURTLECTL_CONNECT)"
-        )
-    return connect
 
 
 def listen_address(text: str) -> str:

@@ -5,7 +5,7 @@ Each group of commands is a module of cli.commands (system, driving, topics, ser
 parameters, introspection, recording), a thin layer of Typer commands: they parse options,
 call logic that never prints (client tools in cli.tools, the launch side in cli.system,
 recordings in cli.recording, the Foxglove bridge in cli.foxglove; argument checks in
-cli.args), and print what it returns.  Logic raises errors by meaning (cli.errors); ``main``
+cli.args), and print what it returns.  Logic raises errors by meaning (runtime.client.errors); ``main``
 is the one place that prints them on stderr and exits with their exit code.
 
 ``turtlectl --help`` must stay quick: modules that cost time to import (sessions, launch
@@ -15,7 +15,6 @@ imported inside the commands that use them, not in the group modules nor here.
 
 from __future__ import annotations
 
-import os
 import signal
 import sys
 from typing import Any
@@ -38,10 +37,10 @@ from turtlectl.cli.commands import (
     turtles,
     verify,
 )
-from turtlectl.cli.commands.options import DomainOption
-from turtlectl.cli.errors import BadInput, ExitCode, Interrupted, TurtlectlError, exit_code
-from turtlectl.cli.sigint import ignore_sigint, quiet_unraisable
-from turtlectl.cli.tools import presence
+from turtlectl.cli.commands.options import CONNECT_KEY, DomainOption
+from turtlectl.runtime.client import presence
+from turtlectl.runtime.client.errors import BadInput, ExitCode, Interrupted, TurtlectlError, exit_code
+from turtlectl.runtime.client.sigint import ignore_sigint, quiet_unraisable
 from turtlectl.runtime.endpoint import CONNECT_ENV, DEFAULT_ENDPOINT, peer_timeout
 
 EXIT_CODES_HELP = """
@@ -136,8 +135,8 @@ def root(
         # client commands handle Ctrl-C as KeyboardInterrupt (goto cancels, echo stops);
         # launch and router keep cli.entry's quiet handler until they install their own
         signal.signal(signal.SIGINT, signal.default_int_handler)
-    if connect is not None:  # the commands read it as their --connect default (before their own options)
-        os.environ[CONNECT_ENV] = connect
+    if connect is not None:  # the commands' --connect when they are given none of their own (options.use_connect)
+        ctx.meta[CONNECT_KEY] = connect
         ctx.obj = {"connect": connect}  # launch joins it, as with its own --connect; router refuses it
 
 
@@ -167,7 +166,7 @@ def error_line(error: TurtlectlError) -> str:
 
 def main() -> None:
     """Console entry point: run the app; the one place where an error becomes its message on
-    stderr and its exit code (cli.errors.exit_code)."""
+    stderr and its exit code (runtime.client.errors.exit_code)."""
     sys.unraisablehook = quiet_unraisable
     try:
         app()

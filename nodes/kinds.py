@@ -28,6 +28,7 @@ from turtlectl.nodes.params import (
     ObstacleDetectorParams,
     StatusMonitorParams,
 )
+from turtlectl.runtime.client.errors import BadInput
 from turtlectl.runtime.config import Claim, Interface
 from turtlectl.runtime.loader import LoadError, absolute, is_target, load, suggestion
 from turtlectl.sim.params import SIM_CLAIMS, SIM_INTERFACE, SimParams
@@ -56,8 +57,8 @@ def _builtin(target: str, params: type[msgspec.Struct], claims: tuple[Claim, ...
     return NodeKind(target, params, claims, interface, builtin=True)
 
 
-class KindError(ValueError):
-    """A ``run`` that names no kind: str() is the one line saying why."""
+class KindError(BadInput, ValueError):
+    """A ``run`` that names no kind: str() is the one line saying why (exit code 2)."""
 
 
 def kind_of(run: str, base: Path) -> NodeKind:

@@ -1,4 +1,4 @@
-"""The one table of exit codes, for every turtlectl process: a command (``cli.errors`` maps its
+"""The one table of exit codes, for every turtlectl process: a command (``runtime.client.errors`` maps its
 errors here, ``cli.main.main`` exits with the code) and a node process (``runtime.lifecycle``)
 give each number the same meaning.  docs/reference/exit-codes.md documents it (docs/gen_exitcodes.py).
 

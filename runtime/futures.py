@@ -16,15 +16,17 @@ import threading
 from collections.abc import Callable
 from typing import Any, Generic, TypeVar
 
+from turtlectl.runtime.client.errors import Failed
+
 __all__ = ["Future", "FutureError"]
 
 T = TypeVar("T")
 U = TypeVar("U")
 
 
-class FutureError(Exception):
+class FutureError(Failed):
     """A future's result asked for when it cannot be had: not done yet on the thread that would
-    resolve it (waiting there would never end), or not done within the time given."""
+    resolve it (waiting there would never end), or not done within the time given (exit code 1)."""
 
 
 class Future(Generic[T]):

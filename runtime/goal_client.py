@@ -12,6 +12,7 @@ from typing import TYPE_CHECKING, Any, Generic, TypeVar
 import msgspec
 
 from turtlectl.messages import Ack, Cancel, ErrorReply, Message
+from turtlectl.runtime.client.errors import Failed
 from turtlectl.runtime.futures import Future
 from turtlectl.runtime.handles import Declaration
 
@@ -27,9 +28,23 @@ R = TypeVar("R", bound=Message)
 NO_LIMIT = 24 * 3600.0  # s: a goal's query stays open until its result (the server's own timeout decides)
 
 
-class GoalFailed(Exception):
-    """A goal that got no result: nothing serves its key, the server refused the request as
-    unreadable (its ErrorReply), or the server went away before answering."""
+class GoalFailed(Failed):
+    """A goal that got no result (exit code 1): ``why`` says which way, for the goal service
+    ``key``: ``unserved`` (nothing serves it), ``refused`` (the server refused the request as
+    unreadable: its ErrorReply's ``error``), ``gone`` (its server ``node``, pid ``pid``, went
+    away before answering), ``no_result`` (its replies ended without one), ``unconfirmed``
+    (nobody confirmed a cancel)."""
+
+    def __init__(self, key: str, why: str, *, node: str = "", pid: int = 0, error: str = ""):
+        texts = {
+            "unserved": f"nothing serves {key} (is its node running?)",
+            "refused": f"{key} refused the goal: {error}",
+            "gone": f"{key}'s server {node} (pid {pid}) went away before the goal ended",
+            "no_result": f"{key} ended without a result (its server stopped answering: did it exit?)",
+            "unconfirmed": f"nobody confirmed the cancel on {key}/cancel",
+        }
+        super().__init__(texts[why])
+        self.key, self.why, self.node, self.pid, self.error = key, why, node, pid, error
 
 
 class GoalFuture(Future[R]):
@@ -94,7 +109,7 @@ class GoalClient(Generic[G, F, R]):
             pid,
         )
         for future in list(self._running):
-            future.set_exception(GoalFailed(f"{self.key}'s server {node} (pid {pid}) went away before the goal ended"))
+            future.set_exception(GoalFailed(self.key, "gone", node=node, pid=pid))
         self._running.clear()
 
     def send(
@@ -125,22 +140,18 @@ class GoalClient(Generic[G, F, R]):
             elif isinstance(message, feedback_type) and on_feedback is not None and not future.done():
                 on_feedback(message)
             elif isinstance(message, ErrorReply):
-                future.set_exception(GoalFailed(f"{self.key} refused the goal: {message.error}"))
+                future.set_exception(GoalFailed(self.key, "refused", error=message.error))
 
         def on_done(replies: list[Message]) -> None:
             if future.done():
                 return
             if not replies:
-                future.set_exception(GoalFailed(f"nothing serves {self.key} (is its node running?)"))
+                future.set_exception(GoalFailed(self.key, "unserved"))
             elif self._gone is not None:
                 node, pid = self._gone
-                future.set_exception(
-                    GoalFailed(f"{self.key}'s server {node} (pid {pid}) went away before the goal ended")
-                )
+                future.set_exception(GoalFailed(self.key, "gone", node=node, pid=pid))
             else:
-                future.set_exception(
-                    GoalFailed(f"{self.key} ended without a result (its server stopped answering: did it exit?)")
-                )
+                future.set_exception(GoalFailed(self.key, "no_result"))
 
         self._node.call(
             self.key,
@@ -161,7 +172,7 @@ class GoalClient(Generic[G, F, R]):
             for reply in replies:
                 if isinstance(reply, Ack):
                     return reply
-            raise GoalFailed(f"nobody confirmed the cancel on {self.key}/cancel")
+            raise GoalFailed(self.key, "unconfirmed")
 
         return self._node.call(f"{self.key}/cancel", Cancel(reason=reason)).then(ack)
 

@@ -11,6 +11,7 @@ import traceback
 
 import zenoh
 
+from turtlectl.runtime.client.errors import BadInput
 from turtlectl.runtime.config import Interface
 
 #: a declaration's verb -> the Interface field that names its keys
@@ -19,9 +20,18 @@ FIELDS = {"publish": "publishes", "subscribe": "subscribes", "serve": "serves", 
 _RUNTIME = os.path.dirname(os.path.abspath(__file__))
 
 
-class OutsideInterface(Exception):
-    """A node declared something its interface does not name (a defect of the node's code or
-    its declaration: starting it again cannot help)."""
+class OutsideInterface(BadInput):
+    """Node ``node`` declared something its interface does not name: ``verb`` on ``key``, where
+    it may only on ``allowed`` (a defect of the node's code or its declaration: starting it
+    again cannot help; exit code 2, as a node process ends then)."""
+
+    def __init__(self, node: str, verb: str, key: str, allowed: tuple[str, ...]):
+        named = ", ".join(allowed) if allowed else "nothing"
+        super().__init__(
+            f"{node} may not {verb} {key}: its Interface {FIELDS[verb]} {named} "
+            f"(add {key} to {FIELDS[verb]} in the node class's Interface)"
+        )
+        self.node, self.verb, self.key, self.allowed = node, verb, key, allowed
 
 
 def check(node: str, interface: Interface | None, verb: str, key: str) -> None:
@@ -33,11 +43,7 @@ def check(node: str, interface: Interface | None, verb: str, key: str) -> None:
     wanted = zenoh.KeyExpr(key)
     if any(zenoh.KeyExpr(k).includes(wanted) for k in allowed):
         return
-    named = ", ".join(allowed) if allowed else "nothing"
-    raise OutsideInterface(
-        f"{node} may not {verb} {key}: its Interface {FIELDS[verb]} {named} "
-        f"(add {key} to {FIELDS[verb]} in the node class's Interface)"
-    )
+    raise OutsideInterface(node, verb, key, allowed)
 
 
 def where(exc: BaseException) -> str:

@@ -28,14 +28,16 @@ from types import ModuleType
 
 import msgspec
 
+from turtlectl.runtime.client.errors import BadInput
+
 _MODULE_RE = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*(\.[A-Za-z_][A-Za-z0-9_]*)*$")
 _CLASS_RE = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*$")
 #: the files loaded by path, by absolute path (a file is imported once per process)
 _FILES: dict[Path, ModuleType] = {}
 
 
-class LoadError(ValueError):
-    """A target that names no usable node class; str() is the one line saying why."""
+class LoadError(BadInput, ValueError):
+    """A target that names no usable node class; str() is the one line saying why (exit code 2)."""
 
 
 class ImportRaised(LoadError):

@@ -46,6 +46,7 @@ from turtlectl.messages.world import Limits, World
 from turtlectl.runtime import declarations
 from turtlectl.runtime.calls import NodeCalls
 from turtlectl.runtime.claims import entities_on_router
+from turtlectl.runtime.client.errors import CannotStart
 from turtlectl.runtime.config import Claim, Interface, NodeConfig
 from turtlectl.runtime.core import NodeCore
 from turtlectl.runtime.entities import RING, Latest, Publisher, Request, Timer
@@ -59,8 +60,16 @@ M = TypeVar("M", bound=Message)
 __all__ = ["Latest", "Node", "NodeConflict", "Publisher", "Request", "Timer"]  # the entities are runtime.entities'
 
 
-class NodeConflict(Exception):
-    """Another running node already does what this one claims to do alone."""
+class NodeConflict(CannotStart):
+    """Another running node, ``other`` (pid ``pid``), already does what this one claims to do
+    alone (``claim``: the claim's phrase, "serves navigate_to"); exit code 4."""
+
+    def __init__(self, other: str, pid: int, claim: str):
+        super().__init__(
+            f"{other} (pid {pid}) already {claim}; not starting a second one "
+            "(stop it first, or run this one in another --domain)"
+        )
+        self.other, self.pid, self.claim = other, pid, claim
 
 
 class Node(NodeCalls, Generic[P]):
@@ -205,10 +214,7 @@ class Node(NodeCalls, Generic[P]):
             return
         for other in entities_on_router(self._connect, self._domain, self._credentials):
             if (other.role, other.key) == (claim.role, claim.key) and other.pid != os.getpid():
-                raise NodeConflict(
-                    f"{other.node} (pid {other.pid}) already {claim.phrase(third_person=True)}; not starting a second one "
-                    f"(stop it first, or run this one in another --domain)"
-                )
+                raise NodeConflict(other.node, other.pid, claim.phrase(third_person=True))
 
     def answer_json(self, key: str, document: bytes | Callable[[], bytes]) -> Declaration:
         """Answer every query on ``key`` with a JSON ``document``, or what ``document()``

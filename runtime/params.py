@@ -22,6 +22,7 @@ import msgspec
 from turtlectl.messages.described import field_comments as field_comments  # also for the nodes' Params
 from turtlectl.messages.fieldtext import default_text, doc, struct_fields, type_name
 from turtlectl.messages.params import ParamDescription, ParamInfo
+from turtlectl.runtime.client.errors import BadInput
 
 BIG = 1e9  # the stand-in for "finite" (messages.units)
 
@@ -83,8 +84,8 @@ def param_infos(params_type: type, prefix: str = "", root: type | None = None) -
 
 
 # -- changed --------------------------------------------------------------
-class ParamRefused(ValueError):
-    """The change is not possible: unknown parameter, fixed at run time, or an invalid value."""
+class ParamRefused(BadInput, ValueError):
+    """The change is not possible: unknown parameter, fixed at run time, or an invalid value (exit code 2)."""
 
 
 def lookup(table: dict[str, Any], name: str) -> Any:

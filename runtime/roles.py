@@ -43,7 +43,7 @@ from turtlectl.messages.keys import (
 from turtlectl.runtime.config import Claim, Interface
 
 GRAPH_KEYS = ("@turtlectl/**", "*/@turtlectl/**")  # the graph, and (outside a domain) every domain's
-#: every client's presence in the graph, and its publishers and subscribers (cli.tools.presence)
+#: every client's presence in the graph, and its publishers and subscribers (runtime.client.presence)
 PRESENCE_KEYS = (f"{CLIENT_NODE_TOKEN_PREFIX}/**", f"{CLIENT_ENTITY_TOKEN_PREFIX}/**")
 VIEWER: dict[str, tuple[str, ...]] = {
     "subscribe": ("**",),

@@ -8,15 +8,15 @@ is solid to the others, as a declared obstacle is); a turtle's own keys are unde
 from __future__ import annotations
 
 import math
-import re
 from collections.abc import Mapping
 
 from turtlectl.messages import Turtles
 from turtlectl.messages.world import Obstacle, World
+from turtlectl.runtime.client.checks import TURTLE_NAME
 from turtlectl.sim.kinematics import TurtleState
 
 #: a turtle's name: one key chunk, as a launch file's node names (no '/', '*', '$', '@' start)
-NAME = re.compile(r"^[A-Za-z_][A-Za-z0-9_\-]{0,62}$")
+NAME = TURTLE_NAME
 #: first chunks of the system's own keys: no turtle is called so (its keys would mix with them)
 RESERVED = frozenset({"turtlectl", "robot", "navigate_to", "obstacles", "reset", "spawn", "kill", "turtles", "clock"})
 

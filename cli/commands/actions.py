@@ -9,8 +9,8 @@ from typing import Any
 import typer
 
 from turtlectl.cli.commands.options import ConnectOption, DomainOption, completer, format
-from turtlectl.cli.errors import Interrupted, goal_exit_code
-from turtlectl.cli.sigint import ignore_sigint
+from turtlectl.runtime.client.errors import Interrupted, goal_exit_code
+from turtlectl.runtime.client.sigint import ignore_sigint
 
 action_app = typer.Typer(
     help="Goal services, any node's (as `ros2 action`): list, info, send-goal.\n\nExample: turtlectl action list"
@@ -29,7 +29,7 @@ def action_list(
     """
     from turtlectl.cli.tools import actions
 
-    rows = actions.goal_services(connect)
+    rows = actions.goal_services(connect, domain)
     typer.echo(format.json_value(rows) if json else actions.rows_text(rows))
 
 
@@ -47,7 +47,7 @@ def action_info(
     """
     from turtlectl.cli.tools import actions
 
-    typer.echo(actions.row_text(actions.goal_service(connect, service)))
+    typer.echo(actions.row_text(actions.goal_service(connect, domain, service)))
 
 
 @action_app.command("send-goal")
@@ -71,7 +71,8 @@ def send_goal(
 
     Example: turtlectl action send-goal patrol/laps '{"laps": 2}' --feedback
     """
-    from turtlectl.cli.tools import actions, services
+    from turtlectl.cli.tools import actions
+    from turtlectl.runtime.client import services
 
     def show(message: Any) -> None:
         if isinstance(message, services.Raw):
@@ -80,7 +81,7 @@ def send_goal(
             typer.echo(format.message_json(message) if json else format.message_block(message))
 
     try:
-        result = actions.send_goal(connect, service, goal, timeout, show if feedback else None)
+        result = actions.send_goal(connect, domain, service, goal, timeout, show if feedback else None)
     except KeyboardInterrupt:
         raise Interrupted("interrupted") from None
     ignore_sigint()

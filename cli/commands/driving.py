@@ -11,7 +11,13 @@ import typer
 
 from turtlectl.cli import args
 from turtlectl.cli.commands.options import ConnectOption, DomainOption, ExitOnLossOption, TurtleOption, format, result
-from turtlectl.cli.errors import CancelUnconfirmed, ExitCode, Failed, GoalCanceled, Interrupted, goal_exit_code
+from turtlectl.runtime.client.errors import (
+    ExitCode,
+    Failed,
+    GoalCanceled,
+    Interrupted,
+    goal_exit_code,
+)
 
 
 def goto(
@@ -40,9 +46,9 @@ def goto(
 
     Example: turtlectl goto 8 5 90   or   turtlectl goto 2 2 0 --turtle turtle2
     """
-    from turtlectl.cli.tools import goals
-    from turtlectl.cli.tools.api import Client
     from turtlectl.messages import NavigateToFeedback
+    from turtlectl.runtime.client import goals
+    from turtlectl.runtime.client.api import Client
 
     goal = args.finite_number(x, "x"), args.finite_number(y, "y"), args.finite_number(theta, "theta")
     live = sys.stdout.isatty() and not json
@@ -51,16 +57,14 @@ def goto(
         typer.echo("\r\033[K" + format.progress_line(fb, shutil.get_terminal_size().columns), nl=False)
 
     try:
-        with Client(connect, turtle=turtle) as client:
+        with Client(connect, domain, turtle, timeout_named=goals.CLI_LIMIT) as client:
             response = client.goto(*goal, timeout=timeout, on_feedback=show if live else None)
-    except KeyboardInterrupt:  # before the goal was sent (one running is canceled and checked in navigate)
+    except KeyboardInterrupt:  # before the goal was sent (one running is canceled and checked in run_goal)
         raise Interrupted("interrupted") from None
     except GoalCanceled as canceled:
         if canceled.timeout is not None or canceled.response is None:  # --timeout's: an error, in its words
-            raise goals.in_cli_terms(canceled, timeout) from None
+            raise
         response = canceled.response  # canceled by anyone: the navigator's outcome, as any goal not reached
-    except (CancelUnconfirmed, Interrupted) as given_up:
-        raise goals.in_cli_terms(given_up, timeout) from None
     finally:
         if live:
             typer.echo("\r\033[K", nl=False)
@@ -76,9 +80,9 @@ def cancel(turtle: str = TurtleOption, connect: str = ConnectOption, domain: str
 
     Example: turtlectl cancel
     """
-    from turtlectl.cli.tools.api import Client
+    from turtlectl.runtime.client.api import Client
 
-    with Client(connect, turtle=turtle) as client:
+    with Client(connect, domain, turtle) as client:
         ack = client.cancel()
     result(ack.detail)
     raise typer.Exit(ExitCode.OK if ack.ok else ExitCode.FAILED)
@@ -96,15 +100,17 @@ def teleport(
 
     Example: turtlectl teleport 2 2 45
     """
-    from turtlectl.cli.tools import services
-    from turtlectl.messages import TeleportAbsolute, keys
+    from turtlectl.messages import Ack, TeleportAbsolute, keys
     from turtlectl.messages.angles import heading_radians
+    from turtlectl.runtime.client.api import Client
 
     degrees = args.finite_number(theta, "theta")
     request = TeleportAbsolute(
         x=args.finite_number(x, "x"), y=args.finite_number(y, "y"), theta=heading_radians(degrees)
     )
-    acks = services.simple_call(connect, keys.teleport_key(turtle or keys.FIRST_TURTLE), request)
+    with Client(connect, domain) as client:  # the simulator's key for the turtle: no namespace
+        replies = client.call_all(keys.teleport_key(turtle or keys.FIRST_TURTLE), request)
+    acks = [a for a in replies if isinstance(a, Ack)]
     if not all(a.ok for a in acks):  # the simulator's own words (they are in radians, as its request)
         raise Failed(format.ack_lines(acks))
     line = format.teleport_line(request.x, request.y, degrees)
@@ -117,10 +123,11 @@ def reset(connect: str = ConnectOption, domain: str = DomainOption) -> None:
 
     Example: turtlectl reset
     """
-    from turtlectl.cli.tools import services
-    from turtlectl.messages import Reset, keys
+    from turtlectl.messages import Ack, Reset, keys
+    from turtlectl.runtime.client.api import Client
 
-    acks = services.simple_call(connect, keys.RESET, Reset(), everyone=True)
+    with Client(connect, domain) as client:
+        acks = [a for a in client.call_all(keys.RESET, Reset(), everyone=True) if isinstance(a, Ack)]
     result(format.reset_lines(acks))
     raise typer.Exit(ExitCode.OK if all(a.ok for a in acks) else ExitCode.FAILED)
 
@@ -151,16 +158,14 @@ def teleop(
 
     Example: turtlectl teleop --linear 1.0
     """
-    from turtlectl.cli.tools import client
     from turtlectl.cli.tools.teleop import run_teleop, terminal_fd
-    from turtlectl.messages.keys import FIRST_TURTLE
+    from turtlectl.runtime.client.api import Client
 
     args.finite_option(linear, "--linear")
     args.finite_option(angular, "--angular")
     fd = terminal_fd(sys.stdin)
-    with client.client_session(connect) as session:
-        namespace = client.live_turtle_namespace(session, turtle or FIRST_TURTLE)
-        run_teleop(session, linear, angular, connect, fd, sys.stdout, namespace, force, exit_on_loss)
+    with Client(connect, domain, turtle) as client:
+        run_teleop(client.session, linear, angular, client.connect, fd, sys.stdout, client.driven, force, exit_on_loss)
 
 
 def register(app: typer.Typer) -> None:

@@ -40,9 +40,9 @@ def list_graph(
     Example: turtlectl list
     """
     from turtlectl.cli.tools import topics
-    from turtlectl.cli.tools.graph import graph_text, without_node_services
+    from turtlectl.runtime.client.graph import graph_text, without_node_services
 
-    current = topics.graph(connect)
+    current = topics.graph(connect, domain)
     if not all_:
         current = without_node_services(current)
     result(format.json_value(current) if json else graph_text(current))
@@ -64,7 +64,7 @@ def node_list(json: bool = JsonOption, connect: str = ConnectOption, domain: str
     """
     from turtlectl.cli.tools import topics
 
-    current = topics.graph(connect)
+    current = topics.graph(connect, domain)
     if json:
         result(format.json_value({"nodes": current.nodes, "clients": current.clients}))
         return
@@ -87,7 +87,7 @@ def node_info(
     """
     from turtlectl.cli.tools import introspect
 
-    report = introspect.node_report(connect, node)
+    report = introspect.node_report(connect, domain, node)
     result(format.json_value(report) if json else introspect.node_text(report))
 
 
@@ -109,7 +109,7 @@ def interface_list(
     """
     from turtlectl.cli.tools import interface
 
-    rows = interface.listing(*interface.live_types(connect))
+    rows = interface.listing(*interface.live_types(connect, domain))
     result(format.json_value(rows) if json else interface.listing_text(rows))
 
 
@@ -128,7 +128,7 @@ def interface_show(
     """
     from turtlectl.cli.tools import interface
 
-    live, keys = ({}, {}) if interface.is_builtin(type_) else interface.live_types(connect)
+    live, keys = ({}, {}) if interface.is_builtin(type_) else interface.live_types(connect, domain)
     described = interface.description(type_, live, keys)
     result(format.json_value(described) if json else interface.description_text(described))
 
@@ -148,11 +148,12 @@ def view(
 
     Example: turtlectl view --turtle turtle2
     """
-    from turtlectl.cli.tools import client, services
     from turtlectl.cli.tools.view import run_view  # curses: only for this command
+    from turtlectl.runtime.client import services
+    from turtlectl.runtime.client import session as client
 
     try:
-        with client.client_session(connect) as session:
+        with client.client_session(connect, domain) as session:
             run_view(session, services.world(session), connect, turtle, exit_on_loss)
     except KeyboardInterrupt:
         pass

@@ -9,7 +9,7 @@ import time
 import typer
 
 from turtlectl.cli.commands.options import ConnectOption, DomainOption, ExitOnLossOption, completer
-from turtlectl.cli.errors import Interrupted
+from turtlectl.runtime.client.errors import Interrupted
 
 
 def log(
@@ -64,7 +64,7 @@ def log(
     )
     colour = not json and logs.use_colour(sys.stdout.isatty())
     try:
-        for item in logs.read(connect, wanted, follow, exit_on_loss):
+        for item in logs.read(connect, domain, wanted, follow, exit_on_loss):
             if isinstance(item, logs.Notice):
                 typer.echo(item.text, err=True)
             else:

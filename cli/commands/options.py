@@ -3,13 +3,13 @@ command prints its result."""
 
 from __future__ import annotations
 
-import os
-
 import typer
+from click.core import ParameterSource
 
 from turtlectl.cli import args, lazy_module
-from turtlectl.cli.errors import BadInput
-from turtlectl.cli.sigint import ignore_sigint
+from turtlectl.runtime.client import checks
+from turtlectl.runtime.client.errors import BadInput
+from turtlectl.runtime.client.sigint import ignore_sigint
 from turtlectl.runtime.endpoint import CONNECT_ENV, DEFAULT_ENDPOINT, DOMAIN_ENV
 
 format = lazy_module("turtlectl.cli.tools.format")  # msgspec and the message types load when a command prints one
@@ -27,16 +27,38 @@ def completer(kind: str):
     return complete
 
 
+#: where the root's --connect (given before the command) is kept for the invocation
+CONNECT_KEY = "turtlectl.connect"
+
+
+def use_connect(ctx: typer.Context, param: typer.CallbackParam, connect: str) -> str:
+    """``--connect`` after the command; when it is not given there, the one given before the
+    command (``turtlectl --connect tcp/... list``), else TURTLECTL_CONNECT, else the default."""
+    given_after = ctx.get_parameter_source(param.name or "connect") is ParameterSource.COMMANDLINE
+    return connect if given_after else ctx.meta.get(CONNECT_KEY, connect)
+
+
 ConnectOption = typer.Option(
-    DEFAULT_ENDPOINT, "--connect", envvar=CONNECT_ENV, help="Router endpoint of the system to talk to."
+    DEFAULT_ENDPOINT,
+    "--connect",
+    envvar=CONNECT_ENV,
+    callback=use_connect,
+    help="Router endpoint of the system to talk to.",
 )
 
 
-def use_domain(domain: str) -> str:
-    """Check ``--domain`` and make it the domain of every session this process opens; the same
-    option before or after the command (``turtlectl --domain lab1 list`` = ``turtlectl list --domain lab1``)."""
-    if args.domain(domain):
-        os.environ[DOMAIN_ENV] = domain  # read by every session this process opens
+#: where the domain chosen so far is kept for the invocation (the root's --domain, a node's ``lab1:``)
+DOMAIN_KEY = "turtlectl.domain"
+
+
+def use_domain(ctx: typer.Context, domain: str) -> str:
+    """Check ``--domain``: the command's domain, which it hands to every session it opens; the
+    same option before or after the command (``turtlectl --domain lab1 list`` = ``turtlectl list
+    --domain lab1``): one not given after the command is the one before it (or a node's ``lab1:``)."""
+    args.domain(domain)
+    if not domain:
+        domain = ctx.meta.get(DOMAIN_KEY, "")
+    ctx.meta[DOMAIN_KEY] = domain
     return domain
 
 
@@ -54,7 +76,7 @@ JsonOption = typer.Option(False, "--json", help="One JSON object.")
 
 def use_turtle(text: str) -> str:
     """``--turtle`` checked: a turtle's name (its nodes' namespace), or "" for turtle1."""
-    return args.turtle_name(text)
+    return checks.turtle_name(text)
 
 
 TurtleOption = typer.Option(
@@ -86,31 +108,31 @@ def result(text: str) -> None:
     typer.echo(text)
 
 
-def _in_domain(text: str, in_domain: str) -> None:
+def _in_domain(ctx: typer.Context, text: str, in_domain: str) -> None:
     """A node written with its domain (``lab1:navigator``, as `list` shows a node of domain lab1
     to a client without --domain) makes that the domain of this command."""
     if in_domain:
-        chosen = os.environ.get(DOMAIN_ENV, "")
+        chosen = ctx.meta.get(DOMAIN_KEY, "")
         if chosen and chosen != in_domain:
             raise BadInput(f"node {text!r} is in domain {in_domain!r}, not in --domain {chosen!r}")
-        os.environ[DOMAIN_ENV] = in_domain
+        ctx.meta[DOMAIN_KEY] = in_domain
 
 
-def use_node(text: str | None) -> str | None:
+def use_node(ctx: typer.Context, text: str | None) -> str | None:
     """NODE checked; ``lab1:navigator`` makes lab1 the domain of this command."""
     if text is None:
         return None
     in_domain, name = args.node_name(text)
-    _in_domain(text, in_domain)
+    _in_domain(ctx, text, in_domain)
     return name
 
 
-def use_nodes(text: str | None) -> str | None:
+def use_nodes(ctx: typer.Context, text: str | None) -> str | None:
     """NODE as a selector (a name, namespace, turtle or glob: cli.selection), checked."""
     if text is None:
         return None
     in_domain, selector = args.node_selector(text)
-    _in_domain(text, in_domain)
+    _in_domain(ctx, text, in_domain)
     return selector
 
 

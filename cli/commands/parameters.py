@@ -53,14 +53,14 @@ def param_list(
     Example: turtlectl param list navigator
     """
     from turtlectl.cli.tools import params
-    from turtlectl.cli.tools.client import node_of_turtle
+    from turtlectl.runtime.client.session import node_of_turtle
 
     if node is None:
-        by_node = params.listing_all(connect)  # every node's: --turtle names none
+        by_node = params.listing_all(connect, domain)  # every node's: --turtle names none
         result(format.json_value(by_node) if json else params.listing_text(by_node))
         return
-    node = node_of_turtle(connect, node, turtle)
-    names = params.names(params.fetch(connect, node))
+    node = node_of_turtle(connect, node, turtle, domain)
+    names = params.names(params.fetch(connect, domain, node))
     result(format.json_value(names) if json else "\n".join(names))
 
 
@@ -86,15 +86,15 @@ def param_set(
     Example: turtlectl param set navigator goal_timeout 60 --turtle turtle2
     """
     from turtlectl.cli.tools import params
-    from turtlectl.cli.tools.client import node_of_turtle
     from turtlectl.cli.tools.introspect import nodes_named
+    from turtlectl.runtime.client.session import node_of_turtle
 
-    node = node_of_turtle(connect, node, turtle)
-    chosen = nodes_named(connect, node)
+    node = node_of_turtle(connect, node, turtle, domain)
+    chosen = nodes_named(connect, domain, node)
     if chosen is None:
-        result(params.set_value(connect, node, name, value))
+        result(params.set_value(connect, domain, node, name, value))
         return
-    result("\n".join(f"{n}: {params.set_value(connect, n, name, value)}" for n in chosen))
+    result("\n".join(f"{n}: {params.set_value(connect, domain, n, name, value)}" for n in chosen))
 
 
 @param_app.command("describe")
@@ -112,10 +112,10 @@ def param_describe(
     Example: turtlectl param describe navigator goal_timeout
     """
     from turtlectl.cli.tools import params
-    from turtlectl.cli.tools.client import node_of_turtle
+    from turtlectl.runtime.client.session import node_of_turtle
 
-    node = node_of_turtle(connect, node, turtle)
-    info, now = params.describe(connect, node, name)
+    node = node_of_turtle(connect, node, turtle, domain)
+    info, now = params.describe(connect, domain, node, name)
     if json:
         result(format.json_value({**params.plain(info), "value": now}))
     else:
@@ -136,15 +136,16 @@ def param_get(
     Example: turtlectl param get navigator goal_timeout --turtle turtle2
     """
     from turtlectl.cli.tools import params
-    from turtlectl.cli.tools.client import node_of_turtle
     from turtlectl.cli.tools.introspect import nodes_named
+    from turtlectl.runtime.client import answers
+    from turtlectl.runtime.client.session import node_of_turtle
 
-    node = node_of_turtle(connect, node, turtle)
-    chosen = nodes_named(connect, node)
+    node = node_of_turtle(connect, node, turtle, domain)
+    chosen = nodes_named(connect, domain, node)
     if chosen is None:
-        result(format.json_value(params.value(params.fetch(connect, node), node, name)))
+        result(format.json_value(answers.value(params.fetch(connect, domain, node), node, name)))
         return
-    values = {n: format.json_value(params.value(params.fetch(connect, n), n, name)) for n in chosen}
+    values = {n: format.json_value(answers.value(params.fetch(connect, domain, n), n, name)) for n in chosen}
     result("\n".join(f"{n}: {v}" for n, v in values.items()))
 
 
@@ -161,10 +162,10 @@ def param_dump(
     Example: turtlectl param dump navigator > navigator.toml
     """
     from turtlectl.cli.tools import params
-    from turtlectl.cli.tools.client import node_of_turtle
+    from turtlectl.runtime.client.session import node_of_turtle
 
-    node = node_of_turtle(connect, node, turtle)
-    values = params.fetch(connect, node)
+    node = node_of_turtle(connect, node, turtle, domain)
+    values = params.fetch(connect, domain, node)
     result(format.json_value(values) if json else params.dump(node, values))
 
 

@@ -18,7 +18,7 @@ import typer
 
 from turtlectl.cli import args
 from turtlectl.cli.commands.options import ConnectOption, DomainOption, ExitOnLossOption, TurtleOption, result
-from turtlectl.cli.errors import BadInput, Unreachable
+from turtlectl.runtime.client.errors import BadInput, Unreachable
 
 
 def plot(
@@ -67,11 +67,11 @@ def plot(
     Example: turtlectl plot robot/status.battery turtle1/pose.x
     """
     from turtlectl.cli.tools import plot as model
-    from turtlectl.cli.tools.client import turtle_namespace_at
     from turtlectl.messages.keys import turtle_namespace
+    from turtlectl.runtime.client.session import turtle_namespace_at
 
     # the namespace of --turtle's nodes: the running system's; a recording's, turtle1's outside any
-    turtle = turtle_namespace_at(connect, turtle) if recording is None else turtle_namespace(turtle)
+    turtle = turtle_namespace_at(connect, turtle, domain) if recording is None else turtle_namespace(turtle)
     series = model.parse_all(fields, turtle)
     args.finite_option(window, "--window")
     args.finite_option(duration, "--duration")
@@ -88,14 +88,14 @@ def plot(
         return
     model.check_builtins(series, turtle, stamps)  # a built-in key's type is known: a typo is said at once
     if output is not None:
-        _collect_live(series, output, kind, duration, connect, stamps, turtle, exit_on_loss)
+        _collect_live(series, output, kind, duration, connect, domain, stamps, turtle, exit_on_loss)
     else:
         if not sys.stdout.isatty():
             raise BadInput(
                 "the live plot draws in a terminal, and the output is not one: write a picture with "
                 "--output FILE.png (with --duration S), or the numbers with `turtlectl echo KEY --field FIELD --csv`"
             )
-        _plot_live(series, window, duration, connect, stamps, turtle, exit_on_loss)
+        _plot_live(series, window, duration, connect, domain, stamps, turtle, exit_on_loss)
 
 
 def _lines(series: list[Any], points: Any) -> list[Any]:
@@ -142,6 +142,7 @@ def _wrote(output: Path, collected: Any, seconds: float) -> str:
 def _live(
     series: list[Any],
     connect: str,
+    domain: str,
     stamps: bool,
     turtle: str,
     intro: str = "",
@@ -150,10 +151,11 @@ def _live(
 ) -> Iterator[tuple[Any, threading.Event]]:
     """A running system's numbers (plot_sources.Live, closed after the block) and the event
     Ctrl-C, SIGTERM and ``signals`` set; ``intro`` (if any) and the typo notes said first."""
-    from turtlectl.cli.sigint import stop_on_signals
-    from turtlectl.cli.tools import client, plot_sources
+    from turtlectl.cli.tools import plot_sources
+    from turtlectl.runtime.client import session as client
+    from turtlectl.runtime.client.sigint import stop_on_signals
 
-    with client.client_session(connect) as session, stop_on_signals(signals) as stop:
+    with client.client_session(connect, domain) as session, stop_on_signals(signals) as stop:
         live = plot_sources.Live(session, connect, series, stamps, turtle, exit_on_loss)
         try:
             if intro:
@@ -176,6 +178,7 @@ def _collect_live(
     kind: str,
     duration: float | None,
     connect: str,
+    domain: str,
     stamps: bool,
     turtle: str,
     exit_on_loss: bool = False,
@@ -189,7 +192,7 @@ def _collect_live(
     ends = f"for {duration:g} s" if duration is not None else "until Ctrl-C"
     labels = ", ".join(s.label for s in series)
     intro = f"plotting {labels} into {output} {ends}"
-    with _live(series, connect, stamps, turtle, intro, exit_on_loss=exit_on_loss) as (live, stop):
+    with _live(series, connect, domain, stamps, turtle, intro, exit_on_loss=exit_on_loss) as (live, stop):
         while not stop.is_set() and (duration is None or live.elapsed() < duration):
             wait = 0.1 if duration is None else max(0.0, min(0.1, duration - live.elapsed()))
             for s, t, value in live.poll(wait):
@@ -217,6 +220,7 @@ def _plot_live(
     window: float,
     duration: float | None,
     connect: str,
+    domain: str,
     stamps: bool = False,
     turtle: str = "",
     exit_on_loss: bool = False,
@@ -231,7 +235,7 @@ def _plot_live(
     last = ""
     timed_out = False  # ended by --duration: its last frame stays in the terminal
     try:
-        with _live(series, connect, stamps, turtle, signals=(signal.SIGHUP,), exit_on_loss=exit_on_loss) as (
+        with _live(series, connect, domain, stamps, turtle, signals=(signal.SIGHUP,), exit_on_loss=exit_on_loss) as (
             live,
             stop,
         ):

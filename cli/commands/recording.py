@@ -20,8 +20,8 @@ from turtlectl.cli.commands.options import (
     format,
     result,
 )
-from turtlectl.cli.errors import BadInput
-from turtlectl.cli.sigint import stop_on_signals
+from turtlectl.runtime.client.errors import BadInput
+from turtlectl.runtime.client.sigint import stop_on_signals
 
 
 def record(
@@ -73,7 +73,7 @@ def record(
         )
         last = None
         made = f"turtlectl {version()}"
-        for item in recording.record(connect, keys, excluded, path, duration, stop, made, scene, exit_on_loss):
+        for item in recording.record(connect, domain, keys, excluded, path, duration, stop, made, scene, exit_on_loss):
             if isinstance(item, str):  # the router lost, or back
                 typer.echo(("\r\033[K" if live else "") + item, err=True)
                 continue
@@ -153,7 +153,18 @@ def play(
         shown = ""
         with player.space_toggles(live) as paused:
             for item in player.play(
-                connect, recording, rate, start_offset, keys, remaps, keep_stamps, loop, paused, stop.is_set, clock
+                connect,
+                domain,
+                recording,
+                rate,
+                start_offset,
+                keys,
+                remaps,
+                keep_stamps,
+                loop,
+                paused,
+                stop.is_set,
+                clock,
             ):
                 played += not item.paused
                 state = "paused" if item.paused else "playing"
@@ -232,12 +243,12 @@ def foxglove(
                     err=True,
                 )
 
-        for _ in bridge.serve(connect, address, port, stop, started):
+        for _ in bridge.serve(connect, domain, address, port, stop, started):
             pass
 
 
 def client_key(text: str) -> str:
-    from turtlectl.cli.tools.client import check_key
+    from turtlectl.runtime.client.session import check_key
 
     return check_key(text, publish=True)
 

@@ -9,8 +9,8 @@ from typing import Any
 import typer
 
 from turtlectl.cli.commands.options import ConnectOption, DomainOption, completer, format
-from turtlectl.cli.errors import ExitCode, Interrupted
-from turtlectl.cli.sigint import ignore_sigint
+from turtlectl.runtime.client.errors import ExitCode, Interrupted
+from turtlectl.runtime.client.sigint import ignore_sigint
 
 
 def call(
@@ -38,11 +38,15 @@ def call(
     it); an Ack with ok false or a response with success false is exit code 1.
     Example: turtlectl call turtle1/teleport_absolute '{"x": 2, "y": 2, "theta": 0}'
     """
-    from turtlectl.cli.tools import build, client, services, topics
+    from turtlectl.cli.tools import build, topics
+    from turtlectl.runtime.client import services
+    from turtlectl.runtime.client import session as client
 
     key = client.check_key(service)
-    type_name = topics.learn_type(connect, client.base_key(key), type_name)  # yours: from the nodes using it
-    body = build.service_request(client.base_key(key), request, type_name)
+    type_name = topics.learn_type(
+        connect, domain, client.base_key(key, domain), type_name
+    )  # yours: from the nodes using it
+    body = build.service_request(client.base_key(key, domain), request, type_name)
 
     def show(reply: Any) -> None:
         if isinstance(reply, services.Raw):
@@ -52,7 +56,7 @@ def call(
 
     code = ExitCode.OK
     try:  # a goal's feedback is shown from inside the call: a Ctrl-C there cancels the goal and checks
-        for reply in services.call_service(connect, key, body, timeout, on_feedback=show):
+        for reply in services.call_service(connect, domain, key, body, timeout, on_feedback=show):
             ignore_sigint()  # an answer (feedback never comes here): a Ctrl-C from now on changes nothing
             show(reply)
             if not isinstance(reply, services.Raw):

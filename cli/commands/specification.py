@@ -51,10 +51,10 @@ def from_system(
 
     Example: turtlectl spec from-system -o my_spec.toml && turtlectl verify my_spec.toml
     """
-    from turtlectl.cli.tools.api import Client
     from turtlectl.cli.verify import document, report, skeleton
+    from turtlectl.runtime.client.api import Client
 
-    with Client(connect) as client:
+    with Client(connect, domain) as client:
         text = document.to_toml(skeleton.from_system(client))
     if output is None:
         result(text.rstrip("\n"))

@@ -18,9 +18,10 @@ from turtlectl.cli.commands.options import (
     format,
     result,
 )
-from turtlectl.cli.errors import BadInput
 from turtlectl.cli.system.supervisor.logs import LOG_DIR_ENV
-from turtlectl.runtime.endpoint import DEFAULT_PORT, default_domain
+from turtlectl.runtime.client import checks
+from turtlectl.runtime.client.errors import BadInput
+from turtlectl.runtime.endpoint import DEFAULT_PORT
 
 
 def launch(
@@ -132,7 +133,7 @@ def launch(
     if check:
         typer.echo(format.plan_text(plan))
         return
-    connect = args.endpoint(join) if join is not None else ""
+    connect = checks.endpoint(join) if join is not None else ""
     printer = Printer([e.name for e in plan.launch.node])
     for note in format.plan_notes(plan):
         printer.system(f"note: {note}")
@@ -141,7 +142,7 @@ def launch(
         printer,
         None if join else port,
         connect,
-        default_domain(),
+        domain,
         host,
         log_dir or logs.default_parent(),
         persist=persist,
@@ -186,7 +187,7 @@ def certs(
     Example: turtlectl certs ~/.turtlectl/tls --issue robot7 --system tls/192.168.1.20:7447
     """
     from turtlectl.cli.system import certs as tls_certs
-    from turtlectl.cli.system import credentials
+    from turtlectl.runtime.client import credentials
 
     if not issue:
         if system:
@@ -197,7 +198,7 @@ def certs(
     where = folder / tls_certs.HOSTS / issue
     written = [] if (where / "client.pem").exists() and system else tls_certs.issue(folder, issue)
     if system:
-        written.append(tls_certs.hand_credentials(folder, issue, credentials.entry_text(args.endpoint(system))))
+        written.append(tls_certs.hand_credentials(folder, issue, credentials.entry_text(checks.endpoint(system))))
     lines = [f"wrote {', '.join(str(p) for p in written)}", f"on host {issue}: export TURTLECTL_TLS={where}"]
     if system:
         lines.append(f"on host {issue}: export TURTLECTL_CREDENTIALS={where / 'credentials.json'}")
@@ -280,7 +281,7 @@ def run(
     if not is_target(node) and is_file(node) and (node.endswith(".py") or Path(node).is_file()):
         raise BadInput(f"{node} names a file: add its node class, as {node}:ClassName")
     level = args.log_level(log_level)
-    endpoint = args.endpoint(connect)
+    endpoint = checks.endpoint(connect)
     if name is not None and not NAME_RE.match(name):
         raise BadInput(f"--name {name!r}: use letters, digits, _ and - (like patrol2)")
     if is_target(node) and arg:
@@ -288,7 +289,7 @@ def run(
     if is_target(node):  # a node's name has no ':'
         plan, named = class_plan(node, param, Path.cwd(), name, namespace)
         typer.echo(f"running {node} as node {named} (turtlectl list shows it so; --name changes it)", err=True)
-        exec_node(on_sim_time(node_config(plan, named, endpoint, None, default_domain(), level)), plan.kinds[named])
+        exec_node(on_sim_time(node_config(plan, named, endpoint, None, domain, level)), plan.kinds[named])
     if name is not None or namespace:
         which = "--name renames" if name is not None else "--namespace places"
         raise BadInput(
@@ -296,7 +297,7 @@ def run(
             "(a namespaced node of it: turtle2/navigator)"
         )
     plan = load_launch(file or default_launch_file(), arg)
-    exec_node(on_sim_time(node_config(plan, node, endpoint, param, default_domain(), level)), plan.kinds[node])
+    exec_node(on_sim_time(node_config(plan, node, endpoint, param, domain, level)), plan.kinds[node])
 
 
 def log_level_command(
@@ -312,7 +313,7 @@ def log_level_command(
     """
     from turtlectl.cli.tools import introspect
 
-    result(introspect.set_log_levels(connect, node, level))
+    result(introspect.set_log_levels(connect, domain, node, level))
 
 
 new_app = typer.Typer(help="Start something of your own (as `ros2 pkg create`).\n\nExample: turtlectl new node patrol")

@@ -20,7 +20,7 @@ from turtlectl.cli.commands.options import (
     format,
     result,
 )
-from turtlectl.cli.errors import Interrupted, Unreachable
+from turtlectl.runtime.client.errors import Interrupted, Unreachable
 
 
 def echo(
@@ -53,17 +53,25 @@ def echo(
     message names its key.  Example: turtlectl echo robot/status --field battery
     """
     from turtlectl.cli.tools import topics
-    from turtlectl.cli.tools.client import turtle_namespace_at
     from turtlectl.messages.keys import resolve
+    from turtlectl.runtime.client.session import turtle_namespace_at
 
     args.one_format(json, csv)
     limit = args.echo_limit(once, count)
-    topic = resolve(topic, turtle_namespace_at(connect, turtle))
+    topic = resolve(topic, turtle_namespace_at(connect, turtle, domain))
     wildcard = "*" in topic
     fields = list(dict.fromkeys(field))  # each once, in the order typed
     skipped: dict[str, int] = {}
     try:
-        _echo(topics.stream(connect, topic, limit, timeout, exit_on_loss), skipped, fields, json, csv, full, wildcard)
+        _echo(
+            topics.stream(connect, domain, topic, limit, timeout, exit_on_loss),
+            skipped,
+            fields,
+            json,
+            csv,
+            full,
+            wildcard,
+        )
     except KeyboardInterrupt:
         pass
     except BrokenPipeError:  # `| head`: the reader has what it wanted
@@ -137,15 +145,15 @@ def hz(
     --duration.  Example: turtlectl hz robot/status obstacles --duration 10
     """
     from turtlectl.cli.tools import topics
-    from turtlectl.cli.tools.client import turtle_namespace_at
     from turtlectl.cli.tools.rates import rate_line
     from turtlectl.messages.keys import resolve
+    from turtlectl.runtime.client.session import turtle_namespace_at
 
     printed = False
-    namespace = turtle_namespace_at(connect, turtle)
+    namespace = turtle_namespace_at(connect, turtle, domain)
     names = [resolve(name, namespace) for name in names]
     try:
-        for stats in topics.measure_rates(connect, names, window, duration, exit_on_loss):
+        for stats in topics.measure_rates(connect, domain, names, window, duration, exit_on_loss):
             if isinstance(stats, topics.Notice):  # a silence and why, the router lost or back
                 typer.echo(stats.text, err=True)
                 continue
@@ -175,15 +183,18 @@ def pub(
     the last message is exit code 130.
     Example: turtlectl pub turtle1/cmd_vel '{"linear": 1.0, "angular": 0.5}' --rate 10
     """
-    from turtlectl.cli.tools import build, client, topics
+    from turtlectl.cli.tools import build, topics
     from turtlectl.messages.codec import type_name as full_name
+    from turtlectl.runtime.client import session as client
 
     key = client.check_key(topic, publish=True)
-    type_name = topics.learn_type(connect, client.base_key(key), type_name)  # yours: from the nodes using it
-    msg = build.topic_message(client.base_key(key), message, type_name)
+    type_name = topics.learn_type(
+        connect, domain, client.base_key(key, domain), type_name
+    )  # yours: from the nodes using it
+    msg = build.topic_message(client.base_key(key, domain), message, type_name)
     count = args.publish_count(once, rate, times)
     try:
-        sent = topics.publish(connect, topic, msg, rate if rate is not None else 10.0, count)
+        sent = topics.publish(connect, domain, topic, msg, rate if rate is not None else 10.0, count)
     except KeyboardInterrupt:
         if count is not None:
             raise Interrupted("interrupted before every message was sent") from None
@@ -214,7 +225,7 @@ def topic_info(
     """
     from turtlectl.cli.tools import introspect
 
-    report = introspect.topic_report(connect, key, verbose)
+    report = introspect.topic_report(connect, domain, key, verbose)
     result(format.json_value(report) if json else introspect.topic_text(report))
 
 

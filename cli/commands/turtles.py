@@ -7,7 +7,7 @@ import typer
 
 from turtlectl.cli import args
 from turtlectl.cli.commands.options import ConnectOption, DomainOption, completer, result
-from turtlectl.cli.errors import Failed
+from turtlectl.runtime.client.errors import Failed
 
 
 def spawn(
@@ -25,15 +25,16 @@ def spawn(
 
     Example: turtlectl spawn 2 2 90 --name turtle2
     """
-    from turtlectl.cli.tools import services
     from turtlectl.messages import SpawnRequest, SpawnResponse, keys
     from turtlectl.messages.angles import heading_radians
+    from turtlectl.runtime.client.api import Client
 
     degrees = args.finite_number(theta, "theta")
     request = SpawnRequest(
         x=args.finite_number(x, "x"), y=args.finite_number(y, "y"), theta=heading_radians(degrees), name=name
     )
-    answers = [m for m in services.call_service(connect, keys.SPAWN, request, 5.0) if isinstance(m, SpawnResponse)]
+    with Client(connect, domain) as client:
+        answers = [m for m in client.call_all(keys.SPAWN, request) if isinstance(m, SpawnResponse)]
     if not answers:
         raise Failed("the simulator did not say which turtle it spawned")
     result(answers[-1].name)
@@ -51,10 +52,11 @@ def kill(
 
     Example: turtlectl kill turtle2
     """
-    from turtlectl.cli.tools import services
-    from turtlectl.messages import Kill, keys
+    from turtlectl.messages import Ack, Kill, keys
+    from turtlectl.runtime.client.api import Client
 
-    acks = services.simple_call(connect, keys.KILL, Kill(name=name))
+    with Client(connect, domain) as client:
+        acks = [a for a in client.call_all(keys.KILL, Kill(name=name)) if isinstance(a, Ack)]
     if not acks:
         raise Failed("the simulator did not confirm the kill")
     result(acks[-1].detail)

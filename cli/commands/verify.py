@@ -8,7 +8,7 @@ from pathlib import Path
 import typer
 
 from turtlectl.cli.commands.options import ConnectOption, DomainOption, JsonOption, result
-from turtlectl.cli.errors import BadInput, ExitCode
+from turtlectl.runtime.client.errors import BadInput, ExitCode
 
 
 def verify(
@@ -61,12 +61,12 @@ def verify(
     """
     from turtlectl.cli.system.launched import LaunchedSystem
     from turtlectl.cli.system.launchfile import LaunchPlan
-    from turtlectl.cli.tools.api import Client
     from turtlectl.cli.verify import checks, report
     from turtlectl.cli.verify.parameters import launch_file_plan
     from turtlectl.cli.verify.report import Verdict
     from turtlectl.cli.verify.spec import Parameters, load_spec
     from turtlectl.cli.verify.timebase import system_time
+    from turtlectl.runtime.client.api import Client
 
     loaded = load_spec(spec)
 
@@ -92,7 +92,7 @@ def verify(
             verdicts = measured(client, launch_file_plan(launch, time_scale) if compares else None)
     else:
         plan = launch_file_plan(launch_file) if compares and launch_file is not None else None
-        with Client(connect) as client:
+        with Client(connect, domain) as client:
             verdicts = measured(client, plan)
     if junit is not None:
         report.write_junit(junit, str(spec), verdicts)

@@ -4,7 +4,7 @@ protocol (the foxglove-sdk's server).  Nothing here prints.
 * Every topic of the live graph is a channel of the same name, its messages JSON with the
   type's JSON Schema (messages.jsonform), appearing and disappearing with the graph (checked
   every ``GRAPH_PERIOD`` s).  A user's own type is learnt from the nodes that use it
-  (cli.tools.typebook) and served as a built-in is; a type no node describes is not served.
+  (runtime.client.typebook) and served as a built-in is; a type no node describes is not served.
 * The ready-made scene (cli.foxglove.scene): ``scene`` and ``scene/scan`` in Foxglove's well-known (protobuf)
   schemas, so the 3D panel shows the world, every turtle (named) with its trail and goal, and the scan;
   and ``log``, every node's log records (``turtlectl/log/<node>``) as Foxglove's Log, for its Log panel.
@@ -30,10 +30,6 @@ from foxglove.channels import LaserScanChannel, LogChannel, SceneUpdateChannel
 from foxglove.websocket import Capability, MessageSchema, ServerListener, Service, ServiceRequest, ServiceSchema
 
 from turtlectl.cli.foxglove.scene import LOG, SCAN, SCENE, SceneMaker
-from turtlectl.cli.tools.client import NotPermitted, client_session, logged_in_as
-from turtlectl.cli.tools.services import world as world_of
-from turtlectl.cli.tools.topics import live_graph
-from turtlectl.cli.tools.typebook import TypeBook
 from turtlectl.messages import (
     Ack,
     Cancel,
@@ -53,6 +49,10 @@ from turtlectl.messages.codec import TYPES_BY_NAME, DecodeError, type_name
 from turtlectl.messages.described import describable
 from turtlectl.messages.jsonform import JsonFormError, from_json, json_schema, to_json
 from turtlectl.messages.keys import CANCEL, NAVIGATE_TO, RESET, TELEPORT
+from turtlectl.runtime.client.errors import Failed
+from turtlectl.runtime.client.services import world as world_of
+from turtlectl.runtime.client.session import client_session, live_graph, logged_in_as
+from turtlectl.runtime.client.typebook import TypeBook
 
 GRAPH_PERIOD = 1.0  # s between two looks at the live graph (channels come and go)
 WORLD_PERIOD = 1.0  # s between two sendings of the world (a viewer may connect at any time)
@@ -202,15 +202,20 @@ class Bridge(ServerListener):
 
 
 def serve(
-    connect: str, host: str, port: int, stop: threading.Event, started: Callable[[Any], None] = lambda _s: None
+    connect: str,
+    domain: str,
+    host: str,
+    port: int,
+    stop: threading.Event,
+    started: Callable[[Any], None] = lambda _s: None,
 ) -> Iterator[int]:
     """Serve the system at ``connect`` on ws://``host``:``port`` until ``stop`` is set; calls
     ``started(server)`` once it listens, then yields the number of channels each second."""
-    with client_session(connect) as session:
-        if logged_in_as() not in (None, "viewer"):
-            raise NotPermitted(
+    with client_session(connect, domain) as session:
+        if logged_in_as(session) not in (None, "viewer"):
+            raise Failed(
                 f"foxglove serves what its role may to anyone who reaches its WebSocket, without a login: on a "
-                f"--secure system run it as a viewer (TURTLECTL_ROLE=viewer), not as {logged_in_as()}"
+                f"--secure system run it as a viewer (TURTLECTL_ROLE=viewer), not as {logged_in_as(session)}"
             )
         bridge = Bridge(session)
         try:
@@ -225,7 +230,7 @@ def serve(
             )
         except RuntimeError as exc:
             bridge.close()
-            from turtlectl.cli.errors import CannotStart
+            from turtlectl.runtime.client.errors import CannotStart
 
             raise CannotStart(f"cannot serve Foxglove on {host}:{port}: {exc}") from None
         sub = session.declare_subscriber("**", bridge.on_sample)

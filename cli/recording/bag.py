@@ -13,7 +13,7 @@ simulator's ``turtlectl/world`` answer) is attached as ``turtlectl/world`` (JSON
 replay can draw it.  A time the recorder had no router (it was lost, then back; or lost until
 the end) is an MCAP metadata record named ``turtlectl/gap`` whose ``lost`` and ``back`` are ns
 since the epoch as decimal strings (``back`` empty: still lost when the recording ended), as
-the recorder noticed them (within ``cli.tools.client.ROUTER_CHECK`` s); ``info`` lists them and
+the recorder noticed them (within ``runtime.client.session.ROUTER_CHECK`` s); ``info`` lists them and
 ``play`` reads past them (they hold no message).  With ``record --scene`` the file also holds the Foxglove scene
 (cli.foxglove.scene: channels ``scene``, ``scene/scan`` and ``log``, Foxglove's well-known protobuf schemas),
 which ``play`` leaves out (it is drawn from the other messages).
@@ -32,10 +32,10 @@ import time
 from pathlib import Path
 from typing import IO, Any
 
-from turtlectl.cli.errors import BadInput
 from turtlectl.messages import DecodeError, Message, decode, encoding_for, type_from_encoding
 from turtlectl.messages.codec import TYPES_BY_NAME, type_name
 from turtlectl.messages.jsonform import JsonFormError, from_json, json_schema, to_json
+from turtlectl.runtime.client.errors import BadInput
 
 PROFILE = ""  # no MCAP profile: our own JSON messages (ros1/ros2 profiles mean their encodings)
 JSON = "json"  # MCAP's well-known message encoding

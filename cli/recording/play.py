@@ -25,14 +25,14 @@ from collections.abc import Callable, Iterable, Iterator
 import msgspec
 import zenoh
 
-from turtlectl.cli.errors import BadInput
 from turtlectl.cli.recording.bag import Record
 from turtlectl.cli.recording.reading import Recording
-from turtlectl.cli.tools.client import check_key, client_session, require
 from turtlectl.messages import ALL_TYPES, Clock, Log, Message, encode, encoding_for
 from turtlectl.messages.codec import TYPES_BY_NAME, type_name
 from turtlectl.messages.described import describable, describe
 from turtlectl.messages.keys import CLOCK, WORLD_KEY, type_key
+from turtlectl.runtime.client.errors import BadInput
+from turtlectl.runtime.client.session import check_key, client_session, require
 
 SPIN = 0.0015  # s before a message is due when sleeping stops and the wait spins (timer slack)
 DESCRIBER = "play"  # the 'node' in turtlectl/types/<TypeName>/play
@@ -129,6 +129,7 @@ def serve_world(session: zenoh.Session, document: bytes | None) -> zenoh.Queryab
 
 def play(
     connect: str,
+    domain: str,
     recording: Recording,
     rate: float,
     start_offset: float,
@@ -164,7 +165,7 @@ def play(
         except BadInput as exc:
             raise BadInput(f"{recording.path}: channel {topic!r} cannot be played: {exc.message}") from None
     first = records[0].log_time
-    with client_session(connect) as session:
+    with client_session(connect, domain) as session:
         world = serve_world(session, recording.world())  # kept: a queryable lives while referenced
         described = serve_types(session, user_types(records))
         publishers: dict[tuple[str, str], zenoh.Publisher] = {}
@@ -199,7 +200,7 @@ def play(
                     key = targets[record.key]
                     pub = publishers.get((key, encoding))
                     if pub is None:
-                        require("publish", key)  # a --secure router would drop it without a word
+                        require(session, "publish", key)  # a --secure router would drop it without a word
                         pub = session.declare_publisher(key, encoding=zenoh.Encoding(encoding))
                         publishers[(key, encoding)] = pub
                     pub.put(payload)
@@ -223,7 +224,7 @@ class Clocked:
     """``play --clock``: the recording's time on ``clock``, ``hz`` times a wall second."""
 
     def __init__(self, session: zenoh.Session, first: int, rate: float, hz: float):
-        require("publish", CLOCK)
+        require(session, "publish", CLOCK)
         self.pub = session.declare_publisher(CLOCK, encoding=zenoh.Encoding(encoding_for(Clock)))
         self.first, self.rate, self.period = first, rate, 1.0 / hz
         self.next = 0.0  # monotonic s: when the next one is due

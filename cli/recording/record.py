@@ -2,7 +2,7 @@
 
 Nothing here prints; ``record`` yields progress for the command to show.  Samples are taken
 with their receive time on Zenoh's threads and written on the caller's thread (which first
-learns a type turtlectl was not built with from the nodes that use it: cli.tools.typebook), which also
+learns a type turtlectl was not built with from the nodes that use it: runtime.client.typebook), which also
 closes a chunk before its first message is a second old (cli.recording.bag.CHUNK_SPAN); when ``stop`` is set (Ctrl-C, SIGTERM) or the duration is over,
 what is queued is written and the file is finished.  A lost router is waited for as every
 long-running tool does (cli.tools.routerwatch: a line when it is lost and one when it is back,
@@ -23,15 +23,15 @@ import msgspec
 import zenoh
 
 from turtlectl.cli.recording.bag import BagWriter
-from turtlectl.cli.tools import presence
-from turtlectl.cli.tools.client import check_key, client_session
 from turtlectl.cli.tools.routerwatch import watch
-from turtlectl.cli.tools.services import RouterLost
-from turtlectl.cli.tools.typebook import TypeBook
 from turtlectl.messages.codec import MEDIA_TYPE, TYPES_BY_NAME
 from turtlectl.messages.described import describable
 from turtlectl.messages.keys import WORLD_KEY
 from turtlectl.messages.world import World
+from turtlectl.runtime.client import presence
+from turtlectl.runtime.client.services import RouterLost
+from turtlectl.runtime.client.session import check_key, client_session
+from turtlectl.runtime.client.typebook import TypeBook
 
 ALL = "**"  # every key (not turtlectl's liveliness tokens: keys under @ are not matched by **)
 PROGRESS_PERIOD = 0.5  # s between two progress reports
@@ -54,7 +54,7 @@ def default_path(now: datetime.datetime | None = None) -> Path:
 
 def keys_to_record(topics: list[str], everything: bool, exclude: list[str]) -> tuple[list[str], list[str]]:
     """The key expressions to subscribe to and those to leave out, checked (BadInput)."""
-    from turtlectl.cli.errors import BadInput
+    from turtlectl.runtime.client.errors import BadInput
 
     if everything and topics:
         raise BadInput("give topics or -a/--all, not both")
@@ -98,6 +98,7 @@ class _Drawing:
 
 def record(
     connect: str,
+    domain: str,
     keys: list[str],
     exclude: list[str],
     path: Path,
@@ -129,7 +130,7 @@ def record(
 
         return on_sample
 
-    with client_session(connect) as session:
+    with client_session(connect, domain) as session:
         writer = BagWriter(path, library)
         try:
             world = World()

@@ -17,9 +17,9 @@ import shlex
 from pathlib import Path
 from typing import Any
 
-from turtlectl.cli.errors import BadInput
 from turtlectl.cli.recording.bag import CHUNK_SIZE, RecordingError
 from turtlectl.cli.recording.reading import read_errors
+from turtlectl.runtime.client.errors import BadInput
 
 MAGIC = b"\x89MCAP0\r\n"
 

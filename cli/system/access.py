@@ -15,14 +15,12 @@ under its own name (``<name>/**``); nothing else (``UNDECLARED``).  Clients log 
 * ``teleop``: also publishes ``turtle1/cmd_vel`` (teleop, pub).
 
 Zenoh drops a denied message silently, so the command line checks its role first and says
-"not permitted" (``permitted``); the router's rules are what holds against anyone else.
+"not permitted" (runtime.client.session.permitted); the router's rules are what holds against anyone else.
 """
 
 from __future__ import annotations
 
 from typing import TYPE_CHECKING, Any
-
-import zenoh
 
 from turtlectl.messages.keys import (
     CLOCK,
@@ -40,7 +38,6 @@ from turtlectl.messages.keys import (
     type_key,
 )
 from turtlectl.runtime.roles import (
-    GOAL_SENDERS,
     GRAPH_KEYS,
     OPERATOR,
     ROLES,
@@ -51,7 +48,7 @@ from turtlectl.runtime.roles import (
     undeclared,
 )
 
-if TYPE_CHECKING:  # the clients' check (``permitted``) needs no node kind
+if TYPE_CHECKING:  # the clients' check (runtime.client.session.permitted) needs no node kind
     from turtlectl.nodes.kinds import NodeKind
 
 __all__ = [
@@ -63,7 +60,6 @@ __all__ = [
     "client_rights",
     "launch_goal_services",
     "node_rights",
-    "permitted",
     "undeclared",
 ]
 
@@ -174,17 +170,3 @@ def access_control(
         "subjects": subjects,
         "policies": policies,
     }
-
-
-def permitted(role: str, verb: str, key: str, goal_service: bool = False) -> bool:
-    """Whether a client of ``role`` may ``verb`` (publish, call, ...) on ``key``;
-    ``goal_service``: ``key`` is a goal service or its ``/cancel``, which the ``GOAL_SENDERS``
-    may call (the router's rules name each one the launch's nodes serve)."""
-    if goal_service and verb == "call" and role in GOAL_SENDERS:
-        return True
-    wanted = zenoh.KeyExpr(key)
-    return any(zenoh.KeyExpr(k).includes(wanted) for k in ROLES.get(role, {}).get(verb, ()))
-
-
-def who_may(verb: str, key: str, goal_service: bool = False) -> list[str]:
-    return [role for role in ROLES if permitted(role, verb, key, goal_service)]

@@ -24,7 +24,7 @@ import os
 from pathlib import Path
 from typing import Any
 
-from turtlectl.cli.errors import BadInput
+from turtlectl.runtime.client.errors import BadInput
 
 FILES = ("ca.pem", "ca.key", "router.pem", "router.key", "client.pem", "client.key")
 VALID_DAYS = 365

@@ -27,13 +27,13 @@ from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, NamedTuple
 
-from turtlectl.cli.errors import CannotStart
 from turtlectl.cli.system.supervisor import notify
 from turtlectl.cli.system.supervisor.logs import LOG_DIR_ENV
+from turtlectl.runtime.client.errors import CannotStart
 from turtlectl.runtime.exitcodes import node_exit
 
 if TYPE_CHECKING:
-    from turtlectl.cli.tools.api import Client
+    from turtlectl.runtime.client.api import Client
 
 START_LIMIT = 120.0  # s: a start that takes longer than this has hung (only a bound against hanging)
 STOP_WAIT = 15.0  # s: after SIGINT, the supervisor's own shutdown (SIGINT -> SIGTERM -> SIGKILL to its nodes)
@@ -267,7 +267,7 @@ class LaunchedSystem:
 
     def client(self) -> Client:
         """A ``turtlectl.Client`` of this system (closed by ``stop``)."""
-        from turtlectl.cli.tools.api import Client
+        from turtlectl.runtime.client.api import Client
 
         client = Client(self.endpoint, self.domain)
         self._clients.append(client)

@@ -18,7 +18,7 @@ from typing import Any
 import msgspec
 import msgspec.inspect as mi
 
-from turtlectl.cli.errors import BadInput
+from turtlectl.runtime.client.errors import BadInput
 from turtlectl.runtime.loader import suggestion
 from turtlectl.runtime.params import got, in_words, validation_parts
 

@@ -6,25 +6,24 @@ from __future__ import annotations
 from collections.abc import Callable
 from typing import Any
 
-from turtlectl.cli.errors import Unreachable
-from turtlectl.cli.tools import build, goals
-from turtlectl.cli.tools.client import check_key
-from turtlectl.cli.tools.graph import GoalRow
-from turtlectl.cli.tools.services import service_session
-from turtlectl.cli.tools.topics import graph, live_graph
-from turtlectl.cli.tools.typebook import TypeBook
+from turtlectl.cli.tools import build
+from turtlectl.cli.tools.topics import graph
 from turtlectl.messages import Message
+from turtlectl.runtime.client import goals
+from turtlectl.runtime.client.errors import GoalCanceled, Unreachable
+from turtlectl.runtime.client.graph import GoalRow
+from turtlectl.runtime.client.session import check_key
 
 
-def goal_services(connect: str) -> list[GoalRow]:
+def goal_services(connect: str, domain: str) -> list[GoalRow]:
     """Every goal service running now, by key."""
-    return graph(connect).goals
+    return graph(connect, domain).goals
 
 
-def goal_service(connect: str, key: str) -> GoalRow:
+def goal_service(connect: str, domain: str, key: str) -> GoalRow:
     """The goal service ``key``; Unreachable naming those that run when it does not."""
     key = check_key(key)
-    rows = goal_services(connect)
+    rows = goal_services(connect, domain)
     for row in rows:
         if row.key == key:
             return row
@@ -58,20 +57,26 @@ def row_text(row: GoalRow) -> str:
 
 
 def send_goal(
-    connect: str, key: str, text: str, timeout: float | None, on_feedback: Callable[[Any], None] | None
+    connect: str,
+    domain: str,
+    key: str,
+    text: str,
+    timeout: float | None,
+    on_feedback: Callable[[Any], None] | None,
 ) -> Message:
     """Send the goal ``text`` (JSON) to the goal service ``key`` and wait for its result, feedback
-    handed to ``on_feedback``; a --timeout or Ctrl-C cancels it and checks the Ack (goals.run_goal)."""
+    handed to ``on_feedback`` (``Client.run_goal``: a --timeout or Ctrl-C cancels it and checks
+    the Ack); a result canceled by anyone else is returned, as any other result."""
+    from turtlectl.runtime.client.api import Client
+
     key = check_key(key)
     build.json_text(text)  # bad JSON is said before any system is asked
-    with service_session(connect) as session:
-        row = next((r for r in live_graph(session).goals if r.key == key), None)
-        if row is None:
-            raise Unreachable(f"no goal service {key} is running (`turtlectl action list` lists them)")
-        TypeBook(session).learn_all()  # a user's types, as the nodes describe them
+    with Client(connect, domain, timeout_named=goals.CLI_LIMIT) as client:
+        row = client.goal_service(key)  # its types learnt from the nodes (a user's, as they describe them)
         goal = build.message_from_json(text, build.type_named(row.goal))
-        service = goals.GoalService(key, row.result, tuple(row.servers))
-        result: Message = goals.run_goal(
-            session, service, goal, goals.NO_LIMIT if timeout is None else timeout, on_feedback, goals.CLI_LIMIT
-        )
-        return result
+        try:
+            return client.run_goal(key, goal, on_feedback, timeout=timeout)
+        except GoalCanceled as canceled:
+            if canceled.timeout is not None or canceled.response is None:  # --timeout's: an error
+                raise
+            return canceled.response  # type: ignore[no-any-return]

@@ -11,13 +11,13 @@ from typing import Any
 
 import msgspec
 
-from turtlectl.cli.errors import BadInput
 from turtlectl.cli.system.launchfile import validation_parts
 from turtlectl.messages import Message
 from turtlectl.messages.codec import TYPES_BY_NAME
 from turtlectl.messages.codec import type_name as name_of
 from turtlectl.messages.keys import TOPICS, service_types
 from turtlectl.messages.naming import AmbiguousType, lookup
+from turtlectl.runtime.client.errors import BadInput
 
 
 def _problem(exc: msgspec.ValidationError) -> str:

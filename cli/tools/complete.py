@@ -13,7 +13,7 @@ import contextlib
 import os
 from collections.abc import Iterator
 
-from turtlectl.runtime.endpoint import CONNECT_ENV, DEFAULT_ENDPOINT
+from turtlectl.runtime.endpoint import CONNECT_ENV, DEFAULT_ENDPOINT, default_domain
 
 
 def _connect(params: dict[str, object]) -> str:
@@ -32,11 +32,17 @@ def _quietly() -> Iterator[None]:
         pass
 
 
-def _graph(params: dict[str, object]):  # -> Graph | None
-    from turtlectl.cli.tools import client
-    from turtlectl.cli.tools.topics import live_graph
+def _domain(params: dict[str, object]) -> str:
+    """The domain the command line being completed names (--domain, else the environment's)."""
+    given = params.get("domain")
+    return str(given) if given else default_domain()
 
-    with client.client_session(_connect(params)) as session:
+
+def _graph(params: dict[str, object]):  # -> Graph | None
+    from turtlectl.runtime.client import session as client
+    from turtlectl.runtime.client.session import live_graph
+
+    with client.client_session(_connect(params), _domain(params)) as session:
         return live_graph(session)
 
 
@@ -101,5 +107,5 @@ def parameters(params: dict[str, object], incomplete: str) -> list[str]:
     with _quietly():
         from turtlectl.cli.tools import params as node_params
 
-        return _starting(node_params.names(node_params.fetch(_connect(params), str(node))), incomplete)
+        return _starting(node_params.names(node_params.fetch(_connect(params), _domain(params), str(node))), incomplete)
     return []

@@ -10,12 +10,12 @@ from typing import TYPE_CHECKING, Any
 
 import msgspec
 
-from turtlectl.cli.errors import BadInput
 from turtlectl.messages import Ack, Message, NavigateToFeedback, NavigateToResponse, to_builtins
 from turtlectl.messages.angles import degrees_0_360
 from turtlectl.messages.codec import type_name
 from turtlectl.messages.jsonform import spelled, to_json
 from turtlectl.messages.keys import FIRST_TURTLE, resolve
+from turtlectl.runtime.client.errors import BadInput
 
 if TYPE_CHECKING:  # launch files (nodes' parameters) are loaded by launch and run only
     from turtlectl.cli.system.launchfile import LaunchPlan

@@ -7,16 +7,16 @@ from __future__ import annotations
 
 from typing import Any
 
-from turtlectl.cli.errors import BadInput, Unreachable
 from turtlectl.cli.tools.build import which_type
 from turtlectl.cli.tools.interface_live import Live, keys_by_type, live_description, nested_description
-from turtlectl.cli.tools.typebook import conflict
 from turtlectl.messages import ALL_TYPES
 from turtlectl.messages.codec import encoding_for, type_name, type_short_name
 from turtlectl.messages.fieldtext import default_text, doc, struct_fields
 from turtlectl.messages.fieldtext import type_name as field_type
 from turtlectl.messages.key_reference import KEYS
 from turtlectl.messages.reference import FIELDS
+from turtlectl.runtime.client.errors import BadInput, Unreachable
+from turtlectl.runtime.client.typebook import conflict
 
 
 def _keys_of(cls: type) -> list[str]:
@@ -35,12 +35,11 @@ def summary(cls: type) -> str:
 Keys = dict[str, list[str]]  # type name -> the keys that carry it in the live graph
 
 
-def live_types(connect: str, domain: str | None = None) -> tuple[Live, Keys]:
+def live_types(connect: str, domain: str) -> tuple[Live, Keys]:
     """What the running system's nodes say of the types they use, and the keys (topics and
     services) that carry each in the live graph (both {} when none runs)."""
-    from turtlectl.cli.tools.client import client_session
-    from turtlectl.cli.tools.topics import live_graph
-    from turtlectl.cli.tools.typebook import descriptions
+    from turtlectl.runtime.client.session import client_session, live_graph
+    from turtlectl.runtime.client.typebook import descriptions
 
     try:
         with client_session(connect, domain) as session:

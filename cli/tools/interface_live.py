@@ -10,9 +10,9 @@ from typing import Any
 
 import msgspec
 
-from turtlectl.cli.tools.graph import Graph
 from turtlectl.messages.codec import MEDIA_TYPE
 from turtlectl.messages.described import TypeDescription
+from turtlectl.runtime.client.graph import Graph
 from turtlectl.runtime.params import range_text
 
 Live = dict[str, dict[str, TypeDescription]]  # type name -> node -> its description

@@ -10,12 +10,14 @@ from typing import Any
 import msgspec
 
 from turtlectl.cli import args
-from turtlectl.cli.errors import BadInput, Failed
-from turtlectl.cli.tools.graph import Graph
 from turtlectl.cli.tools.params import TIMEOUT  # s a node has to answer
-from turtlectl.cli.tools.services import NoAnswer, NobodyServes, Raw, call_service
 from turtlectl.messages import Ack, SetLogLevel
 from turtlectl.messages.keys import NodeDetails, log_level_key, node_key
+from turtlectl.runtime.client import answers
+from turtlectl.runtime.client.answers import parse_details
+from turtlectl.runtime.client.errors import BadInput, Failed
+from turtlectl.runtime.client.graph import Graph
+from turtlectl.runtime.client.services import NoAnswer, NobodyServes, call_service
 
 RATE_WINDOW = 1.0  # s over which `topic info -v` measures the rate
 
@@ -43,48 +45,36 @@ class NodeReport(msgspec.Struct):
     use_sim_time: bool = False  # its time is the simulator's clock
 
 
-def _no_node(node: str, graph: Graph) -> NobodyServes:
+def _no_node(node: str, graph: Graph, domain: str) -> NobodyServes:
     from turtlectl.cli.tools.params import no_node
 
-    return no_node(node, [n.name for n in graph.nodes], graph.hint)
+    return no_node(node, [n.name for n in graph.nodes], domain, graph.hint)
 
 
-def parse_details(node: str, answers: list[Any]) -> NodeDetails:
-    """What ``node`` says about itself, from the answers to ``turtlectl/nodes/<node>`` (the
-    last JSON one); Failed if there is none or it does not read."""
-    raw = [a for a in answers if isinstance(a, Raw)]
-    if not raw:
-        raise Failed(f"{node} did not say what it is")
-    try:
-        return msgspec.json.decode(raw[-1].payload, type=NodeDetails)
-    except msgspec.DecodeError as exc:
-        raise Failed(f"{node} sent an unreadable answer: {exc}") from None
-
-
-def _asked(connect: str, node: str, key: str, request: Any, what: str) -> list[Any]:
+def _asked(connect: str, domain: str, node: str, key: str, request: Any, what: str) -> list[Any]:
     """``node``'s answers on ``key``; one that runs but does not answer ``what`` is said to run
     (params.silent: Silent, exit 3), one that does not run is named with those that do."""
     from turtlectl.cli.tools.params import silent
 
     try:
-        return list(call_service(connect, key, request, TIMEOUT))
+        return list(call_service(connect, domain, key, request, TIMEOUT))
     except NobodyServes as exc:
-        raise silent(connect, node, what, exc) from None
+        raise silent(connect, domain, node, what, exc) from None
     except NoAnswer as exc:
         if exc.answered:
             raise
-        raise silent(connect, node, what, exc) from None
+        raise silent(connect, domain, node, what, exc) from None
 
 
-def _details(connect: str, node: str) -> NodeDetails:
-    return parse_details(node, _asked(connect, node, node_key(node), b"", "what it is"))
+def _details(connect: str, domain: str, node: str) -> NodeDetails:
+    return parse_details(node, _asked(connect, domain, node, node_key(node), b"", "what it is"))
 
 
-def node_report(connect: str, node: str) -> NodeReport:
+def node_report(connect: str, domain: str, node: str) -> NodeReport:
     """Node ``node`` in detail (NobodyServes, exit 3, naming the running nodes if none is called so)."""
     from turtlectl.cli.tools import params, topics
 
-    graph = topics.graph(connect)
+    graph = topics.graph(connect, domain)
     client = next((c for c in graph.clients if c.name == node), None)
     if client is not None:  # listed by `node list`, but it serves nothing to ask
         raise BadInput(
@@ -92,8 +82,8 @@ def node_report(connect: str, node: str) -> NodeReport:
             f"`turtlectl list` shows what it publishes and subscribes to"
         )
     if node not in {n.name for n in graph.nodes}:
-        raise _no_node(node, graph)
-    details = _details(connect, node)
+        raise _no_node(node, graph, domain)
+    details = _details(connect, domain, node)
     return NodeReport(
         name=node,
         kind=details.kind,
@@ -104,7 +94,7 @@ def node_report(connect: str, node: str) -> NodeReport:
         publishers=[Endpoint(t.key, t.type) for t in graph.topics if node in t.publishers],
         subscribers=[Endpoint(t.key, t.type) for t in graph.topics if node in t.subscribers],
         services=[Endpoint(s.key, s.type) for s in graph.services if node in s.servers],
-        parameters=params.fetch(connect, node),
+        parameters=params.fetch(connect, domain, node),
         errors=details.errors,
         last_error=details.last_error,
         use_sim_time=details.use_sim_time,
@@ -133,7 +123,7 @@ def node_text(report: NodeReport) -> str:
         "PARAMETERS",
     ]
     for name in params.names(report.parameters):
-        lines.append(f"  {name} = {msgspec.json.encode(params.value(report.parameters, report.name, name)).decode()}")
+        lines.append(f"  {name} = {msgspec.json.encode(answers.value(report.parameters, report.name, name)).decode()}")
     return "\n".join(lines)
 
 
@@ -155,14 +145,14 @@ class TopicReport(msgspec.Struct):
     messages: int | None = None  # received while measuring
 
 
-def topic_report(connect: str, key: str, verbose: bool) -> TopicReport:
+def topic_report(connect: str, domain: str, key: str, verbose: bool) -> TopicReport:
     """Topic ``key`` from the live graph; with ``verbose`` its rate measured over a second.
     A key no node publishes or subscribes to is NobodyServes (exit 3) naming the known topics."""
     from turtlectl.cli.tools import topics
-    from turtlectl.cli.tools.client import check_key
+    from turtlectl.runtime.client.session import check_key
 
     key = check_key(key)
-    graph = topics.graph(connect)
+    graph = topics.graph(connect, domain)
     row = next((t for t in graph.topics if t.key == key), None)
     service = next((s for s in graph.services if s.key == key), None)
     if row is None and service is not None:
@@ -186,19 +176,19 @@ def topic_report(connect: str, key: str, verbose: bool) -> TopicReport:
         subscribers=[end(n) for n in row.subscribers],
     )
     if verbose:
-        report.messages, report.rate = _measure(connect, key)
+        report.messages, report.rate = _measure(connect, domain, key)
     return report
 
 
-def _measure(connect: str, key: str) -> tuple[int, float]:
+def _measure(connect: str, domain: str, key: str) -> tuple[int, float]:
     """Messages received on ``key`` over RATE_WINDOW s, and their rate (Hz, from the first to
     the last arrival; 0 below two messages)."""
     import queue
 
-    from turtlectl.cli.tools.client import client_session
+    from turtlectl.runtime.client.session import client_session
 
     arrivals: queue.SimpleQueue[float] = queue.SimpleQueue()
-    with client_session(connect) as session:
+    with client_session(connect, domain) as session:
         sub = session.declare_subscriber(key, lambda _sample: arrivals.put(time.monotonic()))
         time.sleep(RATE_WINDOW)  # the measuring window itself, not a wait for readiness
         sub.undeclare()
@@ -227,41 +217,40 @@ def topic_text(report: TopicReport) -> str:
     return "\n".join(lines)
 
 
-def set_log_level(connect: str, node: str, level: str) -> str:
+def set_log_level(connect: str, domain: str, node: str, level: str) -> str:
     """Make ``node`` log ``level`` and above from now on; returns its answer."""
     level = args.log_level(level)
-    answers = _asked(connect, node, log_level_key(node), SetLogLevel(level=level), "to set its log level")
+    answers = _asked(connect, domain, node, log_level_key(node), SetLogLevel(level=level), "to set its log level")
     acks = [a for a in answers if isinstance(a, Ack)]
     if not acks:
         raise Failed(f"{node} did not confirm its log level")
     return acks[-1].detail
 
 
-def nodes_named(connect: str, selector: str) -> list[str] | None:
+def nodes_named(connect: str, domain: str, selector: str) -> list[str] | None:
     """The running nodes ``selector`` names (cli.selection: a name, namespace, turtle or glob);
     None when it names one node as its name does, or no node and is no glob: the caller asks
     that name, and a node that does not run is said as for any name (with the running ones)."""
     from turtlectl.cli.selection import is_glob, selected
-    from turtlectl.cli.tools.client import client_session
     from turtlectl.cli.tools.params import no_node
-    from turtlectl.cli.tools.topics import live_graph
+    from turtlectl.runtime.client.session import client_session, live_graph
 
-    with client_session(connect) as session:
+    with client_session(connect, domain) as session:
         graph = live_graph(session)
     running = [n.name for n in graph.nodes if not n.domain]
     chosen = selected([selector], running)
     if chosen == [selector] or (not chosen and not is_glob(selector)):
         return None
     if not chosen:
-        raise no_node(selector, running, graph.hint)
+        raise no_node(selector, running, domain, graph.hint)
     return chosen
 
 
-def set_log_levels(connect: str, selector: str, level: str) -> str:
+def set_log_levels(connect: str, domain: str, selector: str, level: str) -> str:
     """Make every running node ``selector`` names (``nodes_named``) log ``level`` and above from
     now on; their answers, one line each (a node's own answer alone when it is named)."""
     level = args.log_level(level)
-    chosen = nodes_named(connect, selector)
+    chosen = nodes_named(connect, domain, selector)
     if chosen is None:
-        return set_log_level(connect, selector, level)
-    return "\n".join(f"{node}: {set_log_level(connect, node, level)}" for node in chosen)
+        return set_log_level(connect, domain, selector, level)
+    return "\n".join(f"{node}: {set_log_level(connect, domain, node, level)}" for node in chosen)

@@ -19,13 +19,12 @@ from collections.abc import Iterator, Mapping
 import zenoh
 
 from turtlectl.cli.args import level_named
-from turtlectl.cli.errors import BadInput, Unreachable
 from turtlectl.cli.selection import selects
-from turtlectl.cli.tools.client import client_session, domain_hint
 from turtlectl.cli.tools.routerwatch import watch
-from turtlectl.cli.tools.topics import live_graph
 from turtlectl.messages import DecodeError, Log, decode, to_json
 from turtlectl.messages.keys import LOG_KEYS
+from turtlectl.runtime.client.errors import BadInput, Unreachable
+from turtlectl.runtime.client.session import client_session, domain_hint, live_graph
 from turtlectl.runtime.loader import nearest
 
 #: the levels by name, as Python's logging and ROS number them (ROS's FATAL is CRITICAL)
@@ -170,14 +169,16 @@ def _nothing(held: int, wanted: LogFilter) -> str:
     return "the running nodes hold no records (each keeps its last ones at its log level: `turtlectl log-level NODE DEBUG` for more)"
 
 
-def read(connect: str, wanted: LogFilter, follow: bool = False, exit_on_loss: bool = False) -> Iterator[Log | Notice]:
+def read(
+    connect: str, domain: str, wanted: LogFilter, follow: bool = False, exit_on_loss: bool = False
+) -> Iterator[Log | Notice]:
     """The records ``wanted`` of every running node: first their recent ones, oldest first;
     with ``follow``, then each new one as it comes, until the caller stops (Ctrl-C).
 
     Without ``follow``, Unreachable when no node runs, or none matches ``wanted.nodes``; with
     it, a Notice says so and it waits for them.  A lost router and its return are a Notice each
     (cli.tools.routerwatch); with ``exit_on_loss``, RouterLost (Unreachable) instead."""
-    with client_session(connect) as session:
+    with client_session(connect, domain) as session:
         inbox: queue.SimpleQueue[bytes] = queue.SimpleQueue()
         live = session.declare_subscriber(LOG_KEYS, lambda s: inbox.put(s.payload.to_bytes())) if follow else None
         try:
@@ -187,7 +188,7 @@ def read(connect: str, wanted: LogFilter, follow: bool = False, exit_on_loss: bo
                 problem = "no turtlectl node runs here"
                 if not follow:
                     raise Unreachable(
-                        f"{problem}: no log to read (is `turtlectl launch` running?){domain_hint(connect)}"
+                        f"{problem}: no log to read (is `turtlectl launch` running?){domain_hint(connect, domain)}"
                     )
             elif not any(node_matches(name, wanted.nodes) for name in running):
                 problem = unmatched(wanted.nodes, running)

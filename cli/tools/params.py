@@ -14,9 +14,14 @@ from typing import Any
 
 import msgspec
 
-from turtlectl.cli.errors import BadInput, Failed, Unreachable
-from turtlectl.cli.tools.graph import Graph
-from turtlectl.cli.tools.services import (
+from turtlectl.messages import Ack, SetParameter
+from turtlectl.messages.keys import NodeDetails, node_key, node_name, param_describe_key, param_set_key, params_key
+from turtlectl.messages.params import ParamDescription, ParamInfo
+from turtlectl.messages.world import World
+from turtlectl.runtime.client.answers import names, no_param, parse_params
+from turtlectl.runtime.client.errors import BadInput, Failed, Unreachable
+from turtlectl.runtime.client.graph import Graph
+from turtlectl.runtime.client.services import (
     NoAnswer,
     NobodyServes,
     Raw,
@@ -26,31 +31,18 @@ from turtlectl.cli.tools.services import (
     service_session,
     world,
 )
-from turtlectl.messages import Ack, SetParameter
-from turtlectl.messages.keys import NodeDetails, node_key, node_name, param_describe_key, param_set_key, params_key
-from turtlectl.messages.params import ParamDescription, ParamInfo
-from turtlectl.messages.world import World
-from turtlectl.runtime.params import lookup
 
 #: s a node has to answer
 TIMEOUT = 3.0
 
 
-def _no_param(node: str, name: str, known: list[str]) -> BadInput:
-    """An unknown parameter: the nearest one suggested, all of them named."""
-    from turtlectl.cli.system.launchfile import suggestion
-
-    return BadInput(f"{node} has no parameter {name!r}{suggestion(name, known)} (it has: {', '.join(known)})")
-
-
-def no_node(node: str, running: list[str], hint: str = "") -> NobodyServes:
+def no_node(node: str, running: list[str], domain: str, hint: str = "") -> NobodyServes:
     """No node called ``node`` answers in this command's domain (the running node nearest its
     name suggested: ``param``, ``node info``, ``log-level`` all come here); ``hint``: where
     systems run when none runs here (the live graph's hint)."""
-    from turtlectl.runtime.endpoint import default_domain
     from turtlectl.runtime.loader import suggestion
 
-    where = f" in domain {default_domain()}" if default_domain() else ""
+    where = f" in domain {domain}" if domain else ""
     found = f"running: {', '.join(sorted(running))}" if running else f"no node runs{where}"
     near = suggestion(node, running)
     return NobodyServes(
@@ -63,7 +55,9 @@ class Silent(Unreachable):
     busy or blocked, or it is stopping (exit code 3, as a node that does not run)."""
 
 
-def unanswered(node: str, graph: Graph, what: str, waited: float | None = None, after: str = "") -> Unreachable:
+def unanswered(
+    node: str, graph: Graph, domain: str, what: str, waited: float | None = None, after: str = ""
+) -> Unreachable:
     """Why ``node`` gave no answer ``what`` (``with its parameters``): it does not run
     (NobodyServes naming the live nodes), or it runs (Silent, with its pid and host from
     ``graph``) and did not answer within ``waited`` s (None: nothing served the key, the
@@ -71,7 +65,7 @@ def unanswered(node: str, graph: Graph, what: str, waited: float | None = None, 
     still apply)."""
     row = next((n for n in graph.nodes if n.name == node), None)
     if row is None:
-        return no_node(node, [n.name for n in graph.nodes], graph.hint)
+        return no_node(node, [n.name for n in graph.nodes], domain, graph.hint)
     within = f" within {waited:g} s" if waited is not None else ""
     why = (
         "its thread is busy or blocked (a callback that has not returned?)"
@@ -84,52 +78,44 @@ def unanswered(node: str, graph: Graph, what: str, waited: float | None = None, 
     )
 
 
-def silent(connect: str, node: str, what: str, exc: Unreachable | NoAnswer, after: str = "") -> Unreachable:
+def silent(
+    connect: str, domain: str, node: str, what: str, exc: Unreachable | NoAnswer, after: str = ""
+) -> Unreachable:
     """``unanswered`` for a call that raised ``exc``, against the live graph now."""
     from turtlectl.cli.tools import topics
 
     waited = exc.timeout if isinstance(exc, NoAnswer) else None
-    return unanswered(node, topics.graph(connect), what, waited, after)
+    return unanswered(node, topics.graph(connect, domain), domain, what, waited, after)
 
 
-def _served(connect: str, key: str, node: str, what: str) -> bytes:
+def _served(connect: str, domain: str, key: str, node: str, what: str) -> bytes:
     """``node``'s JSON answer on ``key``.  NobodyServes (exit 3) naming the live nodes if no
     node of that name runs; Silent (exit 3) if it runs but does not answer."""
     try:
-        answers = list(call_service(connect, key, b"", TIMEOUT))
+        answers = list(call_service(connect, domain, key, b"", TIMEOUT))
     except NobodyServes as exc:
-        raise silent(connect, node, f"with {what}", exc) from None
+        raise silent(connect, domain, node, f"with {what}", exc) from None
     except NoAnswer as exc:
         if exc.answered:
             raise
-        raise silent(connect, node, f"with {what}", exc) from None
+        raise silent(connect, domain, node, f"with {what}", exc) from None
     if not answers or not isinstance(answers[-1], Raw):
         raise Failed(f"{node} answered, but not {what}")
     return answers[-1].payload
 
 
-def fetch(connect: str, node: str) -> dict[str, Any]:
+def fetch(connect: str, domain: str, node: str) -> dict[str, Any]:
     """The parameters ``node`` runs with (NobodyServes naming the live nodes)."""
-    return parse_params(node, _served(connect, params_key(node), node, "its parameters"))
+    return parse_params(node, _served(connect, domain, params_key(node), node, "its parameters"))
 
 
-def parse_params(node: str, payload: bytes) -> dict[str, Any]:
-    """``node``'s answer on ``turtlectl/params/<node>`` as its table of parameters; Failed if it is none."""
-    try:
-        params = msgspec.json.decode(payload)
-    except msgspec.DecodeError as exc:
-        raise Failed(f"{node} sent unreadable parameters: {exc}") from None
-    if not isinstance(params, dict):
-        raise Failed(f"{node} sent parameters that are not a table")
-    return params
-
-
-def description(connect: str, node: str) -> ParamDescription:
+def description(connect: str, domain: str, node: str) -> ParamDescription:
     """What ``node`` serves about its parameters, whatever its kind (NobodyServes naming the
     live nodes)."""
     try:
         return msgspec.json.decode(
-            _served(connect, param_describe_key(node), node, "its parameters' description"), type=ParamDescription
+            _served(connect, domain, param_describe_key(node), node, "its parameters' description"),
+            type=ParamDescription,
         )
     except (msgspec.DecodeError, msgspec.ValidationError) as exc:
         raise Failed(f"{node} sent an unreadable description of its parameters: {exc}") from None
@@ -142,25 +128,6 @@ def _entries(described: ParamDescription, name: str) -> list[str]:
     if here is not None and isinstance(here.value, dict):  # a map: its keys now
         inside += names(here.value, name + ".")
     return inside
-
-
-def value(params: dict[str, Any], node: str, name: str) -> Any:
-    """The parameter ``name`` (a dotted path reaches into a table: ``gains.lookahead``)."""
-    try:
-        return lookup(params, name)
-    except KeyError:
-        raise _no_param(node, name, names(params)) from None
-
-
-def names(params: dict[str, Any], prefix: str = "") -> list[str]:
-    """Every parameter's name, tables' entries dotted (``gains.lookahead``), in the node's order."""
-    out = []
-    for key, item in params.items():
-        if isinstance(item, dict):
-            out += names(item, f"{prefix}{key}.")
-        else:
-            out.append(prefix + key)
-    return out
 
 
 def toml_value(item: Any) -> str:
@@ -206,28 +173,28 @@ def _answers(session: Any, key: str) -> dict[str, bytes]:
     return got
 
 
-def running(connect: str) -> Running:
+def running(connect: str, domain: str) -> Running:
     """Every running node's details and parameters, and the world (NobodyServes: no node)."""
-    with service_session(connect) as session:
+    with service_session(connect, domain) as session:
         details = {
             name: msgspec.json.decode(body, type=NodeDetails) for name, body in _answers(session, node_key("*")).items()
         }
         if not details:
-            raise NobodyServes("no node is running (is `turtlectl launch` running?)")
+            raise NobodyServes("no node is running", "is `turtlectl launch` running?")
         params = {name: msgspec.json.decode(body) for name, body in _answers(session, params_key("*")).items()}
         return Running(details=details, params=params, world=world(session))
 
 
-def describe(connect: str, node: str, name: str) -> tuple[ParamInfo, Any]:
+def describe(connect: str, domain: str, node: str, name: str) -> tuple[ParamInfo, Any]:
     """Parameter ``name`` of ``node``: type, unit, range, default, meaning, whether it can
     change at run time; and its value now (as the node describes them)."""
-    described = description(connect, node)
+    described = description(connect, domain, node)
     infos = {p.name: p for p in described.parameters}
     entries = _entries(described, name)
     if name not in infos and entries:
         raise BadInput(f"{node} {name} is a table: describe one of its entries ({', '.join(entries)})")
     if name not in infos:
-        raise _no_param(node, name, list(infos))
+        raise no_param(node, name, list(infos))
     return infos[name], infos[name].value
 
 
@@ -270,7 +237,7 @@ def _check_value(node: str, kind: str, now: dict[str, Any], name: str, text: str
         raise BadInput(f"{node}: {exc}") from None
 
 
-def set_value(connect: str, node: str, name: str, text: str, timeout: float = TIMEOUT) -> str:
+def set_value(connect: str, domain: str, node: str, name: str, text: str, timeout: float = TIMEOUT) -> str:
     """Set ``node``'s parameter ``name`` to ``text`` (a TOML value, else the text), checked
     against what the node describes (unknown names, tables, what cannot change at run time,
     refused with the reason); a node of a kind a launch file runs is validated first as
@@ -282,14 +249,14 @@ def set_value(connect: str, node: str, name: str, text: str, timeout: float = TI
     from turtlectl.cli.system.launchfile import suggestion
     from turtlectl.cli.system.overrides import launches, parse_assignment, running_change
 
-    described = description(connect, node)
+    described = description(connect, domain, node)
     infos = {p.name: p for p in described.parameters}
     entries = _entries(described, name)
     if entries:
         raise BadInput(f"param set {node}.{name}: is a table: set one of its entries ({', '.join(entries)})")
     info = infos.get(name)
     if launches(described.kind):
-        system = running(connect)
+        system = running(connect, domain)
         if info is not None and info.run_time and node in system.params:
             _check_value(node, described.kind, system.params[node], name, text)
         nodes = {n: (d.kind, system.params[n]) for n, d in system.details.items() if n in system.params}
@@ -303,23 +270,23 @@ def set_value(connect: str, node: str, name: str, text: str, timeout: float = TI
         raise BadInput(f"param set {node}.{name}: cannot change while {node} runs: {info.fixed_because}")
     request = SetParameter(name=name, value=new)
     try:
-        answers = list(call_service(connect, param_set_key(node), request, timeout))
+        answers = list(call_service(connect, domain, param_set_key(node), request, timeout))
     except Rejected as exc:  # the node's own check (runtime.params): its one line, as _check_value's
         raise BadInput(exc.reason) from None
     except (NobodyServes, NoAnswer) as exc:
         if isinstance(exc, NoAnswer) and exc.answered:
             raise
         # the request waits in its queue: its thread applies it once free
-        raise silent(connect, node, f"to set {name}", exc, "the change may still apply once it does") from None
+        raise silent(connect, domain, node, f"to set {name}", exc, "the change may still apply once it does") from None
     acks = [a for a in answers if isinstance(a, Ack)]
     if not acks:
         raise Failed(f"{node} did not confirm the change")
     return acks[-1].detail
 
 
-def listing_all(connect: str) -> dict[str, list[str]]:
+def listing_all(connect: str, domain: str) -> dict[str, list[str]]:
     """Every running node's parameter names, by node (``param list`` without NODE)."""
-    system = running(connect)
+    system = running(connect, domain)
     return {node: names(system.params[node]) for node in sorted(system.params)}
 
 

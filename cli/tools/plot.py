@@ -30,11 +30,11 @@ from typing import Any
 import msgspec
 import msgspec.inspect as mi
 
-from turtlectl.cli.errors import BadInput
 from turtlectl.cli.tools.format import Undescribed
 from turtlectl.messages import Message
 from turtlectl.messages.codec import type_name as full_type_name
 from turtlectl.messages.keys import TOPICS, resolve
+from turtlectl.runtime.client.errors import BadInput
 
 #: the file types ``--output`` writes, by extension
 PICTURE_FORMATS = ("png", "svg")

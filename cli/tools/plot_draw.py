@@ -12,7 +12,7 @@ from collections.abc import Iterator, Sequence
 from pathlib import Path
 from typing import TextIO
 
-from turtlectl.cli.errors import BadInput
+from turtlectl.runtime.client.errors import BadInput
 
 #: s between two frames of a live plot (5 a second)
 FRAME = 0.2

@@ -1,6 +1,6 @@
 """Where ``turtlectl plot``'s numbers come from: a recording read whole (``from_recording``), or
 a running system, sample by sample as they arrive (``Live``).  Nothing here prints; errors are
-TurtlectlErrors (cli.errors): a field that is not a number is BadInput (exit 2), a key a
+TurtlectlErrors (runtime.client.errors): a field that is not a number is BadInput (exit 2), a key a
 recording does not hold, or no number at all, Unreachable (exit 3)."""
 
 from __future__ import annotations
@@ -14,18 +14,20 @@ from typing import Any
 
 import zenoh
 
-from turtlectl.cli.errors import Unreachable
-from turtlectl.cli.tools import presence
 from turtlectl.cli.tools.format import Undescribed
-from turtlectl.cli.tools.graph import Graph
 from turtlectl.cli.tools.plot import Extractor, Series, Stamps, check_stamped, check_type, nearest_key
 from turtlectl.cli.tools.plot_window import Collected
 from turtlectl.cli.tools.rates import Quiet
 from turtlectl.cli.tools.routerwatch import watch
-from turtlectl.cli.tools.topics import Received, decode_sample, learn, live_graph, silence_reason
-from turtlectl.cli.tools.typebook import TypeBook, generic
+from turtlectl.cli.tools.topics import silence_reason
 from turtlectl.messages import Message
 from turtlectl.messages.codec import TYPES_BY_NAME
+from turtlectl.runtime.client import presence
+from turtlectl.runtime.client.errors import Unreachable
+from turtlectl.runtime.client.graph import Graph
+from turtlectl.runtime.client.samples import Received, decode_sample, learn
+from turtlectl.runtime.client.session import domain_of, live_graph
+from turtlectl.runtime.client.typebook import TypeBook, generic
 
 
 @dataclasses.dataclass
@@ -211,7 +213,7 @@ class Live:
     def _silence(self, key: str, graph: Graph, flowed: bool = False) -> str:
         """Why ``key`` is silent (as echo says it), with "did you mean" for a key that looks like
         a typo of a built-in one."""
-        why = silence_reason(key, graph, self.connect, flowed)
+        why = silence_reason(key, graph, self.connect, domain_of(self.session), flowed)
         near = self.typos.get(key, "").partition(": ")[2]
         return f"{why.split(' (')[0]}: {near}" if near else why
 

@@ -11,8 +11,8 @@ from __future__ import annotations
 
 from collections.abc import Callable
 
-from turtlectl.cli.tools.client import ROUTER_CHECK
-from turtlectl.cli.tools.services import RouterLost
+from turtlectl.runtime.client.services import RouterLost
+from turtlectl.runtime.client.session import ROUTER_CHECK
 
 EXIT_ON_LOSS_HELP = "Exit with code 3 when the router is lost, instead of waiting for it to come back."
 
@@ -58,6 +58,6 @@ class RouterWatch:
 
 def watch(session: object, connect: str, what: str, exit_on_loss: bool = False) -> RouterWatch:
     """The RouterWatch of a client ``session`` (a zenoh.Session) of the router at ``connect``."""
-    from turtlectl.cli.tools.client import router_lost
+    from turtlectl.runtime.client.session import router_lost
 
     return RouterWatch(lambda: router_lost(session), connect, what, exit_on_loss)  # type: ignore[arg-type]

@@ -8,7 +8,7 @@ import keyword
 import re
 from pathlib import Path
 
-from turtlectl.cli.errors import BadInput
+from turtlectl.runtime.client.errors import BadInput
 
 NODE = '''"""{camel}: drives forward while it knows where the turtle is. A start: make it yours."""
 

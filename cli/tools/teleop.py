@@ -25,14 +25,8 @@ from typing import TextIO
 
 import zenoh
 
-from turtlectl.cli.errors import BadInput, CannotStart
-from turtlectl.cli.sigint import stop_on_signals
-from turtlectl.cli.tools import presence
-from turtlectl.cli.tools.client import ROUTER_CHECK, require
-from turtlectl.cli.tools.graph import NodeRow, clients_publishing, who
 from turtlectl.cli.tools.keyboard import Driver, Shown, keys, status_line
 from turtlectl.cli.tools.routerwatch import watch
-from turtlectl.cli.tools.topics import live_graph
 from turtlectl.messages import Cancel, Pose, Twist, decode, encode, encoding_for
 from turtlectl.messages.angles import heading_degrees
 from turtlectl.messages.codec import type_name
@@ -49,6 +43,11 @@ from turtlectl.messages.keys import (
     parse_entity_token,
     resolve,
 )
+from turtlectl.runtime.client import presence
+from turtlectl.runtime.client.errors import BadInput, CannotStart
+from turtlectl.runtime.client.graph import NodeRow, clients_publishing, who
+from turtlectl.runtime.client.session import ROUTER_CHECK, live_graph, require
+from turtlectl.runtime.client.sigint import stop_on_signals
 
 POLL = 0.02  # s: the longest a key waits to be read
 LINE_PERIOD = 0.1  # s between redraws of the status line
@@ -287,7 +286,7 @@ def run_teleop(
     if not os.isatty(fd):
         raise BadInput(NOT_A_TERMINAL)
     cmd_vel = resolve(CMD_VEL, namespace)
-    require("publish", cmd_vel)
+    require(session, "publish", cmd_vel)
     warning = others_driving(session, cmd_vel, force)
     teleop = _Teleop(session, Driver(linear, angular), endpoint, fd, out, namespace)
     teleop.note = warning.removeprefix("warning: ")

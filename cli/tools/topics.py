@@ -1,6 +1,6 @@
 """Topics for the command-line tools: echo's stream, hz's rates, pub, and the live graph.
 
-Nothing here prints; functions return data or raise a TurtlectlError (cli.errors).
+Nothing here prints; functions return data or raise a turtlectl.Error (runtime.client.errors).
 """
 
 from __future__ import annotations
@@ -9,90 +9,32 @@ import contextlib
 import queue
 import time
 from collections.abc import Callable, Iterator
-from typing import Any
 
 import msgspec
 import zenoh
 
-from turtlectl.cli.errors import Unreachable
-from turtlectl.cli.tools import presence
-from turtlectl.cli.tools.client import (
+from turtlectl.cli.tools.rates import SILENCE, Quiet, Rates, RateStats
+from turtlectl.cli.tools.routerwatch import watch
+from turtlectl.messages import Message, encode, encoding_for
+from turtlectl.messages.codec import TYPES_BY_NAME, type_name
+from turtlectl.messages.keys import CMD_VEL, FEEDBACK, LOG, PARAMETER_EVENTS, SERVICES, TOPICS
+from turtlectl.messages.stamps import with_stamp
+from turtlectl.runtime.client import presence
+from turtlectl.runtime.client.errors import Unreachable
+from turtlectl.runtime.client.graph import Graph
+from turtlectl.runtime.client.samples import Received, decode_sample, learn
+from turtlectl.runtime.client.session import (
     base_key,
     check_key,
     client_session,
     domain_hint,
+    domain_of,
+    live_graph,
     require,
 )
-from turtlectl.cli.tools.graph import Graph, build_graph, without_client
-from turtlectl.cli.tools.rates import SILENCE, Quiet, Rates, RateStats
-from turtlectl.cli.tools.routerwatch import watch
-from turtlectl.cli.tools.typebook import TypeBook, conflicts, generic
-from turtlectl.messages import DecodeError, Message, decode, decode_any, encode, encoding_for, type_from_encoding
-from turtlectl.messages.codec import MEDIA_TYPE, TYPES_BY_NAME, type_name
-from turtlectl.messages.keys import CMD_VEL, DOMAIN_GRAPHS, FEEDBACK, GRAPH, LOG, PARAMETER_EVENTS, SERVICES, TOPICS
-from turtlectl.messages.stamps import with_stamp
-from turtlectl.runtime.endpoint import default_domain
+from turtlectl.runtime.client.typebook import TypeBook, conflicts
 
 WHILE_A_GOAL_RUNS = (FEEDBACK, CMD_VEL)  # published by the navigator only while a goal runs
-
-
-class Received:
-    """One sample as echo sees it: the key, the decoded message or why it is not one.  A type
-    not known here keeps its payload (``unknown``: its name) for the reader's thread to learn
-    it (``learn``); a payload no description explains is ``generic`` (decoded as what it is)."""
-
-    def __init__(self, key: str, message: Message | None, problem: str = "", payload: bytes = b"", encoding: str = ""):
-        self.key = key
-        self.message = message
-        self.problem = problem
-        self.payload = payload
-        self.encoding = encoding
-        self.generic: Any = None  # an undescribed payload's data (dict, list, ...)
-
-    @property
-    def type_name(self) -> str:
-        """The message type the sample's encoding names ('' for none)."""
-        media, _, name = self.encoding.partition(";")
-        return name if media == MEDIA_TYPE else ""
-
-    @property
-    def unknown(self) -> str:
-        """The type name the sample's encoding gives, when no type of that name is known here."""
-        name = self.type_name
-        return name if self.message is None and name and name not in TYPES_BY_NAME else ""
-
-
-def decode_sample(key: str, payload: bytes, encoding: str) -> Received:
-    """Decode by the type named in the sample's encoding (any tagged message otherwise)."""
-    msg_type = type_from_encoding(encoding)
-    try:
-        message = decode(payload, msg_type) if msg_type is not None else decode_any(payload)
-    except DecodeError as exc:
-        return Received(key, None, f"{exc} (encoding {encoding!r}, {len(payload)} bytes)", payload, encoding)
-    return Received(key, message)
-
-
-def learn(item: Received, book: TypeBook) -> Received:
-    """``item`` again, on the reader's thread: decoded by its type learnt from the nodes that
-    use it (when they describe one name two ways, by the description it fits), else (no
-    description anywhere) decoded generically and marked so.  A payload that names a known
-    type and is not one stays what it is: skipped, never shown as undescribed."""
-    if item.message is not None:
-        return item
-    name = item.type_name
-    if item.unknown and book.resolve(item.unknown) is not None:
-        item = decode_sample(item.key, item.payload, item.encoding)
-    for variant in book.variants(name) if item.message is None else ():
-        try:
-            return Received(item.key, decode(item.payload, variant))
-        except DecodeError:
-            continue
-    if item.message is not None or (name and book.resolve(name) is not None):
-        return item
-    data = generic(item.payload, item.encoding)
-    if data is not None:
-        item.generic, item.problem = data, ""
-    return item
 
 
 @contextlib.contextmanager
@@ -142,14 +84,14 @@ def silence_text(key: str, current: Graph, hint: Callable[[], str], domain: str 
     publishers = sorted({p for t in published for p in t.publishers})
     if publishers:
         who = f"{', '.join(publishers)} publish{'es' * (len(publishers) == 1)} it"
-        if all(base_key(t.key) in WHILE_A_GOAL_RUNS for t in published):
+        if all(base_key(t.key, domain) in WHILE_A_GOAL_RUNS for t in published):
             return f"nothing published on {key} {yet}: {who} only while a goal runs (start one with `turtlectl goto X Y THETA`)"
-        if all(base_key(t.key) == PARAMETER_EVENTS for t in published):
+        if all(base_key(t.key, domain) == PARAMETER_EVENTS for t in published):
             return (
                 f"nothing published on {key} {yet}: {who} only when a parameter changes "
                 "(`turtlectl param set NODE NAME VALUE`)"
             )
-        if all(base_key(t.key).startswith(f"{LOG}/") for t in published):
+        if all(base_key(t.key, domain).startswith(f"{LOG}/") for t in published):
             return f"nothing published on {key} {yet}: {who} only when {'it logs' if len(publishers) == 1 else 'they log'} a record (`turtlectl log` shows the recent ones)"
         return (
             f"nothing published on {key} for {SILENCE:g} s although {who}: it may be idle "
@@ -167,18 +109,18 @@ def silence_text(key: str, current: Graph, hint: Callable[[], str], domain: str 
     return f"nothing published on {key} {yet}: no turtlectl node runs {where} (is `turtlectl launch` running?){hint()}"
 
 
-def silence_reason(key: str, current: Graph, connect: str, flowed: bool = False) -> str:
-    """``silence_text`` as a client of ``connect`` in this machine's domain says it (the domain
-    hint asked only when no node runs at all)."""
-    return silence_text(key, current, lambda: domain_hint(connect), default_domain(), flowed)
+def silence_reason(key: str, current: Graph, connect: str, domain: str, flowed: bool = False) -> str:
+    """``silence_text`` as a client of ``connect`` in ``domain`` says it (the domain hint asked
+    only when no node runs at all)."""
+    return silence_text(key, current, lambda: domain_hint(connect, domain), domain, flowed)
 
 
 def _silence(session: zenoh.Session, connect: str, key: str, flowed: bool) -> Silence:
-    return Silence(key, silence_reason(key, live_graph(session), connect, flowed))
+    return Silence(key, silence_reason(key, live_graph(session), connect, domain_of(session), flowed))
 
 
 def stream(
-    connect: str, topic: str, count: int | None, timeout: float | None, exit_on_loss: bool = False
+    connect: str, domain: str, topic: str, count: int | None, timeout: float | None, exit_on_loss: bool = False
 ) -> Iterator[Received | Notice]:
     """Decoded samples on ``key`` until ``count`` valid messages or ``timeout`` s.
 
@@ -188,7 +130,7 @@ def stream(
     silence is reported meanwhile); with ``exit_on_loss``, RouterLost (Unreachable) instead.
     """
     key = check_key(topic)
-    with client_session(connect) as session, subscription(session, key) as samples:
+    with client_session(connect, domain) as session, subscription(session, key) as samples:
         book = TypeBook(session)
         warned: set[str] = set()  # the type names whose conflict was said
         started = time.monotonic()
@@ -237,7 +179,7 @@ def _stamp(payload: bytes) -> int:
 
 
 def measure_rates(
-    connect: str, topics: list[str], window: int, duration: float | None, exit_on_loss: bool = False
+    connect: str, domain: str, topics: list[str], window: int, duration: float | None, exit_on_loss: bool = False
 ) -> Iterator[list[RateStats] | Notice]:
     """Every second, the rate statistics of the topics that had messages since the last
     report, each over its last SPAN s (at most ``window`` messages; cli.tools.rates); ends after
@@ -246,7 +188,7 @@ def measure_rates(
     router and its return are a Notice each, as echo's (with ``exit_on_loss``, RouterLost)."""
     keys = [check_key(t) for t in topics]
     inbox: queue.SimpleQueue[tuple[str, float, bytes]] = queue.SimpleQueue()
-    with client_session(connect) as session:
+    with client_session(connect, domain) as session:
         subs = [
             presence.subscriber(session, k, lambda s, k=k: inbox.put((k, time.monotonic(), s.payload.to_bytes())))
             for k in keys
@@ -277,13 +219,13 @@ def measure_rates(
                 sub.undeclare()
 
 
-def publish(connect: str, topic: str, message: Message, rate: float | None, times: int | None) -> int:
+def publish(connect: str, domain: str, topic: str, message: Message, rate: float | None, times: int | None) -> int:
     """Publish ``message`` on ``topic`` ``times`` times (None: until Ctrl-C) at ``rate`` Hz,
     stamping each copy; returns how many were sent."""
     key = check_key(topic)
     sent = 0
-    with client_session(connect) as session:
-        require("publish", key)
+    with client_session(connect, domain) as session:
+        require(session, "publish", key)
         pub = presence.publisher(session, key, type_name(type(message)), encoding_for(type(message)))
         period = 1.0 / rate if rate else 0.0
         start = time.monotonic()
@@ -298,7 +240,7 @@ def publish(connect: str, topic: str, message: Message, rate: float | None, time
     return sent
 
 
-def learn_type(connect: str, key: str, type_name: str | None) -> str | None:
+def learn_type(connect: str, domain: str, key: str, type_name: str | None) -> str | None:
     """Before a message for ``key`` is built from JSON (``pub``, ``call``): a type this process
     does not know (``type_name``, or else the one the live graph says ``key`` carries) is learnt
     from the nodes that use it, so it is validated and encoded as a built-in is.  Returns the
@@ -313,7 +255,7 @@ def learn_type(connect: str, key: str, type_name: str | None) -> str | None:
     if type_name is None and (key in TOPICS or key in SERVICES):
         return None
     try:
-        with client_session(connect) as session:
+        with client_session(connect, domain) as session:
             from_graph = None
             if type_name is None:
                 current = live_graph(session)
@@ -329,27 +271,12 @@ def learn_type(connect: str, key: str, type_name: str | None) -> str | None:
     return type_name if type_name is None else which_type(type_name, TYPES_BY_NAME) or type_name
 
 
-def live_graph(session: zenoh.Session, domain: str | None = None) -> Graph:
-    """The live graph as this session (in ``domain``, default: the environment's) sees it.
-    Outside any domain that includes every domain's graph, its names and keys prefixed with
-    the domain (``lab1:sim``, ``lab1/robot/status``): tokens declared in a Zenoh namespace are ``lab1/@turtlectl/...``,
-    which ``@turtlectl/**`` cannot match (Zenoh never matches a chunk starting with ``@`` by
-    a wildcard), hence the second query."""
-    selectors = [GRAPH] if (default_domain() if domain is None else domain) else [GRAPH, DOMAIN_GRAPHS]
-    keys = {
-        str(r.ok.key_expr) for sel in selectors for r in session.liveliness().get(sel, timeout=2.0) if r.ok is not None
-    }
-    current = build_graph(sorted(keys), time.time_ns())
-    me = presence.of(session)
-    return current if me is None else without_client(current, me.name)  # every participant but the one asking
-
-
-def graph(connect: str) -> Graph:
+def graph(connect: str, domain: str) -> Graph:
     """The live graph: asked of the router's liveliness table now, never cached; with the type
     names its nodes describe differently (``conflicts``)."""
-    with client_session(connect) as session:
+    with client_session(connect, domain) as session:
         current = live_graph(session)
         current.conflicts = conflicts(session)
     if not current.nodes:
-        current.hint = domain_hint(connect).removeprefix("; ")
+        current.hint = domain_hint(connect, domain).removeprefix("; ")
     return current

@@ -22,8 +22,6 @@ import time
 import msgspec
 import zenoh
 
-from turtlectl.cli.tools import presence
-from turtlectl.cli.tools.client import live_turtle_namespace
 from turtlectl.cli.tools.format import heading_text
 from turtlectl.cli.tools.routerwatch import watch
 from turtlectl.messages import LaserScan, NavigateToFeedback, Pose, Turtles, TurtleStatus, decode_any
@@ -40,6 +38,8 @@ from turtlectl.messages.keys import (
     turtle_of,
 )
 from turtlectl.messages.world import World
+from turtlectl.runtime.client import presence
+from turtlectl.runtime.client.session import live_turtle_namespace
 from turtlectl.sim.turtles import others as turtles_but
 
 FRAME = 0.05  # s between frames: 20 frames a second

@@ -8,10 +8,7 @@ from __future__ import annotations
 import statistics
 from collections.abc import Callable
 
-from turtlectl.cli.errors import TurtlectlError, Unreachable
 from turtlectl.cli.system.launchfile import LaunchPlan
-from turtlectl.cli.tools.api import Client
-from turtlectl.cli.tools.graph import Graph
 from turtlectl.cli.verify import running
 from turtlectl.cli.verify.goals import goals
 from turtlectl.cli.verify.parameters import parameters
@@ -19,6 +16,9 @@ from turtlectl.cli.verify.report import Verdict
 from turtlectl.cli.verify.spec import Criterion, Messages, NoErrors, Parameters, Period, RoundTrip, Spec, label
 from turtlectl.cli.verify.timebase import Timebase
 from turtlectl.messages.naming import names
+from turtlectl.runtime.client.api import Client
+from turtlectl.runtime.client.errors import TurtlectlError, Unreachable
+from turtlectl.runtime.client.graph import Graph
 
 
 def _arrivals(client: Client, key: str, count: int, within: float, clock: Timebase) -> list[tuple[float, float | None]]:

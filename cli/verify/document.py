@@ -14,8 +14,8 @@ from typing import Any
 
 import msgspec
 
-from turtlectl.cli.tools.graph import Graph, under
 from turtlectl.cli.verify.spec import Criterion, NodeSpec, Parameters, Period, ServiceSpec, Spec, TopicSpec, label
+from turtlectl.runtime.client.graph import Graph, under
 
 #: what a skeleton says where a person must write
 INTENT_PLACEHOLDER = "TODO: what the system is for"

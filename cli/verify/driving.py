@@ -13,11 +13,11 @@ import threading
 from collections import Counter
 from collections.abc import Iterator
 
-from turtlectl.cli.errors import GoalCanceled, TurtlectlError
-from turtlectl.cli.tools.api import Client
 from turtlectl.cli.verify.spec import NoErrors, Pose
 from turtlectl.messages import NavigateToResponse
 from turtlectl.messages.world import World
+from turtlectl.runtime.client.api import Client
+from turtlectl.runtime.client.errors import GoalCanceled, TurtlectlError
 
 #: m: how far a random goal stays from a wall and from an obstacle's edge (the turtle's radius,
 #: the navigator's clearance and safety distance, with room to turn)

@@ -7,14 +7,14 @@ from __future__ import annotations
 import math
 import random
 
-from turtlectl.cli.errors import TurtlectlError
-from turtlectl.cli.tools.api import Client
 from turtlectl.cli.verify.report import Verdict
 from turtlectl.cli.verify.spec import Goals, Pose, ReportedTime, label
 from turtlectl.cli.verify.timebase import Timebase
 from turtlectl.messages import TeleportAbsolute
 from turtlectl.messages.angles import heading_difference_degrees, heading_radians
 from turtlectl.messages.keys import TELEPORT
+from turtlectl.runtime.client.api import Client
+from turtlectl.runtime.client.errors import TurtlectlError
 
 
 def goal_list(c: Goals | ReportedTime) -> list[Pose]:

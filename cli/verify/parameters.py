@@ -9,12 +9,12 @@ import json
 from pathlib import Path
 from typing import Any
 
-from turtlectl.cli.errors import BadInput, TurtlectlError
 from turtlectl.cli.system.launchfile import LaunchPlan
-from turtlectl.cli.tools.api import Client
 from turtlectl.cli.tools.params import toml_value
 from turtlectl.cli.verify.report import Verdict
 from turtlectl.cli.verify.spec import Parameters, label
+from turtlectl.runtime.client.api import Client
+from turtlectl.runtime.client.errors import BadInput, TurtlectlError
 from turtlectl.runtime.loader import suggestion
 
 #: what the table says when neither a launch file nor values are given to compare with

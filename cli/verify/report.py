@@ -6,7 +6,7 @@ from pathlib import Path
 
 import msgspec
 
-from turtlectl.cli.errors import BadInput
+from turtlectl.runtime.client.errors import BadInput
 
 
 class Verdict(msgspec.Struct):

@@ -9,9 +9,6 @@ from collections.abc import Callable
 
 import msgspec
 
-from turtlectl.cli.errors import TurtlectlError
-from turtlectl.cli.tools.api import Client
-from turtlectl.cli.tools.graph import under
 from turtlectl.cli.verify.driving import GoalDriver, goal_sequence
 from turtlectl.cli.verify.report import Verdict
 from turtlectl.cli.verify.spec import NoErrors, RoundTrip, label
@@ -19,6 +16,9 @@ from turtlectl.cli.verify.timebase import Timebase
 from turtlectl.messages import decode, encode
 from turtlectl.messages.codec import type_name
 from turtlectl.messages.keys import NodeDetails
+from turtlectl.runtime.client.api import Client
+from turtlectl.runtime.client.errors import TurtlectlError
+from turtlectl.runtime.client.graph import under
 
 #: s: how often the nodes alive are looked at while a no_errors criterion runs
 LOOK_EVERY = 1.0

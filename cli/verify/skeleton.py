@@ -11,12 +11,12 @@ import threading
 import time
 from typing import Any
 
-from turtlectl.cli.errors import TurtlectlError
-from turtlectl.cli.tools.api import Client
-from turtlectl.cli.tools.graph import Graph, without_node_services
 from turtlectl.cli.verify import document
 from turtlectl.cli.verify.checks import periods_of, require_nodes, stamp_of
 from turtlectl.cli.verify.spec import Spec
+from turtlectl.runtime.client.api import Client
+from turtlectl.runtime.client.errors import TurtlectlError
+from turtlectl.runtime.client.graph import Graph, without_node_services
 
 #: s of messages a period is measured over
 WINDOW = 2.0

@@ -11,7 +11,7 @@ from typing import Annotated, Any, Literal
 
 import msgspec
 
-from turtlectl.cli.errors import BadInput
+from turtlectl.runtime.client.errors import BadInput
 from turtlectl.runtime.loader import suggestion
 from turtlectl.runtime.params import validation_parts
 

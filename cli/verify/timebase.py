@@ -9,10 +9,10 @@ import threading
 import time
 from collections.abc import Callable
 
-from turtlectl.cli.errors import TurtlectlError, Unreachable
-from turtlectl.cli.tools.api import Client
 from turtlectl.messages import Clock
 from turtlectl.messages.keys import CLOCK
+from turtlectl.runtime.client.api import Client
+from turtlectl.runtime.client.errors import TurtlectlError, Unreachable
 from turtlectl.runtime.simtime import SimClock
 
 #: s of wall clock to wait for a system's first Clock

@@ -13,7 +13,11 @@ The public API, the only names a user's code needs (typed; ``py.typed``)::
 goal a ``GoalHandle``) and ``GoalClient`` are what a node's declarations return; ``Future`` what
 ``Node.call`` returns (``GoalFuture``: a goal's result; ``GoalFailed``: a goal without one), ``Subscription`` what a client's ``subscribe`` returns (each can be
 undeclared).  ``Error``'s subclasses: ``BadInput`` (exit 2), ``Unreachable`` (3),
-``Failed`` (1; ``GoalCanceled``: a goal canceled, with its result and last feedback), ``Interrupted`` (130), ``CancelUnconfirmed`` (5), ``CannotStart`` (4).  Everything else (``turtlectl.cli``,
+``Failed`` (1; ``GoalCanceled``: a goal canceled, with its result and last feedback), ``Interrupted`` (130), ``CancelUnconfirmed`` (5), ``CannotStart`` (4).
+Every error turtlectl raises for its user is one of them (``GoalFailed`` and a ``Future``'s
+timeout are ``Failed``; a declaration outside a node's ``Interface`` or a launch target that
+names no node class, ``BadInput``; a second node claiming what another holds, ``CannotStart``),
+with the exit code the command line ends with in ``exit_code``.  Everything else (``turtlectl.cli``,
 ``turtlectl.runtime``, ``turtlectl.nodes``, ``turtlectl.sim``) is private: it may change
 without notice.
 
@@ -41,7 +45,9 @@ if not os.path.isdir(os.path.join(os.path.dirname(__file__), "messages")):  # th
     __path__.append(os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)))))
 
 if TYPE_CHECKING:
-    from turtlectl.cli.errors import (
+    from turtlectl.messages.types import Message
+    from turtlectl.runtime.client.api import Client
+    from turtlectl.runtime.client.errors import (
         BadInput,
         CancelUnconfirmed,
         CannotStart,
@@ -50,9 +56,8 @@ if TYPE_CHECKING:
         Interrupted,
         Unreachable,
     )
-    from turtlectl.cli.errors import TurtlectlError as Error
-    from turtlectl.cli.tools.api import Client, Subscription
-    from turtlectl.messages.types import Message
+    from turtlectl.runtime.client.errors import TurtlectlError as Error
+    from turtlectl.runtime.client.subscription import Subscription
     from turtlectl.runtime.config import Claim, Interface
     from turtlectl.runtime.entities import Latest, Publisher, Request, Timer
     from turtlectl.runtime.futures import Future
@@ -92,16 +97,16 @@ __all__ = [
 ]
 
 _HOME = {
-    "BadInput": "turtlectl.cli.errors",
-    "CancelUnconfirmed": "turtlectl.cli.errors",
-    "CannotStart": "turtlectl.cli.errors",
-    "Client": "turtlectl.cli.tools.api",
-    "Error": "turtlectl.cli.errors",
-    "Failed": "turtlectl.cli.errors",
-    "GoalCanceled": "turtlectl.cli.errors",
-    "Interrupted": "turtlectl.cli.errors",
-    "Subscription": "turtlectl.cli.tools.api",
-    "Unreachable": "turtlectl.cli.errors",
+    "BadInput": "turtlectl.runtime.client.errors",
+    "CancelUnconfirmed": "turtlectl.runtime.client.errors",
+    "CannotStart": "turtlectl.runtime.client.errors",
+    "Client": "turtlectl.runtime.client.api",
+    "Error": "turtlectl.runtime.client.errors",
+    "Failed": "turtlectl.runtime.client.errors",
+    "GoalCanceled": "turtlectl.runtime.client.errors",
+    "Interrupted": "turtlectl.runtime.client.errors",
+    "Subscription": "turtlectl.runtime.client.subscription",
+    "Unreachable": "turtlectl.runtime.client.errors",
     "Claim": "turtlectl.runtime.config",
     "Declaration": "turtlectl.runtime.handles",
     "Future": "turtlectl.runtime.futures",

@@ -35,7 +35,7 @@ import pytest
 
 if TYPE_CHECKING:
     from turtlectl.cli.system.launched import LaunchedSystem
-    from turtlectl.cli.tools.api import Client
+    from turtlectl.runtime.client.api import Client
 
 MARKER = "turtlectl_launch"
 TIME_SCALE = "turtlectl_time_scale"
@@ -87,7 +87,7 @@ def _systems_scope(fixture_name: str, config: pytest.Config) -> str:
 
 def _started(system: LaunchedSystem) -> LaunchedSystem:
     """``system`` started; a start that fails fails the test with one message."""
-    from turtlectl.cli.errors import TurtlectlError
+    from turtlectl.runtime.client.errors import TurtlectlError
 
     try:
         return system.start()
@@ -110,8 +110,8 @@ class _Shared:
         self.reported: dict[int, int] = {}
 
     def get(self, path: Path, args: list[str]) -> LaunchedSystem:
-        from turtlectl.cli.errors import TurtlectlError
         from turtlectl.cli.system.launched import LaunchedSystem
+        from turtlectl.runtime.client.errors import TurtlectlError
 
         key = (path.resolve(), tuple(args))
         if key in self._failed:

@@ -34,7 +34,6 @@ import numpy as np
 import psutil
 import zenoh
 
-from turtlectl.cli.system import credentials
 from turtlectl.cli.system.launched import LaunchedSystem, StartFailed
 from turtlectl.cli.system.launched import free_port as free_port  # one way to pick a port
 from turtlectl.messages import (
@@ -51,6 +50,7 @@ from turtlectl.messages import (
     encoding_for,
 )
 from turtlectl.messages.keys import NAVIGATE_TO, NODE_TOKEN_PREFIX, POSE, STATUS, TELEPORT, parse_node_token
+from turtlectl.runtime.client import credentials
 from turtlectl.runtime.config import NodeConfig
 from turtlectl.runtime.node import Node
 from turtlectl.runtime.session import client_config, close_session, peer_config, router_config

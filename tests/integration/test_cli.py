@@ -8,9 +8,10 @@ import time
 import pytest
 
 from tests.integration.harness import free_port, running_system, turtlectl
-from turtlectl.cli.errors import ExitCode, TurtlectlError, exit_code
-from turtlectl.cli.tools import client, goals, topics
-from turtlectl.messages import NavigateToRequest
+from turtlectl import Client
+from turtlectl.cli.tools import topics
+from turtlectl.runtime.client import session as client
+from turtlectl.runtime.client.errors import ExitCode, TurtlectlError, exit_code
 
 pytestmark = pytest.mark.integration
 
@@ -38,6 +39,12 @@ def waited(call) -> tuple[TurtlectlError, float]:
     return err.value, time.monotonic() - started
 
 
+def _goto(endpoint: str) -> None:
+    """A goal to navigate_to from the Python client, as the command line's goto sends it."""
+    with Client(endpoint) as python_client:
+        python_client.goto(1, 1, 0)
+
+
 def test_goto_with_nothing_running_exits_3():
     result = run("goto", "1", "1", "0", "--connect", f"tcp/127.0.0.1:{free_port()}")
     assert result.returncode == 3, result.stderr
@@ -46,7 +53,7 @@ def test_goto_with_nothing_running_exits_3():
 
 def test_with_nothing_running_the_wait_is_under_3_seconds():
     endpoint = f"tcp/127.0.0.1:{free_port()}"
-    error, seconds = waited(lambda: goals.navigate(endpoint, NavigateToRequest(x=1, y=1, theta=0), goals.NO_LIMIT))
+    error, seconds = waited(lambda: _goto(endpoint))
     assert exit_code(error) == ExitCode.UNREACHABLE and "no turtlectl system at" in error.message
     assert seconds < 3.0, seconds  # nothing listens on the port: reported at once, not after OPEN_TIMEOUT
 
@@ -95,8 +102,7 @@ def test_goto_with_no_navigator_exits_3_within_3_seconds(tmp_path):
         result = system.run_cli("goto", "1", "1", "0")
         assert result.returncode == 3, result.stdout + result.stderr
         assert "nothing serves navigate_to" in result.stderr
-        request = NavigateToRequest(x=1, y=1, theta=0)
-        error, seconds = waited(lambda: goals.navigate(system.endpoint, request, goals.NO_LIMIT))
+        error, seconds = waited(lambda: _goto(system.endpoint))
         assert exit_code(error) == ExitCode.UNREACHABLE and "nothing serves navigate_to" in error.message
         assert seconds < 3.0, seconds
 
@@ -107,7 +113,7 @@ def test_goto_with_no_navigator_exits_3_within_3_seconds(tmp_path):
 def test_a_malformed_endpoint_is_bad_input_at_once(endpoint):
     result = run("list", "--connect", endpoint)
     assert result.returncode == 2 and "write it as tcp/HOST:PORT" in result.stderr, result.stderr
-    error, seconds = waited(lambda: topics.graph(endpoint))
+    error, seconds = waited(lambda: topics.graph(endpoint, ""))
     assert exit_code(error) == ExitCode.BAD_INPUT
     assert seconds < client.OPEN_TIMEOUT / 2, seconds  # refused before any connection attempt
 

@@ -13,8 +13,8 @@ from pathlib import Path
 import pytest
 
 from tests.integration.harness import running_system
-from turtlectl.cli.tools.api import Client
 from turtlectl.messages import Pose, Twist, decode
+from turtlectl.runtime.client.api import Client
 
 pytestmark = pytest.mark.integration
 

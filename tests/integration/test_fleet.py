@@ -15,9 +15,9 @@ from pathlib import Path
 import pytest
 
 from tests.integration.harness import running_system, turtlectl
-from turtlectl.cli.tools.api import Client
 from turtlectl.messages import LaserScan, Turtles, TurtleStatus
 from turtlectl.messages.keys import TURTLES
+from turtlectl.runtime.client.api import Client
 
 pytestmark = pytest.mark.integration
 

@@ -6,7 +6,7 @@ import json
 
 import pytest
 
-from turtlectl.cli.errors import ExitCode
+from turtlectl.runtime.client.errors import ExitCode
 
 pytestmark = pytest.mark.integration
 

@@ -20,7 +20,7 @@ from typing import Any
 import pytest
 
 from tests.integration.harness import NODES, turtlectl
-from turtlectl.cli.errors import ExitCode
+from turtlectl.runtime.client.errors import ExitCode
 
 pytestmark = pytest.mark.integration
 

@@ -12,9 +12,9 @@ import subprocess
 import pytest
 
 from tests.integration.harness import running_system, turtlectl
-from turtlectl.cli.errors import ExitCode
 from turtlectl.messages import ParameterEvent, TurtleStatus, decode
 from turtlectl.messages.keys import PARAMETER_EVENTS, STATUS
+from turtlectl.runtime.client.errors import ExitCode
 
 pytestmark = pytest.mark.integration
 

@@ -17,7 +17,7 @@ import pytest
 
 from tests.integration.harness import in_pty, pump, set_winsize, turtlectl
 from tests.integration.test_teleop import Screen, finish, teleop
-from turtlectl.cli.errors import ExitCode
+from turtlectl.runtime.client.errors import ExitCode
 
 pytestmark = pytest.mark.integration
 

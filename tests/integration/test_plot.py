@@ -15,7 +15,7 @@ import pyte
 import pytest
 
 from tests.integration.harness import in_pty, pump, set_winsize
-from turtlectl.cli.errors import ExitCode
+from turtlectl.runtime.client.errors import ExitCode
 
 pytestmark = pytest.mark.integration
 

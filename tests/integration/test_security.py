@@ -17,10 +17,10 @@ import zenoh
 
 from tests.integration.harness import running_system, turtlectl
 from tests.integration.test_log import Lines
-from turtlectl.cli.errors import ExitCode
-from turtlectl.cli.system import credentials
 from turtlectl.messages import Pose, Twist, encode, encoding_for
 from turtlectl.messages.keys import CMD_VEL, NAVIGATE_TO
+from turtlectl.runtime.client import credentials
+from turtlectl.runtime.client.errors import ExitCode
 from turtlectl.runtime.config import Credentials
 from turtlectl.runtime.session import client_config, peer_config
 

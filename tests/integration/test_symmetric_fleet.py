@@ -9,8 +9,8 @@ import threading
 import pytest
 
 from tests.integration.harness import running_system
-from turtlectl.cli.tools.api import Client
 from turtlectl.messages import TurtleStatus
+from turtlectl.runtime.client.api import Client
 
 pytestmark = pytest.mark.integration
 

@@ -11,9 +11,9 @@ import time
 import pytest
 
 from tests.integration.harness import in_pty, pump, set_winsize, turtlectl
-from turtlectl.cli.errors import ExitCode
 from turtlectl.messages import Twist, decode
 from turtlectl.messages.keys import CMD_VEL
+from turtlectl.runtime.client.errors import ExitCode
 
 pytestmark = pytest.mark.integration
 

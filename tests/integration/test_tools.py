@@ -12,10 +12,10 @@ import pyte
 import pytest
 
 from tests.integration.harness import NODES, pump, running_system, set_winsize, turtlectl, view_in_pty
-from turtlectl.cli.errors import ExitCode, TurtlectlError, exit_code
-from turtlectl.cli.tools import services
 from turtlectl.messages import TurtleStatus
 from turtlectl.messages.keys import GRAPH, STATUS
+from turtlectl.runtime.client import services
+from turtlectl.runtime.client.errors import ExitCode, TurtlectlError, exit_code
 
 pytestmark = pytest.mark.integration
 
@@ -158,7 +158,7 @@ def test_call_any_service(system):
     assert missing.returncode == 3 and "nothing serves no/such/service" in missing.stderr, missing.stderr
     started = time.monotonic()  # the wait itself, in this process: not the CLI's start-up
     with pytest.raises(TurtlectlError) as err:
-        list(services.call_service(system.endpoint, "no/such/service", b"{}", 5.0))
+        list(services.call_service(system.endpoint, "", "no/such/service", b"{}", 5.0))
     assert exit_code(err.value) == ExitCode.UNREACHABLE and time.monotonic() - started < 3.0
     bad = system.run_cli("call", "turtle1/teleport_absolute", '{"x": 2}')
     assert bad.returncode == 2 and "missing required field `y`" in bad.stderr

@@ -13,7 +13,7 @@ import textwrap
 import pytest
 
 from tests.integration.harness import ROOT, running_system
-from turtlectl.cli.errors import ExitCode
+from turtlectl.runtime.client.errors import ExitCode
 from turtlectl.runtime.config import ENV_VAR, NodeConfig, encode_config
 
 pytestmark = pytest.mark.integration

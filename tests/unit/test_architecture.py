@@ -34,6 +34,10 @@ PURE = [
     "runtime.goal_reasons",
     "runtime.loader",
     "runtime.roles",
+    "runtime.client.errors",  # what a client raises, and the exit code of each
+    "runtime.client.checks",
+    "runtime.client.credentials",
+    "runtime.client.graph",
     "sim.kinematics",
     "sim.lidar",
     "sim.params",
@@ -56,7 +60,6 @@ PURE = [
     "cli.verify.document",
     "cli.verify.report",
     "cli.tools.format",
-    "cli.tools.graph",
     "cli.tools.rates",
     "cli.tools.plot",  # plot's model: KEY.FIELD, the numbers in a message
     "cli.tools.plot_window",  # plot's sliding window, its status line, the samples collected

@@ -24,8 +24,7 @@ import msgspec
 import zenoh
 
 from turtlectl import cli
-from turtlectl.cli.errors import BadInput, CannotStart, ExitCode, TurtlectlError
-from turtlectl.cli.system import access, certs, credentials
+from turtlectl.cli.system import access, certs
 from turtlectl.cli.system.launchfile import LaunchPlan
 from turtlectl.cli.system.overrides import node_config
 from turtlectl.cli.system.supervisor import logs, zygote
@@ -36,6 +35,8 @@ from turtlectl.cli.system.supervisor.router import join_router, open_router
 from turtlectl.cli.system.supervisor.supervision import Supervision
 from turtlectl.messages import DecodeError, ParameterEvent, decode
 from turtlectl.messages.keys import NODE_TOKEN_PREFIX, PARAMETER_EVENTS, domain_token, parse_node_token
+from turtlectl.runtime.client import credentials
+from turtlectl.runtime.client.errors import BadInput, CannotStart, ExitCode, TurtlectlError
 from turtlectl.runtime.config import ENV_VAR, Credentials, NodeConfig, encode_config
 from turtlectl.runtime.endpoint import TLS_ENV
 from turtlectl.runtime.session import close_session, listen_hosts

@@ -182,6 +182,8 @@ def node_command(
     env = dict(os.environ)
     env[ENV_VAR] = encode_config(config)
     env["PYTHONUNBUFFERED"] = "1"
+    if config.domain:  # a Client the node's code opens is in its system's domain
+        env[DOMAIN_ENV] = config.domain
     if supervisor_pid is None:
         env.pop(SUPERVISOR_PID_VAR, None)
     else:

@@ -21,7 +21,7 @@ from typing import Any
 import zenoh
 
 from turtlectl.cli import command_of
-from turtlectl.cli.errors import CannotStart, Unreachable
+from turtlectl.runtime.client.errors import CannotStart, Unreachable
 from turtlectl.runtime.config import Credentials
 from turtlectl.runtime.session import (
     client_config,

@@ -43,11 +43,11 @@ import time
 from collections.abc import Callable
 from typing import Protocol
 
-from turtlectl.cli.errors import ExitCode
 from turtlectl.cli.system.launchfile import LaunchPlan
 from turtlectl.cli.system.supervisor.elsewhere import Elsewhere
 from turtlectl.cli.system.supervisor.notify import Notifier
 from turtlectl.cli.system.supervisor.printer import Printer
+from turtlectl.runtime.client.errors import ExitCode
 from turtlectl.runtime.exitcodes import node_exit, respawn_can_help
 
 POLL = 0.05  # s between checks of the children

@@ -5,7 +5,8 @@ from __future__ import annotations
 import pytest
 
 from turtlectl.cli import args
-from turtlectl.cli.errors import BadInput
+from turtlectl.runtime.client import checks
+from turtlectl.runtime.client.errors import BadInput
 
 
 @pytest.mark.parametrize("text, value", [("1", 1.0), ("-2.5", -2.5), ("1e3", 1000.0), (" 7 ", 7.0)])
@@ -38,13 +39,13 @@ def test_a_domain_is_one_key_chunk(name):
 
 @pytest.mark.parametrize("text", ["tcp/127.0.0.1:7447", "tcp/[::1]:7447", "tcp/robot.local:1", "udp/10.0.0.1:65535"])
 def test_endpoints(text):
-    assert args.endpoint(text) == text
+    assert checks.endpoint(text) == text
 
 
 @pytest.mark.parametrize("text", ["tcp/127.0.0.1", "tcp/127.0.0.1:abc", "tcp/h:0", "tcp/h:99999", "127.0.0.1:7447"])
 def test_an_endpoint_is_protocol_host_port(text):
     with pytest.raises(BadInput, match="write it as tcp/HOST:PORT"):
-        args.endpoint(text)
+        checks.endpoint(text)
 
 
 @pytest.mark.parametrize("text, host", [("127.0.0.1", "127.0.0.1"), ("0.0.0.0", "0.0.0.0"), ("::1", "[::1]")])

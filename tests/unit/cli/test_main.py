@@ -5,7 +5,6 @@ become exit codes in ``main`` only; ``turtlectl --help`` imports nothing heavy; 
 
 from __future__ import annotations
 
-import os
 import re
 import signal
 import socket
@@ -16,9 +15,9 @@ from pathlib import Path
 import pytest
 from typer.testing import CliRunner
 
-from turtlectl.cli.errors import BadInput, ExitCode, Interrupted, TurtlectlError, exit_code
 from turtlectl.cli.main import app, error_line, main
 from turtlectl.cli.system.launchfile import PACKAGED_LAUNCH
+from turtlectl.runtime.client.errors import BadInput, ExitCode, Interrupted, TurtlectlError, exit_code
 from turtlectl.runtime.endpoint import CONNECT_ENV, DOMAIN_ENV
 
 FLEET = Path(__file__).resolve().parents[3] / "examples" / "fleet" / "launch.toml"
@@ -27,8 +26,8 @@ HEAVY = [
     "numpy",
     "curses",
     "turtlectl.cli.tools.view",
-    "turtlectl.cli.tools.client",
-    "turtlectl.cli.tools.services",
+    "turtlectl.runtime.client.session",
+    "turtlectl.runtime.client.services",
     "turtlectl.cli.tools.topics",
     "turtlectl.cli.system.launchfile",
     "turtlectl.cli.system.supervisor.manager",
@@ -55,6 +54,23 @@ def plain_environment(monkeypatch, tmp_path):
     for name in (DOMAIN_ENV, CONNECT_ENV, "TURTLECTL_LOG_DIR"):
         monkeypatch.delenv(name, raising=False)
     monkeypatch.chdir(tmp_path)
+
+
+def sessions_opened(monkeypatch) -> list[str]:
+    """The domain of each client session a command opens from now on (none opens: each raises
+    NoSystem, as with nothing listening at its endpoint)."""
+    from turtlectl.cli.tools import topics
+    from turtlectl.runtime.client import api, services, session
+
+    domains: list[str] = []
+
+    def opened(connect, domain=None, role=None):
+        domains.append(domain)
+        raise session.NoSystem(connect)
+
+    for module in (session, topics, api, services):
+        monkeypatch.setattr(module, "client_session", opened)
+    return domains
 
 
 def invoke(*argv: str) -> tuple[int, str]:
@@ -355,10 +371,11 @@ def test_domain_and_connect_work_before_and_after_the_command(args, monkeypatch)
     `turtlectl --connect ... list` are taken, not refused with "unexpected extra argument"."""
     monkeypatch.delenv(DOMAIN_ENV, raising=False)
     monkeypatch.delenv(CONNECT_ENV, raising=False)
+    domains = sessions_opened(monkeypatch)
     result = CliRunner().invoke(app, args)
     assert isinstance(result.exception, TurtlectlError), result.output  # it ran: nothing listens on port 1
     assert exit_code(result.exception) == ExitCode.UNREACHABLE and "tcp/127.0.0.1:1" in result.exception.message
-    assert os.environ[DOMAIN_ENV] == "lab9"
+    assert domains == ["lab9"]  # the command's session, in the domain given before or after it
 
 
 def test_a_bad_domain_after_the_command_is_bad_input(monkeypatch):
@@ -504,9 +521,9 @@ def test_a_node_name_may_have_ros_s_slash_a_namespace_or_the_domain_list_shows(m
     assert args.node_name("lab1:turtle2/navigator") == ("lab1", "turtle2/navigator")
     code, text = invoke("--domain", "lab2", "param", "get", "lab1:navigator", "rate")
     assert code == ExitCode.BAD_INPUT and "node 'lab1:navigator' is in domain 'lab1', not in --domain 'lab2'" in text
-    monkeypatch.delenv(DOMAIN_ENV)  # the command set it for its sessions
+    domains = sessions_opened(monkeypatch)
     code, text = invoke("param", "get", "lab1:navigator", "rate", "--connect", "tcp/127.0.0.1:1")
-    assert code == ExitCode.UNREACHABLE and os.environ.get(DOMAIN_ENV) == "lab1"
+    assert code == ExitCode.UNREACHABLE and domains == ["lab1"]  # the command's session, in the node's domain
 
 
 def test_warn_is_warning_as_ros_spells_it():
@@ -587,11 +604,11 @@ def test_turtle_is_a_turtles_name(command):
 
 
 def test_a_turtles_namespace_is_its_name_and_turtle1s_the_running_systems():
-    from turtlectl.cli import args
     from turtlectl.messages.keys import resolve, turtle_namespace
+    from turtlectl.runtime.client import checks
 
-    assert args.turtle_name("turtle1") == "turtle1" and args.turtle_name("") == ""
-    assert args.turtle_name("/turtle2") == "turtle2"
+    assert checks.turtle_name("turtle1") == "turtle1" and checks.turtle_name("") == ""
+    assert checks.turtle_name("/turtle2") == "turtle2"
     # turtle1's nodes outside any namespace (the default launch file), or in turtle1 as any turtle's
     assert turtle_namespace("turtle1") == "" and turtle_namespace("") == ""
     assert turtle_namespace("turtle1", {"turtle1", "turtle2"}) == "turtle1"

@@ -8,7 +8,6 @@ from pathlib import Path
 
 import pytest
 
-from turtlectl.cli.tools.graph import Graph, NodeRow, ServiceRow, TopicRow
 from turtlectl.cli.verify.document import (
     INTENT_PLACEHOLDER,
     markdown,
@@ -17,6 +16,7 @@ from turtlectl.cli.verify.document import (
     to_toml,
 )
 from turtlectl.cli.verify.spec import Period, Spec, load_spec, parse_spec
+from turtlectl.runtime.client.graph import Graph, NodeRow, ServiceRow, TopicRow
 
 ROOT = Path(__file__).resolve().parents[3]
 CAPSTONE = ROOT / "docs" / "capstone.toml"

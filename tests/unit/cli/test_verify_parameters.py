@@ -11,12 +11,12 @@ from pathlib import Path
 
 import pytest
 
-from turtlectl.cli.tools.graph import Graph, NodeRow
 from turtlectl.cli.verify.document import skeleton, to_toml
 from turtlectl.cli.verify.driving import Outcomes, goal_sequence, random_goal
 from turtlectl.cli.verify.parameters import differences, expected_nodes, launch_file_plan
 from turtlectl.cli.verify.spec import NoErrors, Parameters, SpecError, load_spec, parse_spec
 from turtlectl.messages.world import Obstacle, World
+from turtlectl.runtime.client.graph import Graph, NodeRow
 
 ROOT = Path(__file__).resolve().parents[3]
 CAPSTONE = ROOT / "docs" / "capstone.toml"

@@ -7,9 +7,9 @@ from pathlib import Path
 
 import pytest
 
-from turtlectl.cli.errors import ExitCode, exit_code
 from turtlectl.cli.verify.report import Verdict, table
 from turtlectl.cli.verify.spec import Goals, Period, SpecError, load_spec, parse_spec
+from turtlectl.runtime.client.errors import ExitCode, exit_code
 
 ROOT = Path(__file__).resolve().parents[3]
 

@@ -15,8 +15,8 @@ ROOT = Path(__file__).resolve().parents[3]
 
 
 def test_commands_and_node_processes_use_the_one_table():
-    from turtlectl.cli import errors
     from turtlectl.runtime import lifecycle
+    from turtlectl.runtime.client import errors
 
     assert errors.ExitCode is ExitCode
     # no second table of numbers beside it

@@ -8,12 +8,13 @@ import contextlib
 import pytest
 from typer.testing import CliRunner
 
-from turtlectl.cli.errors import ExitCode, TurtlectlError, exit_code
 from turtlectl.cli.main import app, error_line
 from turtlectl.cli.tools import actions
-from turtlectl.cli.tools.graph import GoalRow, Graph
 from turtlectl.messages import NavigateToFeedback, NavigateToRequest, NavigateToResponse
 from turtlectl.messages.codec import type_name
+from turtlectl.runtime.client import api
+from turtlectl.runtime.client.errors import ExitCode, TurtlectlError, exit_code
+from turtlectl.runtime.client.graph import GoalRow, Graph
 
 NAVIGATE = GoalRow(
     key="navigate_to",
@@ -31,7 +32,7 @@ def a_running_navigator(monkeypatch):
     SESSIONS.clear()
 
     @contextlib.contextmanager
-    def session(connect):
+    def session(connect, domain=None, role=None):
         SESSIONS.append(connect)
         yield object()
 
@@ -42,11 +43,11 @@ def a_running_navigator(monkeypatch):
         def learn_all(self):
             pass
 
-    monkeypatch.setattr(actions, "service_session", session)
+    monkeypatch.setattr(api, "client_session", session)  # send-goal's Client, on no router
     graph = Graph(nodes=[], topics=[], services=[], goals=[NAVIGATE])
-    monkeypatch.setattr(actions, "live_graph", lambda session: graph)
-    monkeypatch.setattr(actions, "graph", lambda connect: graph)
-    monkeypatch.setattr(actions, "TypeBook", Book)
+    monkeypatch.setattr(api, "live_graph", lambda session, domain=None: graph)
+    monkeypatch.setattr(actions, "graph", lambda connect, domain: graph)
+    monkeypatch.setattr(api, "TypeBook", Book)
     monkeypatch.setattr(actions.goals, "run_goal", lambda *a, **k: pytest.fail("sent a goal it should refuse"))
 
 
@@ -106,7 +107,7 @@ def test_a_goal_service_that_is_not_running_is_named_with_those_that_are():
 
 def test_action_list_names_each_goal_services_types_and_server():
     from turtlectl.cli.tools.actions import rows_text
-    from turtlectl.cli.tools.graph import GoalRow
+    from turtlectl.runtime.client.graph import GoalRow
 
     row = GoalRow("navigate_to", "turtlectl/NavigateToRequest", "turtlectl/NavigateToFeedback", "r", ["navigator"])
     assert rows_text([row]) == (

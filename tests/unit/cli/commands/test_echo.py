@@ -20,7 +20,7 @@ STATUSES = [
 
 @pytest.fixture
 def two_statuses(monkeypatch):
-    def fake_stream(connect, topic, count, timeout, exit_on_loss=False):
+    def fake_stream(connect, domain, topic, count, timeout, exit_on_loss=False):
         for status in STATUSES[:count]:
             yield topics.Received("robot/status", status)
 

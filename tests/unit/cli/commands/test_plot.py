@@ -11,9 +11,9 @@ import pytest
 import typer
 from typer.testing import CliRunner
 
-from turtlectl.cli.errors import ExitCode, TurtlectlError, Unreachable, exit_code
 from turtlectl.cli.main import app, error_line
 from turtlectl.messages import Pose, TurtleStatus, encode, encoding_for
+from turtlectl.runtime.client.errors import ExitCode, TurtlectlError, Unreachable, exit_code
 
 START = 1_700_000_000_000_000_000
 
@@ -201,16 +201,17 @@ def live_plot(monkeypatch, capsys, samples, silent):
     import contextlib
 
     from turtlectl.cli.commands import plotting
-    from turtlectl.cli.tools import client, plot_draw, plot_sources
+    from turtlectl.cli.tools import plot_draw, plot_sources
     from turtlectl.cli.tools.plot import Series
+    from turtlectl.runtime.client import session as client
 
     series = [Series("turtle1/pose", "x"), Series("nobody/here", "x")]
     monkeypatch.setattr(plotting, "result", typer.echo)
-    monkeypatch.setattr(client, "client_session", lambda connect: contextlib.nullcontext())
+    monkeypatch.setattr(client, "client_session", lambda connect, domain: contextlib.nullcontext())
     monkeypatch.setattr(plot_sources, "Live", lambda *a, **k: FakeLive([(series[0], t, 3.0) for t in samples], silent))
     monkeypatch.setattr(plot_draw, "screen", lambda out: contextlib.nullcontext(FakeScreen()))
     try:
-        plotting._plot_live(series, 10.0, 1.0, "tcp/x:1", stamps=False)
+        plotting._plot_live(series, 10.0, 1.0, "tcp/x:1", "", stamps=False)
     except TurtlectlError as error:
         return capsys.readouterr().out, error
     return capsys.readouterr().out, None

@@ -14,10 +14,10 @@ import textwrap
 import pytest
 
 from tests.unit.messages.samples import SAMPLES as WRITTEN
-from turtlectl.cli.errors import ExitCode, exit_code
 from turtlectl.cli.recording.bag import BagWriter, RecordingError
 from turtlectl.cli.recording.reading import Recording
 from turtlectl.messages import LaserScan, Pose, TurtleStatus, decode_any, encode, encoding_for
+from turtlectl.runtime.client.errors import ExitCode, exit_code
 
 SAMPLES = [decode_any(encode(m)) for m in WRITTEN]  # as received: floats where the samples wrote ints
 

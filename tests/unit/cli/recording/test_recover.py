@@ -5,11 +5,11 @@ from __future__ import annotations
 
 import pytest
 
-from turtlectl.cli.errors import BadInput
 from turtlectl.cli.recording.bag import BagWriter, RecordingError
 from turtlectl.cli.recording.reading import Recording
 from turtlectl.cli.recording.recover import default_output, hint, recover, text
 from turtlectl.messages import Pose, TurtleStatus, encode, encoding_for
+from turtlectl.runtime.client.errors import BadInput
 
 T0 = 1_700_000_000_000_000_000
 STEP = 10_000_000  # ns: 100 messages a second

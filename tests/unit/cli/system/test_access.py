@@ -4,9 +4,10 @@ from __future__ import annotations
 
 import zenoh
 
-from turtlectl.cli.system.access import ROLES, access_control, node_rights, permitted, who_may
+from turtlectl.cli.system.access import ROLES, access_control, node_rights
 from turtlectl.messages.keys import LOG_KEYS, log_key
 from turtlectl.nodes.kinds import KINDS
+from turtlectl.runtime.client.session import permitted, who_may
 
 
 def test_roles_grow_viewer_operator_teleop():
@@ -45,14 +46,13 @@ def test_the_role_check_reads_a_domain_s_key_from_outside_it_and_roles_are_named
     TURTLECTL_ROLE does not look like a missing login, nor a corrupt credentials file like an empty one."""
     import pytest
 
-    from turtlectl.cli.errors import BadInput
-    from turtlectl.cli.system import credentials
-    from turtlectl.cli.tools import client
+    from turtlectl.runtime.client import credentials
+    from turtlectl.runtime.client import session as client
+    from turtlectl.runtime.client.errors import BadInput
 
-    monkeypatch.setattr(client, "_ROLE", ["operator"])
-    client.require("call", "lab1/navigate_to")
+    client.check_permitted("operator", "call", "lab1/navigate_to", domain="")
     with pytest.raises(client.NotPermitted, match=r"may not publish lab1/turtle1/cmd_vel .*\(may: teleop;"):
-        client.require("publish", "lab1/turtle1/cmd_vel")
+        client.check_permitted("operator", "publish", "lab1/turtle1/cmd_vel", domain="")
     monkeypatch.setenv(credentials.ROLE_ENV, "Viewer")
     with pytest.raises(BadInput, match=r"TURTLECTL_ROLE='Viewer' is not a role \(roles: viewer, operator, teleop\)"):
         credentials.role()

@@ -6,7 +6,6 @@ import pytest
 from cryptography import x509
 from cryptography.x509.oid import NameOID
 
-from turtlectl.cli.errors import BadInput
 from turtlectl.cli.system import access
 from turtlectl.cli.system.certs import (
     CLIENT_COMMON_NAME,
@@ -17,6 +16,7 @@ from turtlectl.cli.system.certs import (
     issued_hosts,
     make,
 )
+from turtlectl.runtime.client.errors import BadInput
 
 
 def common_name(path) -> str:

@@ -471,8 +471,8 @@ def test_an_unused_remaps_keys_leave_out_the_internal_wildcards():
 def test_launch_arguments_written_as_ros_positional_ones_get_a_hint(tmp_path):
     from typer.testing import CliRunner
 
-    from turtlectl.cli.errors import BadInput, exit_code
     from turtlectl.cli.main import app
+    from turtlectl.runtime.client.errors import BadInput, exit_code
 
     top = files(tmp_path, launch="[arg.speed]\ndefault = 1.0\n" + SIM)
     for argv in ([str(top), "speed:=2"], ["speed:=2"]):

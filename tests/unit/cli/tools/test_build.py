@@ -2,7 +2,6 @@
 
 import pytest
 
-from turtlectl.cli.errors import BadInput, ExitCode, TurtlectlError, exit_code
 from turtlectl.cli.tools.build import message_from_json, service_request, topic_message
 from turtlectl.messages import (
     Cancel,
@@ -10,6 +9,7 @@ from turtlectl.messages import (
     TeleportAbsolute,
     Twist,
 )
+from turtlectl.runtime.client.errors import BadInput, ExitCode, TurtlectlError, exit_code
 
 
 def test_messages_from_json_name_the_bad_field():

@@ -6,7 +6,6 @@ import math
 import pytest
 
 from tests.unit.messages.samples import FEEDBACK
-from turtlectl.cli.errors import BadInput
 from turtlectl.cli.tools.format import (
     csv_header,
     csv_row,
@@ -26,6 +25,7 @@ from turtlectl.messages import (
     TurtleStatus,
     Twist,
 )
+from turtlectl.runtime.client.errors import BadInput
 
 
 def test_formats():

@@ -12,8 +12,8 @@ import msgspec
 import pytest
 
 from tests.unit.cli.test_main import invoke
-from turtlectl.cli.errors import ExitCode
 from turtlectl.messages import ALL_TYPES, Twist
+from turtlectl.runtime.client.errors import ExitCode
 
 
 @pytest.fixture(autouse=True)

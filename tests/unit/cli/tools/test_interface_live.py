@@ -11,11 +11,11 @@ from typing import Annotated
 import msgspec
 import pytest
 
-from turtlectl.cli.errors import BadInput
 from turtlectl.cli.tools import interface
-from turtlectl.cli.tools.graph import Graph, ServiceRow, TopicRow
 from turtlectl.messages import Message
 from turtlectl.messages.described import describe
+from turtlectl.runtime.client.errors import BadInput
+from turtlectl.runtime.client.graph import Graph, ServiceRow, TopicRow
 
 
 class Side(enum.Enum):

@@ -8,7 +8,6 @@ import time
 
 import pytest
 
-from turtlectl.cli.errors import BadInput
 from turtlectl.cli.tools.log import (
     LogFilter,
     clock_time,
@@ -22,6 +21,7 @@ from turtlectl.cli.tools.log import (
     use_colour,
 )
 from turtlectl.messages import Log
+from turtlectl.runtime.client.errors import BadInput
 
 STAMP = 1_764_100_000_250_000_000  # ns: .250 s past a whole second
 CLOCK = time.strftime("%H:%M:%S", time.localtime(STAMP // 1_000_000_000)) + ".250"

@@ -12,12 +12,12 @@ from pathlib import Path
 import msgspec
 import pytest
 
-from turtlectl.cli.errors import BadInput, Unreachable
 from turtlectl.cli.tools import plot, plot_window
 from turtlectl.cli.tools.format import Undescribed
 from turtlectl.cli.tools.plot import Extractor, Series, parse_series
 from turtlectl.cli.tools.plot_window import Collected, Window
 from turtlectl.messages import LaserScan, NavigateToFeedback, Pose, TurtleStatus, encode, encoding_for
+from turtlectl.runtime.client.errors import BadInput, Unreachable
 
 POSE_NUMBERS = "x, y, theta, linear_velocity, angular_velocity, contact, stamp, seq"
 
@@ -497,8 +497,8 @@ def test_a_recording_is_plotted_on_its_stamps_with_stamps(tmp_path):
 
 
 def test_a_typo_in_a_key_nobody_publishes_is_said_with_the_nearest_known_key():
-    from turtlectl.cli.tools.graph import build_graph
     from turtlectl.cli.tools.plot_sources import typo_notes
+    from turtlectl.runtime.client.graph import build_graph
 
     empty = build_graph([], 0)
     assert typo_notes(empty, [Series("turtle1/pos", "x"), Series("turtle1/pose", "y")]) == {

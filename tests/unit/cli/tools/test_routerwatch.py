@@ -5,10 +5,10 @@ from __future__ import annotations
 
 import pytest
 
-from turtlectl.cli.errors import ExitCode, exit_code
-from turtlectl.cli.tools.client import ROUTER_CHECK
 from turtlectl.cli.tools.routerwatch import RouterWatch
-from turtlectl.cli.tools.services import RouterLost
+from turtlectl.runtime.client.errors import ExitCode, exit_code
+from turtlectl.runtime.client.services import RouterLost
+from turtlectl.runtime.client.session import ROUTER_CHECK
 
 ENDPOINT = "tcp/127.0.0.1:7447"
 

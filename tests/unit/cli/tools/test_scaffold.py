@@ -9,8 +9,8 @@ from pathlib import Path
 
 import pytest
 
-from turtlectl.cli.errors import BadInput
 from turtlectl.cli.tools.scaffold import camel, node_files
+from turtlectl.runtime.client.errors import BadInput
 
 TURTLECTL = [str(Path(sys.executable).parent / "turtlectl")]
 

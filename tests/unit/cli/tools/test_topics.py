@@ -1,6 +1,5 @@
 """cli.tools.topics: what a silent topic says."""
 
-from turtlectl.cli.tools.graph import build_graph
 from turtlectl.cli.tools.topics import silence_text
 from turtlectl.messages.keys import (
     EntityInfo,
@@ -8,6 +7,7 @@ from turtlectl.messages.keys import (
     entity_token,
     node_token,
 )
+from turtlectl.runtime.client.graph import build_graph
 
 
 def _graph_with(*entities: EntityInfo, nodes: bool = True):

@@ -27,6 +27,16 @@ def test_a_supervised_node_runs_its_kind_s_module_unbuffered_and_knows_its_super
     assert env[SUPERVISOR_PID_VAR] == "4242" and env["PYTHONUNBUFFERED"] == "1"
 
 
+def test_a_node_s_own_clients_are_in_its_system_s_domain(monkeypatch):
+    """The command line hands --domain to the nodes' configs, not to its own environment: a
+    turtlectl.Client a node's code opens finds the domain in the node's environment."""
+    monkeypatch.delenv("TURTLECTL_DOMAIN", raising=False)
+    _, env = node_command(node_config(PLAN, "nav", "tcp/127.0.0.1:7447", domain="lab1"), supervisor_pid=1)
+    assert env["TURTLECTL_DOMAIN"] == "lab1"
+    _, env = node_command(node_config(PLAN, "nav", "tcp/127.0.0.1:7447"), supervisor_pid=1)
+    assert "TURTLECTL_DOMAIN" not in env
+
+
 def test_a_node_run_on_its_own_watches_no_supervisor_even_one_inherited(monkeypatch):
     monkeypatch.setenv(SUPERVISOR_PID_VAR, "99")  # `turtlectl run` typed in a node's shell
     monkeypatch.setenv("TURTLECTL_TEST_MARK", "kept")

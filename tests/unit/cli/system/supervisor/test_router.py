@@ -7,7 +7,6 @@ import time
 
 import pytest
 
-from turtlectl.cli.errors import CannotStart, ExitCode, Unreachable, exit_code
 from turtlectl.cli.system.supervisor.router import (
     MAKE_RUN_ENV,
     free_port_near,
@@ -17,6 +16,7 @@ from turtlectl.cli.system.supervisor.router import (
     port_in_use,
     retyped,
 )
+from turtlectl.runtime.client.errors import CannotStart, ExitCode, Unreachable, exit_code
 from turtlectl.runtime.session import close_session
 
 

@@ -18,7 +18,6 @@ from pathlib import Path
 
 import pytest
 
-from turtlectl.cli.errors import ExitCode
 from turtlectl.cli.system.launchfile import parse_launch
 from turtlectl.cli.system.supervisor.printer import Printer
 from turtlectl.cli.system.supervisor.supervision import (
@@ -29,6 +28,7 @@ from turtlectl.cli.system.supervisor.supervision import (
     Supervision,
     respawn_delay,
 )
+from turtlectl.runtime.client.errors import ExitCode
 
 INT, TERM, KILL = signal.SIGINT, signal.SIGTERM, signal.SIGKILL
 LAG = 2 * POLL + 1e-6  # how late the policy may notice something: it looks every POLL s

@@ -1,15 +1,15 @@
-"""cli.tools.services: which answers are failures."""
+"""runtime.client.services: which answers are failures."""
 
 import pytest
 
 from tests.unit.messages.samples import FEEDBACK
-from turtlectl.cli.errors import ExitCode, Interrupted, exit_code
-from turtlectl.cli.tools.goals import given_up
-from turtlectl.cli.tools.services import reply_code
 from turtlectl.messages import (
     Ack,
     NavigateToResponse,
 )
+from turtlectl.runtime.client.errors import ExitCode, Interrupted, exit_code
+from turtlectl.runtime.client.goals import given_up
+from turtlectl.runtime.client.services import reply_code
 
 
 def test_an_answer_that_says_no_is_exit_code_1():

@@ -1,13 +1,13 @@
 """Service calls of the command-line tools: any queryable, goals with feedback, simple Acks.
 
-Nothing here prints; functions return data or raise a TurtlectlError (cli.errors).
+Nothing here prints; functions return data or raise a TurtlectlError (runtime.client.errors).
 
 The rules every call follows (``goto``, ``cancel``, ``teleport``, ``reset`` and ``call``
 alike): replies are handed on as they arrive; an answer that says no (``Ack.ok`` false,
 ``NavigateToResponse.success`` false) is exit code 1 (a goal refused as invalid: 2, as a
-teleport refused there, cli.errors.goal_exit_code); nobody serving the key is exit
+teleport refused there, runtime.client.errors.goal_exit_code); nobody serving the key is exit
 code 3, with a hint when systems run in other domains.  A goal (its caller token, its
-cancel when given up on) is cli.tools.goals', built on ``replies``.
+cancel when given up on) is runtime.client.goals', built on ``replies``.
 """
 
 from __future__ import annotations
@@ -21,15 +21,6 @@ from typing import Any
 import msgspec
 import zenoh
 
-from turtlectl.cli.errors import BadInput, ExitCode, Failed, Unreachable, goal_exit_code
-from turtlectl.cli.tools.client import (
-    base_key,
-    check_key,
-    client_session,
-    domain_hint,
-    require,
-    router_lost,
-)
 from turtlectl.messages import (
     Ack,
     DecodeError,
@@ -47,8 +38,18 @@ from turtlectl.messages import (
 from turtlectl.messages.codec import MEDIA_TYPE
 from turtlectl.messages.keys import NAVIGATE_TO, WORLD_KEY
 from turtlectl.messages.world import World
+from turtlectl.runtime.client.errors import BadInput, ExitCode, Failed, Unreachable, goal_exit_code
+from turtlectl.runtime.client.session import (
+    base_key,
+    check_key,
+    client_session,
+    domain_hint,
+    require,
+    router_lost,
+)
 from turtlectl.runtime.endpoint import default_domain
 
+CALL_TIMEOUT = 5.0  # s: a service call's default (`call`, Client.call) for services other than a goal's
 ZENOH_GRACE = 1.0  # s: Zenoh's own query timeout is ours plus this; our deadline decides
 
 
@@ -63,11 +64,46 @@ class NoAnswer(Failed):
 
 
 class NobodyServes(Unreachable):
-    """No queryable matches the key."""
+    """No queryable matches the key: ``what`` went unanswered (``nothing serves KEY``), in
+    ``domain`` ("": none said), ``advice`` what to check, ``hint`` where systems run instead
+    (from ``session.domain_hint``, starting with "; ")."""
+
+    def __init__(self, what: str, advice: str = "", *, domain: str = "", hint: str = ""):
+        where = f" in domain {domain}" if domain else ""
+        super().__init__(what + where + (f" ({advice})" if advice else "") + hint)
+        self.what, self.advice, self.domain, self.hint = what, advice, domain, hint
+
+    @property
+    def said(self) -> str:
+        return self.what + (f" in domain {self.domain}" if self.domain else "")
+
+    def located(self, domain: str, hint: str) -> NobodyServes:
+        """This error in ``domain``, with ``hint``."""
+        return NobodyServes(self.what, self.advice, domain=domain if self.advice else "", hint=hint)
 
 
 class RouterLost(Unreachable):
-    """The client session lost its router while waiting."""
+    """The client session lost its router ``during`` something ("while waiting for KEY"); the
+    router's endpoint ``connect`` when known.  A plain message for a loss said otherwise."""
+
+    def __init__(self, message: str = "", *, during: str = "", connect: str = ""):
+        if during:
+            at = f" at {connect}" if connect else ""
+            message = f"lost the router{at} {during} (did `turtlectl launch` stop?)"
+        super().__init__(message)
+        self.during, self.connect = during, connect
+
+    @property
+    def said(self) -> str:
+        return (
+            f"lost the router{f' at {self.connect}' if self.connect else ''} {self.during}"
+            if self.during
+            else self.message
+        )
+
+    def located(self, connect: str) -> RouterLost:
+        """This error naming the router's endpoint ``connect``."""
+        return RouterLost(during=self.during, connect=connect) if self.during else self
 
 
 class Raw(msgspec.Struct):
@@ -79,9 +115,9 @@ class Raw(msgspec.Struct):
 
 
 @contextlib.contextmanager
-def service_session(connect: str) -> Iterator[zenoh.Session]:
+def service_session(connect: str, domain: str) -> Iterator[zenoh.Session]:
     """A client session whose "nothing serves" errors say which domains have a system."""
-    with client_session(connect) as session, hinted(connect):
+    with client_session(connect, domain) as session, hinted(connect):
         yield session
 
 
@@ -93,10 +129,9 @@ def hinted(connect: str, domain: str | None = None) -> Iterator[None]:
     try:
         yield
     except RouterLost as exc:
-        raise RouterLost(exc.message.replace("lost the router", f"lost the router at {connect}", 1)) from None
+        raise exc.located(connect) from None
     except NobodyServes as exc:
-        where = f" in domain {domain}" if domain else ""
-        raise NobodyServes(exc.message.replace(" (", f"{where} (", 1) + domain_hint(connect)) from None
+        raise exc.located(domain, domain_hint(connect, domain)) from None
 
 
 ROUTER_LOSS_WAIT = 0.5  # s: how long a query's end may come before the session notices its router is gone
@@ -134,10 +169,10 @@ def replies(
     (Unreachable) if the router goes away, NoAnswer (Failed) when ``timeout`` s pass
     before the replies end, BadInput if the service rejects the request.  ``attachment``:
     bytes the query carries beside the request (a goal's caller id); ``goal``: ``key`` is a goal
-    service or its ``/cancel`` (a --secure role's check: cli.tools.client.require); ``idle``:
+    service or its ``/cancel`` (a --secure role's check: runtime.client.session.require); ``idle``:
     also yield None each 0.1 s without a reply (a caller keeping a deadline of its own).
     """
-    require("call", key, goal_service=goal)
+    require(session, "call", key, goal_service=goal)
     inbox: queue.SimpleQueue[zenoh.Reply | None] = queue.SimpleQueue()
     started = time.monotonic()
     deadline = started + timeout
@@ -173,9 +208,9 @@ def replies(
         answered = True
         yield _read_reply(reply, key, timeout)
     if router_lost(session) or (not answered and router_lost_soon(session, time.monotonic() - started)):
-        raise RouterLost(f"lost the router while waiting for {key} (did `turtlectl launch` stop?)")
+        raise RouterLost(during=f"while waiting for {key}")
     if not answered:
-        raise NobodyServes(f"nothing serves {key} (is the node running?)")
+        raise NobodyServes(f"nothing serves {key}", "is the node running?")
 
 
 class Rejected(BadInput):
@@ -206,17 +241,9 @@ def _read_reply(reply: zenoh.Reply, key: str, timeout: float) -> Message | Raw:
     raise Failed(f"{key} failed: {payload.decode('utf-8', 'replace') or 'unknown error'}")
 
 
-CALL_TIMEOUT = 5.0  # s: default of `call` for services other than navigate_to
-
-
-def simple_call(connect: str, key: str, request: Message, everyone: bool = False, timeout: float = 5.0) -> list[Ack]:
-    """Call a simple service (Ack answers); with ``everyone``, collect every server's answer."""
-    with service_session(connect) as session:
-        return [m for m in replies(session, key, request, timeout, everyone) if isinstance(m, Ack)]
-
-
 def call_service(
     connect: str,
+    domain: str,
     key: str,
     request: Message | bytes,
     timeout: float | None,
@@ -228,9 +255,9 @@ def call_service(
     arrives, and only its response is yielded.  ``timeout`` None: the navigator's
     goal_timeout for goals, CALL_TIMEOUT s otherwise."""
     key = check_key(key)
-    with service_session(connect) as session:
-        if base_key(key) == NAVIGATE_TO and isinstance(request, NavigateToRequest):
-            from turtlectl.cli.tools import goals  # which builds on this module
+    with service_session(connect, domain) as session:
+        if base_key(key, domain) == NAVIGATE_TO and isinstance(request, NavigateToRequest):
+            from turtlectl.runtime.client import goals  # which builds on this module
 
             service = goals.navigate_to(key)
             limit = goals.NO_LIMIT if timeout is None else timeout

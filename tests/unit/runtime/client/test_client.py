@@ -1,6 +1,6 @@
-"""cli.tools.client: keys reached across a domain."""
+"""runtime.client.session: keys reached across a domain."""
 
-from turtlectl.cli.tools.client import base_key, domain_prefix
+from turtlectl.runtime.client.session import base_key, domain_prefix
 
 
 def test_keys_reached_across_a_domain(monkeypatch):
@@ -15,7 +15,7 @@ def test_keys_reached_across_a_domain(monkeypatch):
 def test_a_refused_client_is_told_where_its_login_was_looked_for(monkeypatch, tmp_path):
     """With TURTLECTL_CREDENTIALS naming a missing file the message says the file named is not
     there (not "(or set TURTLECTL_CREDENTIALS)")."""
-    from turtlectl.cli.tools.client import _not_let_in
+    from turtlectl.runtime.client.session import _not_let_in
 
     monkeypatch.delenv("TURTLECTL_TLS", raising=False)
     monkeypatch.setenv("HOME", str(tmp_path))

@@ -1,5 +1,5 @@
 """A client's place in the graph: every client session (a command-line tool, a script's
-``turtlectl.Client``) declares its presence once, in ``client.client_session``, as nodes declare
+``turtlectl.Client``) declares its presence once, in ``session.client_session``, as nodes declare
 theirs, and its publishers and subscribers declared here are listed with it (``turtlectl list``,
 ``node list``, ``topic info``), as ROS 2 lists every participant.
 
@@ -43,9 +43,11 @@ def tool() -> str:
 class Presence:
     """One client session's presence token and what it announces; ``undeclare`` withdraws all."""
 
-    def __init__(self, session: zenoh.Session) -> None:
+    def __init__(self, session: zenoh.Session, domain: str = "", role: str | None = None) -> None:
         from turtlectl.messages.keys import ClientInfo, client_node_token
 
+        #: the domain the session was opened in ("" for none), the role it logged in as (None: no login)
+        self.domain, self.role = domain, role
         pid, n = os.getpid(), next(_SESSIONS)
         name = f"{tool()}-{pid}" + (f"-{n}" if n > 1 else "")
         self.info: ClientInfo = ClientInfo(
@@ -71,9 +73,10 @@ class Presence:
             self._token = None
 
 
-def declare(session: zenoh.Session) -> Presence:
-    """Declare ``session``'s presence (client_session does, once per session)."""
-    presence = _PRESENT[id(session)] = Presence(session)
+def declare(session: zenoh.Session, domain: str = "", role: str | None = None) -> Presence:
+    """Declare ``session``'s presence (client_session does, once per session), with the domain it
+    was opened in and the role it logged in as (None: no login)."""
+    presence = _PRESENT[id(session)] = Presence(session, domain, role)
     return presence
 
 

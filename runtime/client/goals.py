@@ -20,21 +20,20 @@ from typing import Any
 import msgspec
 import zenoh
 
-from turtlectl.cli.errors import CancelUnconfirmed, Failed, GoalCanceled, Interrupted, TurtlectlError
-from turtlectl.cli.sigint import sigint_deferred
-from turtlectl.cli.tools.client import base_key, caller_token
-from turtlectl.cli.tools.services import (
+from turtlectl.messages import Ack, Cancel, Message, NavigateToResponse
+from turtlectl.messages.codec import type_name
+from turtlectl.messages.keys import NAVIGATE_TO
+from turtlectl.runtime.client.errors import CancelUnconfirmed, Failed, GoalCanceled, Interrupted, TurtlectlError
+from turtlectl.runtime.client.services import (
     ROUTER_LOSS_WAIT,
     NoAnswer,
     Raw,
     RouterLost,
     replies,
     router_lost_soon,
-    service_session,
 )
-from turtlectl.messages import Ack, Cancel, Message, NavigateToFeedback, NavigateToRequest, NavigateToResponse
-from turtlectl.messages.codec import type_name
-from turtlectl.messages.keys import NAVIGATE_TO
+from turtlectl.runtime.client.session import caller_token
+from turtlectl.runtime.client.sigint import sigint_deferred
 from turtlectl.runtime.goal_reasons import CANCELED
 
 __all__ = [
@@ -46,8 +45,6 @@ __all__ = [
     "cancel_goal",
     "canceled",
     "given_up",
-    "in_cli_terms",
-    "navigate",
     "navigate_to",
     "run_goal",
 ]
@@ -70,7 +67,7 @@ class GoalService(msgspec.Struct, frozen=True):
     @property
     def is_navigate_to(self) -> bool:
         """A navigator's ``navigate_to`` (any turtle's, any domain's): its own words apply."""
-        return base_key(self.key).rsplit("/", 1)[-1] == NAVIGATE_TO
+        return self.key.rsplit("/", 1)[-1] == NAVIGATE_TO
 
     @property
     def server(self) -> str:
@@ -101,7 +98,7 @@ def cancel_goal(session: zenoh.Session, service: GoalService) -> Ack | str:
             if isinstance(reply, Ack):
                 return reply
     except TurtlectlError as exc:
-        return exc.message.split(" (")[0]  # its advice in parentheses is not for this line
+        return exc.said  # its advice is not for this line
     return f"{service.cancel_key} sent no Ack"
 
 
@@ -147,15 +144,6 @@ def canceled(service: GoalService, response: Any, feedback: Any = None) -> GoalC
     detail = getattr(response, "detail", "")
     said = f"{service.server} canceled the goal"
     return GoalCanceled(said + (f": {detail}" if detail else ""), response, feedback, None, said)
-
-
-def in_cli_terms(error: TurtlectlError, timeout: float | None) -> TurtlectlError:
-    """``error`` of the Python client (``timeout=2 s``) as the command line says it (``--timeout
-    2 s``): the command line's goto is built on ``Client.goto``."""
-    if timeout is not None:
-        error.message = error.message.replace(API_LIMIT.format(timeout), CLI_LIMIT.format(timeout))
-        error.args = (error.message,)
-    return error
 
 
 def run_goal(
@@ -222,23 +210,9 @@ def run_goal(
                 answer = cancel_goal(session, service)
             raise given_up("interrupted", answer, True, service, feedback=last) from None
         except RouterLost:
-            raise RouterLost("lost the router before the goal ended (did `turtlectl launch` stop?)") from None
+            raise RouterLost(during="before the goal ended") from None
         if router_lost_soon(session, lasted=ROUTER_LOSS_WAIT):  # the replies ended without a result: why?
-            raise RouterLost("lost the router before the goal ended (did `turtlectl launch` stop?)")
+            raise RouterLost(during="before the goal ended")
     if answer is not None:  # canceled, and the server's replies ended without its result
         raise given_up(why, answer, False, service, feedback=last, timeout=timeout)
     raise Failed(f"{service.server} stopped answering before the goal ended (did it exit?)")
-
-
-def navigate(
-    connect: str,
-    goal: NavigateToRequest,
-    timeout: float,
-    on_feedback: Callable[[NavigateToFeedback], None] | None = None,
-) -> tuple[NavigateToResponse, float]:
-    """Send a goal to ``navigate_to`` and wait for the outcome (``run_goal``); returns it and
-    the time the client measured, s."""
-    with service_session(connect) as session:
-        started = time.monotonic()
-        response = run_goal(session, navigate_to(), goal, timeout, on_feedback)
-        return response, time.monotonic() - started

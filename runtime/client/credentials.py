@@ -18,8 +18,8 @@ from pathlib import Path
 
 import msgspec
 
-from turtlectl.cli.errors import BadInput
 from turtlectl.messages.keys import name_chunk
+from turtlectl.runtime.client.errors import BadInput
 from turtlectl.runtime.config import Credentials
 
 ENV = "TURTLECTL_CREDENTIALS"

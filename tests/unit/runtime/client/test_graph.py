@@ -1,6 +1,5 @@
-"""cli.tools.graph: the live graph built from liveliness tokens, and how it is shown."""
+"""runtime.client.graph: the live graph built from liveliness tokens, and how it is shown."""
 
-from turtlectl.cli.tools.graph import build_graph, graph_text
 from turtlectl.messages.keys import (
     EntityInfo,
     NodeInfo,
@@ -8,6 +7,7 @@ from turtlectl.messages.keys import (
     entity_token,
     node_token,
 )
+from turtlectl.runtime.client.graph import build_graph, graph_text
 
 
 def test_graph_from_tokens():
@@ -63,7 +63,7 @@ def test_an_empty_graph_says_what_to_do():
 
 def test_list_counts_the_services_every_node_has_instead_of_listing_them():
     """Parameters, node info and log level are served by every node: listed with --all."""
-    from turtlectl.cli.tools.graph import Graph, ServiceRow, without_node_services
+    from turtlectl.runtime.client.graph import Graph, ServiceRow, without_node_services
 
     keys = [
         "navigate_to",
@@ -129,7 +129,7 @@ def test_list_keeps_the_flat_layout_without_namespaces_and_groups_a_domains_turt
 
 
 def test_one_long_publisher_list_widens_only_its_own_line():
-    from turtlectl.cli.tools.graph import Graph, TopicRow
+    from turtlectl.runtime.client.graph import Graph, TopicRow
 
     many = [f"turtle{i}/navigator" for i in range(2, 12)]
     graph = Graph(
@@ -146,7 +146,7 @@ def test_one_long_publisher_list_widens_only_its_own_line():
 
 def test_list_counts_the_log_topic_every_node_has_instead_of_listing_it():
     """Every node publishes its log on turtlectl/log/<node>: listed with --all."""
-    from turtlectl.cli.tools.graph import Graph, TopicRow, without_node_services
+    from turtlectl.runtime.client.graph import Graph, TopicRow, without_node_services
 
     keys = ["robot/status", "turtlectl/parameter_events", "turtlectl/log/sim", "turtlectl/log/turtle2.navigator"]
     graph = Graph(
@@ -193,7 +193,7 @@ def test_clients_are_listed_apart_from_the_nodes_with_tool_pid_host_and_their_pu
 
 
 def test_the_one_asking_is_left_out_and_the_clients_driving_a_turtle_are_found():
-    from turtlectl.cli.tools.graph import clients_publishing, who, without_client
+    from turtlectl.runtime.client.graph import clients_publishing, who, without_client
 
     graph = _clients_graph()
     (driver,) = clients_publishing(graph, "turtle1/cmd_vel")

@@ -12,24 +12,14 @@ from __future__ import annotations
 import atexit
 import contextlib
 import os
-import queue
 import threading
 import time
-from collections.abc import Callable, Iterator
+from collections.abc import Callable
 from types import TracebackType
 from typing import Any
 
 import zenoh
 
-from turtlectl.cli.args import endpoint, turtle_name
-from turtlectl.cli.errors import BadInput, Failed, Unreachable
-from turtlectl.cli.tools import goals, presence
-from turtlectl.cli.tools import params as _params
-from turtlectl.cli.tools.client import check_key, client_session, live_turtle_namespace, require
-from turtlectl.cli.tools.graph import GoalRow, Graph, NodeRow, ServiceRow, TopicRow
-from turtlectl.cli.tools.services import Raw, Rejected, hinted, replies
-from turtlectl.cli.tools.topics import Received, decode_sample, learn, live_graph
-from turtlectl.cli.tools.typebook import TypeBook
 from turtlectl.messages import (
     Ack,
     Cancel,
@@ -53,79 +43,18 @@ from turtlectl.messages.keys import (
 )
 from turtlectl.messages.stamps import with_stamp
 from turtlectl.messages.world import World
+from turtlectl.runtime.client import answers, goals, presence
+from turtlectl.runtime.client.checks import endpoint, turtle_name
+from turtlectl.runtime.client.errors import BadInput, Failed, Unreachable
+from turtlectl.runtime.client.graph import GoalRow, Graph, NodeRow, ServiceRow, TopicRow
+from turtlectl.runtime.client.services import CALL_TIMEOUT, Raw, Rejected, hinted, replies
+from turtlectl.runtime.client.session import check_key, client_session, live_graph, live_turtle_namespace, require
+from turtlectl.runtime.client.subscription import Subscription
+from turtlectl.runtime.client.typebook import TypeBook
 from turtlectl.runtime.endpoint import CONNECT_ENV, DEFAULT_ENDPOINT, default_domain
 from turtlectl.runtime.futures import Future
 from turtlectl.runtime.goal_reasons import CANCELED
 from turtlectl.runtime.handles import Declaration
-
-CALL_TIMEOUT = 5.0  # s: a service call's default
-
-
-class Subscription(Declaration):
-    """Messages on a topic: iterate over it (``for status in sub``; each waits for the next), or
-    give ``subscribe`` a callback (called on Zenoh's thread).  ``undeclare()`` ends it."""
-
-    def __init__(
-        self,
-        owner: list[Declaration],
-        session: zenoh.Session,
-        key: str,
-        callback: Callable[[Message], None] | None,
-        book: TypeBook,
-    ):
-        super().__init__(owner, "subscription", key)
-        self._inbox: queue.SimpleQueue[Received | None] = queue.SimpleQueue()
-        self._book = book
-        #: payloads that did not decode (skipped), and why the last one did not
-        self.skipped = 0
-        self.last_problem = ""
-
-        def on_sample(sample: zenoh.Sample) -> None:  # Zenoh's thread
-            got = decode_sample(str(sample.key_expr), sample.payload.to_bytes(), str(sample.encoding))
-            if callback is None:
-                self._inbox.put(got)
-            elif got.message is not None and self.active:
-                callback(got.message)
-            elif got.message is None:
-                self._skip(got)
-
-        # on Zenoh's own thread (indirect=False): a Python thread per subscription (zenoh-python's
-        # default) is not a daemon, and kept a script that never undeclared it from ending
-        self.add(presence.subscriber(session, key, zenoh.handlers.Callback(on_sample, indirect=False)))
-
-    def undeclare(self) -> None:
-        """End it: no more messages; an iteration over it ends."""
-        if self.active:
-            super().undeclare()
-            self._inbox.put(None)
-
-    def next(self, timeout: float | None = None) -> Message:
-        """The next message (a type not known yet is learnt from the nodes that use it; a
-        payload that does not decode is skipped and counted in ``skipped``, its reason in
-        ``last_problem``); Failed after ``timeout`` s."""
-        deadline = None if timeout is None else time.monotonic() + timeout
-        while True:
-            try:
-                got = self._inbox.get(timeout=None if deadline is None else max(0.0, deadline - time.monotonic()))
-            except queue.Empty:
-                raise Failed(f"no message within {timeout:g} s") from None
-            if got is None:
-                raise StopIteration
-            got = learn(got, self._book)
-            if got.message is not None:
-                return got.message
-            self._skip(got)
-
-    def _skip(self, got: Received) -> None:
-        self.skipped += 1
-        self.last_problem = got.problem or f"a {got.type_name or 'message'} payload that no node describes"
-
-    def __iter__(self) -> Iterator[Message]:
-        while True:
-            try:
-                yield self.next()
-            except StopIteration:
-                return
 
 
 class Client:
@@ -141,14 +70,26 @@ class Client:
     nodes run in the namespace the running system gives them (outside any in the default launch
     file, ``turtle1`` when a launch file puts them there), as any turtle's.  Without ``turtle``,
     keys and node names are taken as written, and ``goto`` and ``cancel`` drive turtle1.
+    ``role``: the login it uses on a ``launch --secure`` system (default: ``TURTLECTL_ROLE``,
+    else operator); ``timeout_named``: how its errors name a goal's timeout (``timeout={:g} s``;
+    the command line's, ``--timeout {:g} s``).
     Raises ``turtlectl.Error`` (``Unreachable``, exit code 3) if no router answers."""
 
-    def __init__(self, connect: str | None = None, domain: str | None = None, turtle: str = "") -> None:
+    def __init__(
+        self,
+        connect: str | None = None,
+        domain: str | None = None,
+        turtle: str = "",
+        *,
+        role: str | None = None,
+        timeout_named: str = goals.API_LIMIT,
+    ) -> None:
         self.connect = endpoint(connect or os.environ.get(CONNECT_ENV, DEFAULT_ENDPOINT))
         self.domain = default_domain() if domain is None else domain
         self.turtle = turtle_name(turtle)  # BadInput for a name that is none
+        self._timeout_named = timeout_named
         self._stack = contextlib.ExitStack()
-        self._session: zenoh.Session = self._stack.enter_context(client_session(self.connect, self.domain))
+        self._session: zenoh.Session = self._stack.enter_context(client_session(self.connect, self.domain, role))
         #: the namespace its keys and node names are resolved in (the turtle's nodes'; "" without a turtle)
         self.namespace = live_turtle_namespace(self._session, self.turtle)
         self._driven: str | None = None if not self.turtle else self.namespace  # goto's and cancel's
@@ -200,9 +141,7 @@ class Client:
         ``feedback``.  A KeyboardInterrupt cancels the goal too: ``Interrupted`` (130).  A cancel
         nobody confirmed: ``CancelUnconfirmed`` (5: the turtle may still drive)."""
         request = NavigateToRequest(x=float(x), y=float(y), theta=float(theta))
-        with self._hinted():
-            service = goals.navigate_to(self._goal_key(NAVIGATE_TO))
-            return _goal(self._session, service, request, timeout, on_feedback)
+        return self._run_goal(goals.navigate_to(self._goal_key(NAVIGATE_TO)), request, timeout, on_feedback)  # type: ignore[no-any-return]
 
     def cancel(self, service: str = NAVIGATE_TO, reason: str = "") -> Ack:
         """Cancel the running goal of the goal service ``service`` (default ``navigate_to``);
@@ -231,23 +170,81 @@ class Client:
         ``GoalCanceled`` (carrying the server's result and the last feedback), whoever canceled
         it: ``timeout`` s (default: the server's own), or ``cancel(service)`` meanwhile; a
         cancel nobody confirmed, with ``CancelUnconfirmed``."""
+        goal_service = self._goal_service(service)
+        future: Future[Message] = Future()
+
+        def run() -> None:
+            try:
+                future.set_result(self._run_goal(goal_service, goal, timeout, on_feedback))
+            except BaseException as exc:  # the script's to see, through the future
+                future.set_exception(exc)
+
+        threading.Thread(target=run, name=f"goal {goal_service.key}", daemon=True).start()
+        return future
+
+    def run_goal(
+        self,
+        service: str,
+        goal: Message,
+        on_feedback: Callable[[Message], None] | None = None,
+        *,
+        timeout: float | None = None,
+    ) -> Message:
+        """``send_goal`` on this thread: wait for the result of ``goal`` and return it (the same
+        errors, raised here).  A KeyboardInterrupt cancels the goal: ``Interrupted`` (130)."""
+        return self._run_goal(self._goal_service(service), goal, timeout, on_feedback)  # type: ignore[no-any-return]
+
+    def goal_service(self, service: str) -> GoalRow:
+        """The goal service ``service`` as the graph lists it (its types, its servers), its
+        types learnt from the nodes; ``Unreachable`` if none runs."""
         key = check_key(self._key(service))
         row = next((row for row in self.goals() if row.key == key), None)
         if row is None:
             raise Unreachable(f"no goal service {key} is running (`turtlectl action list` lists them)")
         self._book.learn_all()  # its feedback and result types, as the nodes describe them
-        future: Future[Message] = Future()
-        goal_service = goals.GoalService(key, row.result, tuple(row.servers))
+        return row
 
-        def run() -> None:
-            try:
-                with self._hinted():
-                    future.set_result(_goal(self._session, goal_service, goal, timeout, on_feedback))
-            except BaseException as exc:  # the script's to see, through the future
-                future.set_exception(exc)
+    def _goal_service(self, service: str) -> goals.GoalService:
+        row = self.goal_service(service)
+        return goals.GoalService(row.key, row.result, tuple(row.servers))
 
-        threading.Thread(target=run, name=f"goal {key}", daemon=True).start()
-        return future
+    def _run_goal(
+        self,
+        service: goals.GoalService,
+        goal: Message,
+        timeout: float | None,
+        on_feedback: Callable[[Any], None] | None,
+    ) -> Any:
+        """The one way every goal of this client runs (``goto``, ``send_goal``, ``run_goal``):
+        the result of ``goal`` (goals.run_goal), or GoalCanceled for one canceled by anyone, as
+        for one its own ``timeout`` canceled: one rule for both."""
+        last: list[Any] = [None]  # the goal's last feedback, for the error
+
+        def feedback(message: Any) -> None:
+            last[0] = message
+            if on_feedback is not None:
+                on_feedback(message)
+
+        limit = goals.NO_LIMIT if timeout is None else timeout
+        with self._hinted():
+            result = goals.run_goal(self._session, service, goal, limit, feedback, self._timeout_named)
+        if getattr(result, "reason", "") == CANCELED and getattr(result, "success", False) is False:
+            raise goals.canceled(service, result, last[0])
+        return result
+
+    @property
+    def session(self) -> zenoh.Session:
+        """Its Zenoh session (in its domain, with its login), for a tool built on this client
+        (``turtlectl teleop``); closed by ``close``."""
+        return self._session
+
+    @property
+    def driven(self) -> str:
+        """The namespace of the turtle ``goto`` and ``cancel`` drive: this client's turtle's,
+        turtle1's without one (asked of the running system once)."""
+        if self._driven is None:
+            self._driven = live_turtle_namespace(self._session, FIRST_TURTLE)
+        return self._driven
 
     def _key(self, key: str) -> str:
         """``key`` as a node of this client's turtle writes it (messages.keys.resolve); a node's
@@ -256,9 +253,7 @@ class Client:
 
     def _goal_key(self, key: str) -> str:
         """``key`` of the turtle ``goto`` and ``cancel`` drive: this client's, or turtle1 without one."""
-        if self._driven is None:
-            self._driven = live_turtle_namespace(self._session, FIRST_TURTLE)
-        return resolve(key, self._driven)
+        return resolve(key, self.driven)
 
     # topics ------------------------------------------------------------------------------------
 
@@ -266,7 +261,7 @@ class Client:
         """Publish ``message`` on ``topic``, stamped as a node's publisher stamps it (messages.stamps:
         ``stamp`` now, ``seq`` its count on ``topic``); its publisher is kept until ``close``."""
         key = check_key(self._key(topic), publish=True)
-        require("publish", key)
+        require(self._session, "publish", key)
         with self._lock:
             pub = self._publishers.get(key)
             if pub is None:
@@ -278,7 +273,7 @@ class Client:
     def subscribe(self, topic: str, callback: Callable[[Message], None] | None = None) -> Subscription:
         """Messages on ``topic`` (a key expression: ``robot/status``, ``turtle1/*``), decoded."""
         key = check_key(self._key(topic))
-        require("subscribe", key)
+        require(self._session, "subscribe", key)
         if callback is not None:  # a callback runs on Zenoh's thread, which must not ask: learn the topic's types now
             for row in self.topics():
                 if zenoh.KeyExpr(row.key).intersects(zenoh.KeyExpr(key)):
@@ -310,6 +305,16 @@ class Client:
             raise Failed(f"{key} answered with something that is not a message")
         return last
 
+    def call_all(
+        self, service: str, request: Message, *, everyone: bool = False, timeout: float = CALL_TIMEOUT
+    ) -> list[Message]:
+        """Every reply of ``service`` to ``request`` (the messages among them), as they came;
+        with ``everyone``, from every node that serves it (``reset``: the simulator's and each
+        status monitor's).  ``Unreachable`` if nothing serves it."""
+        key = check_key(self._key(service))
+        with self._hinted():
+            return [m for m in replies(self._session, key, request, timeout, everyone) if isinstance(m, Message)]
+
     # parameters --------------------------------------------------------------------------------
 
     def params(self, node: str) -> dict[str, Any]:
@@ -317,23 +322,21 @@ class Client:
         this client's turtle's namespace, as keys are (``navigator`` in turtle2: ``turtle2/navigator``)."""
         node = self._key(node)
         with self._hinted():
-            answers = list(replies(self._session, params_key(node), b"", CALL_TIMEOUT))
-        if not answers or not isinstance(answers[-1], Raw):
+            got = list(replies(self._session, params_key(node), b"", CALL_TIMEOUT))
+        if not got or not isinstance(got[-1], Raw):
             raise Failed(f"{node} sent no parameters")
-        return _params.parse_params(node, answers[-1].payload)
+        return answers.parse_params(node, got[-1].payload)
 
     def param(self, node: str, name: str) -> Any:
         """``node``'s parameter ``name`` (dotted into a table: ``gains.lookahead``)."""
-        return _params.value(self.params(node), self._key(node), name)
+        return answers.value(self.params(node), self._key(node), name)
 
     def node_info(self, node: str) -> NodeDetails:
         """What ``node`` says about itself: kind, pid, host, start time, log level, and how
         many records at ERROR or worse it has logged (``errors``, ``last_error``)."""
-        from turtlectl.cli.tools.introspect import parse_details
-
         node = self._key(node)
         with self._hinted():
-            return parse_details(node, list(replies(self._session, node_key(node), b"", CALL_TIMEOUT)))
+            return answers.parse_details(node, list(replies(self._session, node_key(node), b"", CALL_TIMEOUT)))
 
     def set_param(self, node: str, name: str, value: Any) -> str:
         """Set ``node``'s parameter ``name`` to ``value`` while it runs; the node's answer.
@@ -357,7 +360,7 @@ class Client:
     def world(self) -> World:
         """The world the simulator declares: its size and obstacles (m); the default world
         when no simulator answers."""
-        from turtlectl.cli.tools.services import world
+        from turtlectl.runtime.client.services import world
 
         with self._hinted():
             return world(self._session)
@@ -393,27 +396,4 @@ class Client:
         return hinted(self.connect, self.domain)
 
 
-def _goal(
-    session: zenoh.Session,
-    service: goals.GoalService,
-    goal: Message,
-    timeout: float | None,
-    on_feedback: Callable[[Any], None] | None,
-) -> Any:
-    """The result of ``goal`` (goals.run_goal, its timeout named ``timeout=``), or GoalCanceled
-    for one canceled by anyone, as for one its own ``timeout`` canceled: one rule for both."""
-    last: list[Any] = [None]  # the goal's last feedback, for the error
-
-    def feedback(message: Any) -> None:
-        last[0] = message
-        if on_feedback is not None:
-            on_feedback(message)
-
-    limit = goals.NO_LIMIT if timeout is None else timeout
-    result = goals.run_goal(session, service, goal, limit, feedback, goals.API_LIMIT)
-    if getattr(result, "reason", "") == CANCELED and getattr(result, "success", False) is False:
-        raise goals.canceled(service, result, last[0])
-    return result
-
-
-__all__ = ["Client", "Subscription"]
+__all__ = ["Client"]

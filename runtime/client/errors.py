@@ -36,6 +36,12 @@ class TurtlectlError(Exception):
         self.message = message
 
     @property
+    def said(self) -> str:
+        """What went wrong, without the advice its message adds in parentheses (for a line that
+        mentions it in passing); the message itself for an error without advice."""
+        return self.message
+
+    @property
     def exit_code(self) -> ExitCode:
         """The exit code the command line ends with for this error (docs/reference/exit-codes.md)."""
         return exit_code(self)

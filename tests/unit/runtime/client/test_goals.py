@@ -1,12 +1,12 @@
-"""cli.tools.goals: a goal given up on is said in the words of the goal service it went to."""
+"""runtime.client.goals: a goal given up on is said in the words of the goal service it went to."""
 
 from __future__ import annotations
 
 import pytest
 
-from turtlectl.cli.errors import ExitCode, exit_code
-from turtlectl.cli.tools.goals import GoalService, given_up, navigate_to
 from turtlectl.messages import Ack
+from turtlectl.runtime.client.errors import ExitCode, exit_code
+from turtlectl.runtime.client.goals import GoalService, given_up, navigate_to
 
 TIMED_OUT = "the goal did not end within --timeout 2 s"
 PATROL = GoalService("patrol/laps", "StudentLapsResult", ("patrol",))
@@ -46,9 +46,9 @@ def test_a_goal_service_without_known_servers_is_named_by_its_key():
 
 
 def test_a_goal_canceled_by_its_timeout_or_by_a_cancel_is_one_error_carrying_the_result_and_last_feedback():
-    from turtlectl.cli.errors import CancelUnconfirmed, GoalCanceled
-    from turtlectl.cli.tools.goals import API_LIMIT, canceled, in_cli_terms
     from turtlectl.messages import NavigateToFeedback, NavigateToResponse
+    from turtlectl.runtime.client.errors import CancelUnconfirmed, GoalCanceled
+    from turtlectl.runtime.client.goals import API_LIMIT, CLI_LIMIT, canceled
 
     why = f"the goal did not end within {API_LIMIT.format(1.5)}"
     assert why == "the goal did not end within timeout=1.5 s"  # the Python client's own terms
@@ -66,6 +66,7 @@ def test_a_goal_canceled_by_its_timeout_or_by_a_cancel_is_one_error_carrying_the
     assert (by_anyone.response, by_anyone.feedback) == (response, feedback)
     unconfirmed = given_up(why, "silence", False, feedback=feedback)
     assert isinstance(unconfirmed, CancelUnconfirmed) and unconfirmed.feedback == feedback
-    # the command line's goto (built on the Python client) says it in its own terms
-    assert in_cli_terms(timed_out, 1.5).message.startswith("the goal did not end within --timeout 1.5 s; ")
+    # the command line's goto (built on the Python client, with timeout_named=CLI_LIMIT) says it in its own terms
+    in_cli_terms = given_up(f"the goal did not end within {CLI_LIMIT.format(1.5)}", Ack(detail="canceled"), False)
+    assert in_cli_terms.message.startswith("the goal did not end within --timeout 1.5 s; ")
     assert str(timed_out) == timed_out.message

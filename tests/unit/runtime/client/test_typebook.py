@@ -1,4 +1,4 @@
-"""cli.tools.typebook and topics.learn: a type learnt from its descriptions; one name described
+"""runtime.client.typebook and topics.learn: a type learnt from its descriptions; one name described
 two ways decodes each message by the description it fits; a payload that names a known type
 and is not one stays skipped, never shown as undescribed."""
 
@@ -6,10 +6,10 @@ from __future__ import annotations
 
 import msgspec
 
-from turtlectl.cli.tools.topics import Received, decode_sample, learn
-from turtlectl.cli.tools.typebook import TypeBook
 from turtlectl.messages import Message, encode
 from turtlectl.messages.described import describe
+from turtlectl.runtime.client.samples import Received, decode_sample, learn
+from turtlectl.runtime.client.typebook import TypeBook
 
 
 class Survey(Message, tag="ReviewSurvey"):
