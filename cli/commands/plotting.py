@@ -95,7 +95,7 @@ def plot(
                 "the live plot draws in a terminal, and the output is not one: write a picture with "
                 "--output FILE.png (with --duration S), or the numbers with `turtlectl echo KEY --field FIELD --csv`"
             )
-        _plot_live(series, window, duration, connect, domain, stamps, turtle, exit_on_loss)
+        plot_live(series, window, duration, connect, domain, stamps, turtle, exit_on_loss)
 
 
 def _lines(series: list[Any], points: Any) -> list[Any]:
@@ -121,7 +121,7 @@ def _plot_recording(series: list[Any], path: Path, output: Path | None, kind: st
     lines = _lines(series, got.collected)
     if output is not None:
         plot_draw.write_picture(output, kind, lines, path.name)
-        result(_wrote(output, got.collected, got.duration))
+        result(wrote(output, got.collected, got.duration))
         return
     cols, rows = shutil.get_terminal_size((100, 30))
     x_limits = (0.0, max(got.duration, 1e-3))
@@ -133,7 +133,7 @@ def _samples(count: int) -> str:
     return f"{count} sample{'s' * (count != 1)}"
 
 
-def _wrote(output: Path, collected: Any, seconds: float) -> str:
+def wrote(output: Path, collected: Any, seconds: float) -> str:
     count = len(collected.series)
     return f"wrote {output}: {_samples(collected.count)} of {count} series over {seconds:.1f} s"
 
@@ -212,10 +212,10 @@ def _collect_live(
     if stamps:
         seconds = collected.rebase()  # the stamps' span
     plot_draw.write_picture(output, kind, _lines(series, collected), "turtlectl plot")
-    result(_wrote(output, collected, seconds))
+    result(wrote(output, collected, seconds))
 
 
-def _plot_live(
+def plot_live(
     series: list[Any],
     window: float,
     duration: float | None,

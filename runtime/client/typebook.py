@@ -50,7 +50,7 @@ class TypeBook:
     def __init__(self, session: zenoh.Session):
         self.session = session
         self.described: dict[str, dict[str, TypeDescription]] = {}  # name -> node -> what it said
-        self._asked: dict[str, float] = {}  # undescribed name -> when last asked
+        self.asked: dict[str, float] = {}  # undescribed name -> when last asked (not again before RETRY s)
         self._variants: dict[str, list[type[Message]]] = {}  # a conflicting name's other classes
 
     def resolve(self, name: str) -> type[Message] | None:
@@ -61,22 +61,25 @@ class TypeBook:
             return known
         if not describable(name):  # a raw encoding may name anything (a//b, **): no key to ask on
             return None
-        asked = self._asked.get(name)
+        asked = self.asked.get(name)
         if asked is not None and time.monotonic() - asked < RETRY:
             return None
         said = descriptions(self.session, name).get(name, {})
-        self._asked[name] = time.monotonic()
-        return self._learnt(name, said)
+        self.asked[name] = time.monotonic()
+        return self.learn(name, said)
 
     def learn_all(self) -> dict[str, dict[str, TypeDescription]]:
         """Every type the running nodes use, learnt at once (one query); what they said."""
         said = descriptions(self.session)
         for name, by_node in said.items():
             if name not in TYPES_BY_NAME:
-                self._learnt(name, by_node)
+                self.learn(name, by_node)
         return said
 
-    def _learnt(self, name: str, said: dict[str, TypeDescription]) -> type[Message] | None:
+    def learn(self, name: str, said: dict[str, TypeDescription]) -> type[Message] | None:
+        """Learn type ``name`` from what the nodes ``said`` of it (node -> description): its class,
+        registered (another class per other description kept for ``conflict``); None if nobody
+        described it or a description is unusable."""
         if not said:
             return None
         self.described[name] = said

@@ -218,8 +218,9 @@ def _laps(client, n):
     """The patrol's own goal type, as the client learnt it from the nodes."""
     from turtlectl.cli.tools import build
 
-    client.goals()
-    client._book.learn_all()
+    from turtlectl.runtime.client.typebook import TypeBook
+
+    TypeBook(client.session).learn_all()
     return build.message_from_json(f'{{"laps": {n}}}', build.type_named("StudentLaps"))
 
 

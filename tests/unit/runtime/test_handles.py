@@ -29,9 +29,8 @@ def test_undeclaring_withdraws_every_part_once_and_leaves_the_nodes_list():
 
 def test_an_undeclared_timer_leaves_the_node_and_never_resumes():
     timers: list[Timer] = []
-    t = Timer(0.1, lambda: None, start=100.0)
-    t._owner = timers
-    timers.append(t)
+    t = Timer(0.1, lambda: None, start=100.0, owner=timers)
+    assert timers == [t]
     t.undeclare()
     t.resume(100.5)
     assert timers == [] and not t.active

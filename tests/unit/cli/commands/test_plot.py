@@ -124,7 +124,7 @@ def test_one_sample_is_said_in_the_singular():
     x = Series("turtle1/pose", "x")
     collected = Collected([x])
     collected.add(x, 0.0, 1.0)
-    assert plotting._wrote(Path("a.png"), collected, 2.0) == "wrote a.png: 1 sample of 1 series over 2.0 s"
+    assert plotting.wrote(Path("a.png"), collected, 2.0) == "wrote a.png: 1 sample of 1 series over 2.0 s"
 
 
 def test_an_output_folder_that_does_not_exist_is_bad_input_before_anything_is_collected(tmp_path):
@@ -211,7 +211,7 @@ def live_plot(monkeypatch, capsys, samples, silent):
     monkeypatch.setattr(plot_sources, "Live", lambda *a, **k: FakeLive([(series[0], t, 3.0) for t in samples], silent))
     monkeypatch.setattr(plot_draw, "screen", lambda out: contextlib.nullcontext(FakeScreen()))
     try:
-        plotting._plot_live(series, 10.0, 1.0, "tcp/x:1", "", stamps=False)
+        plotting.plot_live(series, 10.0, 1.0, "tcp/x:1", "", stamps=False)
     except TurtlectlError as error:
         return capsys.readouterr().out, error
     return capsys.readouterr().out, None

@@ -23,7 +23,7 @@ class OtherSurvey(Message, tag="ReviewSurvey"):
 
 def book_of(**by_node: type[Message]) -> TypeBook:
     book = TypeBook(None)  # type: ignore[arg-type]  # no session: the descriptions are handed over
-    book._learnt("tests/ReviewSurvey", {node: describe(cls) for node, cls in by_node.items()})
+    book.learn("tests/ReviewSurvey", {node: describe(cls) for node, cls in by_node.items()})
     return book
 
 
@@ -46,7 +46,7 @@ def test_a_payload_naming_a_known_type_that_is_not_one_stays_skipped():
 
 def test_an_undescribed_payload_is_shown_generically():
     book = TypeBook(None)  # type: ignore[arg-type]
-    book._asked["NobodysType"] = float("inf")  # asked already: nobody describes it
+    book.asked["NobodysType"] = float("inf")  # asked already: nobody describes it
     data = msgspec.msgpack.encode({"type": "NobodysType", "a": 1})
     item = learn(Received("raw/x", None, "unknown", data, "application/msgpack;NobodysType"), book)
     assert item.generic == {"type": "NobodysType", "a": 1}
