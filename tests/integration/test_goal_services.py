@@ -217,7 +217,6 @@ def test_client_send_goal_returns_a_future_with_feedback(system):
 def _laps(client, n):
     """The patrol's own goal type, as the client learnt it from the nodes."""
     from turtlectl.cli.tools import build
-
     from turtlectl.runtime.client.typebook import TypeBook
 
     TypeBook(client.session).learn_all()

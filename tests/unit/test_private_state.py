@@ -10,7 +10,17 @@ import ast
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[2]
-PACKAGES = ["messages", "runtime", "sim", "nodes", "cli", "src/turtlectl", "tests", "bench", "examples"]  # tests too: they reach nodes through public or test-only APIs
+PACKAGES = [
+    "messages",
+    "runtime",
+    "sim",
+    "nodes",
+    "cli",
+    "src/turtlectl",
+    "tests",
+    "bench",
+    "examples",
+]  # tests too: they reach nodes through public or test-only APIs
 
 
 def private_names(tree: ast.AST) -> set[str]:
