@@ -212,7 +212,7 @@ def plan_text(plan: LaunchPlan) -> str:
     w, lim, sup = launch.world, launch.limits, launch.supervisor
     lines = [
         f"{plan.source}: valid",
-        f"world: {w.size:g} m square, {len(w.obstacles)} obstacles"
+        f"world: {w.size:g} m square, {len(w.obstacles)} obstacle{'' if len(w.obstacles) == 1 else 's'}"
         + "".join(f"; ({o.x:g}, {o.y:g}) r {o.radius:g}" for o in w.obstacles),
         f"limits: {lim.max_linear_speed:g} m/s, {lim.max_linear_accel:g} m/s^2, "
         f"{lim.max_angular_speed:g} rad/s, {lim.max_angular_accel:g} rad/s^2",

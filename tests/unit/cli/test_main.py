@@ -621,3 +621,11 @@ def test_a_turtles_namespace_is_its_name_and_turtle1s_the_running_systems():
     assert resolve("turtle1/pose", turtle_namespace("turtle2")) == "turtle2/pose"
     assert resolve("reset", "turtle2") == "reset" and resolve("/chatter", "turtle2") == "chatter"
     assert resolve("turtlectl/world", "turtle2") == "turtlectl/world"
+
+
+def test_launch_check_counts_one_obstacle_in_the_singular(tmp_path):
+    (tmp_path / "one.toml").write_text(
+        '[world]\nsize = 11.0\nobstacles = [{ x = 3.0, y = 3.0, radius = 0.5 }]\n\n[[node]]\nname = "sim"\nrun = "sim"\n'
+    )
+    code, text = invoke("launch", "--check", str(tmp_path / "one.toml"))
+    assert code == ExitCode.OK and "world: 11 m square, 1 obstacle; (3, 3) r 0.5\n" in text, text
