@@ -286,7 +286,7 @@ class Client:
         try:
             return sub.next(timeout)
         except Failed:
-            raise Failed(f"no message on {topic} within {timeout:g} s") from None
+            raise Failed(f"no message on {self._key(topic)} within {timeout:g} s") from None
         finally:
             sub.undeclare()
 

@@ -149,3 +149,10 @@ def test_a_script_that_ends_without_closing_its_client_ends(system):  # a hang: 
     )
     done = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, timeout=60)
     assert done.returncode == 0 and done.stdout == "end of script\n", done.stdout + done.stderr
+
+
+def test_no_message_names_the_key_read_not_the_key_as_written(system):
+    """A client of turtle2 reads ``turtle1/pose`` as turtle2's pose: its error names that key."""
+    with turtlectl.Client(system.endpoint, turtle="turtle2") as client:
+        with pytest.raises(turtlectl.Failed, match=r"^no message on turtle2/pose within 0.5 s$"):
+            client.latest("turtle1/pose", timeout=0.5)
