@@ -46,7 +46,7 @@ class NodeReport(msgspec.Struct):
 
 
 def _no_node(node: str, graph: Graph, domain: str) -> NobodyServes:
-    from turtlectl.cli.tools.params import no_node
+    from turtlectl.runtime.client.answers import no_node
 
     return no_node(node, [n.name for n in graph.nodes], domain, graph.hint)
 
@@ -232,7 +232,7 @@ def nodes_named(connect: str, domain: str, selector: str) -> list[str] | None:
     None when it names one node as its name does, or no node and is no glob: the caller asks
     that name, and a node that does not run is said as for any name (with the running ones)."""
     from turtlectl.cli.selection import is_glob, selected
-    from turtlectl.cli.tools.params import no_node
+    from turtlectl.runtime.client.answers import no_node
     from turtlectl.runtime.client.session import client_session, live_graph
 
     with client_session(connect, domain) as session:

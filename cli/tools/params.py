@@ -18,9 +18,8 @@ from turtlectl.messages import Ack, SetParameter
 from turtlectl.messages.keys import NodeDetails, node_key, node_name, param_describe_key, param_set_key, params_key
 from turtlectl.messages.params import ParamDescription, ParamInfo
 from turtlectl.messages.world import World
-from turtlectl.runtime.client.answers import names, no_param, parse_params
+from turtlectl.runtime.client.answers import names, no_param, parse_params, unanswered
 from turtlectl.runtime.client.errors import BadInput, Failed, Unreachable
-from turtlectl.runtime.client.graph import Graph
 from turtlectl.runtime.client.services import (
     NoAnswer,
     NobodyServes,
@@ -34,48 +33,6 @@ from turtlectl.runtime.client.services import (
 
 #: s a node has to answer
 TIMEOUT = 3.0
-
-
-def no_node(node: str, running: list[str], domain: str, hint: str = "") -> NobodyServes:
-    """No node called ``node`` answers in this command's domain (the running node nearest its
-    name suggested: ``param``, ``node info``, ``log-level`` all come here); ``hint``: where
-    systems run when none runs here (the live graph's hint)."""
-    from turtlectl.runtime.loader import suggestion
-
-    where = f" in domain {domain}" if domain else ""
-    found = f"running: {', '.join(sorted(running))}" if running else f"no node runs{where}"
-    near = suggestion(node, running)
-    return NobodyServes(
-        f"no node named {node!r} answers{where}{near} ({found}){'; ' + hint if hint and not running else ''}"
-    )
-
-
-class Silent(Unreachable):
-    """A node that runs (its liveliness token is in the graph) gave no answer: its thread is
-    busy or blocked, or it is stopping (exit code 3, as a node that does not run)."""
-
-
-def unanswered(
-    node: str, graph: Graph, domain: str, what: str, waited: float | None = None, after: str = ""
-) -> Unreachable:
-    """Why ``node`` gave no answer ``what`` (``with its parameters``): it does not run
-    (NobodyServes naming the live nodes), or it runs (Silent, with its pid and host from
-    ``graph``) and did not answer within ``waited`` s (None: nothing served the key, the
-    query ended at once).  ``after``: what the user should know besides (a change that may
-    still apply)."""
-    row = next((n for n in graph.nodes if n.name == node), None)
-    if row is None:
-        return no_node(node, [n.name for n in graph.nodes], domain, graph.hint)
-    within = f" within {waited:g} s" if waited is not None else ""
-    why = (
-        "its thread is busy or blocked (a callback that has not returned?)"
-        if waited is not None
-        else "it serves nothing there now (is it stopping?)"
-    )
-    return Silent(
-        f"{node} runs (pid {row.pid}, host {row.host}) but did not answer {what}{within}: {why}"
-        f"{'; ' + after if after else ''}; `turtlectl log --node {node}` shows its last lines"
-    )
 
 
 def silent(

@@ -47,7 +47,7 @@ from turtlectl.runtime.client import answers, goals, presence
 from turtlectl.runtime.client.checks import endpoint, turtle_name
 from turtlectl.runtime.client.errors import BadInput, Failed, Unreachable
 from turtlectl.runtime.client.graph import GoalRow, Graph, NodeRow, ServiceRow, TopicRow
-from turtlectl.runtime.client.services import CALL_TIMEOUT, Raw, Rejected, hinted, replies
+from turtlectl.runtime.client.services import CALL_TIMEOUT, NoAnswer, NobodyServes, Raw, Rejected, hinted, replies
 from turtlectl.runtime.client.session import check_key, client_session, live_graph, live_turtle_namespace, require
 from turtlectl.runtime.client.subscription import Subscription
 from turtlectl.runtime.client.typebook import TypeBook
@@ -321,8 +321,7 @@ class Client:
         """The parameters ``node`` runs with, by name (tables as dicts); ``node`` is resolved in
         this client's turtle's namespace, as keys are (``navigator`` in turtle2: ``turtle2/navigator``)."""
         node = self._key(node)
-        with self._hinted():
-            got = list(replies(self._session, params_key(node), b"", CALL_TIMEOUT))
+        got = self._asked(node, params_key(node), "with its parameters")
         if not got or not isinstance(got[-1], Raw):
             raise Failed(f"{node} sent no parameters")
         return answers.parse_params(node, got[-1].payload)
@@ -335,8 +334,19 @@ class Client:
         """What ``node`` says about itself: kind, pid, host, start time, log level, and how
         many records at ERROR or worse it has logged (``errors``, ``last_error``)."""
         node = self._key(node)
-        with self._hinted():
-            return answers.parse_details(node, list(replies(self._session, node_key(node), b"", CALL_TIMEOUT)))
+        return answers.parse_details(node, self._asked(node, node_key(node), "with what it is"))
+
+    def _asked(self, node: str, key: str, what: str) -> list[Any]:
+        """Every reply of ``node`` on ``key``; if it gives none, the command line's error: no node
+        of that name runs (the live ones named), or it runs and did not answer (its pid)."""
+        try:
+            with self._hinted():
+                return list(replies(self._session, key, b"", CALL_TIMEOUT))
+        except (NobodyServes, NoAnswer) as exc:
+            if isinstance(exc, NoAnswer) and exc.answered:
+                raise
+            waited = exc.timeout if isinstance(exc, NoAnswer) else None
+            raise answers.unanswered(node, self.graph(), self.domain, what, waited) from None
 
     def set_param(self, node: str, name: str, value: Any) -> str:
         """Set ``node``'s parameter ``name`` to ``value`` while it runs; the node's answer.

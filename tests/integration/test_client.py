@@ -156,3 +156,14 @@ def test_no_message_names_the_key_read_not_the_key_as_written(system):
     with turtlectl.Client(system.endpoint, turtle="turtle2") as client:
         with pytest.raises(turtlectl.Failed, match=r"^no message on turtle2/pose within 0.5 s$"):
             client.latest("turtle1/pose", timeout=0.5)
+
+
+def test_a_node_that_does_not_run_is_said_as_the_command_line_says_it(system):
+    with turtlectl.Client(system.endpoint) as client:
+        with pytest.raises(turtlectl.Unreachable) as raised:
+            client.param("navigatr", "goal_timeout")
+    said = str(raised.value)
+    assert said.startswith("no node named 'navigatr' answers; did you mean navigator? (running: "), said
+    assert raised.value.exit_code == 3
+    cli = system.run_cli("param", "get", "navigatr", "goal_timeout", "--connect", system.endpoint)
+    assert (cli.returncode, cli.stderr.strip()) == (3, f"turtlectl: error: {said}")

@@ -62,7 +62,7 @@ def test_an_unknown_parameter_suggests_the_nearest():
 
 def test_no_node_says_where_systems_run_when_none_runs_here(monkeypatch):
     """`--domain lab2 param get navigator ...` says more than "(running: none)"."""
-    from turtlectl.cli.tools.params import no_node
+    from turtlectl.runtime.client.answers import no_node
     from turtlectl.runtime.endpoint import DOMAIN_ENV
 
     monkeypatch.setenv(DOMAIN_ENV, "lab2")
@@ -232,7 +232,7 @@ def test_a_node_listed_as_running_whose_service_is_gone_is_not_said_to_be_missin
 
 
 def test_an_unknown_node_gets_the_nearest_running_one_suggested(monkeypatch):
-    from turtlectl.cli.tools.params import no_node
+    from turtlectl.runtime.client.answers import no_node
     from turtlectl.runtime.endpoint import DOMAIN_ENV
 
     monkeypatch.delenv(DOMAIN_ENV, raising=False)
