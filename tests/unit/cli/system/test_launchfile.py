@@ -661,3 +661,15 @@ def test_only_and_exclude_take_turtles_namespaces_and_globs():
         select_nodes(fleet, [], ["nav*x"])
     symmetric = parse_launch(SYMMETRIC, source="f.toml")
     assert names(select_nodes(symmetric, ["turtle1"], [])) == ["turtle1/navigator", "turtle1/status_monitor"]
+
+
+def test_the_run_key_s_reference_names_every_built_in_kind():
+    """docs/reference/launch-file.md is generated from the Struct's comments: a new built-in kind
+    in nodes/kinds.py KINDS must be named there too."""
+    import inspect
+
+    from turtlectl.cli.system import launchfile
+    from turtlectl.nodes.kinds import KINDS
+
+    run = next(line for line in inspect.getsource(launchfile).splitlines() if line.strip().startswith("run: str"))
+    assert [kind for kind in KINDS if kind not in run] == []
