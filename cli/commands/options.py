@@ -4,7 +4,6 @@ command prints its result."""
 from __future__ import annotations
 
 import typer
-from click.core import ParameterSource
 
 from turtlectl.cli import args, lazy_module
 from turtlectl.runtime.client import checks
@@ -34,7 +33,9 @@ CONNECT_KEY = "turtlectl.connect"
 def use_connect(ctx: typer.Context, param: typer.CallbackParam, connect: str) -> str:
     """``--connect`` after the command; when it is not given there, the one given before the
     command (``turtlectl --connect tcp/... list``), else TURTLECTL_CONNECT, else the default."""
-    given_after = ctx.get_parameter_source(param.name or "connect") is ParameterSource.COMMANDLINE
+    # by name: the enum is click's, which typer vendors (importing click itself costs --help ~15 ms)
+    source = ctx.get_parameter_source(param.name or "connect")
+    given_after = source is not None and source.name == "COMMANDLINE"
     return connect if given_after else ctx.meta.get(CONNECT_KEY, connect)
 
 

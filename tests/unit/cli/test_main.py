@@ -629,3 +629,17 @@ def test_launch_check_counts_one_obstacle_in_the_singular(tmp_path):
     )
     code, text = invoke("launch", "--check", str(tmp_path / "one.toml"))
     assert code == ExitCode.OK and "world: 11 m square, 1 obstacle; (3, 3) r 0.5\n" in text, text
+
+
+def test_connect_after_the_command_wins_over_connect_before_it(monkeypatch):
+    monkeypatch.delenv(CONNECT_ENV, raising=False)
+    result = CliRunner().invoke(app, ["--connect", "tcp/127.0.0.1:2", "list", "--connect", "tcp/127.0.0.1:1"])
+    assert isinstance(result.exception, TurtlectlError), result.output
+    assert "tcp/127.0.0.1:1" in result.exception.message and "127.0.0.1:2" not in result.exception.message
+
+
+def test_help_imports_no_second_click():
+    """typer carries its own click: importing click itself as well costs `--help` ~15 ms."""
+    code = "import sys; sys.argv = ['turtlectl', '--help']\nfrom turtlectl.cli.main import main\ntry:\n    main()\nexcept SystemExit:\n    pass\nprint('click' in sys.modules)"
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
+    assert out.strip().splitlines()[-1] == "False"
