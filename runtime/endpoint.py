@@ -9,6 +9,7 @@ DEFAULT_PORT = 7447
 DEFAULT_ENDPOINT = f"tcp/127.0.0.1:{DEFAULT_PORT}"
 CONNECT_ENV = "TURTLECTL_CONNECT"
 DOMAIN_ENV = "TURTLECTL_DOMAIN"
+LOG_DIR_ENV = "TURTLECTL_LOG_DIR"  # the parent folder of run folders, as `launch --log-dir` names it
 
 
 def default_domain() -> str:

@@ -18,10 +18,9 @@ from turtlectl.cli.commands.options import (
     format,
     result,
 )
-from turtlectl.cli.system.supervisor.logs import LOG_DIR_ENV
 from turtlectl.runtime.client import checks
 from turtlectl.runtime.client.errors import BadInput
-from turtlectl.runtime.endpoint import DEFAULT_PORT
+from turtlectl.runtime.endpoint import DEFAULT_PORT, LOG_DIR_ENV
 
 
 def launch(

@@ -28,8 +28,8 @@ from pathlib import Path
 from typing import TYPE_CHECKING, NamedTuple
 
 from turtlectl.cli.system.supervisor import notify
-from turtlectl.cli.system.supervisor.logs import LOG_DIR_ENV
 from turtlectl.runtime.client.errors import CannotStart
+from turtlectl.runtime.endpoint import LOG_DIR_ENV
 from turtlectl.runtime.exitcodes import node_exit
 
 if TYPE_CHECKING:

@@ -14,10 +14,6 @@ from pathlib import Path
 RUN_RE = re.compile(r"^(?P<stamp>\d{4}-\d{2}-\d{2}-\d{2}-\d{2}-\d{2})-(?P<pid>\d+)$")
 
 
-#: the parent folder of run folders, as ``launch --log-dir`` names it (default: ``default_parent``)
-LOG_DIR_ENV = "TURTLECTL_LOG_DIR"
-
-
 def default_parent() -> Path:
     return Path.home() / ".turtlectl" / "log"
 
