@@ -13,6 +13,7 @@ Cases (each rclpy side is its own process, as a student's node would be):
   scan-to-rclpy    Cyclone writer sensor_msgs/LaserScan (360 ranges) on rt/obstacles -> rclpy subscription
   twist-from-rclpy rclpy publisher /turtle1/cmd_vel -> Cyclone reader
   echo             every ROS type an rclpy wheel provides: Cyclone -> rclpy -> republished -> Cyclone, equal?
+  node-names       USER_DATA enclave=/; and a ros_discovery_info sample: rclpy lists the node and its publisher?
   graph            what rclpy's graph lists of the Cyclone side (topics and types, turtlesim/msg/Pose included)
 QoS on both sides: reliable, volatile, keep last 10 (rclpy's default, the integer 10 in create_publisher).
 Prints one JSON object per case: received/sent, latency p50/p90/max in ms (monotonic clock, same host),
@@ -137,7 +138,7 @@ def rclpy_pub(count: int) -> None:
     rclpy.shutdown()
 
 
-def rclpy_graph(wanted: str) -> None:
+def rclpy_graph(wanted: str, node_name: str = "") -> None:
     """Print rclpy's view of the graph once every topic named in `wanted` (comma separated) shows."""
     import rclpy
     from rclpy.node import Node
@@ -149,10 +150,14 @@ def rclpy_graph(wanted: str) -> None:
     topics: dict[str, list[str]] = {}
     while time.monotonic() < end:
         topics = dict(node.get_topic_names_and_types())
-        if names <= topics.keys():
+        nodes = [n for n, _ns in node.get_node_names_and_namespaces()]
+        if names <= topics.keys() and (not node_name or node_name in nodes):
             break
         rclpy.spin_once(node, timeout_sec=0.1)
-    print(json.dumps({"topics": topics, "nodes": node.get_node_names_and_namespaces()}), flush=True)
+    result = {"topics": topics, "nodes": node.get_node_names_and_namespaces()}
+    if node_name and node_name in [n for n, _ns in result["nodes"]]:
+        result["its_publishers"] = node.get_publisher_names_and_types_by_node(node_name, "/")
+    print(json.dumps(result), flush=True)
     node.destroy_node()
     rclpy.shutdown()
 
@@ -387,6 +392,35 @@ def case_echo(env: dict[str, str]) -> dict:
     return {"case": "echo", "results": results}
 
 
+def case_node_names(env: dict[str, str], enclave: bool) -> dict:
+    """A Cyclone participant that says it holds the node ``bridge_probe`` (USER_DATA ``enclave=/;`` and
+    a ``ros_discovery_info`` sample): does rclpy's graph list the node, and its publisher?"""
+    from cyclonedds.domain import DomainParticipant
+    from cyclonedds.pub import DataWriter
+    from cyclonedds.qos import Policy, Qos
+    from cyclonedds.topic import Topic
+
+    from turtlectl.nodes import ros2_types as r
+
+    def gid(entity) -> r.Gid:
+        return r.Gid(data=list(entity.get_guid().bytes))
+
+    dp = DomainParticipant(int(env["ROS_DOMAIN_ID"]), qos=Qos(Policy.Userdata(b"enclave=/;")) if enclave else None)
+    qos = Qos(Policy.Reliability.Reliable(0), Policy.Durability.Volatile, Policy.History.KeepLast(10), r.XCDR1)
+    twist = DataWriter(dp, Topic(dp, r.dds_topic("/turtle1/cmd_vel"), r.Twist, qos=qos), qos=qos)
+    info_qos = Qos(
+        Policy.Reliability.Reliable(0), Policy.Durability.TransientLocal, Policy.History.KeepLast(1), r.XCDR1
+    )
+    info = DataWriter(dp, Topic(dp, "ros_discovery_info", r.ParticipantEntitiesInfo, qos=info_qos), qos=info_qos)
+    node = r.NodeEntitiesInfo(node_namespace="/", node_name="bridge_probe", writer_gid_seq=[gid(twist)])
+    info.write(r.ParticipantEntitiesInfo(gid=gid(dp), node_entities_info_seq=[node]))
+    proc = child(env, "rclpy-graph", "/turtle1/cmd_vel", "bridge_probe")
+    out = json.loads(proc.stdout.readline() or "{}")
+    proc.wait(timeout=DEADLINE)
+    del twist, info, dp
+    return {"case": "node-names" + ("" if enclave else "-no-enclave"), **out}
+
+
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--count", type=int, default=100)
@@ -403,7 +437,7 @@ def main() -> int:
         elif role == "rclpy-echo":
             rclpy_echo(rest[0])
         else:
-            rclpy_graph(rest[0])
+            rclpy_graph(*rest)
         return 0
     if not os.environ.get(NETNS_FLAG):
         if os.geteuid() != 0 or not shutil.which("unshare"):
@@ -415,7 +449,7 @@ def main() -> int:
         return subprocess.call(["unshare", "--net", "sh", "-c", inner], env=env)
     env = ros_env(not args.no_ignore_type_information)
     os.environ.update(env)  # the Cyclone participant of this process reads CYCLONEDDS_URI
-    cases = args.case or ["twist-to-rclpy", "scan-to-rclpy", "twist-from-rclpy", "graph", "echo"]
+    cases = args.case or ["twist-to-rclpy", "scan-to-rclpy", "twist-from-rclpy", "graph", "echo", "node-names"]
     for case in cases:
         if case == "twist-to-rclpy":
             result = case_to_rclpy("twist", args.count, env)
@@ -425,6 +459,8 @@ def main() -> int:
             result = case_from_rclpy(args.count, env)
         elif case == "echo":
             result = case_echo(env)
+        elif case in ("node-names", "node-names-no-enclave"):
+            result = case_node_names(env, enclave=case == "node-names")
         else:
             result = case_graph(env)
         result["ignore_type_information"] = not args.no_ignore_type_information

@@ -269,3 +269,39 @@ class TurtleStatus(IdlStruct, typename="capstone_msgs::msg::dds_::TurtleStatus_"
 
 
 BY_ROS_NAME["capstone_msgs/msg/TurtleStatus"] = TurtleStatus
+
+
+# rmw_dds_common: how a participant tells ROS 2 which nodes it holds (topic ``ros_discovery_info``,
+# no ``rt/`` prefix; reliable, transient local, keep last 1).  A gid is the 16-byte DDS GUID of the
+# participant, reader or writer.
+@dataclass
+@final
+class Gid(IdlStruct, typename="rmw_dds_common::msg::dds_::Gid_"):
+    """rmw_dds_common/msg/Gid: char[16], a DDS GUID (12-byte prefix, 4-byte entity id)."""
+
+    data: t.array[t.uint8, 16] = field(default_factory=lambda: [0] * 16)
+
+
+@dataclass
+@final
+class NodeEntitiesInfo(IdlStruct, typename="rmw_dds_common::msg::dds_::NodeEntitiesInfo_"):
+    """rmw_dds_common/msg/NodeEntitiesInfo: one node, its namespace, and the gids of its readers and writers."""
+
+    node_namespace: str = "/"
+    node_name: str = ""
+    reader_gid_seq: t.sequence[Gid] = field(default_factory=list)
+    writer_gid_seq: t.sequence[Gid] = field(default_factory=list)
+
+
+@dataclass
+@final
+class ParticipantEntitiesInfo(IdlStruct, typename="rmw_dds_common::msg::dds_::ParticipantEntitiesInfo_"):
+    """rmw_dds_common/msg/ParticipantEntitiesInfo: the nodes of one participant (its gid)."""
+
+    gid: Gid = field(default_factory=Gid)
+    node_entities_info_seq: t.sequence[NodeEntitiesInfo] = field(default_factory=list)
+
+
+BY_ROS_NAME["rmw_dds_common/msg/Gid"] = Gid
+BY_ROS_NAME["rmw_dds_common/msg/NodeEntitiesInfo"] = NodeEntitiesInfo
+BY_ROS_NAME["rmw_dds_common/msg/ParticipantEntitiesInfo"] = ParticipantEntitiesInfo
