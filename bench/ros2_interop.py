@@ -14,6 +14,7 @@ Cases (each rclpy side is its own process, as a student's node would be):
   twist-from-rclpy rclpy publisher /turtle1/cmd_vel -> Cyclone reader
   echo             every ROS type an rclpy wheel provides: Cyclone -> rclpy -> republished -> Cyclone, equal?
   node-names       USER_DATA enclave=/; and a ros_discovery_info sample: rclpy lists the node and its publisher?
+  call-service     Cyclone calls an rclpy std_srvs/SetBool service (rq/ and rr/ topics), 5 calls
   graph            what rclpy's graph lists of the Cyclone side (topics and types, turtlesim/msg/Pose included)
 QoS on both sides: reliable, volatile, keep last 10 (rclpy's default, the integer 10 in create_publisher).
 Prints one JSON object per case: received/sent, latency p50/p90/max in ms (monotonic clock, same host),
@@ -179,6 +180,29 @@ def rclpy_echo(pairs: str) -> None:
         cls = getattr(importlib.import_module(f"{package}.msg"), name)
         pub = node.create_publisher(cls, topic + "_back", 10)
         keep.append(node.create_subscription(cls, topic, pub.publish, 10))
+    print("READY", flush=True)
+    end = time.monotonic() + DEADLINE
+    while time.monotonic() < end:
+        rclpy.spin_once(node, timeout_sec=0.1)
+    node.destroy_node()
+    rclpy.shutdown()
+
+
+def rclpy_server() -> None:
+    """Serve std_srvs/SetBool on /set_flag until killed; print each request's data."""
+    import rclpy
+    from rclpy.node import Node
+    from std_srvs.srv import SetBool
+
+    rclpy.init()
+    node = Node("probe_server")
+
+    def serve(request, response):
+        response.success = request.data
+        response.message = f"got {request.data}"
+        return response
+
+    node.create_service(SetBool, "/set_flag", serve)
     print("READY", flush=True)
     end = time.monotonic() + DEADLINE
     while time.monotonic() < end:
@@ -421,6 +445,60 @@ def case_node_names(env: dict[str, str], enclave: bool) -> dict:
     return {"case": "node-names" + ("" if enclave else "-no-enclave"), **out}
 
 
+def case_call_service(env: dict[str, str], calls: int = 5) -> dict:
+    """Cyclone as a client of an rclpy service (std_srvs/SetBool on /set_flag): a writer on
+    ``rq/set_flagRequest``, a reader on ``rr/set_flagReply``, one call in flight at a time.  Fast DDS
+    carries no request header in the payload (the sample identity is RTPS metadata), so the reply is
+    matched to its call only by having one call in flight."""
+    from dataclasses import dataclass
+
+    from cyclonedds.domain import DomainParticipant
+    from cyclonedds.idl import IdlStruct
+    from cyclonedds.idl.annotations import final
+    from cyclonedds.pub import DataWriter
+    from cyclonedds.qos import Policy, Qos
+    from cyclonedds.sub import DataReader
+    from cyclonedds.topic import Topic
+    from cyclonedds.util import duration
+
+    from turtlectl.nodes import ros2_types as r
+
+    @dataclass
+    @final
+    class SetBoolRequest(IdlStruct, typename="std_srvs::srv::dds_::SetBool_Request_"):
+        data: bool = False
+
+    @dataclass
+    @final
+    class SetBoolResponse(IdlStruct, typename="std_srvs::srv::dds_::SetBool_Response_"):
+        success: bool = False
+        message: str = ""
+
+    proc = child(env, "rclpy-server")
+    assert proc.stdout.readline().strip() == "READY"
+    dp = DomainParticipant(int(env["ROS_DOMAIN_ID"]))
+    qos = Qos(Policy.Reliability.Reliable(0), Policy.Durability.Volatile, Policy.History.KeepLast(10), r.XCDR1)
+    writer = DataWriter(dp, Topic(dp, "rq/set_flagRequest", SetBoolRequest, qos=qos), qos=qos)
+    reader = DataReader(dp, Topic(dp, "rr/set_flagReply", SetBoolResponse, qos=qos), qos=qos)
+    matched = wait_matched(writer, "get_publication_matched_status") >= 0
+    matched = matched and wait_matched(reader, "get_subscription_matched_status") >= 0
+    answers, latencies = [], []
+    for i in range(calls if matched else 0):
+        start = time.monotonic()
+        writer.write(SetBoolRequest(data=i % 2 == 0))
+        try:
+            reply = reader.take_one(timeout=duration(seconds=3))
+        except TimeoutError:
+            answers.append(None)
+            continue
+        latencies.append((time.monotonic() - start) * 1e3)
+        answers.append([reply.success, reply.message])
+    proc.kill()
+    proc.wait()
+    del writer, reader, dp
+    return {"case": "call-service", "matched": matched, "answers": answers, **percentiles(latencies)}
+
+
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--count", type=int, default=100)
@@ -434,6 +512,8 @@ def main() -> int:
             rclpy_sub(rest[0], int(rest[1]))
         elif role == "rclpy-pub":
             rclpy_pub(int(rest[0]))
+        elif role == "rclpy-server":
+            rclpy_server()
         elif role == "rclpy-echo":
             rclpy_echo(rest[0])
         else:
@@ -449,7 +529,15 @@ def main() -> int:
         return subprocess.call(["unshare", "--net", "sh", "-c", inner], env=env)
     env = ros_env(not args.no_ignore_type_information)
     os.environ.update(env)  # the Cyclone participant of this process reads CYCLONEDDS_URI
-    cases = args.case or ["twist-to-rclpy", "scan-to-rclpy", "twist-from-rclpy", "graph", "echo", "node-names"]
+    cases = args.case or [
+        "twist-to-rclpy",
+        "scan-to-rclpy",
+        "twist-from-rclpy",
+        "graph",
+        "echo",
+        "node-names",
+        "call-service",
+    ]
     for case in cases:
         if case == "twist-to-rclpy":
             result = case_to_rclpy("twist", args.count, env)
@@ -459,6 +547,8 @@ def main() -> int:
             result = case_from_rclpy(args.count, env)
         elif case == "echo":
             result = case_echo(env)
+        elif case == "call-service":
+            result = case_call_service(env)
         elif case in ("node-names", "node-names-no-enclave"):
             result = case_node_names(env, enclave=case == "node-names")
         else:
