@@ -13,6 +13,7 @@ Usage: python bench/startup.py --before ../before [--launches 10] [--helps 15]
 from __future__ import annotations
 
 import argparse
+import contextlib
 import os
 import signal
 import socket
@@ -20,7 +21,9 @@ import subprocess
 import sys
 import threading
 import time
+from collections.abc import Iterator
 from pathlib import Path
+from typing import NamedTuple
 
 import zenoh
 
@@ -49,9 +52,17 @@ def listening(port: int) -> bool:
         return False
 
 
-def launch_to_ready(checkout: Path, timeout: float = 30.0) -> float:
-    """Seconds from starting ``checkout``'s ``turtlectl launch`` to every node's token, then stopped."""
-    port = free_port()
+class Ready(NamedTuple):
+    session: zenoh.Session  # this process's observer session, on the system's router
+    seconds: float  # from starting the launch to every node's token
+    pid: int  # the launch's, the leader of its process group
+
+
+@contextlib.contextmanager
+def launched(argv: list[str], cwd: Path, port: int, timeout: float = 30.0) -> Iterator[Ready]:
+    """Run ``argv`` (a ``turtlectl launch`` on ``port``) in its own process group; once each of
+    its four nodes holds its liveliness token, yield what was seen; then stop it (SIGINT to the
+    group, SIGKILL if it lingers)."""
     endpoint = f"tcp/127.0.0.1:{port}"
     seen: set[str] = set()
     done = threading.Event()
@@ -63,35 +74,37 @@ def launch_to_ready(checkout: Path, timeout: float = 30.0) -> float:
                 done.set()
 
     started = time.monotonic()
-    proc = subprocess.Popen(
-        [str(checkout / ".venv" / "bin" / "turtlectl"), "launch", "--port", str(port)],
-        cwd=checkout,
-        stdout=subprocess.DEVNULL,
-        stderr=subprocess.DEVNULL,
-        start_new_session=True,
-    )
+    proc = subprocess.Popen(argv, cwd=cwd, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, start_new_session=True)
     try:
         while not listening(port):  # the router listens once launch has started it
             if time.monotonic() - started > timeout:
-                raise RuntimeError(f"{checkout}: no router at {endpoint}")
+                raise RuntimeError(f"{cwd}: no router at {endpoint}")
             time.sleep(0.002)  # pacing: polling the port (zenoh.open's own retries wait far longer)
         session = zenoh.open(peer_config(endpoint))
         try:
             token_sub = session.liveliness().declare_subscriber(TOKENS, on_token, history=True)
             if not done.wait(timeout):
-                raise RuntimeError(f"{checkout}: not ready in {timeout:g} s (seen {sorted(seen)})")
+                raise RuntimeError(f"{cwd}: not ready in {timeout:g} s (seen {sorted(seen)})")
             elapsed = time.monotonic() - started
             token_sub.undeclare()
+            yield Ready(session, elapsed, proc.pid)
         finally:
             close_session(session)
-        return elapsed
     finally:
         os.killpg(proc.pid, signal.SIGINT)
         try:
-            proc.wait(10)
+            proc.wait(15)
         except subprocess.TimeoutExpired:
             os.killpg(proc.pid, signal.SIGKILL)
             proc.wait()
+
+
+def launch_to_ready(checkout: Path, timeout: float = 30.0) -> float:
+    """Seconds from starting ``checkout``'s ``turtlectl launch`` to every node's token, then stopped."""
+    port = free_port()
+    argv = [str(checkout / ".venv" / "bin" / "turtlectl"), "launch", "--port", str(port)]
+    with launched(argv, checkout, port, timeout) as ready:
+        return ready.seconds
 
 
 def help_time(checkout: Path) -> float:

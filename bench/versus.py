@@ -17,9 +17,6 @@ Usage: python bench/system.py --before ../before [--rounds 6] [--no-zygote]
 
 from __future__ import annotations
 
-import os
-import signal
-import subprocess
 import threading
 import time
 from dataclasses import dataclass, field
@@ -28,11 +25,10 @@ from pathlib import Path
 import psutil
 import zenoh
 
-from bench.startup import NODES, TOKENS, free_port, help_time, listening
+from bench.startup import free_port, help_time, launched
 from bench.system import machine, pct, summary
 from turtlectl.messages import TurtleStatus, decode
 from turtlectl.messages.keys import STATUS
-from turtlectl.runtime.session import close_session, peer_config
 
 IDLE_WINDOW = 5.0  # s: CPU is measured over this long, once the system is ready and settled
 SETTLE = 1.0  # s: after readiness, before measuring (the nodes' first ticks and subscriptions)
@@ -102,18 +98,8 @@ def pss_of(procs: list[psutil.Process]) -> float:
 
 def one_round(variant: Variant, timeout: float = 30.0) -> None:
     """Launch ``variant``, time it to ready, measure it idle, stop it."""
-    port = free_port()
-    endpoint = f"tcp/127.0.0.1:{port}"
-    seen: set[str] = set()
-    ready = threading.Event()
     arrivals: list[float] = []
     enough = threading.Event()
-
-    def on_token(sample: zenoh.Sample) -> None:
-        if sample.kind == zenoh.SampleKind.PUT:
-            seen.add(str(sample.key_expr).split("/")[2])
-            if NODES <= seen:
-                ready.set()
 
     def on_status(sample: zenoh.Sample) -> None:
         now_ns = time.time_ns()
@@ -121,44 +107,18 @@ def one_round(variant: Variant, timeout: float = 30.0) -> None:
         if len(arrivals) >= LATENCY_SAMPLES:
             enough.set()
 
-    started = time.monotonic()
-    proc = subprocess.Popen(
-        variant.argv(port),
-        cwd=variant.checkout,
-        stdout=subprocess.DEVNULL,
-        stderr=subprocess.DEVNULL,
-        start_new_session=True,
-    )
-    try:
-        while not listening(port):
-            if time.monotonic() - started > timeout:
-                raise RuntimeError(f"{variant.name}: no router at {endpoint}")
-            time.sleep(0.002)  # pacing: polling the port
-        session = zenoh.open(peer_config(endpoint))
-        try:
-            tokens = session.liveliness().declare_subscriber(TOKENS, on_token, history=True)
-            if not ready.wait(timeout):
-                raise RuntimeError(f"{variant.name}: not ready in {timeout:g} s (seen {sorted(seen)})")
-            variant.ready.append(time.monotonic() - started)
-            tokens.undeclare()
-            time.sleep(SETTLE)  # pacing: the system settles before it is measured idle
-            procs = tree(proc.pid)
-            variant.cpu.append(cpu_of(procs, IDLE_WINDOW))
-            variant.pss.append(pss_of(procs))
-            status = session.declare_subscriber(STATUS, on_status)
-            if not enough.wait(LATENCY_SAMPLES / 10 + 10):
-                raise RuntimeError(f"{variant.name}: {len(arrivals)} robot/status samples")
-            status.undeclare()
-            variant.latency.extend(arrivals[:LATENCY_SAMPLES])
-        finally:
-            close_session(session)
-    finally:
-        os.killpg(proc.pid, signal.SIGINT)
-        try:
-            proc.wait(15)
-        except subprocess.TimeoutExpired:
-            os.killpg(proc.pid, signal.SIGKILL)
-            proc.wait()
+    port = free_port()
+    with launched(variant.argv(port), variant.checkout, port, timeout) as ready:
+        variant.ready.append(ready.seconds)
+        time.sleep(SETTLE)  # pacing: the system settles before it is measured idle
+        procs = tree(ready.pid)
+        variant.cpu.append(cpu_of(procs, IDLE_WINDOW))
+        variant.pss.append(pss_of(procs))
+        status = ready.session.declare_subscriber(STATUS, on_status)
+        if not enough.wait(LATENCY_SAMPLES / 10 + 10):
+            raise RuntimeError(f"{variant.name}: {len(arrivals)} robot/status samples")
+        status.undeclare()
+        variant.latency.extend(arrivals[:LATENCY_SAMPLES])
 
 
 def compare(this: Path, before: Path, rounds: int, helps: int, no_zygote: bool) -> None:

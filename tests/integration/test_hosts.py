@@ -29,6 +29,11 @@ def sh(*argv: str) -> subprocess.CompletedProcess[str]:
     return subprocess.run(list(argv), capture_output=True, text=True, timeout=20)
 
 
+def tool(netns: str, *args: str) -> subprocess.CompletedProcess[str]:
+    """``turtlectl ARGS`` run on the host that network namespace ``netns`` stands for."""
+    return sh("ip", "netns", "exec", netns, *turtlectl(), *args)
+
+
 @pytest.fixture()
 def hosts():
     tag = secrets.token_hex(3)
@@ -115,24 +120,13 @@ def test_a_navigator_on_another_host_joins_the_system(hosts):
         host_a.wait_for(r"all 3 nodes ready", 30)
         host_b = Launch(b, "--only", "navigator", "--connect", endpoint)
         host_b.wait_for(r"1 node ready", 30)
-        goal = sh("ip", "netns", "exec", b, *turtlectl(), "goto", "3", "3", "45", "--connect", endpoint)
+        goal = tool(b, "goto", "3", "3", "45", "--connect", endpoint)
         assert goal.returncode == 0, goal.stdout + goal.stderr
         assert_reached_3_3(goal.stdout)
-        listed = sh("ip", "netns", "exec", a, *turtlectl(), "list", "--connect", endpoint)
+        listed = tool(a, "list", "--connect", endpoint)
         assert "navigator" in listed.stdout and "obstacle_detector" in listed.stdout
         # host A's own tools reach it on loopback too, with no --connect but the port
-        local = sh(
-            "ip",
-            "netns",
-            "exec",
-            a,
-            *turtlectl(),
-            "echo",
-            "robot/status",
-            "--once",
-            "--connect",
-            f"tcp/127.0.0.1:{port}",
-        )
+        local = tool(a, "echo", "robot/status", "--once", "--connect", f"tcp/127.0.0.1:{port}")
         assert local.returncode == 0 and "battery" in local.stdout, local.stdout + local.stderr
         # and nothing of the system is reachable from the root namespace on loopback
         assert sh(*turtlectl(), "list", "--connect", f"tcp/127.0.0.1:{port}").returncode == 3
@@ -179,7 +173,7 @@ def test_listen_on_a_network_address_with_loopbacks_port_taken_says_so_and_a_por
     try:
         for launch in held:
             launch.wait_for(r"1 node ready", 30)
-        done = sh("ip", "netns", "exec", a, *turtlectl(), "router", "--listen", "10.231.7.1", "--insecure")
+        done = tool(a, "router", "--listen", "10.231.7.1", "--insecure")
         assert done.returncode != 0, done.stdout
         assert "cannot listen on tcp/10.231.7.1:7447 and tcp/127.0.0.1:7447: the port is already in use" in done.stderr
         assert done.stderr.rstrip().endswith("--listen 10.231.7.1 --insecure --port 7449"), done.stderr
@@ -201,27 +195,16 @@ def test_a_client_on_another_host_drives_a_secure_system_over_mutual_tls(hosts, 
     host_a = Launch(a, "--secure", "--tls", str(certs), "--listen", "10.231.7.1", "--port", str(port))
     try:
         host_a.wait_for(r"all 4 nodes ready", 30)
-        goal = sh("ip", "netns", "exec", b, *turtlectl(), "goto", "3", "3", "45", "--connect", endpoint)
+        goal = tool(b, "goto", "3", "3", "45", "--connect", endpoint)
         assert goal.returncode == 0, goal.stdout + goal.stderr
         assert_reached_3_3(goal.stdout)
         # host A's own tools reach it on loopback too, over TLS with the logins of the same file
-        local = sh(
-            "ip",
-            "netns",
-            "exec",
-            a,
-            *turtlectl(),
-            "echo",
-            "robot/status",
-            "--once",
-            "--connect",
-            f"tls/127.0.0.1:{port}",
-        )
+        local = tool(a, "echo", "robot/status", "--once", "--connect", f"tls/127.0.0.1:{port}")
         assert local.returncode == 0 and "battery" in local.stdout, local.stdout + local.stderr
-        plain = sh("ip", "netns", "exec", b, *turtlectl(), "list", "--connect", f"tcp/10.231.7.1:{port}")
+        plain = tool(b, "list", "--connect", f"tcp/10.231.7.1:{port}")
         assert plain.returncode == 3 and "speaks TLS only (connect with tls/HOST:PORT)" in plain.stderr, plain.stderr
         monkeypatch.setenv("TURTLECTL_TLS", str(other))
-        foreign = sh("ip", "netns", "exec", b, *turtlectl(), "list", "--connect", endpoint)
+        foreign = tool(b, "list", "--connect", endpoint)
         assert foreign.returncode == 3 and "is not one its authority signed" in foreign.stderr, foreign.stderr
     finally:
         host_a.stop()
@@ -247,7 +230,7 @@ def test_a_turtles_nodes_on_another_host_join_the_fleet(hosts):
         )
         assert goal.returncode == 0, goal.stdout + goal.stderr
         assert_reached_3_3(goal.stdout)
-        listed = sh("ip", "netns", "exec", a, *turtlectl(), "list", "--connect", endpoint).stdout
+        listed = tool(a, "list", "--connect", endpoint).stdout
         assert "turtle2/navigator" in listed and "turtle3/navigator" in listed, listed
     finally:
         if host_b is not None:
@@ -283,20 +266,7 @@ def test_a_turtles_nodes_on_another_host_join_a_secure_fleet_with_their_own_logi
         )
         assert goal.returncode == 0, goal.stdout + goal.stderr + "\n".join(host_b.lines)
         assert_reached_3_3(goal.stdout)
-        status = sh(
-            "ip",
-            "netns",
-            "exec",
-            b,
-            *turtlectl(),
-            "echo",
-            "robot/status",
-            "--turtle",
-            "turtle2",
-            "--once",
-            "--connect",
-            endpoint,
-        )
+        status = tool(b, "echo", "robot/status", "--turtle", "turtle2", "--once", "--connect", endpoint)
         assert status.returncode == 0 and "TurtleStatus" in status.stdout, status.stdout + status.stderr
     finally:
         if host_b is not None:
