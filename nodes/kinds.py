@@ -22,10 +22,13 @@ from turtlectl.nodes.params import (
     NAVIGATOR_INTERFACE,
     OBSTACLE_DETECTOR_CLAIMS,
     OBSTACLE_DETECTOR_INTERFACE,
+    ROS2_BRIDGE_CLAIMS,
+    ROS2_BRIDGE_INTERFACE,
     STATUS_MONITOR_CLAIMS,
     STATUS_MONITOR_INTERFACE,
     NavigatorParams,
     ObstacleDetectorParams,
+    Ros2BridgeParams,
     StatusMonitorParams,
 )
 from turtlectl.runtime.client.errors import BadInput
@@ -102,5 +105,8 @@ KINDS: dict[str, NodeKind] = {
         ObstacleDetectorParams,
         OBSTACLE_DETECTOR_CLAIMS,
         OBSTACLE_DETECTOR_INTERFACE,
+    ),
+    "ros2_bridge": _builtin(
+        "turtlectl.nodes.ros2_bridge:Ros2Bridge", Ros2BridgeParams, ROS2_BRIDGE_CLAIMS, ROS2_BRIDGE_INTERFACE
     ),
 }
