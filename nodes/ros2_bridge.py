@@ -71,7 +71,7 @@ class Ros2Bridge:
         self.publishers: dict[str, Any] = {}  # key -> turtlectl publisher of what comes from ROS
         self.echo: dict[str, OwnEcho] = {}
         self.turtles: list[str] = []
-        self.nodes: dict[str, int] = {}  # turtlectl node name -> how many of its tokens are alive
+        self.tokens: set[str] = set()  # the presence tokens of the system's nodes alive now
         for row in node.params.topics:
             self.add(row)
         if node.params.defaults:
@@ -79,6 +79,13 @@ class Ros2Bridge:
                 self.add(row)
             node.subscribe(f"/{TURTLES}", Turtles, self.on_turtles)
         node.watch_liveliness(f"{NODE_TOKEN_PREFIX}/**", self.on_presence)
+        # and the nodes there already (a watch sees only what changes): the replies come on Zenoh's thread
+        node.session.liveliness().get(
+            f"{NODE_TOKEN_PREFIX}/**",
+            handler=lambda reply: (
+                reply.ok is not None and node.core.enqueue(self.on_presence, str(reply.ok.key_expr), True)
+            ),
+        )
         node.on_shutdown(self.link.close)
         node.log.info(
             "bridging to ROS 2 domain %d on %s (%d rows so far)", self.domain, node.params.address, len(self.rows)
@@ -137,15 +144,12 @@ class Ros2Bridge:
 
     # -- the graph --------------------------------------------------------------------------
     def on_presence(self, key: str, alive: bool) -> None:
-        info = parse_node_token(key)
-        if info is None:
-            return
-        count = self.nodes.get(info.name, 0) + (1 if alive else -1)
-        if count > 0:
-            self.nodes[info.name] = count
+        if alive:
+            self.tokens.add(key)
         else:
-            self.nodes.pop(info.name, None)
-        self.link.set_nodes(list(self.nodes))
+            self.tokens.discard(key)
+        infos = (parse_node_token(k) for k in self.tokens)
+        self.link.set_nodes(sorted({info.name for info in infos if info is not None}))
 
     def on_other_bridge(self, participant: str) -> None:
         if not self.warned_other:
