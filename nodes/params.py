@@ -35,7 +35,7 @@ Degrees = Annotated[float, msgspec.Meta(ge=-360.0, le=360.0)]
 PhantomRate = Annotated[float, msgspec.Meta(ge=0.0, le=100.0)]
 Lifetime = Annotated[float, msgspec.Meta(ge=0.01, le=10.0)]
 Circles = Annotated[list[Obstacle], msgspec.Meta(max_length=100)]
-RosDomain = Annotated[int, msgspec.Meta(ge=0, le=232)]
+RosDomain = Annotated[int, msgspec.Meta(ge=-1, le=232)]
 Rows = Annotated[list[BridgeTopic], msgspec.Meta(max_length=200)]
 
 
@@ -112,10 +112,10 @@ class Ros2BridgeParams(msgspec.Struct, forbid_unknown_fields=True, kw_only=True)
     simulated clock and the log stream; ``topics`` adds rows (``[[node.params.topics]]``: key, ros,
     type, direction, qos).  ``# unit: meaning`` per field."""
 
-    ros_domain: RosDomain | None = None  # -: ROS 2 domain id, 0 to 232 (unset: ROS_DOMAIN_ID, else 0)
-    address: str = "127.0.0.1"  # -: the only address DDS discovery and data use (loopback unless told otherwise)
-    turtles: list[str] = msgspec.field(default_factory=list)  # -: the turtles to bridge (empty: every one)
-    defaults: bool = True  # -: bridge the default table (each turtle's topics, clock, log) besides topics
+    ros_domain: RosDomain = -1  # id: the ROS 2 domain (-1: ROS_DOMAIN_ID, else 0)
+    address: str = "127.0.0.1"  # IPv4: the only address DDS discovery and data use (loopback unless told otherwise)
+    turtles: list[str] = msgspec.field(default_factory=list)  # names: the turtles to bridge (empty: every one)
+    defaults: bool = True  # flag: bridge the default table (each turtle's topics, clock, log) besides topics
     topics: Rows = msgspec.field(default_factory=list)  # table: more rows (key, ros, type, direction, qos)
 
     FIXED: ClassVar[dict[str, str]] = {

@@ -47,7 +47,7 @@ def open_link(node: Node[Ros2BridgeParams]) -> Any:
         ) from None
     p = node.params
     try:
-        domain = ros2_dds.ros_domain_id() if p.ros_domain is None else p.ros_domain
+        domain = ros2_dds.ros_domain_id() if p.ros_domain < 0 else p.ros_domain
     except ValueError as exc:
         raise BadInput(str(exc)) from None
     return DdsLink(domain, p.address, node.name, node.core.enqueue, node.log), domain

@@ -26,6 +26,7 @@ from typing import Annotated, Literal
 import msgspec
 
 from turtlectl.messages.keys import CLOCK, CMD_VEL, FIRST_TURTLE, OBSTACLES, POSE, STATUS, resolve
+from turtlectl.runtime.loader import suggestion
 
 #: ROS 2 type -> (the turtlectl message type on the key, the directions it can cross).  The bridge's
 #: conversions (nodes.ros2_mapping.TO_ROS / FROM_ROS) cover exactly these; a unit test keeps them equal.
@@ -58,7 +59,8 @@ class BridgeTopic(msgspec.Struct, forbid_unknown_fields=True, frozen=True, kw_on
         known = ROS_TYPES.get(self.type)
         if known is None:
             names = ", ".join(sorted(ROS_TYPES))
-            raise ValueError(f"unknown ROS type {self.type!r} for {self.ros} (the bridge converts: {names})")
+            hint = suggestion(self.type, ROS_TYPES)
+            raise ValueError(f"unknown ROS type {self.type!r} for {self.ros}{hint} (the bridge converts: {names})")
         ways = ("to_ros", "from_ros") if self.direction == "both" else (self.direction,)
         for way in ways:
             if way not in known[1]:
