@@ -59,11 +59,11 @@ class Ros2Bridge:
     Interface = ROS2_BRIDGE_INTERFACE
 
     def __init__(self, node: Node[Ros2BridgeParams]):
+        self.node = node
+        self.link, self.domain = open_link(node)  # first: without Cyclone DDS, one line and exit 4
         from turtlectl.nodes import ros2_mapping
 
-        self.node = node
         self.mapping = ros2_mapping
-        self.link, self.domain = open_link(node)
         self.link.on_other_bridge = self.on_other_bridge
         self.warned_other = False
         self.rows: list[BridgeTopic] = []

@@ -29,6 +29,12 @@ def gid(entity: Any) -> Gid:
     return Gid(data=list(entity.get_guid().bytes))
 
 
+def ros_name(ros_type: type) -> str:
+    """A DDS type's ROS 2 name: ``std_msgs::msg::dds_::String_`` -> ``std_msgs/msg/String``."""
+    package, kind, _dds, name = ros_type.__idl_typename__.split("::")
+    return f"{package}/{kind}/{name.rstrip('_')}"
+
+
 def ros_node_name(name: str) -> tuple[str, str]:
     """A turtlectl node name as ROS 2's (namespace, name): ``turtle2/navigator`` -> (``/turtle2``,
     ``navigator``); characters ROS names do not allow become ``_``."""
@@ -101,7 +107,7 @@ class DdsLink:
                     self.log.warning(
                         "a ROS message on %s did not decode as %s (%s); dropped, still bridging",
                         ros_topic,
-                        ros_type.__name__,
+                        ros_name(ros_type),
                         exc,
                     )
                 return

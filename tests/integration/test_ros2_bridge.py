@@ -6,10 +6,14 @@ from __future__ import annotations
 
 import json
 import math
+import os
+import subprocess
+import time
 
 import pytest
 
-from tests.integration.ros2_side import default_launch_with_bridge, ros_side
+from tests.integration.harness import turtlectl
+from tests.integration.ros2_side import SCRIPTS, default_launch_with_bridge, ros_env, ros_side
 
 pytestmark = pytest.mark.integration
 
@@ -26,7 +30,7 @@ direction = "from_ros"
 def side(tmp_path_factory):
     """The default system with the bridge (its default table and a /chatter row), in a namespace."""
     with ros_side() as s:
-        s.launch(default_launch_with_bridge(CHATTER), tmp_path_factory.mktemp("ros2"), nodes=5)
+        s.system = s.launch(default_launch_with_bridge(CHATTER), tmp_path_factory.mktemp("ros2"), nodes=5)
         yield s
 
 
@@ -34,6 +38,16 @@ def echo_once(side, key: str) -> dict:
     done = side.tool("echo", key, "--once", "--json")
     assert done.returncode == 0, done.stdout + done.stderr
     return json.loads(done.stdout)
+
+
+def standing_still(side) -> dict:
+    """The turtle's pose once it stands still (after a drive it coasts for a second), under a deadline."""
+    deadline = time.monotonic() + 20
+    while True:
+        pose = echo_once(side, "turtle1/pose")
+        if pose["linear_velocity"] == 0 and pose["angular_velocity"] == 0:
+            return pose
+        assert time.monotonic() < deadline, pose
 
 
 def test_an_rclpy_publisher_on_turtle1_cmd_vel_drives_the_turtle(side):
@@ -47,9 +61,9 @@ def test_an_rclpy_publisher_on_turtle1_cmd_vel_drives_the_turtle(side):
 
 
 def test_an_rclpy_subscription_gets_the_odometry_of_turtlectls_pose(side):
+    pose = standing_still(side)
     listener = side.rclpy("probe.py", "listen", "/turtle1/odom", "nav_msgs/msg/Odometry", "1")
     odom = listener.json_line("MSG")
-    pose = echo_once(side, "turtle1/pose")  # the turtle stands still: the same pose
     assert odom["header"]["frame_id"] == "odom" and odom["child_frame_id"] == "turtle1/base_link"
     position, q = odom["pose"]["pose"]["position"], odom["pose"]["pose"]["orientation"]
     assert math.isclose(position["x"], pose["x"], abs_tol=1e-6) and math.isclose(position["y"], pose["y"], abs_tol=1e-6)
@@ -57,6 +71,7 @@ def test_an_rclpy_subscription_gets_the_odometry_of_turtlectls_pose(side):
 
 
 def test_an_rclpy_subscription_gets_the_scan_with_turtlectls_ranges(side):
+    standing_still(side)
     listener = side.rclpy("probe.py", "listen", "/obstacles", "sensor_msgs/msg/LaserScan", "1")
     scan = listener.json_line("MSG")
     ours = echo_once(side, "obstacles")  # the turtle stands still: the same ranges, as float32
@@ -86,3 +101,51 @@ def test_turtlectl_echo_shows_an_rclpy_talkers_string(side):
     said = echo_once(side, "chatter")
     assert said["data"] == "hello from rclpy"
     talker.stop()
+
+
+def test_a_ros_message_that_does_not_decode_is_one_line_and_the_bridge_keeps_going(side):
+    garbage = side.turtlectl_python(str(SCRIPTS / "garbage.py"), "/chatter", "5", env=ros_env())
+    garbage.wait_for("^SENT$")
+    line = side.system.wait_for("did not decode")
+    assert "/chatter" in line and "std_msgs/msg/String" in line
+    talker = side.rclpy("probe.py", "talk", "/chatter", "still bridging")
+    talker.wait_for("^READY$")
+    assert echo_once(side, "chatter")["data"] == "still bridging"
+    talker.stop()
+    assert sum("did not decode" in x for x in side.system.lines) == 1  # once a topic
+
+
+def test_a_second_bridge_on_the_ros_domain_is_said_once_and_both_keep_running(side):
+    second = side.spawn([*turtlectl(), "ros2", "bridge", "--connect", side.endpoint])
+    line = second.wait_for("another bridge named ros2_bridge is on ROS 2 domain 0")
+    assert "stop one" in line
+    side.system.wait_for("another bridge named ros2_bridge")
+    assert second.proc.poll() is None and side.system.proc.poll() is None
+    second.stop()
+    assert second.proc.returncode == 0, second.text()
+    assert sum("another bridge" in x for x in second.lines) == 1
+
+
+def test_an_unknown_ros_type_in_the_table_is_one_line_at_check(tmp_path):
+    path = tmp_path / "launch.toml"
+    path.write_text(default_launch_with_bridge(CHATTER.replace("std_msgs/msg/String", "std_msgs/msg/Strng")))
+    done = subprocess.run([*turtlectl(), "launch", str(path), "--check"], capture_output=True, text=True, timeout=60)
+    assert done.returncode == 2
+    assert done.stderr.strip().count("\n") == 0, done.stderr
+    assert "unknown ROS type 'std_msgs/msg/Strng' for /chatter; did you mean std_msgs/msg/String?" in done.stderr
+
+
+def test_without_cyclone_dds_the_bridge_says_how_to_install_it_and_exits_4(tmp_path):
+    hidden = tmp_path / "hide" / "cyclonedds"
+    hidden.mkdir(parents=True)
+    (hidden / "__init__.py").write_text("raise ImportError('hidden for the test', name='cyclonedds')\n")
+    env = {**os.environ, "PYTHONPATH": str(hidden.parent)}
+    done = subprocess.run(
+        [*turtlectl(), "ros2", "bridge", "--connect", "tcp/127.0.0.1:1"],
+        capture_output=True,
+        text=True,
+        timeout=60,
+        env=env,
+    )
+    assert done.returncode == 4, done.stdout + done.stderr
+    assert "pip install 'turtlectl[ros2]'" in done.stderr
