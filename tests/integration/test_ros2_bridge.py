@@ -7,13 +7,14 @@ from __future__ import annotations
 import json
 import math
 import os
+import re
 import subprocess
 import time
 
 import pytest
 
 from tests.integration.harness import turtlectl
-from tests.integration.ros2_side import SCRIPTS, default_launch_with_bridge, ros_env, ros_side
+from tests.integration.ros2_side import ROOT, SCRIPTS, default_launch_with_bridge, require_ros2_side, ros_env, ros_side
 
 pytestmark = pytest.mark.integration
 
@@ -149,3 +150,20 @@ def test_without_cyclone_dds_the_bridge_says_how_to_install_it_and_exits_4(tmp_p
     )
     assert done.returncode == 4, done.stdout + done.stderr
     assert "pip install 'turtlectl[ros2]'" in done.stderr
+
+
+def test_the_how_tos_student_node_drives_the_turtle_and_reads_its_scan(side):
+    """examples/ros2/drive_and_scan.py, as docs/how-to/ros2.md runs it: plain rclpy, no turtlectl."""
+    before = standing_still(side)
+    student = side.spawn(
+        [str(require_ros2_side()), str(ROOT / "examples" / "ros2" / "drive_and_scan.py"), "--seconds", "4"],
+        env=ros_env(),
+    )
+    assert student.finish() == 0, student.text()
+    last = student.lines[-1]
+    found = re.match(r"at \(([-\d.]+), ([-\d.]+)\), nearest ahead ([\d.inf]+) m, (\d+) scans", last)
+    assert found, student.text()
+    assert int(found[4]) >= 5, last  # 5 Hz for 4 s, less the matching
+    after = echo_once(side, "turtle1/pose")
+    assert math.hypot(after["x"] - before["x"], after["y"] - before["y"]) > 0.3, (before, after)
+    assert math.isclose(float(found[1]), after["x"], abs_tol=0.2), (last, after)
