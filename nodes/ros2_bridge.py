@@ -127,9 +127,10 @@ class Ros2Bridge:
         if echo is not None and echo.is_own(msg):
             return  # the bridge published it, from ROS: it is there already
         for row, writer in self.outgoing[key]:
-            if not writer:
+            if not writer:  # made with the key's first message (and it shows in ROS's graph then)
                 writer.append(self.link.writer(row.ros, self.mapping.TO_ROS[row.type][1], row.qos))
-            writer[0].write(self.mapping.TO_ROS[row.type][2](msg, turtle_of_key(row.key)))
+            if writer[0].readers:  # nothing converted for a topic no ROS node reads
+                writer[0].write(self.mapping.TO_ROS[row.type][2](msg, turtle_of_key(row.key)))
 
     def from_ros(self, row: BridgeTopic, sample: Any) -> None:
         convert = self.mapping.FROM_ROS[row.type][2]

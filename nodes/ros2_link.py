@@ -47,6 +47,22 @@ def ros_node_name(name: str) -> tuple[str, str]:
     return "/" + "/".join(clean(p) for p in space), clean(last)
 
 
+class Out:
+    """A DDS writer and how many readers it has matched (kept by Cyclone's listener thread: an int
+    swapped whole, read by the bridge's thread)."""
+
+    def __init__(self) -> None:
+        self.writer: DataWriter | None = None
+        self.readers = 0
+
+    def on_matched(self, _writer: DataWriter, status: Any) -> None:  # Cyclone's thread
+        self.readers = status.current_count
+
+    def write(self, sample: Any) -> None:
+        assert self.writer is not None
+        self.writer.write(sample)
+
+
 class DdsLink:
     """The participant and its entities.  ``deliver(fn, *args)`` runs ``fn(*args)`` on the bridge's
     thread (``Node.core.enqueue``)."""
@@ -82,13 +98,21 @@ class DdsLink:
         base = ros2_dds.SENSOR if name == "sensor" else ros2_dds.RELIABLE
         return Qos(*base, Policy.IgnoreLocal.Participant) if local_ignored else base
 
-    def writer(self, ros_topic: str, ros_type: type, qos: str) -> DataWriter:
-        """A writer of ``ros_type`` on ROS 2 topic ``ros_topic``."""
+    def writer(self, ros_topic: str, ros_type: type, qos: str) -> "Out":
+        """A writer of ``ros_type`` on ROS 2 topic ``ros_topic`` (``Out``: it knows whether any reader
+        matched, so that the bridge converts nothing nobody reads)."""
         q = self.qos(qos)
-        w = DataWriter(self.participant, self._topic(ros2_types.dds_topic(ros_topic), ros_type, q), qos=q)
+        out = Out()
+        w = DataWriter(
+            self.participant,
+            self._topic(ros2_types.dds_topic(ros_topic), ros_type, q),
+            qos=q,
+            listener=Listener(on_publication_matched=out.on_matched),
+        )
+        out.writer = w
         self.writers.append(w)
         self.announce()
-        return w
+        return out
 
     def reader(self, ros_topic: str, ros_type: type, qos: str, on_sample: Callable[[Any], None]) -> DataReader:
         """A reader of ``ros_type`` on ``ros_topic``: ``on_sample(msg)`` on the bridge's thread for each

@@ -4,6 +4,7 @@
     probe.py listen TOPIC TYPE COUNT          print COUNT messages of TYPE on TOPIC as JSON lines (MSG {...})
     probe.py graph TOPICS NODES               print rclpy's graph (GRAPH {...}) once it lists them (comma separated)
     probe.py talk TOPIC TEXT                  publish std_msgs/String TEXT at 5 Hz until killed
+    probe.py latency COUNT                    /turtle1/odom's header stamp to the callback (wall clock), LATENCY {...}
 
 Each prints READY when its side is set up (a publisher: once a subscription matched).
 """
@@ -100,12 +101,38 @@ def talk(node, topic: str, text: str) -> None:
         time.sleep(0.2)  # 5 Hz pacing
 
 
+def latency(node, count: str) -> None:
+    """How long after turtlectl stamped a pose its odometry reaches this callback (ms: p50, p90, max)."""
+    from nav_msgs.msg import Odometry
+
+    delays = []
+
+    def on_odom(msg) -> None:
+        stamp = msg.header.stamp.sec * 1_000_000_000 + msg.header.stamp.nanosec
+        delays.append((time.time_ns() - stamp) / 1e6)
+
+    node.create_subscription(Odometry, "/turtle1/odom", on_odom, 10)
+    print("READY", flush=True)
+    end = time.monotonic() + DEADLINE + int(count) / 50
+    while len(delays) < int(count) + 20 and time.monotonic() < end:
+        rclpy.spin_once(node, timeout_sec=0.1)
+    kept = sorted(delays[20:])  # the first ones may be from before the match settled
+    result = {"count": len(kept)}
+    if kept:
+        result.update(
+            p50_ms=round(kept[len(kept) // 2], 3),
+            p90_ms=round(kept[int(0.9 * (len(kept) - 1))], 3),
+            max_ms=round(kept[-1], 3),
+        )
+    print("LATENCY " + json.dumps(result), flush=True)
+
+
 def main() -> None:
     mode, *args = sys.argv[1:]
     rclpy.init()
     node = Node(f"probe_{mode}")
     try:
-        {"drive": drive, "listen": listen, "graph": graph, "talk": talk}[mode](node, *args)
+        {"drive": drive, "listen": listen, "graph": graph, "talk": talk, "latency": latency}[mode](node, *args)
     finally:
         node.destroy_node()
         rclpy.try_shutdown()
