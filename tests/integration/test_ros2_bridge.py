@@ -167,3 +167,16 @@ def test_the_how_tos_student_node_drives_the_turtle_and_reads_its_scan(side):
     after = echo_once(side, "turtle1/pose")
     assert math.hypot(after["x"] - before["x"], after["y"] - before["y"]) > 0.3, (before, after)
     assert math.isclose(float(found[1]), after["x"], abs_tol=0.2), (last, after)
+
+
+def test_turtlectl_record_keeps_an_rclpy_talkers_string(side, tmp_path):
+    talker = side.rclpy("probe.py", "talk", "/chatter", "kept")
+    talker.wait_for("^READY$")
+    echo_once(side, "chatter")  # it crosses now
+    out = tmp_path / "chatter.mcap"
+    done = side.tool("record", "chatter", "-o", str(out), "--duration", "1.5")
+    talker.stop()
+    assert done.returncode == 0, done.stdout + done.stderr
+    info = subprocess.run([*turtlectl(), "info", str(out)], capture_output=True, text=True, timeout=60)
+    assert info.returncode == 0, info.stderr
+    assert re.search(r"chatter\s.*turtlectl/String", info.stdout), info.stdout
