@@ -14,6 +14,7 @@ import time
 import pytest
 
 from tests.integration.harness import turtlectl
+from tests.integration.ros2_side import BRIDGE_NODE as BRIDGE
 from tests.integration.ros2_side import ROOT, SCRIPTS, default_launch_with_bridge, require_ros2_side, ros_env, ros_side
 
 pytestmark = pytest.mark.integration
@@ -180,3 +181,23 @@ def test_turtlectl_record_keeps_an_rclpy_talkers_string(side, tmp_path):
     info = subprocess.run([*turtlectl(), "info", str(out)], capture_output=True, text=True, timeout=60)
     assert info.returncode == 0, info.stderr
     assert re.search(r"chatter\s.*turtlectl/String", info.stdout), info.stdout
+
+
+def test_a_fleet_on_simulated_time_is_bridged_turtle_by_turtle_with_its_clock(tmp_path):
+    """examples/fleet (turtle1 outside a namespace, turtle2 and turtle3 in theirs) with --time-scale:
+    each namespaced turtle's topics under its name, the nodes under their namespaces, and /clock."""
+    fleet = (ROOT / "examples" / "fleet" / "launch.toml").read_text()
+    with ros_side() as fleet_side:
+        fleet_side.launch(fleet + BRIDGE, tmp_path, "--time-scale", "2", nodes=11)
+        wanted = (
+            "/turtle1/odom,/obstacles,/turtle2/cmd_vel,/turtle2/odom,/turtle3/obstacles,/turtle3/robot/status,/clock"
+        )
+        graph = fleet_side.rclpy("probe.py", "graph", wanted, "turtle2/navigator,navigator").json_line("GRAPH")
+        topics = graph["topics"]
+        assert topics["/turtle2/cmd_vel"] == ["geometry_msgs/msg/Twist"]
+        assert topics["/turtle3/obstacles"] == ["sensor_msgs/msg/LaserScan"]
+        assert topics["/turtle3/robot/status"] == ["capstone_msgs/msg/TurtleStatus"]
+        assert topics["/clock"] == ["rosgraph_msgs/msg/Clock"]
+        assert {"navigator", "turtle2/navigator", "turtle3/obstacle_detector", "ros2_bridge"} <= set(graph["nodes"])
+        scan = fleet_side.rclpy("probe.py", "listen", "/turtle2/obstacles", "sensor_msgs/msg/LaserScan", "1")
+        assert scan.json_line("MSG")["header"]["frame_id"] == "turtle2/base_scan"
