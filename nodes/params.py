@@ -28,7 +28,7 @@ from turtlectl.messages.keys import (
 from turtlectl.messages.units import LongTimeout, NonNegative, Percent, Positive, Rate, ShortTimeout
 from turtlectl.messages.world import Obstacle
 from turtlectl.nodes.control import Gains
-from turtlectl.nodes.ros2_table import BridgeTopic
+from turtlectl.nodes.ros2_table import BridgeTopic, bridged_keys
 from turtlectl.runtime.config import Claim, Interface
 
 Degrees = Annotated[float, msgspec.Meta(ge=-360.0, le=360.0)]
@@ -125,6 +125,11 @@ class Ros2BridgeParams(msgspec.Struct, forbid_unknown_fields=True, kw_only=True)
         "defaults": "the DDS readers and writers are made at start",
         "turtles": "the DDS readers and writers are made at start",
     }
+
+    def narrow_interface(self, declared: Interface) -> Interface:
+        """What a bridge with these parameters does (its table's keys), within ``declared``: under
+        ``launch --secure`` its router allows that and nothing else."""
+        return msgspec.structs.replace(declared, **bridged_keys(self.topics, self.defaults, self.turtles))
 
 
 NAVIGATOR_CLAIMS = (Claim("srv", NAVIGATE_TO),)

@@ -25,7 +25,7 @@ from typing import Annotated, Literal
 
 import msgspec
 
-from turtlectl.messages.keys import CLOCK, CMD_VEL, FIRST_TURTLE, OBSTACLES, POSE, STATUS, resolve
+from turtlectl.messages.keys import CLOCK, CMD_VEL, FIRST_TURTLE, OBSTACLES, POSE, STATUS, TURTLES, resolve
 from turtlectl.runtime.loader import suggestion
 
 #: ROS 2 type -> (the turtlectl message type on the key, the directions it can cross).  The bridge's
@@ -117,6 +117,34 @@ def wanted_turtles(system: list[str], listed: list[str]) -> list[str]:
     """The turtles to bridge: ``listed`` (the ``turtles`` parameter) that the system has, in its
     order, or every one of ``system`` when none are listed."""
     return [t for t in system if not listed or t in listed]
+
+
+def bridged_keys(rows: list[BridgeTopic], defaults: bool, turtles: list[str]) -> dict[str, tuple[str, ...]]:
+    """The keys a bridge publishes and subscribes to (Interface fields): ``rows``' and, with
+    ``defaults``, each listed turtle's default rows, every turtle's (``*/cmd_vel``) when none are
+    listed, the system's rows and ``turtles``."""
+    table = list(rows)
+    publishes: list[str] = []
+    subscribes: list[str] = []
+    if defaults:
+        table += SYSTEM_ENTRIES
+        subscribes.append(TURTLES)
+        for turtle in turtles or [FIRST_TURTLE]:
+            table += turtle_entries(turtle)
+        if not turtles:  # any turtle the simulator reports, spawned ones too
+            publishes.append(f"*/{CMD_VEL.split('/', 1)[1]}")
+            subscribes += [
+                f"*/{CMD_VEL.split('/', 1)[1]}",
+                f"*/{POSE.split('/', 1)[1]}",
+                f"*/{OBSTACLES}",
+                f"*/{STATUS}",
+            ]
+    for row in table:
+        if row.from_ros:
+            publishes.append(row.key)
+        if row.to_ros:
+            subscribes.append(row.key)
+    return {"publishes": tuple(dict.fromkeys(publishes)), "subscribes": tuple(dict.fromkeys(subscribes))}
 
 
 class OwnEcho:

@@ -244,6 +244,9 @@ def validate(
             parts, what = problem(exc, kind.params, entry.params)
             raise report.error(["node", i, "params", *parts], what) from None
         params[entry.name] = msgspec.to_builtins(typed)
+        narrow = getattr(typed, "narrow_interface", None)  # what these parameters need of the kind's Interface
+        if callable(narrow) and kind.interface is not None:
+            resolved[entry.name] = msgspec.structs.replace(kind, interface=narrow(kind.interface))
 
     for (namespace, run), i in kinds.items():  # turtle1's nodes run outside any namespace or in turtle1's: not both
         if namespace == FIRST_TURTLE and ("", run) in kinds:

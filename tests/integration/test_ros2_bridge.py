@@ -201,3 +201,21 @@ def test_a_fleet_on_simulated_time_is_bridged_turtle_by_turtle_with_its_clock(tm
         assert {"navigator", "turtle2/navigator", "turtle3/obstacle_detector", "ros2_bridge"} <= set(graph["nodes"])
         scan = fleet_side.rclpy("probe.py", "listen", "/turtle2/obstacles", "sensor_msgs/msg/LaserScan", "1")
         assert scan.json_line("MSG")["header"]["frame_id"] == "turtle2/base_scan"
+
+
+def test_under_secure_the_bridge_works_with_only_its_tables_keys(tmp_path, monkeypatch):
+    """launch --secure: the router allows the bridge its table's keys (Ros2BridgeParams.narrow_interface)
+    and the rclpy side still drives the turtle and talks on /chatter."""
+    from turtlectl.runtime.client import credentials
+
+    monkeypatch.setenv(credentials.ENV, str(tmp_path / "credentials.json"))
+    with ros_side() as secure:
+        system = secure.launch(default_launch_with_bridge(CHATTER), tmp_path, "--secure", nodes=5)
+        before = echo_once(secure, "turtle1/pose")
+        driver = secure.rclpy("probe.py", "drive", "1.0", "0.0", "1.0")
+        driver.wait_for("^DONE$")
+        assert echo_once(secure, "turtle1/pose")["x"] - before["x"] > 0.3
+        talker = secure.rclpy("probe.py", "talk", "/chatter", "secure hello")
+        talker.wait_for("^READY$")
+        assert echo_once(secure, "chatter")["data"] == "secure hello"
+        assert not [line for line in system.lines if "may not" in line or "ERROR" in line], system.text()

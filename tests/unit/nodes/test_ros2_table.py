@@ -112,3 +112,40 @@ def test_the_bridge_command_without_cyclone_dds_says_how_to_install_it(monkeypat
     ran = CliRunner().invoke(main.app, ["ros2", "bridge"])
     assert ran.exit_code == 4 or getattr(ran.exception, "exit_code", None) == 4
     assert "pip install 'turtlectl[ros2]'" in main.error_line(ran.exception)
+
+
+def test_the_bridge_may_do_what_its_table_says_and_a_secure_router_allows_only_that(tmp_path):
+    from pathlib import Path
+
+    from turtlectl.cli.system.access import node_rights
+    from turtlectl.cli.system.launchfile import load_launch
+
+    root = Path(__file__).resolve().parents[3]
+    path = tmp_path / "launch.toml"
+    path.write_text(
+        (root / "launch.toml").read_text()
+        + '\n[[node]]\nname = "ros2_bridge"\nrun = "ros2_bridge"\n[node.params]\nturtles = ["turtle1"]\n'
+        + '[[node.params.topics]]\nkey = "chatter"\nros = "/chatter"\ntype = "std_msgs/msg/String"\ndirection = "from_ros"\n'
+    )
+    plan = load_launch(path, [])
+    interface = plan.kinds["ros2_bridge"].interface
+    assert interface.publishes == ("chatter", "turtle1/cmd_vel")
+    assert set(interface.subscribes) == {
+        "turtles",
+        "clock",
+        "turtlectl/log/*",
+        "turtle1/cmd_vel",
+        "turtle1/pose",
+        "obstacles",
+        "robot/status",
+    }
+    rights = node_rights("ros2_bridge", plan.kinds["ros2_bridge"])
+    assert "**" not in rights["publish"] and "chatter" in rights["publish"]
+
+
+def test_every_turtle_the_simulator_reports_when_none_are_listed():
+    from turtlectl.nodes.ros2_table import bridged_keys
+
+    keys = bridged_keys([], True, [])
+    assert "*/cmd_vel" in keys["publishes"] and {"*/pose", "*/obstacles", "*/robot/status"} <= set(keys["subscribes"])
+    assert bridged_keys([], False, []) == {"publishes": (), "subscribes": ()}
