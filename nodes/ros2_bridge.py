@@ -29,6 +29,7 @@ from turtlectl.runtime import Node, run_main
 from turtlectl.runtime.client.errors import BadInput, CannotStart
 
 INSTALL_HINT = "pip install 'turtlectl[ros2]'"
+PRESENCE_PERIOD = 2.0  # s: how often the nodes' presence tokens are asked for again
 
 
 class MissingExtra(CannotStart):
@@ -79,13 +80,10 @@ class Ros2Bridge:
                 self.add(row)
             node.subscribe(f"/{TURTLES}", Turtles, self.on_turtles)
         node.watch_liveliness(f"{NODE_TOKEN_PREFIX}/**", self.on_presence)
-        # and the nodes there already (a watch sees only what changes): the replies come on Zenoh's thread
-        node.session.liveliness().get(
-            f"{NODE_TOKEN_PREFIX}/**",
-            handler=lambda reply: (
-                reply.ok is not None and node.core.enqueue(self.on_presence, str(reply.ok.key_expr), True)
-            ),
-        )
+        # and the nodes there already: a watch sees only what changes once it reached the router, so the
+        # tokens are asked for now and every PRESENCE_PERIOD (a start before the router answered misses none)
+        self.ask_presence()
+        node.timer(PRESENCE_PERIOD, self.ask_presence)
         node.on_shutdown(self.link.close)
         node.log.info(
             "bridging to ROS 2 domain %d on %s (%d rows so far)", self.domain, node.params.address, len(self.rows)
@@ -144,7 +142,19 @@ class Ros2Bridge:
             self.echo[row.key].sent(stamped)
 
     # -- the graph --------------------------------------------------------------------------
+    def ask_presence(self) -> None:
+        """Ask the router for the nodes' presence tokens; each reply is one alive (on Zenoh's thread: queued)."""
+        enqueue = self.node.core.enqueue
+
+        def on_reply(reply: Any) -> None:
+            if reply.ok is not None:
+                enqueue(self.on_presence, str(reply.ok.key_expr), True)
+
+        self.node.session.liveliness().get(f"{NODE_TOKEN_PREFIX}/**", handler=on_reply)
+
     def on_presence(self, key: str, alive: bool) -> None:
+        if alive == (key in self.tokens):
+            return  # known already (asked again), or gone already
         if alive:
             self.tokens.add(key)
         else:
