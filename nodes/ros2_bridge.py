@@ -94,6 +94,18 @@ class Ros2Bridge:
         """Bridge one row (once: the same row again is ignored)."""
         if row in self.rows:
             return
+        if row.to_ros and row.key in self.outgoing:
+            first = self.outgoing[row.key][0][0]
+            if first.message_type != row.message_type:
+                self.node.log.warning(
+                    "%s -> %s not bridged: %s is already bridged as %s (to %s), one type a key",
+                    row.key,
+                    row.ros,
+                    row.key,
+                    first.message_type,
+                    first.ros,
+                )
+                return
         self.rows.append(row)
         if row.to_ros:
             msg_type = self.mapping.TO_ROS[row.type][0]
@@ -103,7 +115,7 @@ class Ros2Bridge:
                 self.node.subscribe(row.key, msg_type, lambda msg, key=row.key: self.to_ros(key, msg))
             rows.append((row, []))
         if row.from_ros:
-            ros_type, msg_type, convert = self.mapping.FROM_ROS[row.type]
+            ros_type, msg_type, _convert = self.mapping.FROM_ROS[row.type]
             if row.key not in self.publishers:
                 self.publishers[row.key] = self.node.publisher(row.key, msg_type)
                 self.echo[row.key] = OwnEcho()

@@ -43,7 +43,7 @@ ROS_TYPES: dict[str, tuple[str, tuple[str, ...]]] = {
 }
 
 RosTopic = Annotated[str, msgspec.Meta(pattern=r"^/[A-Za-z_~{][A-Za-z0-9_/{}~]*$")]
-Key = Annotated[str, msgspec.Meta(min_length=1)]
+Key = Annotated[str, msgspec.Meta(pattern=r"^/?[A-Za-z0-9_\-.~]+(/[A-Za-z0-9_\-.~*]+)*$")]  # a Zenoh key; * for a chunk
 
 
 class BridgeTopic(msgspec.Struct, forbid_unknown_fields=True, frozen=True, kw_only=True):

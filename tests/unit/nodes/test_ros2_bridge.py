@@ -127,3 +127,12 @@ def test_leaving_closes_the_dds_side(bridge):
     fake, link = bridge
     fake.shutdown()
     assert link.closed
+
+
+def test_a_second_row_with_another_type_on_a_bridged_key_is_refused_in_one_line(bridge, caplog):
+    fake, link = bridge
+    fake.instance.add(ros2_bridge.BridgeTopic(key="turtle1/pose", ros="/pose_text", type="std_msgs/msg/String"))
+    said = [rec.getMessage() for rec in caplog.records if "not bridged" in rec.getMessage()]
+    assert said == [
+        "turtle1/pose -> /pose_text not bridged: turtle1/pose is already bridged as Pose (to /turtle1/pose), one type a key"
+    ]

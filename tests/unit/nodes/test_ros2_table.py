@@ -149,3 +149,10 @@ def test_every_turtle_the_simulator_reports_when_none_are_listed():
     keys = bridged_keys([], True, [])
     assert "*/cmd_vel" in keys["publishes"] and {"*/pose", "*/obstacles", "*/robot/status"} <= set(keys["subscribes"])
     assert bridged_keys([], False, []) == {"publishes": (), "subscribes": ()}
+
+
+@pytest.mark.parametrize("bad", ["has space", "a/$b", "@turtlectl/x", "a//b", "a?"])
+def test_a_key_is_a_plain_zenoh_key(bad):
+    with pytest.raises(msgspec.ValidationError, match="key"):
+        row(key=bad, ros="/x", type="std_msgs/msg/String")
+    assert row(key="/turtle2/pose", ros="/p", type="turtlesim/msg/Pose").key == "/turtle2/pose"
