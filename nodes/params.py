@@ -16,9 +16,9 @@ import msgspec
 
 from turtlectl.messages.keys import (
     CMD_VEL,
+    GRAPH,
     MOVING,
     NAVIGATE_TO,
-    NODE_TOKEN_PREFIX,
     OBSTACLES,
     POSE,
     RESET,
@@ -146,4 +146,4 @@ OBSTACLE_DETECTOR_INTERFACE = Interface(publishes=(OBSTACLES,), subscribes=(POSE
 ROS2_BRIDGE_CLAIMS = ()
 #: the bridge carries what its table says, which a launch file extends: any key, both ways; and it
 #: follows the nodes' presence (their names in the ROS graph)
-ROS2_BRIDGE_INTERFACE = Interface(publishes=("**",), subscribes=("**",), watches=(f"{NODE_TOKEN_PREFIX}/**",))
+ROS2_BRIDGE_INTERFACE = Interface(publishes=("**",), subscribes=("**",), watches=(GRAPH,))

@@ -22,7 +22,7 @@ from __future__ import annotations
 from typing import Any
 
 from turtlectl.messages import Turtles
-from turtlectl.messages.keys import NODE_TOKEN_PREFIX, TURTLES, parse_node_token
+from turtlectl.messages.keys import GRAPH, TURTLES, parse_entity_token, parse_node_token
 from turtlectl.nodes.params import ROS2_BRIDGE_CLAIMS, ROS2_BRIDGE_INTERFACE, Ros2BridgeParams
 from turtlectl.nodes.ros2_table import SYSTEM_ENTRIES, BridgeTopic, OwnEcho, turtle_entries, turtle_of_key
 from turtlectl.runtime import Node, run_main
@@ -30,6 +30,33 @@ from turtlectl.runtime.client.errors import BadInput, CannotStart
 
 INSTALL_HINT = "pip install 'turtlectl[ros2]'"
 PRESENCE_PERIOD = 2.0  # s: how often the nodes' presence tokens are asked for again
+
+
+def graph_nodes(tokens: set[str], rows: list[BridgeTopic]) -> dict[str, tuple[tuple[str, ...], tuple[str, ...]]]:
+    """The system's nodes as ROS's graph shows them, from their presence and entity tokens: name ->
+    (the ROS topics the bridge writes for a key the node publishes, those it reads for a key the
+    node subscribes to), so ``ros2 node info /sim`` lists ``/turtle1/pose``."""
+    nodes: dict[str, tuple[list[str], list[str]]] = {}
+    entities = []
+    for key in tokens:
+        info = parse_node_token(key)
+        if info is not None:
+            nodes.setdefault(info.name, ([], []))
+        entity = parse_entity_token(key)
+        if entity is not None:
+            entities.append(entity)
+    for entity in entities:
+        if entity.node not in nodes or entity.role not in ("pub", "sub"):
+            continue
+        written, read = nodes[entity.node]
+        for row in rows:
+            if row.key.lstrip("/") != entity.key:
+                continue
+            if entity.role == "pub" and row.to_ros:
+                written.append(row.ros)
+            if entity.role == "sub" and row.from_ros:
+                read.append(row.ros)
+    return {name: (tuple(sorted(set(w))), tuple(sorted(set(r)))) for name, (w, r) in nodes.items()}
 
 
 class MissingExtra(CannotStart):
@@ -79,7 +106,7 @@ class Ros2Bridge:
             for row in SYSTEM_ENTRIES:
                 self.add(row)
             node.subscribe(f"/{TURTLES}", Turtles, self.on_turtles)
-        node.watch_liveliness(f"{NODE_TOKEN_PREFIX}/**", self.on_presence)
+        node.watch_liveliness(GRAPH, self.on_presence)  # the nodes and what each publishes and subscribes to
         # and the nodes there already: a watch sees only what changes once it reached the router, so the
         # tokens are asked for now and every PRESENCE_PERIOD (a start before the router answered misses none)
         self.ask_presence()
@@ -162,7 +189,7 @@ class Ros2Bridge:
             if reply.ok is not None:
                 enqueue(self.on_presence, str(reply.ok.key_expr), True)
 
-        self.node.session.liveliness().get(f"{NODE_TOKEN_PREFIX}/**", handler=on_reply)
+        self.node.session.liveliness().get(GRAPH, handler=on_reply)
 
     def on_presence(self, key: str, alive: bool) -> None:
         if alive == (key in self.tokens):
@@ -171,8 +198,7 @@ class Ros2Bridge:
             self.tokens.add(key)
         else:
             self.tokens.discard(key)
-        infos = (parse_node_token(k) for k in self.tokens)
-        self.link.set_nodes(sorted({info.name for info in infos if info is not None}))
+        self.link.set_nodes(graph_nodes(self.tokens, self.rows))
 
     def on_other_bridge(self, participant: str) -> None:
         if not self.warned_other:

@@ -75,7 +75,8 @@ class DdsLink:
         self.readers: list[DataReader] = []
         self.writers: list[DataWriter] = []
         self._topics: dict[str, Topic] = {}
-        self._others: list[tuple[str, str]] = []
+        self._others: dict[tuple[str, str], tuple[tuple[str, ...], tuple[str, ...]]] = {}
+        self._by_topic: dict[str, list[Any]] = {}  # ROS topic -> the bridge's writers and readers on it
         self._info = DataWriter(
             self.participant, self._topic(DISCOVERY_TOPIC, ParticipantEntitiesInfo, ros2_dds.GRAPH), qos=ros2_dds.GRAPH
         )
@@ -111,6 +112,7 @@ class DdsLink:
         )
         out.writer = w
         self.writers.append(w)
+        self._by_topic.setdefault(ros_topic, []).append(w)
         self.announce()
         return out
 
@@ -141,15 +143,20 @@ class DdsLink:
 
         r = DataReader(self.participant, topic, qos=q, listener=Listener(on_data_available=on_data))
         self.readers.append(r)
+        self._by_topic.setdefault(ros_topic, []).append(r)
         self.announce()
         return r
 
-    def set_nodes(self, names: list[str]) -> None:
-        """The other nodes of the system to list in ROS 2's graph (turtlectl names)."""
-        others = sorted({ros_node_name(n) for n in names} - {self.me})
+    def set_nodes(self, nodes: dict[str, tuple[tuple[str, ...], tuple[str, ...]]]) -> None:
+        """The other nodes of the system to list in ROS 2's graph: turtlectl name -> (the ROS topics
+        the bridge writes for what it publishes, those it reads for what it subscribes to)."""
+        others = {ros_node_name(n): topics for n, topics in nodes.items() if ros_node_name(n) != self.me}
         if others != self._others:
             self._others = others
             self.announce()
+
+    def _gids(self, topics: tuple[str, ...], kind: type) -> list[Gid]:
+        return [gid(e) for t in topics for e in self._by_topic.get(t, ()) if isinstance(e, kind)]
 
     def announce(self) -> None:
         """Write ``ros_discovery_info``: this node with its readers and writers, and the system's others."""
@@ -159,7 +166,15 @@ class DdsLink:
             reader_gid_seq=[gid(r) for r in self.readers],
             writer_gid_seq=[gid(w) for w in self.writers],
         )
-        rest = [NodeEntitiesInfo(node_namespace=ns, node_name=name) for ns, name in self._others]
+        rest = [
+            NodeEntitiesInfo(
+                node_namespace=ns,
+                node_name=name,
+                reader_gid_seq=self._gids(read, DataReader),
+                writer_gid_seq=self._gids(written, DataWriter),
+            )
+            for (ns, name), (written, read) in sorted(self._others.items())
+        ]
         self._info.write(ParticipantEntitiesInfo(gid=self._gid, node_entities_info_seq=[mine, *rest]))
 
     def _on_discovery(self, reader: DataReader) -> None:  # Cyclone's thread

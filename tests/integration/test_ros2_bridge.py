@@ -86,7 +86,7 @@ def test_an_rclpy_subscription_gets_the_scan_with_turtlectls_ranges(side):
 
 def test_rclpys_graph_lists_turtlectls_nodes_and_topics_with_their_ros_types(side):
     wanted = "/turtle1/cmd_vel,/turtle1/pose,/turtle1/odom,/obstacles,/robot/status,/rosout"
-    graph = side.rclpy("probe.py", "graph", wanted, "ros2_bridge,sim,navigator").json_line("GRAPH")
+    graph = side.rclpy("probe.py", "graph", wanted, "ros2_bridge,sim,navigator", "sim").json_line("GRAPH")
     topics = graph["topics"]
     assert topics["/turtle1/cmd_vel"] == ["geometry_msgs/msg/Twist"]
     assert topics["/turtle1/pose"] == ["turtlesim/msg/Pose"]
@@ -95,6 +95,10 @@ def test_rclpys_graph_lists_turtlectls_nodes_and_topics_with_their_ros_types(sid
     assert topics["/robot/status"] == ["capstone_msgs/msg/TurtleStatus"]
     assert "rcl_interfaces/msg/Log" in topics["/rosout"]
     assert {"ros2_bridge", "sim", "navigator", "status_monitor", "obstacle_detector"} <= set(graph["nodes"])
+    # ros2 node info /sim: what the simulator publishes and subscribes to, as far as it is bridged
+    assert graph["publishers"]["/turtle1/pose"] == ["turtlesim/msg/Pose"]
+    assert graph["publishers"]["/turtle1/odom"] == ["nav_msgs/msg/Odometry"]
+    assert graph["subscribers"]["/turtle1/cmd_vel"] == ["geometry_msgs/msg/Twist"]
 
 
 def test_turtlectl_echo_shows_an_rclpy_talkers_string(side):

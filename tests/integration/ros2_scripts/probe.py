@@ -2,7 +2,8 @@
 
     probe.py drive LINEAR ANGULAR SECONDS     publish Twist on /turtle1/cmd_vel at 20 Hz once matched
     probe.py listen TOPIC TYPE COUNT          print COUNT messages of TYPE on TOPIC as JSON lines (MSG {...})
-    probe.py graph TOPICS NODES               print rclpy's graph (GRAPH {...}) once it lists them (comma separated)
+    probe.py graph TOPICS NODES [NODE]        print rclpy's graph (GRAPH {...}) once it lists them (comma separated),
+                                              and what it says NODE publishes and subscribes to
     probe.py talk TOPIC TEXT                  publish std_msgs/String TEXT at 5 Hz until killed
     probe.py latency COUNT                    /turtle1/odom's header stamp to the callback (wall clock), LATENCY {...}
 
@@ -74,7 +75,7 @@ def listen(node, topic: str, type_name: str, count: str) -> None:
             printed += 1
 
 
-def graph(node, topics: str, nodes: str) -> None:
+def graph(node, topics: str, nodes: str, inspect: str = "") -> None:
     want_topics = {t for t in topics.split(",") if t}
     want_nodes = {n for n in nodes.split(",") if n}
     print("READY", flush=True)
@@ -85,7 +86,18 @@ def graph(node, topics: str, nodes: str) -> None:
         if (want_topics <= listed.keys() and want_nodes <= set(names)) or time.monotonic() > end:
             break
         rclpy.spin_once(node, timeout_sec=0.1)
-    print("GRAPH " + json.dumps({"topics": listed, "nodes": names}), flush=True)
+    result = {"topics": listed, "nodes": names}
+    if inspect:  # what ROS's graph says node INSPECT publishes and subscribes to (ros2 node info)
+        ns, _, name = inspect.rpartition("/")
+        end = time.monotonic() + DEADLINE
+        while time.monotonic() < end:
+            pubs = node.get_publisher_names_and_types_by_node(name, "/" + ns)
+            subs = node.get_subscriber_names_and_types_by_node(name, "/" + ns)
+            if pubs and subs:
+                break
+            rclpy.spin_once(node, timeout_sec=0.1)
+        result["publishers"], result["subscribers"] = dict(pubs), dict(subs)
+    print("GRAPH " + json.dumps(result), flush=True)
 
 
 def talk(node, topic: str, text: str) -> None:

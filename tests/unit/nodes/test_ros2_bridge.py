@@ -11,7 +11,7 @@ import pytest
 pytest.importorskip("cyclonedds")
 
 from turtlectl.messages import Pose, Turtles, Twist  # noqa: E402
-from turtlectl.messages.keys import NodeInfo, node_token  # noqa: E402
+from turtlectl.messages.keys import EntityInfo, NodeInfo, entity_token, node_token  # noqa: E402
 from turtlectl.nodes import ros2_bridge  # noqa: E402
 from turtlectl.nodes import ros2_types as r  # noqa: E402
 from turtlectl.runtime.fake import FakeNode  # noqa: E402
@@ -33,7 +33,7 @@ class FakeLink:
         self.deliver = deliver
         self.writers: dict[str, FakeOut] = {}
         self.readers: dict[str, Any] = {}
-        self.nodes: list[str] = []
+        self.nodes: dict[str, Any] = {}
         self.on_other_bridge = lambda _participant: None
         self.closed = False
 
@@ -47,8 +47,8 @@ class FakeLink:
     def from_ros(self, ros_topic: str, sample: Any) -> None:
         self.deliver(self.readers[ros_topic], sample)
 
-    def set_nodes(self, names: list[str]) -> None:
-        self.nodes = names
+    def set_nodes(self, nodes: dict[str, Any]) -> None:
+        self.nodes = nodes
 
     def close(self) -> None:
         self.closed = True
@@ -109,9 +109,24 @@ def test_the_systems_nodes_are_handed_to_the_graph_as_they_come_and_go(bridge):
     nav = node_token(NodeInfo(name="turtle2/navigator", pid=7, host="h", start_ns=1))
     fake.liveliness(nav, True)
     fake.liveliness(node_token(NodeInfo(name="sim", pid=8, host="h", start_ns=1)), True)
-    assert link.nodes == ["sim", "turtle2/navigator"]
+    assert sorted(link.nodes) == ["sim", "turtle2/navigator"]
     fake.liveliness(nav, False)
-    assert link.nodes == ["sim"]
+    assert list(link.nodes) == ["sim"]
+
+
+def test_each_node_is_given_the_bridged_topics_of_what_it_publishes_and_subscribes_to(bridge):
+    fake, link = bridge
+    fake.liveliness(node_token(NodeInfo(name="sim", pid=8, host="h", start_ns=1)), True)
+    fake.liveliness(node_token(NodeInfo(name="navigator", pid=9, host="h", start_ns=1)), True)
+    for node, pid, role, key in [
+        ("sim", 8, "pub", "turtle1/pose"),
+        ("sim", 8, "sub", "turtle1/cmd_vel"),
+        ("navigator", 9, "pub", "turtle1/cmd_vel"),
+        ("navigator", 9, "sub", "obstacles"),
+    ]:
+        fake.liveliness(entity_token(EntityInfo(node=node, pid=pid, role=role, type_name="turtlectl/X", key=key)), True)
+    assert link.nodes["sim"] == (("/turtle1/odom", "/turtle1/pose"), ("/turtle1/cmd_vel",))
+    assert link.nodes["navigator"] == (("/turtle1/cmd_vel",), ())
 
 
 def test_another_bridge_is_said_once(bridge, caplog):
