@@ -10,8 +10,10 @@ ROS's ``builtin_interfaces/Time`` is the same instant as (sec, nanosec).
 """
 
 import math
+from collections.abc import Callable
+from typing import Any
 
-from turtlectl.messages import Clock, LaserScan, Log, Pose, TurtleStatus, Twist
+from turtlectl.messages import Clock, LaserScan, Log, Message, Pose, String, TurtleStatus, Twist
 from turtlectl.nodes import ros2_types as r
 
 #: tf frames the bridge names by default: the world is ``odom`` (turtlesim's world is fixed, so odom
@@ -157,3 +159,46 @@ def log_to_ros(msg: Log) -> r.Log:
         function=msg.function,
         line=max(0, msg.line),
     )
+
+
+def string_to_ros(msg: String) -> r.String:
+    """turtlectl String -> std_msgs/String (stamp and seq have no place in it)."""
+    return r.String(data=msg.data)
+
+
+def string_from_ros(msg: r.String, stamp: int = 0, seq: int = 0) -> String:
+    """std_msgs/String -> turtlectl String; stamp: when the bridge received it, ns."""
+    return String(data=msg.data, stamp=stamp, seq=seq)
+
+
+def _pose_from_turtlesim(msg: r.TurtlesimPose, stamp: int) -> Pose:
+    return pose_from_turtlesim(msg, stamp=stamp)
+
+
+def _scan_from_ros(msg: r.LaserScan, stamp: int) -> LaserScan:
+    return scan_from_ros(msg)
+
+
+#: ROS 2 type -> (turtlectl type read on the key, its ROS type, ``convert(msg, turtle)``): what the
+#: bridge writes to ROS.  turtle: the turtle the row is about (frame ids).  Keys: nodes.ros2_table.ROS_TYPES'
+TO_ROS: dict[str, tuple[type[Message], type, Callable[[Any, str], Any]]] = {
+    "geometry_msgs/msg/Twist": (Twist, r.Twist, lambda m, _t: twist_to_ros(m)),
+    "turtlesim/msg/Pose": (Pose, r.TurtlesimPose, lambda m, _t: pose_to_turtlesim(m)),
+    "nav_msgs/msg/Odometry": (Pose, r.Odometry, lambda m, t: pose_to_odometry(m, t)),
+    "geometry_msgs/msg/Pose2D": (Pose, r.Pose2D, lambda m, _t: pose_to_pose2d(m)),
+    "sensor_msgs/msg/LaserScan": (LaserScan, r.LaserScan, lambda m, t: scan_to_ros(m, t)),
+    "capstone_msgs/msg/TurtleStatus": (TurtleStatus, r.TurtleStatus, lambda m, _t: status_to_ros(m)),
+    "rosgraph_msgs/msg/Clock": (Clock, r.Clock, lambda m, _t: clock_to_ros(m)),
+    "rcl_interfaces/msg/Log": (Log, r.Log, lambda m, _t: log_to_ros(m)),
+    "std_msgs/msg/String": (String, r.String, lambda m, _t: string_to_ros(m)),
+}
+
+#: ROS 2 type -> (its ROS type, the turtlectl type published on the key, ``convert(msg, stamp_ns)``):
+#: what the bridge reads from ROS.  stamp_ns: when it was received (the publisher restamps it)
+FROM_ROS: dict[str, tuple[type, type[Message], Callable[[Any, int], Message]]] = {
+    "geometry_msgs/msg/Twist": (r.Twist, Twist, lambda m, ns: twist_from_ros(m, stamp=ns)),
+    "turtlesim/msg/Pose": (r.TurtlesimPose, Pose, _pose_from_turtlesim),
+    "sensor_msgs/msg/LaserScan": (r.LaserScan, LaserScan, _scan_from_ros),
+    "capstone_msgs/msg/TurtleStatus": (r.TurtleStatus, TurtleStatus, lambda m, ns: status_from_ros(m, stamp=ns)),
+    "std_msgs/msg/String": (r.String, String, lambda m, ns: string_from_ros(m, stamp=ns)),
+}

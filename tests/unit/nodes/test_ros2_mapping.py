@@ -88,3 +88,22 @@ def test_negative_stamps_floor_to_a_valid_time():
     t = m.ns_to_time(-1)
     assert (t.sec, t.nanosec) == (-1, 999_999_999)
     assert m.time_to_ns(t) == -1
+
+
+def test_string_both_ways():
+    from turtlectl.messages import String
+
+    ros = m.string_to_ros(String(data="héllo", stamp=3, seq=1))
+    assert r.String.deserialize(ros.serialize()) == r.String(data="héllo")
+    assert m.string_from_ros(ros, stamp=9, seq=2) == String(data="héllo", stamp=9, seq=2)
+
+
+def test_the_bridges_conversions_take_the_turtle_for_frames_and_the_stamp_for_what_comes_from_ros():
+    odom = m.TO_ROS["nav_msgs/msg/Odometry"][2](Pose(x=1.0, y=2.0, theta=0.5), "turtle2")
+    assert odom.child_frame_id == "turtle2/base_link"
+    scan = m.TO_ROS["sensor_msgs/msg/LaserScan"][2](
+        LaserScan(angle_min=0, angle_max=1, angle_increment=1, range_min=0, range_max=2, ranges=[1.0, 2.0]), "turtle3"
+    )
+    assert scan.header.frame_id == "turtle3/base_scan"
+    twist = m.FROM_ROS["geometry_msgs/msg/Twist"][2](r.Twist(linear=r.Vector3(x=0.5)), 42)
+    assert twist == Twist(linear=0.5, angular=0.0, stamp=42)
