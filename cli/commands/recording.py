@@ -107,7 +107,7 @@ def record(
 
 
 def info(
-    file: Path = typer.Argument(..., metavar="FILE", help="A recording (MCAP file)."),
+    file: Path = typer.Argument(..., metavar="FILE", help="A recording (MCAP file), or a ROS 2 bag (its folder)."),
     json: bool = JsonOption,
 ) -> None:
     """What a recording holds, as `ros2 bag info`: size, duration, start and end, messages per
@@ -123,7 +123,7 @@ def info(
 
 
 def play(
-    file: Path = typer.Argument(..., metavar="FILE", help="A recording (MCAP file)."),
+    file: Path = typer.Argument(..., metavar="FILE", help="A recording (MCAP file), or a ROS 2 bag (its folder)."),
     rate: float = typer.Option(1.0, "--rate", min=0.01, help="Speed factor (2 = twice as fast)."),
     loop: bool = typer.Option(False, "--loop", help="Play again and again until Ctrl-C."),
     start_offset: float = typer.Option(0.0, "--start-offset", min=0.0, help="Start S seconds into the recording."),
@@ -165,6 +165,8 @@ def play(
             f"warning: {file} was not closed (the recorder was killed?): playing what is complete; {hint(file)}",
             err=True,
         )
+    for topic, ros_type in recording.unmapped().items():
+        typer.echo(f"warning: {topic} is not played: its type {ros_type} has no turtlectl type", err=True)
     with stop_on_signals() as stop:
         live = sys.stdin.isatty() and sys.stderr.isatty()
         played = 0

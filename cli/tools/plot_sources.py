@@ -51,7 +51,8 @@ def from_recording(path: Path, series: list[Series], stamps: bool = False) -> Fr
 
     recording = Recording(path)
     info = recording.info()
-    held = {t.key: t for t in info.topics if t.count}
+    # a ROS 2 bag's topics are ROS names (/turtle1/pose): plotted by their keys (turtle1/pose)
+    held = {t.key[1:] if t.key.startswith("/") else t.key: t for t in info.topics if t.count}
     extractor = Extractor(series)
     keys = list(extractor.by_key)
     missing = [k for k in keys if k not in held]

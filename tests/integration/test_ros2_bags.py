@@ -110,3 +110,37 @@ def test_a_ros2_recording_reads_in_rosbags_message_for_message(tmp_path: Path):
     published = [(m.x, m.y) for m in seen["turtle1/pose"]]
     assert all(any(abs(p.x - x) < 1e-5 and abs(p.y - y) < 1e-5 for x, y in published) for p in poses)  # float32
     assert any(math.hypot(p.x - 6.5, p.y - 5.5) < 0.3 for p in poses)
+
+
+def test_a_bag_written_by_rosbags_drives_the_turtle_and_info_and_plot_read_it(tmp_path: Path):
+    from tests.unit.cli.recording.test_ros2bag import rosbags_bag
+
+    bag = rosbags_bag(tmp_path / "student_bag", twists=20)  # 2 s of linear 1.0 m/s, angular 0.25 rad/s
+    with running_system() as system:
+        info = subprocess.run([*turtlectl(), "info", str(bag)], capture_output=True, text=True, timeout=30)
+        assert info.returncode == 0, info.stderr
+        assert "/turtle1/cmd_vel" in info.stdout and "geometry_msgs/msg/Twist" in info.stdout
+        assert "std_msgs/msg/String" in info.stdout
+        png = tmp_path / "linear.png"
+        plotted = subprocess.run(
+            [*turtlectl(), "plot", "turtle1/cmd_vel.linear", "-i", str(bag), "-o", str(png)],
+            capture_output=True,
+            text=True,
+            timeout=60,
+        )
+        assert plotted.returncode == 0, plotted.stderr
+        assert png.read_bytes().startswith(b"\x89PNG")
+
+        before = system.latest_pose()
+        played = system.run_cli("play", str(bag))
+        assert played.returncode == 0, played.stderr
+        assert "played 23 messages" in played.stdout
+        assert (
+            played.stderr.count("\n") == 1 and "/chatter is not played: its type std_msgs/msg/String" in played.stderr
+        )
+        after = system.wait_stopped(timeout=5.0)
+        moved = math.hypot(after.x - before.x, after.y - before.y)
+        turned = (after.theta - before.theta) % (2 * math.pi)
+        # 2 s of Twists, and the last one held until the simulator's command timeout
+        assert 1.5 < moved < 3.5, (before, after)  # at 1 m/s
+        assert 0.35 < turned < 0.9, (before, after)  # at 0.25 rad/s
