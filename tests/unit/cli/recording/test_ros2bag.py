@@ -183,3 +183,30 @@ def test_the_bag_holds_the_msg_text_and_profile_rosbag2_writes(tmp_path):
     assert "=" * 80 + "\nMSG: std_msgs/Header\n" in text and "MSG: builtin_interfaces/Time" in text
     qos = channel.metadata["offered_qos_profiles"]
     assert "reliability: reliable" in qos and "durability: volatile" in qos and "depth: 10" in qos
+
+
+def test_without_rosbags_one_line_says_how_to_install_the_extra(monkeypatch):
+    import sys
+
+    from turtlectl.cli.recording.ros2bag import typestore
+    from turtlectl.runtime.client.errors import CannotStart
+
+    monkeypatch.setitem(sys.modules, "rosbags.typesys", None)  # as if it were not installed
+    with pytest.raises(CannotStart, match=r"pip install 'turtlectl\[ros2\]'") as raised:
+        typestore()
+    assert raised.value.exit_code == 4
+
+
+def test_record_refuses_an_unknown_profile_and_the_scene_in_a_ros2_bag(tmp_path):
+    from typer.testing import CliRunner
+
+    from turtlectl.cli.main import app
+    from turtlectl.runtime.client.errors import BadInput
+
+    runner = CliRunner()
+    wrong = runner.invoke(app, ["record", "-a", "--profile", "ros1", "-o", str(tmp_path / "x")])
+    assert isinstance(wrong.exception, BadInput) and wrong.exception.exit_code == 2
+    assert str(wrong.exception) == "--profile 'ros1': turtlectl (the default) or ros2"
+    scene = runner.invoke(app, ["record", "-a", "--scene", "--profile", "ros2", "-o", str(tmp_path / "x")])
+    assert isinstance(scene.exception, BadInput) and "--scene" in str(scene.exception)
+    assert not (tmp_path / "x").exists()
