@@ -166,7 +166,9 @@ def play(
             err=True,
         )
     for topic, ros_type in recording.unmapped().items():
-        typer.echo(f"warning: {topic} is not played: its type {ros_type} has no turtlectl type", err=True)
+        typer.echo(
+            f"warning: {topic}: {ros_type} has no turtlectl type: played as its CDR bytes, not as a message", err=True
+        )
     with stop_on_signals() as stop:
         live = sys.stdin.isatty() and sys.stderr.isatty()
         played = 0

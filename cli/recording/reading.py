@@ -164,8 +164,11 @@ class Recording:
 
     def _record(self, schema: Any, channel: Any, message: Any) -> Record | None:
         """One message as a Record; a ROS 2 bag's CDR message as the turtlectl message its type maps
-        to (cli.recording.ros2bag), on the key of its topic; None for a ROS type that maps to none."""
-        if not _is_ros2(schema, channel):
+        to (cli.recording.ros2bag), on the key of its topic; one of a ROS type that maps to none as it
+        is (its CDR bytes, played as they are: a ROS-aware subscriber can read them)."""
+        from turtlectl.nodes.ros2_fields import readable
+
+        if not _is_ros2(schema, channel) or not readable(schema.name):
             return _record(schema, channel, message)
         if self._ros2 is None:
             from turtlectl.cli.recording.ros2bag import Ros2Decoder
@@ -191,7 +194,7 @@ class Recording:
 
     def unmapped(self) -> dict[str, str]:
         """A ROS 2 bag's topics whose ROS type maps to no turtlectl type (topic -> ROS type): ``play``
-        and ``plot`` leave them out."""
+        publishes their CDR bytes as they are, ``plot`` finds no number in them."""
         from turtlectl.nodes.ros2_fields import readable
 
         return {

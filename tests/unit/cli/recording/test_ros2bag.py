@@ -73,12 +73,14 @@ def test_info_lists_a_rosbags_bag_with_its_ros_topics_types_and_counts(bag):
     assert Recording(bag / "bag.mcap").info().count == 24  # the MCAP file itself, too
 
 
-def test_a_rosbags_bag_reads_as_turtlectl_messages_on_keys_and_other_types_are_named(bag):
+def test_a_rosbags_bag_reads_as_turtlectl_messages_on_keys_and_other_types_as_they_are(bag):
     recording = Recording(bag)
     records = list(recording.records())
     assert recording.unmapped() == {"/chatter": "std_msgs/msg/String"}
-    assert {r.key for r in records} == {"turtle1/cmd_vel", "recorded/pose", "recorded/scan", "clock"}
-    by_key = {r.key: r.message() for r in records}
+    assert {r.key for r in records} == {"turtle1/cmd_vel", "recorded/pose", "recorded/scan", "clock", "/chatter"}
+    (chatter,) = [r for r in records if r.key == "/chatter"]  # kept as it is, played as its CDR bytes
+    assert (chatter.type_name, chatter.encoding, chatter.message()) == ("", "cdr", None)
+    by_key = {r.key: r.message() for r in records if r.type_name}
     assert by_key["turtle1/cmd_vel"] == Twist(linear=1.0, angular=0.25)
     assert by_key["recorded/pose"] == Pose(x=2.5, y=3.0, theta=0.5)
     scan = by_key["recorded/scan"]
