@@ -1,7 +1,7 @@
 """Which ROS 2 type each turtlectl type is in ROS 2 (a recording in rosbag2's profile, a bridge): the one table.
 
 Pure data, no network, no ROS library.  A key becomes a ROS topic by a leading ``/``
-(``turtle1/pose`` -> ``/turtle1/pose``), and a ROS topic a key by dropping it.  Each entry also
+(``turtle1/pose`` -> ``/turtle1/pose``; ``ros_topic``), and a ROS topic a key by dropping it.  Each entry also
 gives the QoS a ROS publisher of that topic would offer (as rosbag2 records it per topic):
 rclpy's default (reliable, volatile, keep last 10), and for the log stream rcl's ``/rosout``
 profile (reliable, transient local, keep last 1000).
@@ -10,6 +10,7 @@ profile (reliable, transient local, keep last 1000).
 from __future__ import annotations
 
 import dataclasses
+import re
 
 #: the ROS 2 distribution whose message definitions the ROS types below follow
 ROS_DISTRO = "kilted"
@@ -53,8 +54,11 @@ BY_ROS = {row.ros: row for row in TABLE}
 
 
 def ros_topic(key: str) -> str:
-    """A turtlectl key as a ROS topic name: ``turtle1/pose`` -> ``/turtle1/pose``."""
-    return key if key.startswith("/") else "/" + key
+    """A turtlectl key as a ROS topic name: ``turtle1/pose`` -> ``/turtle1/pose``; a character a ROS
+    name cannot hold (``.``, ``-``) becomes ``_`` (``turtlectl/log/turtle2.navigator`` ->
+    ``/turtlectl/log/turtle2_navigator``)."""
+    name = key if key.startswith("/") else "/" + key
+    return re.sub(r"[^A-Za-z0-9_/]", "_", name)
 
 
 def key_of(topic: str) -> str:

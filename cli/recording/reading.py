@@ -182,6 +182,10 @@ class Recording:
         from turtlectl.messages.jsonform import to_json
 
         stamp = getattr(decoded, "stamp", 0)
+        if not stamp and "stamp" in type(decoded).__struct_fields__:  # no header: stamped when recorded
+            import msgspec
+
+            decoded, stamp = msgspec.structs.replace(decoded, stamp=message.log_time), message.log_time
         return Record(
             key=_plain(channel.topic),
             type_name=type_name(type(decoded)),

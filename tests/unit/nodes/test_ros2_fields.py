@@ -32,6 +32,8 @@ def test_every_row_of_the_table_is_a_turtlectl_type_converted_both_ways():
 
 def test_keys_and_ros_topics():
     assert p.ros_topic("turtle1/pose") == "/turtle1/pose" and p.ros_topic("/clock") == "/clock"
+    assert p.ros_topic("turtlectl/log/turtle2.navigator") == "/turtlectl/log/turtle2_navigator"
+    assert p.ros_topic("my-robot/x") == "/my_robot/x"
     assert p.key_of("/turtle1/pose") == "turtle1/pose" and p.key_of("/") == "/"
 
 

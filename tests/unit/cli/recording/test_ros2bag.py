@@ -80,9 +80,9 @@ def test_a_rosbags_bag_reads_as_turtlectl_messages_on_keys_and_other_types_as_th
     assert {r.key for r in records} == {"turtle1/cmd_vel", "recorded/pose", "recorded/scan", "clock", "/chatter"}
     (chatter,) = [r for r in records if r.key == "/chatter"]  # kept as it is, played as its CDR bytes
     assert (chatter.type_name, chatter.encoding, chatter.message()) == ("", "cdr", None)
-    by_key = {r.key: r.message() for r in records if r.type_name}
-    assert by_key["turtle1/cmd_vel"] == Twist(linear=1.0, angular=0.25)
-    assert by_key["recorded/pose"] == Pose(x=2.5, y=3.0, theta=0.5)
+    by_key = {r.key: r.message() for r in reversed(records) if r.type_name}  # each key's first
+    assert by_key["turtle1/cmd_vel"] == Twist(linear=1.0, angular=0.25, stamp=START)  # no header: when recorded
+    assert by_key["recorded/pose"] == Pose(x=2.5, y=3.0, theta=0.5, stamp=START)
     scan = by_key["recorded/scan"]
     assert isinstance(scan, LaserScan) and scan.ranges == [1.0, math.inf, 2.0]
     assert scan.stamp == START + 5 and math.isnan(scan.origin_x)
@@ -159,7 +159,8 @@ def test_the_ros2_writer_makes_a_bag_rosbags_reads_and_leaves_out_what_has_no_ro
     assert got[0][1] == START and (got[0][2].x, got[0][2].y, got[0][2].theta) == (1.5, 2.0, -0.5)
     assert (got[1][2].linear.x, got[1][2].angular.z) == (0.5, 1.0)
     # and turtlectl reads its own ROS 2 bag back
-    assert [r.message() for r in Recording(path).records()] == [Pose(x=1.5, y=2.0, theta=-0.5), Twist(0.5, 1.0)]
+    back = [r.message() for r in Recording(path).records()]
+    assert back == [Pose(x=1.5, y=2.0, theta=-0.5, stamp=START), Twist(0.5, 1.0, stamp=START + 1)]
 
 
 def test_the_bag_holds_the_msg_text_and_profile_rosbag2_writes(tmp_path):
