@@ -6,8 +6,9 @@ file has profile ``ros2``; each ROS type a schema of encoding ``ros2msg`` holdin
 text (its dependencies after ``====`` separator lines, as rosbag2 writes it); each topic a channel of
 encoding ``cdr`` with the ``offered_qos_profiles`` of its ROS publisher.  Topics are the keys as ROS
 names (``/turtle1/pose``), types the ROS 2 types of turtlectl.nodes.ros2_profile, fields as
-turtlectl.nodes.ros2_fields converts them.  A message whose type the table does not map (a user's
-own type, a service's request) is left out, said once per topic.  No Zenoh here.
+turtlectl.nodes.ros2_fields converts them; a user's own flat type is its generic ROS type
+(turtlectl.nodes.ros2_generic).  A message of any other type (a built-in the table does not map, a
+service's request, a nested user type) is left out, said once per topic.  No Zenoh here.
 """
 
 from __future__ import annotations
@@ -120,6 +121,7 @@ class Ros2BagWriter:
             raise BadInput(f"cannot write {path}: {exc}") from None
         self._connections: dict[tuple[str, str], Any] = {}
         self._skipped: set[str] = set()
+        self._generic_types: dict[str, bool] = {}  # a user's ROS type -> whether it can be recorded
         self.notes: list[str] = []
         self.messages = 0
         self.raw = 0  # samples left out (no type the table maps, or no message at all)
@@ -141,6 +143,8 @@ class Ros2BagWriter:
             except DecodeError:
                 message = None
         converted = ros2_fields.to_ros(message, key) if message is not None else None
+        if converted is None and message is not None:
+            converted = self._generic(message)
         if converted is None:
             self._skip(key, type_name(type(message)) if message is not None else "")
             return message
@@ -148,7 +152,8 @@ class Ros2BagWriter:
         topic = ros2_profile.ros_topic(key)
         connection = self._connections.get((topic, ros_type))
         if connection is None:
-            qos = ros2_profile.BY_ROS[ros_type].qos
+            row = ros2_profile.BY_ROS.get(ros_type)
+            qos = row.qos if row is not None else ros2_profile.DEFAULT_QOS
             connection = self._writer.add_connection(
                 topic, ros_type, typestore=self.store, offered_qos_profiles=[_qos(qos)]
             )
@@ -157,6 +162,30 @@ class Ros2BagWriter:
         self._writer.write(connection, received, bytes(data))
         self.messages += 1
         return message
+
+    def _generic(self, message: Message) -> tuple[str, dict] | None:
+        """A user's own flat type as the ROS type of its generic .msg text (turtlectl.nodes.ros2_generic),
+        registered once; None for a built-in, a type that is not flat, or a ROS name taken by another
+        definition."""
+        from turtlectl.messages import ALL_TYPES
+        from turtlectl.nodes import ros2_generic
+
+        cls = type(message)
+        if cls in ALL_TYPES:
+            return None
+        ros_type = ros2_generic.ros_name(type_name(cls))
+        if ros_type not in self._generic_types:
+            text = ros2_generic.msg_text(cls)
+            if text is not None:
+                from rosbags.typesys import get_types_from_msg
+
+                mine = get_types_from_msg(text, ros_type)
+                if ros_type not in self.store.types:
+                    self.store.register(mine)
+                elif self.store.fielddefs[ros_type][1] != mine[ros_type][1]:
+                    text = None  # the name is a ROS type of other fields (a standard one, the table's)
+            self._generic_types[ros_type] = text is not None
+        return (ros_type, ros2_generic.fields_of(message)) if self._generic_types[ros_type] else None
 
     def _skip(self, key: str, name: str) -> None:
         self.raw += 1

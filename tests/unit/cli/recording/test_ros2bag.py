@@ -7,6 +7,7 @@ from __future__ import annotations
 import math
 from pathlib import Path
 
+import msgspec
 import pytest
 
 from turtlectl.cli.recording.bag import RecordingError
@@ -16,6 +17,12 @@ from turtlectl.messages import Clock, LaserScan, Pose, Twist, encode, encoding_f
 pytest.importorskip("rosbags", reason="the ros2 extra (make installs it)")
 
 START = 1_700_000_000_000_000_000
+
+
+class Inner(msgspec.Struct):
+    """A nested field of a user's type (module level: its annotation is resolved here)."""
+
+    a: float
 
 
 def rosbags_bag(path: Path, twists: int = 20) -> Path:
@@ -213,3 +220,59 @@ def test_record_refuses_an_unknown_profile_and_the_scene_in_a_ros2_bag(tmp_path)
     scene = runner.invoke(app, ["record", "-a", "--scene", "--profile", "ros2", "-o", str(tmp_path / "x")])
     assert isinstance(scene.exception, BadInput) and "--scene" in str(scene.exception)
     assert not (tmp_path / "x").exists()
+
+
+def test_a_users_flat_type_is_recorded_as_its_generic_ros_type_and_a_nested_one_is_left_out(tmp_path, monkeypatch):
+    from rosbags.rosbag2 import Reader
+
+    from turtlectl.cli.recording.ros2bag import Ros2BagWriter
+    from turtlectl.messages import Message, codec
+
+    monkeypatch.setattr(codec, "TYPES_BY_NAME", dict(codec.TYPES_BY_NAME))  # the test's types forgotten after it
+
+    class Reading(Message, tag="bag_test_msgs/Reading"):
+        value: float
+        count: int
+        label: str
+        samples: list[float] = msgspec.field(default_factory=list)
+        corner: tuple[float, float] = (0.0, 0.0)
+
+    class Nested(Message, tag="bag_test_msgs/Nested"):
+        inner: Inner
+
+    for cls in (Reading, Nested):
+        codec.register(cls)
+    path = tmp_path / "user"
+    writer = Ros2BagWriter(path)
+    reading = Reading(value=1.5, count=3, label="a", samples=[1.0, 2.0], corner=(0.5, 0.25))
+    writer.add("sensor/reading", encoding_for(Reading), encode(reading), START)
+    writer.add("sensor/nested", encoding_for(Nested), encode(Nested(inner=Inner(a=1.0))), START + 1)
+    writer.close()
+    assert writer.notes == [
+        "not recorded in the ROS 2 bag: sensor/nested (its type bag_test_msgs/Nested has no ROS 2 type here; "
+        "see docs/how-to/ros2-bags.md)"
+    ]
+    with Reader(path) as reader:
+        (connection,) = reader.connections
+        assert (connection.topic, connection.msgtype) == ("/sensor/reading", "bag_test_msgs/msg/Reading")
+        text = connection.msgdef.data
+        assert text.splitlines()[:5] == [
+            "float64 value",
+            "int64 count",
+            "string label",
+            "float64[] samples",
+            "float64[2] corner",
+        ]
+        from rosbags.typesys import Stores, get_types_from_msg, get_typestore
+
+        store = get_typestore(Stores.ROS2_KILTED)
+        store.register(get_types_from_msg(text, connection.msgtype))
+        (raw,) = [raw for _c, _t, raw in reader.messages()]
+        got = store.deserialize_cdr(raw, connection.msgtype)
+    assert (got.value, got.count, got.label, list(got.samples), list(got.corner)) == (
+        1.5,
+        3,
+        "a",
+        [1.0, 2.0],
+        [0.5, 0.25],
+    )
