@@ -50,7 +50,8 @@ def test_a_ros2_recording_reads_in_rosbags_message_for_message(tmp_path: Path):
     from rosbags.rosbag2 import Reader
 
     from turtlectl.cli.recording.ros2bag import typestore
-    from turtlectl.nodes.ros2_fields import from_ros
+    from turtlectl.nodes.ros2_fields import from_ros, to_ros
+    from turtlectl.nodes.ros2_profile import ros_topic
 
     bag = tmp_path / "run_bag"
     with running_system() as system:
@@ -93,6 +94,7 @@ def test_a_ros2_recording_reads_in_rosbags_message_for_message(tmp_path: Path):
             assert connection.ext.offered_qos_profiles, connection.topic
         for connection, _t, raw in reader.messages():
             got[connection.topic].append(bytes(raw))
+            types.setdefault(connection.topic, connection.msgtype)
             message = store.deserialize_cdr(raw, connection.msgtype)
             assert from_ros(connection.msgtype, message) is not None
     assert types["/turtle1/cmd_vel"] == "geometry_msgs/msg/Twist"
@@ -101,10 +103,13 @@ def test_a_ros2_recording_reads_in_rosbags_message_for_message(tmp_path: Path):
     assert types["/robot/status"] == "capstone_msgs/msg/TurtleStatus"
     assert types["/clock"] == "rosgraph_msgs/msg/Clock"
     for key in MAPPED:
-        if key == "clock" and "/clock" not in got:
-            continue  # only a system on simulated time publishes it
-        recorded = got["/" + key]
-        assert len(recorded) > 5, key
+        if key != "clock":  # only a system on simulated time publishes it
+            assert len(got["/" + key]) > 5, key
+    # every topic of the bag (the logs' too), message for message, a run of what was published on its key
+    keys = {ros_topic(k): k for k, messages in seen.items() if messages and to_ros(messages[0], k) is not None}
+    assert set(got) <= set(keys), set(got) - set(keys)
+    for topic, recorded in got.items():
+        key = keys[topic]
         expected = [_bytes_of(store, m, key) for m in seen[key]]
         assert _contiguous(recorded, expected), f"{key}: {len(recorded)} recorded, not a run of what was published"
     # independent of turtlectl's own serializer: rosbags' values are the published ones
