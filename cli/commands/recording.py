@@ -79,6 +79,10 @@ def record(
     ros2 = "ros2" if profile == "ros2" else ""
     if ros2 and scene:
         raise BadInput("--scene is drawn for Foxglove in turtlectl's own recordings: not with --profile ros2")
+    if ros2:
+        from turtlectl.cli.recording.ros2bag import require
+
+        require()
     keys, excluded = recording.keys_to_record(topics or [], all_topics, exclude)
     path = output or recording.default_path(profile=ros2)
     refuse_existing(path)

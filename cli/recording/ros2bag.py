@@ -27,6 +27,16 @@ PROFILE = "ros2"  # the command line's --profile value, and the MCAP profile
 INSTALL = "pip install 'turtlectl[ros2]'"
 
 
+def require() -> None:
+    """CannotStart (exit 4), with how to install it, if the rosbags library is missing: said before
+    anything starts."""
+    try:
+        import rosbags.rosbag2  # noqa: F401
+        import rosbags.typesys  # noqa: F401
+    except ImportError:
+        raise CannotStart(f"ROS 2 bags need the ros2 extra (the rosbags library): {INSTALL}") from None
+
+
 def typestore() -> Any:
     """rosbags' typestore for ROS 2 Kilted, with turtlectl's own ROS types (turtlesim/msg/Pose, the
     capstone's TurtleStatus) added from their .msg text.  CannotStart (exit 4) without rosbags."""

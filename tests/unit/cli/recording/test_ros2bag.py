@@ -205,6 +205,12 @@ def test_without_rosbags_one_line_says_how_to_install_the_extra(monkeypatch):
     with pytest.raises(CannotStart, match=r"pip install 'turtlectl\[ros2\]'") as raised:
         typestore()
     assert raised.value.exit_code == 4
+    from typer.testing import CliRunner
+
+    from turtlectl.cli.main import app
+
+    refused = CliRunner().invoke(app, ["record", "-a", "--profile", "ros2", "--connect", "tcp/127.0.0.1:9"])
+    assert isinstance(refused.exception, CannotStart)  # before it connects to anything
 
 
 def test_record_refuses_an_unknown_profile_and_the_scene_in_a_ros2_bag(tmp_path):
