@@ -196,9 +196,21 @@ class Recording:
             data=to_json(decoded),
         )
 
+    def ros_fields(self, record: Record) -> dict | None:
+        """A ROS 2 bag's message of a ROS type that maps to no turtlectl type (a raw ``record`` of a
+        ``cdr`` channel) as nested dicts of its fields, for ``plot``; None if it is none or does not decode."""
+        schema = next((sc for sc, ch in self._channels() if ch.topic == record.key and _is_ros2(sc, ch)), None)
+        if schema is None:
+            return None
+        if self._ros2 is None:
+            from turtlectl.cli.recording.ros2bag import Ros2Decoder
+
+            self._ros2 = Ros2Decoder()
+        return self._ros2.fields(schema.name, schema.data.decode(errors="replace"), record.data)
+
     def unmapped(self) -> dict[str, str]:
         """A ROS 2 bag's topics whose ROS type maps to no turtlectl type (topic -> ROS type): ``play``
-        publishes their CDR bytes as they are, ``plot`` finds no number in them."""
+        publishes their CDR bytes as they are, ``plot`` reads them by their own fields (``ros_fields``)."""
         from turtlectl.nodes.ros2_fields import readable
 
         return {

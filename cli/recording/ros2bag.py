@@ -261,3 +261,28 @@ class Ros2Decoder:
             return ros2_fields.from_ros(ros_type, ros)
         except Exception as exc:  # noqa: BLE001 - rosbags raises many kinds for bad bytes
             raise RecordingError(f"a message on {topic} does not decode as {ros_type}: {exc}") from None
+
+    def fields(self, ros_type: str, msgdef: str, data: bytes) -> dict | None:
+        """A CDR payload of any ROS type the bag defines as nested dicts of its fields (sequences as
+        lists), or None if it does not decode."""
+        if not self.known(ros_type, msgdef):
+            return None
+        try:
+            return _plain(self.store.deserialize_cdr(data, ros_type))
+        except Exception:  # noqa: BLE001 - rosbags raises many kinds for bad bytes
+            return None
+
+
+def _plain(value: Any) -> Any:
+    """A rosbags message as nested dicts and lists."""
+    import dataclasses
+
+    import numpy as np
+
+    if dataclasses.is_dataclass(value):
+        return {f.name: _plain(getattr(value, f.name)) for f in dataclasses.fields(value)}
+    if isinstance(value, np.ndarray):
+        return value.tolist()
+    if isinstance(value, list | tuple):
+        return [_plain(v) for v in value]
+    return value

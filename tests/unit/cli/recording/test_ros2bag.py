@@ -282,3 +282,22 @@ def test_a_users_flat_type_is_recorded_as_its_generic_ros_type_and_a_nested_one_
         [1.0, 2.0],
         [0.5, 0.25],
     )
+
+
+def test_plot_reads_the_numbers_of_a_ros_type_turtlectl_has_no_type_for(tmp_path):
+    from rosbags.rosbag2 import StoragePlugin, Writer
+
+    from turtlectl.cli.recording.ros2bag import build, typestore
+    from turtlectl.cli.tools.plot import Series
+    from turtlectl.cli.tools.plot_sources import from_recording
+
+    store = typestore()
+    path = tmp_path / "odom"
+    with Writer(path, version=9, storage_plugin=StoragePlugin.MCAP) as writer:
+        conn = writer.add_connection("/odom", "nav_msgs/msg/Odometry", typestore=store)
+        for i in range(5):
+            odom = build(store, "nav_msgs/msg/Odometry", {"pose": {"pose": {"position": {"x": i / 2}}}})
+            writer.write(conn, START + i * 100_000_000, store.serialize_cdr(odom, "nav_msgs/msg/Odometry"))
+    x = Series("odom", "pose.pose.position.x")
+    times, values = from_recording(path, [x]).collected.xy(x)
+    assert times == pytest.approx([0.0, 0.1, 0.2, 0.3, 0.4]) and values == [0.0, 0.5, 1.0, 1.5, 2.0]
