@@ -6,6 +6,8 @@
                                               and what it says NODE publishes and subscribes to
     probe.py talk TOPIC TEXT                  publish std_msgs/String TEXT at 5 Hz until killed
     probe.py latency COUNT                    /turtle1/odom's header stamp to the callback (wall clock), LATENCY {...}
+    probe.py odom RATE SECONDS                publish nav_msgs/Odometry on /turtle1/odom at RATE Hz, stamped with
+                                              the wall clock (plain rclpy, what the bridge's benchmark compares with)
 
 Each prints READY when its side is set up (a publisher: once a subscription matched).
 """
@@ -139,12 +141,32 @@ def latency(node, count: str) -> None:
     print("LATENCY " + json.dumps(result), flush=True)
 
 
+def odom(node, rate: str, seconds: str) -> None:
+    from nav_msgs.msg import Odometry
+
+    pub = node.create_publisher(Odometry, "/turtle1/odom", 10)
+    print("READY", flush=True)
+    period, end = 1.0 / float(rate), time.monotonic() + float(seconds)
+    due = time.monotonic()
+    while time.monotonic() < end:
+        msg = Odometry()
+        msg.header.frame_id, msg.child_frame_id = "odom", "turtle1/base_link"
+        now = time.time_ns()
+        msg.header.stamp.sec, msg.header.stamp.nanosec = now // 1_000_000_000, now % 1_000_000_000
+        msg.pose.pose.position.x = 5.5
+        pub.publish(msg)
+        due += period
+        time.sleep(max(0.0, due - time.monotonic()))  # the publishing rate's pacing
+
+
 def main() -> None:
     mode, *args = sys.argv[1:]
     rclpy.init()
     node = Node(f"probe_{mode}")
     try:
-        {"drive": drive, "listen": listen, "graph": graph, "talk": talk, "latency": latency}[mode](node, *args)
+        {"drive": drive, "listen": listen, "graph": graph, "talk": talk, "latency": latency, "odom": odom}[mode](
+            node, *args
+        )
     finally:
         node.destroy_node()
         rclpy.try_shutdown()
