@@ -161,6 +161,25 @@ def log_to_ros(msg: Log) -> r.Log:
     )
 
 
+def clock_from_ros(msg: r.Clock) -> Clock:
+    """rosgraph_msgs/Clock -> turtlectl Clock, stamped at the clock's own time (as the simulator stamps it)."""
+    ns = time_to_ns(msg.clock)
+    return Clock(clock=ns, stamp=ns)
+
+
+def log_from_ros(msg: r.Log) -> Log:
+    """rcl_interfaces/Log -> turtlectl Log: the logger's ``.`` back to ``/`` in the node's name."""
+    return Log(
+        level=int(msg.level),
+        node=str(msg.name).replace(".", "/"),
+        message=str(msg.msg),
+        file=str(msg.file),
+        function=str(msg.function),
+        line=int(msg.line),
+        stamp=time_to_ns(msg.stamp),
+    )
+
+
 def string_to_ros(msg: String) -> r.String:
     """turtlectl String -> std_msgs/String (stamp and seq have no place in it)."""
     return r.String(data=msg.data)

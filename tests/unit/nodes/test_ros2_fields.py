@@ -84,4 +84,24 @@ def test_a_log_level_between_two_of_ros_rounds_down():
 def test_a_type_the_table_does_not_map_is_none():
     assert f.to_ros(Kill(name="turtle2")) is None
     assert f.from_ros("std_msgs/msg/String", NS(data="x")) is None and not f.readable("std_msgs/msg/String")
-    assert f.time_of(-1) == {"sec": -1, "nanosec": 999_999_999}
+
+
+def test_a_bag_says_what_the_bridge_says():
+    """One conversion: a bag's fields are the bridge's DDS message, field for field."""
+    import dataclasses
+
+    from turtlectl.nodes.ros2_mapping import scan_to_ros
+
+    scan = LaserScan(
+        angle_min=-1.0,
+        angle_max=1.0,
+        angle_increment=1.0,
+        range_min=0.1,
+        range_max=5.0,
+        ranges=[1.0, math.inf, 2.0],
+        stamp=7,
+    )
+    assert f.to_ros(scan, "turtle2/obstacles") == (
+        "sensor_msgs/msg/LaserScan",
+        dataclasses.asdict(scan_to_ros(scan, "turtle2")),
+    )
