@@ -1,7 +1,7 @@
 """Cyclone DDS (Python binding) <-> real rclpy (pip wheels, Fast DDS): does a message cross, and how fast?
 
 Not part of `make test` or `make bench` yet: it needs the optional ROS 2 packages in .venv (see
-docs/notes-ros2-bridge.md for the exact pip command) and root, for a network namespace holding only
+docs/explanation/ros2-dds.md) and root, for a network namespace holding only
 loopback (Fast DDS's localhost mode still advertises the network card's address; in the namespace no DDS
 packet can leave 127.0.0.1).
 
