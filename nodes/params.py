@@ -22,6 +22,7 @@ from turtlectl.messages.keys import (
     OBSTACLES,
     POSE,
     RESET,
+    ROS2_BRIDGE,
     STATUS,
     TURTLES,
 )
@@ -143,7 +144,9 @@ STATUS_MONITOR_CLAIMS = (Claim("pub", STATUS),)
 STATUS_MONITOR_INTERFACE = Interface(publishes=(STATUS,), subscribes=(POSE,), serves=(f"/{RESET}",))
 OBSTACLE_DETECTOR_CLAIMS = (Claim("pub", OBSTACLES),)
 OBSTACLE_DETECTOR_INTERFACE = Interface(publishes=(OBSTACLES,), subscribes=(POSE, f"/{TURTLES}"))
-ROS2_BRIDGE_CLAIMS = ()
-#: the bridge carries what its table says, which a launch file extends: any key, both ways; and it
-#: follows the nodes' presence (their names in the ROS graph)
-ROS2_BRIDGE_INTERFACE = Interface(publishes=("**",), subscribes=("**",), watches=(GRAPH,))
+#: one bridge per system: a second one's DDS side would bring back into the system what the first
+#: sends to ROS, and the first send it to ROS again, without end
+ROS2_BRIDGE_CLAIMS = (Claim("srv", f"/{ROS2_BRIDGE}"),)
+#: the bridge carries what its table says, which a launch file extends: any key, both ways; it
+#: follows the nodes' presence (their names in the ROS graph), and serves its claim
+ROS2_BRIDGE_INTERFACE = Interface(publishes=("**",), subscribes=("**",), watches=(GRAPH,), serves=(f"/{ROS2_BRIDGE}",))

@@ -21,11 +21,11 @@ from __future__ import annotations
 
 from typing import Any
 
-from turtlectl.messages import Turtles
-from turtlectl.messages.keys import GRAPH, TURTLES, parse_entity_token, parse_node_token
+from turtlectl.messages import Ack, String, Turtles
+from turtlectl.messages.keys import GRAPH, ROS2_BRIDGE, TURTLES, parse_entity_token, parse_node_token
 from turtlectl.nodes.params import ROS2_BRIDGE_CLAIMS, ROS2_BRIDGE_INTERFACE, Ros2BridgeParams
 from turtlectl.nodes.ros2_table import SYSTEM_ENTRIES, BridgeTopic, OwnEcho, turtle_entries, turtle_of_key
-from turtlectl.runtime import Node, run_main
+from turtlectl.runtime import Node, Request, run_main
 from turtlectl.runtime.client.errors import BadInput, CannotStart
 
 INSTALL_HINT = "pip install 'turtlectl[ros2]'"
@@ -106,6 +106,7 @@ class Ros2Bridge:
             for row in SYSTEM_ENTRIES:
                 self.add(row)
             node.subscribe(f"/{TURTLES}", Turtles, self.on_turtles)
+        node.serve(f"/{ROS2_BRIDGE}", String, Ack, self.on_asked)  # its claim: the system's only bridge
         node.watch_liveliness(GRAPH, self.on_presence)  # the nodes and what each publishes and subscribes to
         # and the nodes there already: a watch sees only what changes once it reached the router, so the
         # tokens are asked for now and every PRESENCE_PERIOD (a start before the router answered misses none)
@@ -199,6 +200,9 @@ class Ros2Bridge:
         else:
             self.tokens.discard(key)
         self.link.set_nodes(graph_nodes(self.tokens, self.rows))
+
+    def on_asked(self, request: Request[String]) -> None:
+        request.respond(Ack(detail=f"{self.node.name} bridges ROS 2 domain {self.domain}: {len(self.rows)} topics"))
 
     def on_other_bridge(self, participant: str) -> None:
         if not self.warned_other:

@@ -121,15 +121,22 @@ def test_a_ros_message_that_does_not_decode_is_one_line_and_the_bridge_keeps_goi
     assert sum("did not decode" in x for x in side.system.lines) == 1  # once a topic
 
 
-def test_a_second_bridge_on_the_ros_domain_is_said_once_and_both_keep_running(side):
-    second = side.spawn([*turtlectl(), "ros2", "bridge", "--connect", side.endpoint])
-    line = second.wait_for("another bridge named ros2_bridge is on ROS 2 domain 0")
-    assert "stop one" in line
-    side.system.wait_for("another bridge named ros2_bridge")
-    assert second.proc.poll() is None and side.system.proc.poll() is None
-    second.stop()
-    assert second.proc.returncode == 0, second.text()
-    assert sum("another bridge" in x for x in second.lines) == 1
+def test_a_second_bridge_of_a_system_is_refused_in_one_line_and_the_first_keeps_bridging(side):
+    """Two bridges of one system on one ROS domain would feed each other: a Twist one writes to ROS the
+    other brings back into the system, and the first sends it to ROS again, thousands a second, the
+    turtle driving on a command its sender ended.  The second one refuses to start (exit 4), by any name."""
+    second = side.spawn([*turtlectl(), "ros2", "bridge", "--name", "bridge_b", "--connect", side.endpoint])
+    assert second.finish() == 4, second.text()
+    said = [line for line in second.lines if "ros2/bridge" in line]
+    assert len(said) == 1 and "ros2_bridge" in said[0], second.text()
+    driver = side.rclpy("probe.py", "drive", "0.0", "0.5", "1.0")
+    driver.wait_for("^READY$")
+    assert driver.finish() == 0, driver.text()
+    # after the driver's last Twist nothing drives the turtle: at most the navigator's idle stops
+    rates = side.tool("hz", "turtle1/cmd_vel", "--duration", "2", "--json")
+    seen = [json.loads(line)["rate"] for line in rates.stdout.splitlines() if line.startswith("{")]
+    assert all(rate < 50 for rate in seen), rates.stdout + rates.stderr
+    assert side.system.proc.poll() is None
 
 
 def test_an_unknown_ros_type_in_the_table_is_one_line_at_check(tmp_path):
