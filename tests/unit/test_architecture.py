@@ -50,6 +50,7 @@ PURE = [
     "nodes.battery",
     "nodes.params",
     "nodes.kinds",
+    "nodes.ros2_requests",  # the ROS 2 service types and requests, without DDS
     "cli.system.launchfile",
     "cli.system.compose",  # arguments and includes of launch files
     "cli.system.report",
