@@ -167,7 +167,9 @@ class Ros2Bridge:
         for row, writer in self.outgoing[key]:
             if not writer:  # made with the key's first message (and it shows in ROS's graph then)
                 writer.append(self.link.writer(row.ros, self.mapping.TO_ROS[row.type][1], row.qos))
-            if writer[0].readers:  # nothing converted for a topic no ROS node reads
+            # nothing converted for a topic no ROS node reads, but for a latched one (/rosout), whose
+            # history a reader that comes later is given
+            if writer[0].readers or row.qos == "latched":
                 writer[0].write(self.mapping.TO_ROS[row.type][2](msg, turtle_of_key(row.key)))
 
     def from_ros(self, row: BridgeTopic, sample: Any) -> None:

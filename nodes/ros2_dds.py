@@ -9,7 +9,7 @@
 * :func:`participant` opens one on the ROS domain (``ROS_DOMAIN_ID``, 0 unless set), with the
   ``enclave=/;`` USER_DATA rclpy's graph reads.
 * :data:`RELIABLE` is rclpy's default QoS (``10``: reliable, volatile, keep last 10), :data:`SENSOR`
-  its sensor-data QoS (best effort, keep last 5), :data:`GRAPH` the QoS of ``ros_discovery_info``.
+  its sensor-data QoS (best effort, keep last 5), :data:`LATCHED` /rosout's, :data:`GRAPH` the QoS of ``ros_discovery_info``.
 
 Importing this module loads the Cyclone DDS C library (~0.35 s): only the processes that speak DDS
 import it, lazily.
@@ -29,6 +29,9 @@ MAX_PARTICIPANTS = 20  # per host and domain: Cyclone's highest participant inde
 
 RELIABLE = Qos(Policy.Reliability.Reliable(0), Policy.Durability.Volatile, Policy.History.KeepLast(10), XCDR1)
 SENSOR = Qos(Policy.Reliability.BestEffort, Policy.Durability.Volatile, Policy.History.KeepLast(5), XCDR1)
+#: what rcl's /rosout publishers offer (reliable, transient local, keep last 1000): a late subscriber
+#: asking for transient local (as rqt_console does) gets the last lines, and matches at all
+LATCHED = Qos(Policy.Reliability.Reliable(0), Policy.Durability.TransientLocal, Policy.History.KeepLast(1000), XCDR1)
 GRAPH = Qos(Policy.Reliability.Reliable(0), Policy.Durability.TransientLocal, Policy.History.KeepLast(1), XCDR1)
 
 

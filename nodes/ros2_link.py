@@ -96,7 +96,7 @@ class DdsLink:
 
     @staticmethod
     def qos(name: str, local_ignored: bool = False) -> Qos:
-        base = ros2_dds.SENSOR if name == "sensor" else ros2_dds.RELIABLE
+        base = {"sensor": ros2_dds.SENSOR, "latched": ros2_dds.LATCHED}.get(name, ros2_dds.RELIABLE)
         return Qos(*base, Policy.IgnoreLocal.Participant) if local_ignored else base
 
     def writer(self, ros_topic: str, ros_type: type, qos: str) -> "Out":

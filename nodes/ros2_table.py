@@ -53,7 +53,8 @@ class BridgeTopic(msgspec.Struct, forbid_unknown_fields=True, frozen=True, kw_on
     ros: RosTopic  # -: the ROS 2 topic, absolute (``/chatter``)
     type: str  # -: the ROS 2 type, ``package/msg/Name`` (one the bridge converts: see the how-to's table)
     direction: Literal["to_ros", "from_ros", "both"] = "to_ros"  # -: which way it crosses
-    qos: Literal["reliable", "sensor"] = "reliable"  # -: reliable (rclpy's 10) or sensor (best effort, keep 5)
+    #: -: reliable (rclpy's 10), sensor (best effort, keep 5) or latched (reliable, transient local, keep 1000: /rosout's)
+    qos: Literal["reliable", "sensor", "latched"] = "reliable"
 
     def __post_init__(self) -> None:
         known = ROS_TYPES.get(self.type)
@@ -102,7 +103,7 @@ def turtle_entries(turtle: str) -> list[BridgeTopic]:
 #: the rows of the system as a whole (not per turtle): the simulated clock and the log stream
 SYSTEM_ENTRIES = (
     BridgeTopic(key=CLOCK, ros="/clock", type="rosgraph_msgs/msg/Clock"),
-    BridgeTopic(key="turtlectl/log/*", ros="/rosout", type="rcl_interfaces/msg/Log"),
+    BridgeTopic(key="turtlectl/log/*", ros="/rosout", type="rcl_interfaces/msg/Log", qos="latched"),
 )
 
 

@@ -101,6 +101,15 @@ def test_rclpys_graph_lists_turtlectls_nodes_and_topics_with_their_ros_types(sid
     assert graph["subscribers"]["/turtle1/cmd_vel"] == ["geometry_msgs/msg/Twist"]
 
 
+def test_rosout_reaches_a_reader_asking_for_rosouts_own_qos(side):
+    """rcl publishes /rosout reliable and transient local; a reader asking for that (rqt_console)
+    matches the bridge's writer only if it offers as much, and then gets the lines logged before."""
+    reader = side.rclpy("probe.py", "listen", "/rosout", "rcl_interfaces/msg/Log", "1", "transient_local")
+    logged = json.loads(reader.wait_for("^MSG ").split(" ", 1)[1])
+    assert logged["name"] and logged["level"] in (10, 20, 30, 40, 50), logged
+    reader.stop()
+
+
 def test_turtlectl_echo_shows_an_rclpy_talkers_string(side):
     talker = side.rclpy("probe.py", "talk", "/chatter", "hello from rclpy")
     talker.wait_for("^READY$")

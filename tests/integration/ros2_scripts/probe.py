@@ -1,7 +1,8 @@
 """A real rclpy node for the bridge's tests (run with .venv-ros2's python, in the test's namespace).
 
     probe.py drive LINEAR ANGULAR SECONDS     publish Twist on /turtle1/cmd_vel at 20 Hz once matched
-    probe.py listen TOPIC TYPE COUNT          print COUNT messages of TYPE on TOPIC as JSON lines (MSG {...})
+    probe.py listen TOPIC TYPE COUNT [DURABILITY]  print COUNT messages of TYPE on TOPIC as JSON lines (MSG {...});
+                                              DURABILITY volatile (default) or transient_local
     probe.py graph TOPICS NODES [NODE]        print rclpy's graph (GRAPH {...}) once it lists them (comma separated),
                                               and what it says NODE publishes and subscribes to
     probe.py talk TOPIC TEXT                  publish std_msgs/String TEXT at 5 Hz until killed
@@ -64,9 +65,13 @@ def drive(node, linear: str, angular: str, seconds: str) -> None:
     print("DONE", flush=True)
 
 
-def listen(node, topic: str, type_name: str, count: str) -> None:
+def listen(node, topic: str, type_name: str, count: str, durability: str = "volatile") -> None:
+    """durability transient_local: as rqt_console and rcl's own /rosout readers ask (keep last 1000)."""
+    from rclpy.qos import DurabilityPolicy, QoSProfile
+
     got = []
-    node.create_subscription(ros_class(type_name), topic, got.append, 10)
+    qos = QoSProfile(depth=1000, durability=DurabilityPolicy.TRANSIENT_LOCAL) if durability == "transient_local" else 10
+    node.create_subscription(ros_class(type_name), topic, got.append, qos)
     print("READY", flush=True)
     end = time.monotonic() + DEADLINE
     printed = 0
