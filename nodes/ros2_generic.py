@@ -9,12 +9,14 @@ Pure: no network, no ROS library.  A type ``capstone_msgs/Status`` (turtlectl's 
 
 ``user_type`` finds a user's type by its ROS name (the ROS 2 bridge's rows): ``my_msgs/msg/Reading`` is
 turtlectl's ``my_msgs/Reading``, a class already known in this process or declared in the module its
-package names (``my_msgs.py`` or ``my_msgs/``, imported from the working folder or ``PYTHONPATH``).
+package names (``my_msgs.py`` or ``my_msgs/``, imported from the launch file's folder, the working
+folder or ``PYTHONPATH``).
 """
 
 from __future__ import annotations
 
 import importlib
+import os
 import sys
 from pathlib import Path
 from typing import Any
@@ -24,6 +26,7 @@ import msgspec
 from turtlectl.messages import Message
 from turtlectl.messages.codec import TYPES_BY_NAME, type_name
 from turtlectl.messages.naming import REBUILT
+from turtlectl.runtime.config import PROJECT_VAR
 
 _BASE = {
     msgspec.inspect.FloatType: "float64",
@@ -76,8 +79,8 @@ def _declared(name: str) -> type[Message] | None:
 
 def user_type(ros_type: str) -> type[Message] | None:
     """The user's own message class of ROS 2 type ``ros_type`` (``my_msgs/msg/Reading``): one declared
-    in this process already, else in the module of its package (imported now from the working folder
-    or ``PYTHONPATH``); None when there is none (or the module does not import).  turtlectl's own
+    in this process already, else in the module of its package (imported now from sys.path, the launch
+    file's folder (PROJECT_VAR) or the working folder); None when there is none (or the module does not import).  turtlectl's own
     package (``turtlectl``) is never a user's."""
     name = turtlectl_name(ros_type)
     if name is None or name.startswith("turtlectl/"):
@@ -85,8 +88,9 @@ def user_type(ros_type: str) -> type[Message] | None:
     found = _declared(name)
     if found is not None:
         return found
-    if "" not in sys.path and str(Path.cwd()) not in sys.path:
-        sys.path.append(str(Path.cwd()))
+    for folder in (os.environ.get(PROJECT_VAR), str(Path.cwd())):  # the launch file's, the working one
+        if folder and folder not in sys.path:
+            sys.path.append(folder)
     try:
         importlib.import_module(name.split("/")[0])
     except Exception:  # no such module, or one that does not import: no such type here
