@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import importlib
 import os
+import re
 import sys
 from pathlib import Path
 from typing import Any
@@ -104,7 +105,7 @@ def field_that_cannot_cross(cls: type[msgspec.Struct]) -> str | None:
     for f in msgspec.inspect.type_info(cls).fields:
         if _field(f.type) is None:
             kind = declared.get(f.name)
-            shown = kind.__name__ if isinstance(kind, type) else str(kind).replace("typing.", "")
+            shown = kind.__name__ if isinstance(kind, type) else re.sub(r"\b(?:\w+\.)+(\w+)", r"\1", str(kind))
             return f"{f.name}: {shown}"
     return None
 

@@ -127,4 +127,7 @@ def test_a_users_type_that_is_not_flat_is_one_line_at_check(tmp_path):
     )
     assert done.returncode == 2, done.stdout + done.stderr
     assert done.stderr.strip().count("\n") == 0, done.stderr
-    assert "reading_msgs/Walls cannot cross to ROS 2 (/reading): its field corners: list[" in done.stderr
+    assert (
+        "reading_msgs/Walls cannot cross to ROS 2 (/reading): its field corners: list[Corner] has no ROS type"
+        in done.stderr
+    )

@@ -91,7 +91,7 @@ def test_a_type_that_is_not_flat_is_one_line_naming_its_field():
     with pytest.raises(msgspec.ValidationError) as err:
         row(key="wall", ros="/wall", type="gen_msgs/msg/Nested")
     text = str(err.value)
-    assert "gen_msgs/Nested cannot cross to ROS 2 (/wall): its field corners: list[" in text
+    assert "gen_msgs/Nested cannot cross to ROS 2 (/wall): its field corners: list[Corner] has no ROS type" in text
     assert "\n" not in text
 
 
