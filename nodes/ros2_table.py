@@ -55,7 +55,7 @@ class BridgeTopic(msgspec.Struct, forbid_unknown_fields=True, frozen=True, kw_on
 
     key: Key  # -: the turtlectl key, as a node at the top level writes it (``chatter``, ``turtle2/pose``)
     ros: RosTopic  # -: the ROS 2 topic, absolute (``/chatter``)
-    type: str  # -: the ROS 2 type, ``package/msg/Name`` (one the bridge converts: see the how-to's table)
+    type: str  # -: the ROS 2 type, ``package/msg/Name`` (one the bridge converts, or a flat type of your own: see the how-to)
     direction: Literal["to_ros", "from_ros", "both"] = "to_ros"  # -: which way it crosses
     qos: Literal["reliable", "sensor"] = "reliable"  # -: reliable (rclpy's 10) or sensor (best effort, keep 5)
 
