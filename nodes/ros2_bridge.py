@@ -3,7 +3,8 @@ system into a ROS 2 graph over DDS, row by row of its table (nodes.ros2_table).
 
 * turtlectl -> ROS: one subscription per key; each message converted (nodes.ros2_mapping.TO_ROS) and
   written on its ROS 2 topic.  A topic's DDS writer is made with its first message, so a key nobody
-  publishes (``clock`` without simulated time) never shows in ROS's graph.
+  publishes (``clock`` without simulated time) never shows in ROS's graph.  A row of a user's own flat
+  type crosses field for field (nodes.ros2_dynamic), both ways.
 * ROS -> turtlectl: one DDS reader per ROS topic (nodes.ros2_link; the bridge's own DDS writers are
   ignored); each sample converted (FROM_ROS) and published on the key.  On a key that also crosses to
   ROS (``cmd_vel``), what the bridge published itself is not sent back (ros2_table.OwnEcho).
@@ -136,14 +137,14 @@ class Ros2Bridge:
                 return
         self.rows.append(row)
         if row.to_ros:
-            msg_type = self.mapping.TO_ROS[row.type][0]
+            msg_type = self.mapping.to_ros_of(row.type)[0]
             rows = self.outgoing.get(row.key)
             if rows is None:
                 rows = self.outgoing[row.key] = []
                 self.node.subscribe(row.key, msg_type, lambda msg, key=row.key: self.to_ros(key, msg))
             rows.append((row, []))
         if row.from_ros:
-            ros_type, msg_type, _convert = self.mapping.FROM_ROS[row.type]
+            ros_type, msg_type, _convert = self.mapping.from_ros_of(row.type)
             if row.key not in self.publishers:
                 self.publishers[row.key] = self.node.publisher(row.key, msg_type)
                 self.echo[row.key] = OwnEcho()
@@ -166,17 +167,17 @@ class Ros2Bridge:
             return  # the bridge published it, from ROS: it is there already
         for row, writer in self.outgoing[key]:
             if not writer:  # made with the key's first message (and it shows in ROS's graph then)
-                writer.append(self.link.writer(row.ros, self.mapping.TO_ROS[row.type][1], row.qos))
+                writer.append(self.link.writer(row.ros, self.mapping.to_ros_of(row.type)[1], row.qos))
             # nothing converted for a topic no ROS node reads, but for a latched one (/rosout), whose
             # history a reader that comes later is given
             if writer[0].readers or row.qos == "latched":
-                writer[0].write(self.mapping.TO_ROS[row.type][2](msg, turtle_of_key(row.key)))
+                writer[0].write(self.mapping.to_ros_of(row.type)[2](msg, turtle_of_key(row.key)))
 
     def from_ros(self, row: BridgeTopic, sample: Any) -> None:
-        convert = self.mapping.FROM_ROS[row.type][2]
+        convert = self.mapping.from_ros_of(row.type)[2]
         try:
             msg = convert(sample, self.node.now_ns())
-        except (ValueError, TypeError, OverflowError) as exc:
+        except (ValueError, TypeError, OverflowError) as exc:  # msgspec.ValidationError is a ValueError
             self.node.log.warning("a ROS message on %s could not be converted (%s); dropped", row.ros, exc)
             return
         stamped = self.publishers[row.key].publish(msg)

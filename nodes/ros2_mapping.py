@@ -9,11 +9,13 @@ Stamps: turtlectl's ``stamp`` is ns since the Unix epoch (the wall clock, or the
 ROS's ``builtin_interfaces/Time`` is the same instant as (sec, nanosec).
 """
 
+import functools
 import math
 from collections.abc import Callable
 from typing import Any
 
 from turtlectl.messages import Clock, LaserScan, Log, Message, Pose, String, TurtleStatus, Twist
+from turtlectl.nodes import ros2_dynamic, ros2_generic
 from turtlectl.nodes import ros2_types as r
 
 #: tf frames the bridge names by default: the world is ``odom`` (turtlesim's world is fixed, so odom
@@ -221,3 +223,32 @@ FROM_ROS: dict[str, tuple[type, type[Message], Callable[[Any, int], Message]]] =
     "capstone_msgs/msg/TurtleStatus": (r.TurtleStatus, TurtleStatus, lambda m, ns: status_from_ros(m, stamp=ns)),
     "std_msgs/msg/String": (r.String, String, lambda m, ns: string_from_ros(m, stamp=ns)),
 }
+
+
+@functools.cache
+def to_ros_of(ros_type: str) -> tuple[type[Message], type, Callable[[Any, str], Any]]:
+    """What the bridge writes to ROS for a row of ``ros_type``: TO_ROS's, or a user's own flat type's
+    generic struct (nodes.ros2_dynamic)."""
+    known = TO_ROS.get(ros_type)
+    if known is not None:
+        return known
+    cls = _user(ros_type)
+    return cls, ros2_dynamic.idl_struct(cls), lambda m, _t: ros2_dynamic.to_ros(m)
+
+
+@functools.cache
+def from_ros_of(ros_type: str) -> tuple[type, type[Message], Callable[[Any, int], Message]]:
+    """What the bridge reads from ROS for a row of ``ros_type``: FROM_ROS's, or a user's own flat
+    type's (its publisher stamps it, if it has ``stamp`` and ``seq``)."""
+    known = FROM_ROS.get(ros_type)
+    if known is not None:
+        return known
+    cls = _user(ros_type)
+    return ros2_dynamic.idl_struct(cls), cls, lambda m, _ns: ros2_dynamic.from_ros(m, cls)
+
+
+def _user(ros_type: str) -> type[Message]:
+    cls = ros2_generic.user_type(ros_type)
+    if cls is None:
+        raise ValueError(f"unknown ROS type {ros_type!r}")
+    return cls

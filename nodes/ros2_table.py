@@ -10,7 +10,9 @@ An entry (``[[node.params.topics]]`` in a launch file)::
     qos = "reliable"                # reliable (rclpy's default, 10) or sensor (best effort)
 
 The turtlectl type on ``key`` follows from the ROS type (``ROS_TYPES``): ``std_msgs/msg/String`` is
-turtlectl's ``String``, ``nav_msgs/msg/Odometry`` is made from a ``Pose``, and so on.
+turtlectl's ``String``, ``nav_msgs/msg/Odometry`` is made from a ``Pose``, and so on.  Any other ROS
+type names a user's own flat message type (``my_msgs/msg/Reading`` is ``my_msgs/Reading``: found by
+nodes.ros2_generic.user_type), which crosses both ways field for field (nodes.ros2_generic's rules).
 
 The default table (``default_entries``) is per turtle: turtle1, outside a namespace, with the
 single-turtle keys (``turtle1/cmd_vel``, ``turtle1/pose``, ``obstacles``, ``robot/status``), any
@@ -25,7 +27,9 @@ from typing import Annotated, Literal
 
 import msgspec
 
+from turtlectl.messages.codec import type_name
 from turtlectl.messages.keys import CLOCK, CMD_VEL, FIRST_TURTLE, OBSTACLES, POSE, STATUS, TURTLES, resolve
+from turtlectl.nodes import ros2_generic
 from turtlectl.runtime.loader import suggestion
 
 #: ROS 2 type -> (the turtlectl message type on the key, the directions it can cross).  The bridge's
@@ -51,7 +55,7 @@ class BridgeTopic(msgspec.Struct, forbid_unknown_fields=True, frozen=True, kw_on
 
     key: Key  # -: the turtlectl key, as a node at the top level writes it (``chatter``, ``turtle2/pose``)
     ros: RosTopic  # -: the ROS 2 topic, absolute (``/chatter``)
-    type: str  # -: the ROS 2 type, ``package/msg/Name`` (one the bridge converts: see the how-to's table)
+    type: str  # -: the ROS 2 type, ``package/msg/Name`` (one the bridge converts, or a flat type of your own: see the how-to)
     direction: Literal["to_ros", "from_ros", "both"] = "to_ros"  # -: which way it crosses
     #: -: reliable (rclpy's 10), sensor (best effort, keep 5) or latched (reliable, transient local, keep 1000: /rosout's)
     qos: Literal["reliable", "sensor", "latched"] = "reliable"
@@ -59,9 +63,21 @@ class BridgeTopic(msgspec.Struct, forbid_unknown_fields=True, frozen=True, kw_on
     def __post_init__(self) -> None:
         known = ROS_TYPES.get(self.type)
         if known is None:
-            names = ", ".join(sorted(ROS_TYPES))
-            hint = suggestion(self.type, ROS_TYPES)
-            raise ValueError(f"unknown ROS type {self.type!r} for {self.ros}{hint} (the bridge converts: {names})")
+            user = ros2_generic.user_type(self.type)
+            if user is None:
+                names = ", ".join(sorted(ROS_TYPES))
+                hint = suggestion(self.type, ROS_TYPES)
+                raise ValueError(
+                    f"unknown ROS type {self.type!r} for {self.ros}{hint} (the bridge converts: {names}, "
+                    "and a message type of your own, package/msg/Name, declared in the module package)"
+                )
+            wrong = ros2_generic.field_that_cannot_cross(user)
+            if wrong is not None:
+                raise ValueError(
+                    f"{type_name(user)} cannot cross to ROS 2 ({self.ros}): its field {wrong} has no ROS type "
+                    "(bool, int, float, str, and lists or tuples of one of those cross)"
+                )
+            return
         ways = ("to_ros", "from_ros") if self.direction == "both" else (self.direction,)
         for way in ways:
             if way not in known[1]:
@@ -69,8 +85,15 @@ class BridgeTopic(msgspec.Struct, forbid_unknown_fields=True, frozen=True, kw_on
 
     @property
     def message_type(self) -> str:
-        """The turtlectl message type on ``key`` (its class name in turtlectl.messages)."""
-        return ROS_TYPES[self.type][0]
+        """The turtlectl message type on ``key``: a built-in's class name in turtlectl.messages, a
+        user's type's full name (``my_msgs/Reading``)."""
+        known = ROS_TYPES.get(self.type)
+        return known[0] if known is not None else str(ros2_generic.turtlectl_name(self.type))
+
+    @property
+    def generic(self) -> bool:
+        """Whether the row's type is a user's own (crossing field for field), not a built-in's."""
+        return self.type not in ROS_TYPES
 
     @property
     def to_ros(self) -> bool:

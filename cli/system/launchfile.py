@@ -45,8 +45,8 @@ from turtlectl.cli.system.report import problem, raw_names, read_text
 from turtlectl.messages.keys import FIRST_TURTLE
 from turtlectl.messages.world import Limits, World
 from turtlectl.nodes.kinds import KindError, NodeKind, kind_of
+from turtlectl.runtime.loader import first_on_path, type_clash
 from turtlectl.runtime.loader import suggestion as suggestion  # also for cli.system.overrides, cli.tools
-from turtlectl.runtime.loader import type_clash
 from turtlectl.runtime.params import validation_parts as validation_parts  # also for cli.tools.build
 from turtlectl.runtime.roles import claims_of, interface_of
 
@@ -174,6 +174,7 @@ def validate(
         limits=limits.limits,
         supervisor=supervisor.supervisor,
     )
+    first_on_path(base)  # the project's modules, as its nodes import them (a user's type a bridge row names)
     seen: dict[str, int] = {}
     kinds: dict[tuple[str, str], int] = {}  # (namespace, built-in kind) -> its node's index
     claimed: dict[Any, int] = {}  # claim (resolved in the node's namespace) -> the index of the node that claims it
