@@ -3,15 +3,28 @@ PYTHON ?= python3
 VENV ?= .venv
 BIN := $(VENV)/bin
 
-.PHONY: install bytecode lint run test unit bench soak docs clean
+.PHONY: install ros2-side bytecode lint run test unit bench soak docs clean
 
 $(BIN)/.installed: pyproject.toml
 	$(PYTHON) -m venv $(VENV)
 	@# compat: src/ (only the turtlectl package) on sys.path through a .pth, not an import hook (30 ms off every command's start)
-	$(BIN)/python -m pip install --quiet --disable-pip-version-check -e '.[test]' --config-settings editable_mode=compat
+	$(BIN)/python -m pip install --quiet --disable-pip-version-check -e '.[test,ros2]' --config-settings editable_mode=compat
 	touch $@
 
 install: $(BIN)/.installed
+
+# A student's ROS 2 side for the tests: the real rclpy wheels from PyPI (Fast DDS), in a venv of their
+# own (their bootstrapper re-executes every Python of its venv to set LD_LIBRARY_PATH, which turtlectl's
+# processes need not pay). tests/integration/ros2_side.py runs its processes.
+ROS2_VENV ?= .venv-ros2
+ROS2_WHEELS := ros-rclpy ros-geometry-msgs ros-sensor-msgs ros-std-msgs ros-std-srvs ros-nav-msgs \
+	ros-rosgraph-msgs ros-rcl-interfaces ros-rmw-fastrtps-cpp
+$(ROS2_VENV)/.installed:
+	$(PYTHON) -m venv $(ROS2_VENV)
+	$(ROS2_VENV)/bin/python -m pip install --quiet --disable-pip-version-check $(ROS2_WHEELS)
+	touch $@
+
+ros2-side: $(ROS2_VENV)/.installed
 
 # Our packages' bytecode, compiled where it is stale (pip does this for what it installs, not for an
 # editable project): Python reads __pycache__ even where PYTHONDONTWRITEBYTECODE forbids writing it,
@@ -29,7 +42,7 @@ lint: install  ## ruff: lint rules and formatting (configuration in pyproject.to
 	$(BIN)/ruff format --check .
 
 # the tests include a strict build of the documentation site (tests/unit/docs/test_site.py)
-test: lint bytecode  ## lint, then unit and multi-process integration tests
+test: lint bytecode ros2-side  ## lint, then unit and multi-process integration tests
 	$(BIN)/python -m pytest
 
 unit: bytecode  ## unit tests only
@@ -48,4 +61,4 @@ docs: install  ## the documentation site (mkdocs.yml, docs/) into site/
 	$(BIN)/python -m mkdocs build --strict --site-dir site
 
 clean:
-	rm -rf $(VENV) *.egg-info .pytest_cache site
+	rm -rf $(VENV) $(ROS2_VENV) *.egg-info .pytest_cache site

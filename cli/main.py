@@ -30,6 +30,7 @@ from turtlectl.cli.commands import (
     parameters,
     plotting,
     recording,
+    ros2,
     services,
     specification,
     system,
@@ -64,6 +65,7 @@ COMMAND_GROUPS: dict[str, tuple[str, ...]] = {
     "Parameters": ("param",),
     "Introspection": ("list", "node", "log", "interface", "view"),
     "Recording and Foxglove": ("record", "info", "play", "recover", "foxglove"),
+    "ROS 2": ("ros2",),
 }
 
 
@@ -154,6 +156,7 @@ GROUPS = (
     recording,
     verify,
     specification,
+    ros2,
 )
 for group in GROUPS:
     group.register(app)

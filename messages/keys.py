@@ -185,6 +185,9 @@ SPAWN = "spawn"
 KILL = "kill"
 TURTLES = "turtles"  # the simulator: every turtle's name and pose
 CLOCK = "clock"  # the simulator: its simulated time after every step (ROS's /clock)
+#: the ROS 2 bridge: says which ROS 2 domain it bridges (an Ack); serving it is the bridge's claim to
+#: be the system's only one, since two bridges of one system on one domain feed each other's topics back
+ROS2_BRIDGE = "ros2/bridge"
 PARAMETER_EVENTS = "turtlectl/parameter_events"  # every node: a ParameterEvent per change at run time
 #: the simulator's keys for the whole world: the same in every namespace (messages.keys.resolve)
 WORLD_KEYS = frozenset({TURTLES, SPAWN, KILL, RESET, CLOCK})

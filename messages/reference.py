@@ -282,4 +282,9 @@ FIELDS: dict[str, dict[str, tuple[str, str, str]]] = {
         "stamp": ("ns", ">= 0", "when it was logged: wall-clock time, ns since the Unix epoch"),
         "seq": SEQ,
     },
+    "String": {
+        "data": ("-", "any text", "the text (an rclpy talker's std_msgs/String, through the ROS 2 bridge)"),
+        "stamp": STAMP,
+        "seq": SEQ,
+    },
 }

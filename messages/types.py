@@ -365,6 +365,18 @@ class Log(Message, tag="Log"):
     seq: int = 0
 
 
+class String(Message, tag="String"):
+    """A line of text, as ROS 2's ``std_msgs/msg/String``: what the ROS 2 bridge publishes for one
+    that crosses from ROS (``turtlectl echo chatter`` shows an rclpy talker's), and sends as one.
+
+    data: the text.
+    """
+
+    data: str = ""
+    stamp: int = 0
+    seq: int = 0
+
+
 ALL_TYPES: tuple[type[Message], ...] = (
     Twist,
     Pose,
@@ -388,4 +400,5 @@ ALL_TYPES: tuple[type[Message], ...] = (
     ParameterEvent,
     SetLogLevel,
     Log,
+    String,
 )

@@ -7,7 +7,10 @@ the launch file's validation), and what it publishes, subscribes to, serves and 
 A ``run`` is a built-in kind's name (``KINDS``) or a user's node class, ``module:Class`` or
 ``./file.py:Class`` (runtime.loader: the class's ``Params`` is its parameter Struct; it may
 also declare ``Claims``, a tuple of runtime.config.Claim, and ``Interface``, an Interface).
-A built-in kind is forked by the zygote from its module's ``main``; a user's class is started
+A kind's ``Params`` may narrow its ``Interface`` by what a node's parameters say it will do,
+with a method ``narrow_interface(interface) -> Interface`` (the ROS 2 bridge: the keys of its
+table); the launch file's validation applies it, so the node and a ``--secure`` router both get
+the narrowed one.  A built-in kind is forked by the zygote from its module's ``main``; a user's class is started
 by exec, ``python -m turtlectl.runtime TARGET`` (why: runtime/__main__.py).
 """
 
@@ -22,10 +25,13 @@ from turtlectl.nodes.params import (
     NAVIGATOR_INTERFACE,
     OBSTACLE_DETECTOR_CLAIMS,
     OBSTACLE_DETECTOR_INTERFACE,
+    ROS2_BRIDGE_CLAIMS,
+    ROS2_BRIDGE_INTERFACE,
     STATUS_MONITOR_CLAIMS,
     STATUS_MONITOR_INTERFACE,
     NavigatorParams,
     ObstacleDetectorParams,
+    Ros2BridgeParams,
     StatusMonitorParams,
 )
 from turtlectl.runtime.client.errors import BadInput
@@ -102,5 +108,8 @@ KINDS: dict[str, NodeKind] = {
         ObstacleDetectorParams,
         OBSTACLE_DETECTOR_CLAIMS,
         OBSTACLE_DETECTOR_INTERFACE,
+    ),
+    "ros2_bridge": _builtin(
+        "turtlectl.nodes.ros2_bridge:Ros2Bridge", Ros2BridgeParams, ROS2_BRIDGE_CLAIMS, ROS2_BRIDGE_INTERFACE
     ),
 }

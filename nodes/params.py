@@ -14,16 +14,30 @@ from typing import Annotated, ClassVar
 
 import msgspec
 
-from turtlectl.messages.keys import CMD_VEL, MOVING, NAVIGATE_TO, OBSTACLES, POSE, RESET, STATUS, TURTLES
+from turtlectl.messages.keys import (
+    CMD_VEL,
+    GRAPH,
+    MOVING,
+    NAVIGATE_TO,
+    OBSTACLES,
+    POSE,
+    RESET,
+    ROS2_BRIDGE,
+    STATUS,
+    TURTLES,
+)
 from turtlectl.messages.units import LongTimeout, NonNegative, Percent, Positive, Rate, ShortTimeout
 from turtlectl.messages.world import Obstacle
 from turtlectl.nodes.control import Gains
+from turtlectl.nodes.ros2_table import BridgeTopic, bridged_keys
 from turtlectl.runtime.config import Claim, Interface
 
 Degrees = Annotated[float, msgspec.Meta(ge=-360.0, le=360.0)]
 PhantomRate = Annotated[float, msgspec.Meta(ge=0.0, le=100.0)]
 Lifetime = Annotated[float, msgspec.Meta(ge=0.01, le=10.0)]
 Circles = Annotated[list[Obstacle], msgspec.Meta(max_length=100)]
+RosDomain = Annotated[int, msgspec.Meta(ge=-1, le=232)]
+Rows = Annotated[list[BridgeTopic], msgspec.Meta(max_length=200)]
 
 
 class NavigatorParams(msgspec.Struct, forbid_unknown_fields=True, kw_only=True):
@@ -92,6 +106,33 @@ class ObstacleDetectorParams(msgspec.Struct, forbid_unknown_fields=True, kw_only
             raise ValueError("range_min must be below range_max")
 
 
+class Ros2BridgeParams(msgspec.Struct, forbid_unknown_fields=True, kw_only=True):
+    """The ROS 2 bridge: puts the system into a ROS 2 graph over DDS (Eclipse Cyclone DDS, the
+    ``ros2`` extra), on ``address`` only.  The default table (docs/how-to/ros2.md) bridges each
+    turtle's cmd_vel (both ways), pose (turtlesim Pose and nav_msgs Odometry), scan and status, the
+    simulated clock and the log stream; ``topics`` adds rows (``[[node.params.topics]]``: key, ros,
+    type, direction, qos).  ``# unit: meaning`` per field."""
+
+    ros_domain: RosDomain = -1  # id: the ROS 2 domain (-1: ROS_DOMAIN_ID, else 0)
+    address: str = "127.0.0.1"  # IPv4: the only address DDS discovery and data use (loopback unless told otherwise)
+    turtles: list[str] = msgspec.field(default_factory=list)  # names: the turtles to bridge (empty: every one)
+    defaults: bool = True  # flag: bridge the default table (each turtle's topics, clock, log) besides topics
+    topics: Rows = msgspec.field(default_factory=list)  # table: more rows (key, ros, type, direction, qos)
+
+    FIXED: ClassVar[dict[str, str]] = {
+        "ros_domain": "the DDS participant joins its domain once, at start",
+        "address": "the DDS participant is configured once, at start",
+        "topics": "the DDS readers and writers are made at start",
+        "defaults": "the DDS readers and writers are made at start",
+        "turtles": "the DDS readers and writers are made at start",
+    }
+
+    def narrow_interface(self, declared: Interface) -> Interface:
+        """What a bridge with these parameters does (its table's keys), within ``declared``: under
+        ``launch --secure`` its router allows that and nothing else."""
+        return msgspec.structs.replace(declared, **bridged_keys(self.topics, self.defaults, self.turtles))
+
+
 NAVIGATOR_CLAIMS = (Claim("srv", NAVIGATE_TO),)
 NAVIGATOR_INTERFACE = Interface(
     publishes=(CMD_VEL,),
@@ -103,3 +144,9 @@ STATUS_MONITOR_CLAIMS = (Claim("pub", STATUS),)
 STATUS_MONITOR_INTERFACE = Interface(publishes=(STATUS,), subscribes=(POSE,), serves=(f"/{RESET}",))
 OBSTACLE_DETECTOR_CLAIMS = (Claim("pub", OBSTACLES),)
 OBSTACLE_DETECTOR_INTERFACE = Interface(publishes=(OBSTACLES,), subscribes=(POSE, f"/{TURTLES}"))
+#: one bridge per system: a second one's DDS side would bring back into the system what the first
+#: sends to ROS, and the first send it to ROS again, without end
+ROS2_BRIDGE_CLAIMS = (Claim("srv", f"/{ROS2_BRIDGE}"),)
+#: the bridge carries what its table says, which a launch file extends: any key, both ways; it
+#: follows the nodes' presence (their names in the ROS graph), and serves its claim
+ROS2_BRIDGE_INTERFACE = Interface(publishes=("**",), subscribes=("**",), watches=(GRAPH,), serves=(f"/{ROS2_BRIDGE}",))

@@ -15,6 +15,9 @@ from turtlectl.messages.world import Limits, World
 
 ENV_VAR = "TURTLECTL_NODE_CONFIG"
 SUPERVISOR_PID_VAR = "TURTLECTL_SUPERVISOR_PID"
+#: the launch file's folder, given to every node it starts: where a built-in node imports a user's module
+#: from (a message type of the user's that the ROS 2 bridge's rows name)
+PROJECT_VAR = "TURTLECTL_PROJECT"
 #: the levels a node's log can be set to (``launch --log-level``, ``turtlectl log-level``)
 LOG_LEVELS = ("DEBUG", "INFO", "WARNING", "ERROR")
 

@@ -25,7 +25,8 @@ class ExitCode(enum.IntEnum):
     #: no Zenoh session to the router
     UNREACHABLE = 3
     #: could not start: a port or a role another process already holds (launch's port, a second
-    #: navigator serving navigate_to), or a log folder that cannot be written
+    #: navigator serving navigate_to), a log folder that cannot be written, or an optional
+    #: extra a command needs that is not installed (ros2: Cyclone DDS)
     CANNOT_START = 4
     #: a goal given up on (--timeout, Ctrl-C) whose cancel nobody confirmed: the turtle may
     #: still be driving to it

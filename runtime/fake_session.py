@@ -129,6 +129,7 @@ class FakeSession:
         return SimpleNamespace(
             declare_token=lambda key: _Entity(self.tokens, key),
             declare_subscriber=lambda key, callback, **_: _Entity(self.liveliness_subscribers, key, callback),
+            get=lambda key, handler=None, **_: None,  # a liveliness query: no other process, no reply
         )
 
     def get(self, key: str, handler: zenoh.handlers.Callback, payload: bytes | None = None, **_: Any) -> None:

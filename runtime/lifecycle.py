@@ -8,9 +8,10 @@ work and returns the exit code, and ``run_main`` is the one place that exits:
   node has claimed what it owns ends it at once instead: killed by SIGTERM, nothing to save);
 * 1 the node's own code raised (traceback logged once, shutdown hooks run, so the
   navigator still commands a stop; the supervisor's respawn applies);
-* 2 the configuration could not be used, or the node declared something its interface does not
-  name (runtime.interface); 3 no Zenoh session; 4 another node
-  already holds what this one claims (see ``Node.claim``): the supervisor does not respawn
+* 2 the configuration could not be used (the node's class raised BadInput while starting, one line),
+  or the node declared something its interface does not name (runtime.interface); 3 no Zenoh
+  session; 4 another node already holds what this one claims (see ``Node.claim``), or the node's
+  class raised CannotStart (something it needs is missing): the supervisor does not respawn
   a node after a 2 or a 4, the next start would end the same way.
 
 The numbers are the one table of every turtlectl process, ``runtime.exitcodes.ExitCode``.
@@ -34,10 +35,11 @@ import zenoh
 from turtlectl.messages.codec import TypeClash
 from turtlectl.messages.keys import NodeInfo, node_token
 from turtlectl.runtime import log_stream
+from turtlectl.runtime.client.errors import BadInput, CannotStart
 from turtlectl.runtime.config import ENV_VAR, SUPERVISOR_PID_VAR, decode_config
 from turtlectl.runtime.exitcodes import ExitCode
 from turtlectl.runtime.interface import OutsideInterface, where
-from turtlectl.runtime.node import Node, NodeConflict, P
+from turtlectl.runtime.node import Node, P
 from turtlectl.runtime.session import close_session, node_session_config, open_session
 
 _PR_SET_PDEATHSIG = 1
@@ -150,7 +152,7 @@ def run(node_class: Callable[[Node[P]], Any], params_type: type[P]) -> int:
                 node.shutdown()
                 return ExitCode.OK
             node_class(node)
-        except NodeConflict as exc:
+        except CannotStart as exc:  # another node holds its claim (NodeConflict), something it needs is missing
             log.error("%s", exc)
             node.shutdown()
             return ExitCode.CANNOT_START
@@ -161,6 +163,10 @@ def run(node_class: Callable[[Node[P]], Any], params_type: type[P]) -> int:
         except OutsideInterface as exc:  # its declaration and its code disagree: starting again cannot help
             at = where(exc)
             node.log.error("%s%s", exc, f" ({at})" if at else "")
+            node.shutdown()
+            return ExitCode.BAD_INPUT
+        except BadInput as exc:  # its configuration cannot be used (one line says why): starting again cannot help
+            node.log.error("%s", exc)
             node.shutdown()
             return ExitCode.BAD_INPUT
         except Exception:  # the node's own code: a defect, reported once, and the node still stops cleanly

@@ -103,7 +103,7 @@ def load(target: str, base: Path | None = None) -> tuple[type, type[msgspec.Stru
 def _load_module(where: str, base: Path) -> ModuleType:
     if not _MODULE_RE.match(where):
         raise LoadError(f"{where!r} is not a module name (write a file as ./{where}.py)")
-    _first_on_path(base)  # the project's folder, as the node's own process has it (its working folder)
+    first_on_path(base)  # the project's folder, as the node's own process has it (its working folder)
     try:
         return importlib.import_module(where)
     except ModuleNotFoundError as exc:
@@ -118,7 +118,8 @@ def _load_module(where: str, base: Path) -> ModuleType:
         raise ImportRaised(f"importing {where} raised {_why(exc)}") from exc
 
 
-def _first_on_path(folder: Path) -> None:
+def first_on_path(folder: Path) -> None:
+    """Put ``folder`` (a project's) first on sys.path, once: its modules import before any other's."""
     if str(folder) not in sys.path:
         sys.path.insert(0, str(folder))
 
@@ -139,7 +140,7 @@ def _load_file(where: str, base: Path) -> ModuleType:
     module = importlib.util.module_from_spec(spec)
     # its siblings import first, as `python patrol.py` gives them (a user's own messages.py or
     # nodes/ included: ours are turtlectl.messages and turtlectl.nodes, never in their way)
-    _first_on_path(path.parent)
+    first_on_path(path.parent)
     sys.modules[name] = module
     try:
         spec.loader.exec_module(module)

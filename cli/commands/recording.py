@@ -44,6 +44,12 @@ def record(
         "--scene",
         help="Also record the Foxglove 3D scene, and the log records for its Log panel (as `turtlectl foxglove` serves them).",
     ),
+    profile: str = typer.Option(
+        "turtlectl",
+        "--profile",
+        metavar="PROFILE",
+        help="turtlectl: turtlectl's own MCAP file (JSON, Foxglove opens it); ros2: a ROS 2 bag, a folder as `ros2 bag record` writes it (MCAP, CDR; needs the ros2 extra).",
+    ),
     exit_on_loss: bool = ExitOnLossOption,
     connect: str = ConnectOption,
     domain: str = DomainOption,
@@ -56,15 +62,29 @@ def record(
     without it is marked in the file (`turtlectl info` lists it as a gap); --exit-on-loss
     finishes the file and exits with code 3 instead.
 
-    Example: turtlectl record -a -o run.mcap
+    With --profile ros2 the recording is a ROS 2 bag (a folder: OUT/OUT.mcap and
+    metadata.yaml) that `ros2 bag play` and the rosbags library read: topics as ROS names,
+    turtlectl's types as their ROS 2 types (docs/how-to/ros2-bags.md); a topic whose type has
+    no ROS 2 type is left out, said once.
+
+    Example: turtlectl record -a -o run.mcap;  turtlectl record -a --profile ros2 -o run_bag
     """
     from turtlectl.cli.recording import record as recording
     from turtlectl.cli.recording.bag import refuse_existing
     from turtlectl.cli.version import version
 
     args.finite_option(duration, "--duration")
+    if profile not in ("turtlectl", "ros2"):
+        raise BadInput(f"--profile {profile!r}: turtlectl (the default) or ros2")
+    ros2 = "ros2" if profile == "ros2" else ""
+    if ros2 and scene:
+        raise BadInput("--scene is drawn for Foxglove in turtlectl's own recordings: not with --profile ros2")
+    if ros2:
+        from turtlectl.cli.recording.ros2bag import require
+
+        require()
     keys, excluded = recording.keys_to_record(topics or [], all_topics, exclude)
-    path = output or recording.default_path()
+    path = output or recording.default_path(profile=ros2)
     refuse_existing(path)
     with stop_on_signals() as stop:
         live = sys.stderr.isatty()
@@ -73,7 +93,9 @@ def record(
         )
         last = None
         made = f"turtlectl {version()}"
-        for item in recording.record(connect, domain, keys, excluded, path, duration, stop, made, scene, exit_on_loss):
+        for item in recording.record(
+            connect, domain, keys, excluded, path, duration, stop, made, scene, exit_on_loss, ros2
+        ):
             if isinstance(item, str):  # the router lost, or back
                 typer.echo(("\r\033[K" if live else "") + item, err=True)
                 continue
@@ -89,7 +111,7 @@ def record(
 
 
 def info(
-    file: Path = typer.Argument(..., metavar="FILE", help="A recording (MCAP file)."),
+    file: Path = typer.Argument(..., metavar="FILE", help="A recording (MCAP file), or a ROS 2 bag (its folder)."),
     json: bool = JsonOption,
 ) -> None:
     """What a recording holds, as `ros2 bag info`: size, duration, start and end, messages per
@@ -105,7 +127,7 @@ def info(
 
 
 def play(
-    file: Path = typer.Argument(..., metavar="FILE", help="A recording (MCAP file)."),
+    file: Path = typer.Argument(..., metavar="FILE", help="A recording (MCAP file), or a ROS 2 bag (its folder)."),
     rate: float = typer.Option(1.0, "--rate", min=0.01, help="Speed factor (2 = twice as fast)."),
     loop: bool = typer.Option(False, "--loop", help="Play again and again until Ctrl-C."),
     start_offset: float = typer.Option(0.0, "--start-offset", min=0.0, help="Start S seconds into the recording."),
@@ -146,6 +168,10 @@ def play(
         typer.echo(
             f"warning: {file} was not closed (the recorder was killed?): playing what is complete; {hint(file)}",
             err=True,
+        )
+    for topic, ros_type in recording.unmapped().items():
+        typer.echo(
+            f"warning: {topic}: {ros_type} has no turtlectl type: played as its CDR bytes, not as a message", err=True
         )
     with stop_on_signals() as stop:
         live = sys.stdin.isatty() and sys.stderr.isatty()

@@ -71,9 +71,11 @@ class Recording:
         from mcap.reader import make_reader
 
         self.path = path
+        self.file = mcap_file(path)  # a ROS 2 bag is a folder: its MCAP file
         self._damage = read_errors()
+        self._ros2: Any = None  # the reader of CDR messages (cli.recording.ros2bag), made when first needed
         try:
-            with open(path, "rb") as f:
+            with open(self.file, "rb") as f:
                 magic = f.read(8)
         except FileNotFoundError:
             raise RecordingError(f"{path}: no such file") from None
@@ -83,7 +85,7 @@ class Recording:
             raise RecordingError(f"{path} is not an MCAP file (a recording made by `turtlectl record`)")
         self.summary: Any = None
         try:
-            with open(path, "rb") as f:
+            with open(self.file, "rb") as f:
                 self.summary = make_reader(f).get_summary()
         except self._damage:
             self.summary = None
@@ -97,7 +99,7 @@ class Recording:
         from mcap.stream_reader import StreamReader
 
         try:
-            with open(self.path, "rb") as f:
+            with open(self.file, "rb") as f:
                 first = next(iter(StreamReader(f).records), None)
         except self._damage:
             first = None
@@ -132,7 +134,7 @@ class Recording:
         """Every complete message of a file that was not closed, in file order; stops at the damage."""
         from mcap.reader import NonSeekingReader
 
-        with open(self.path, "rb") as f:
+        with open(self.file, "rb") as f:
             try:
                 yield from NonSeekingReader(f, validate_crcs=True).iter_messages(log_time_order=False)
             except self._damage:
@@ -143,24 +145,86 @@ class Recording:
         if self.summary is not None:
             from mcap.reader import make_reader
 
-            with open(self.path, "rb") as f:
+            topics = None if keys is None else [*keys, *(f"/{k}" for k in keys if not k.startswith("/"))]
+            with open(self.file, "rb") as f:
                 try:
-                    for schema, channel, message in make_reader(f).iter_messages(topics=keys, log_time_order=True):
-                        yield _record(schema, channel, message)
+                    for schema, channel, message in make_reader(f).iter_messages(topics=topics, log_time_order=True):
+                        record = self._record(schema, channel, message)
+                        if record is not None:
+                            yield record
                 except self._damage as exc:
                     raise RecordingError(f"{self.path} is damaged: {exc}") from None
             return
         # no index: the file's order, which is the order received (each log time is its arrival)
         for schema, channel, message in self._scan():
-            if keys is None or channel.topic in keys:
-                yield _record(schema, channel, message)
+            if keys is None or channel.topic in keys or _plain(channel.topic) in keys:
+                record = self._record(schema, channel, message)
+                if record is not None:
+                    yield record
+
+    def _record(self, schema: Any, channel: Any, message: Any) -> Record | None:
+        """One message as a Record; a ROS 2 bag's CDR message as the turtlectl message its type maps
+        to (cli.recording.ros2bag), on the key of its topic; one of a ROS type that maps to none as it
+        is (its CDR bytes, played as they are: a ROS-aware subscriber can read them)."""
+        from turtlectl.nodes.ros2_fields import readable
+
+        if not _is_ros2(schema, channel) or not readable(schema.name):
+            return _record(schema, channel, message)
+        if self._ros2 is None:
+            from turtlectl.cli.recording.ros2bag import Ros2Decoder
+
+            self._ros2 = Ros2Decoder()
+        decoded = self._ros2.message(channel.topic, schema.name, schema.data.decode(errors="replace"), message.data)
+        if decoded is None:
+            return None
+        from turtlectl.messages import encoding_for
+        from turtlectl.messages.codec import type_name
+        from turtlectl.messages.jsonform import to_json
+
+        stamp = getattr(decoded, "stamp", 0)
+        if not stamp and "stamp" in type(decoded).__struct_fields__:  # no header: stamped when recorded
+            import msgspec
+
+            decoded, stamp = msgspec.structs.replace(decoded, stamp=message.log_time), message.log_time
+        return Record(
+            key=_plain(channel.topic),
+            type_name=type_name(type(decoded)),
+            encoding=encoding_for(type(decoded)),
+            log_time=message.log_time,
+            publish_time=stamp or message.publish_time,
+            sequence=message.sequence,
+            data=to_json(decoded),
+        )
+
+    def ros_fields(self, record: Record) -> dict | None:
+        """A ROS 2 bag's message of a ROS type that maps to no turtlectl type (a raw ``record`` of a
+        ``cdr`` channel) as nested dicts of its fields, for ``plot``; None if it is none or does not decode."""
+        schema = next((sc for sc, ch in self._channels() if ch.topic == record.key and _is_ros2(sc, ch)), None)
+        if schema is None:
+            return None
+        if self._ros2 is None:
+            from turtlectl.cli.recording.ros2bag import Ros2Decoder
+
+            self._ros2 = Ros2Decoder()
+        return self._ros2.fields(schema.name, schema.data.decode(errors="replace"), record.data)
+
+    def unmapped(self) -> dict[str, str]:
+        """A ROS 2 bag's topics whose ROS type maps to no turtlectl type (topic -> ROS type): ``play``
+        publishes their CDR bytes as they are, ``plot`` reads them by their own fields (``ros_fields``)."""
+        from turtlectl.nodes.ros2_fields import readable
+
+        return {
+            channel.topic: schema.name
+            for schema, channel in self._channels()
+            if _is_ros2(schema, channel) and not readable(schema.name)
+        }
 
     def world(self) -> bytes | None:
         """The world attached to the recording (JSON), or None."""
         from mcap.records import Attachment
         from mcap.stream_reader import StreamReader
 
-        with open(self.path, "rb") as f:
+        with open(self.file, "rb") as f:
             try:
                 for record in StreamReader(f, emit_chunks=True).records:  # chunks skipped whole
                     if isinstance(record, Attachment) and record.name == WORLD:
@@ -176,7 +240,7 @@ class Recording:
         from mcap.stream_reader import StreamReader
 
         found: list[Gap] = []
-        with open(self.path, "rb") as f:
+        with open(self.file, "rb") as f:
             try:
                 for record in StreamReader(f, emit_chunks=True).records:  # chunks skipped whole
                     if isinstance(record, Metadata) and record.name == GAP:
@@ -217,7 +281,7 @@ class Recording:
         ]
         return Info(
             path=str(self.path),
-            size=self.path.stat().st_size,
+            size=self.file.stat().st_size,
             closed=self.closed,
             start=start,
             end=end,
@@ -225,6 +289,33 @@ class Recording:
             topics=topics,
             gaps=self.gaps(end),
         )
+
+
+CDR = "cdr"  # a ROS 2 bag's message encoding
+ROS2MSG = "ros2msg"  # a ROS 2 bag's schema encoding (the .msg text)
+
+
+def _is_ros2(schema: Any, channel: Any) -> bool:
+    return schema is not None and channel.message_encoding == CDR and schema.encoding == ROS2MSG
+
+
+def _plain(topic: str) -> str:
+    """A ROS topic as a key: the leading '/' dropped."""
+    return topic[1:] if topic.startswith("/") and len(topic) > 1 else topic
+
+
+def mcap_file(path: Path) -> Path:
+    """The MCAP file of a recording: ``path`` itself, or in a ROS 2 bag's folder its one ``.mcap`` file.
+    RecordingError (exit 2) for a folder holding none, or several (a split bag)."""
+    if not path.is_dir():
+        return path
+    found = sorted(path.glob("*.mcap"))
+    if len(found) == 1:
+        return found[0]
+    if not found:
+        other = " (its storage is sqlite3: turtlectl reads MCAP bags only)" if any(path.glob("*.db3")) else ""
+        raise RecordingError(f"{path} is a folder without an MCAP file{other}")
+    raise RecordingError(f"{path} holds {len(found)} MCAP files (a split bag): give one of them")
 
 
 def _learn(schema: Any) -> bool:

@@ -46,10 +46,11 @@ class Progress:
     done: bool = False
 
 
-def default_path(now: datetime.datetime | None = None) -> Path:
-    """``turtlectl_<date>-<time>.mcap`` in the current folder, as rosbag2 names its bags."""
+def default_path(now: datetime.datetime | None = None, profile: str = "") -> Path:
+    """``turtlectl_<date>-<time>.mcap`` in the current folder, as rosbag2 names its bags (a ROS 2
+    bag, ``profile`` "ros2": the folder ``turtlectl_<date>-<time>``)."""
     now = now or datetime.datetime.now()
-    return Path(f"turtlectl_{now:%Y_%m_%d-%H_%M_%S}.mcap")
+    return Path(f"turtlectl_{now:%Y_%m_%d-%H_%M_%S}" + ("" if profile == "ros2" else ".mcap"))
 
 
 def keys_to_record(topics: list[str], everything: bool, exclude: list[str]) -> tuple[list[str], list[str]]:
@@ -96,6 +97,23 @@ class _Drawing:
             self.writer.add_scene(topic, drawn, now)
 
 
+def open_writer(path: Path, library: str, profile: str = "") -> BagWriter:
+    """The writer of a recording in ``profile``: "" turtlectl's own (cli.recording.bag), "ros2" a
+    ROS 2 bag (cli.recording.ros2bag, which needs the ros2 extra)."""
+    if profile == "ros2":
+        from turtlectl.cli.recording.ros2bag import Ros2BagWriter
+
+        return Ros2BagWriter(path, library)  # type: ignore[return-value]  # the same methods
+    return BagWriter(path, library)
+
+
+def _notes(writer: object) -> Iterator[str]:
+    """The lines a writer has to say (a ROS 2 bag's topics left out), each once."""
+    notes = getattr(writer, "notes", None)
+    while notes:
+        yield notes.pop(0)
+
+
 def record(
     connect: str,
     domain: str,
@@ -107,12 +125,14 @@ def record(
     library: str = "turtlectl",
     scene: bool = False,
     exit_on_loss: bool = False,
+    profile: str = "",
 ) -> Iterator[Progress | str]:
     """Record ``keys`` (minus ``exclude``) into ``path`` until ``stop`` is set or ``duration`` s
     have passed; yields a Progress about twice a second and a last one once the file is closed,
     and a line (str) when the router is lost and when it is back (with ``exit_on_loss``,
     RouterLost once the file is finished, the gap marked).
-    With ``scene``, the Foxglove scene drawn from the messages is recorded too (cli.foxglove.scene)."""
+    With ``scene``, the Foxglove scene drawn from the messages is recorded too (cli.foxglove.scene).
+    ``profile`` "ros2": a ROS 2 bag (cli.recording.ros2bag), each topic it leaves out said once (a line)."""
     exprs = [zenoh.KeyExpr(k) for k in keys]
     excluded = [zenoh.KeyExpr(k) for k in exclude]
     inbox: queue.SimpleQueue[tuple[str, str, bytes, int]] = queue.SimpleQueue()
@@ -131,7 +151,7 @@ def record(
         return on_sample
 
     with client_session(connect, domain) as session:
-        writer = BagWriter(path, library)
+        writer = open_writer(path, library, profile)
         try:
             world = World()
             for reply in session.get(WORLD_KEY, timeout=1.0):  # the world, for a replay to draw
@@ -152,6 +172,7 @@ def record(
                         sample = inbox.get(timeout=0.05)
                         learn(book, sample[1])
                         message = writer.add(*sample)
+                        yield from _notes(writer)
                         if drawing is not None and message is not None:
                             drawing.draw(sample[0], message, sample[3])
                     except queue.Empty:
@@ -190,4 +211,5 @@ def record(
             elapsed = time.monotonic() - started
         finally:
             writer.close()
-    yield Progress(path, elapsed, writer.messages, path.stat().st_size, done=True)
+    size = sum(p.stat().st_size for p in path.iterdir()) if path.is_dir() else path.stat().st_size
+    yield Progress(path, elapsed, writer.messages, size, done=True)

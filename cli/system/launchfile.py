@@ -45,8 +45,8 @@ from turtlectl.cli.system.report import problem, raw_names, read_text
 from turtlectl.messages.keys import FIRST_TURTLE
 from turtlectl.messages.world import Limits, World
 from turtlectl.nodes.kinds import KindError, NodeKind, kind_of
+from turtlectl.runtime.loader import first_on_path, type_clash
 from turtlectl.runtime.loader import suggestion as suggestion  # also for cli.system.overrides, cli.tools
-from turtlectl.runtime.loader import type_clash
 from turtlectl.runtime.params import validation_parts as validation_parts  # also for cli.tools.build
 from turtlectl.runtime.roles import claims_of, interface_of
 
@@ -72,7 +72,7 @@ class NodeEntry(msgspec.Struct, forbid_unknown_fields=True, kw_only=True):
 
     name: str  # -: letters, digits, _ and -; unique in its namespace (its full name, namespace/name, in the system)
     namespace: str = ""  # -: the turtle it drives, its keys' prefix, e.g. "turtle2": navigate_to is turtle2/navigate_to and turtle1/pose is turtle2/pose (in a [[group]]: the group's); none: turtle1's, with the seed's keys (navigate_to, robot/status), or "turtle1" as any turtle's
-    run: str = ""  # -: a built-in kind (sim, navigator, status_monitor, obstacle_detector: nodes/kinds.py KINDS) or a node class (pkg.mod:Class, ./file.py:Class); or cmd
+    run: str = ""  # -: a built-in kind (sim, navigator, status_monitor, obstacle_detector, ros2_bridge: nodes/kinds.py KINDS) or a node class (pkg.mod:Class, ./file.py:Class); or cmd
     cmd: Argv = []  # -: instead of run, any program and its arguments, e.g. ["./driver", "--port", "/dev/ttyUSB0"] (./ relative to the launch file; a bare name from PATH); ready once started; no params
     params: dict[str, Any] = msgspec.field(default_factory=dict)  # -: the kind's parameters (below), a class's Params
     remap: Remaps = {}  # -: ROS's remappings, { "turtle1/cmd_vel" = "safety/cmd_vel" }: a key as the node's code writes it (or absolute: /turtle2/cmd_vel) -> the key it uses instead, both resolved in its namespace
@@ -174,6 +174,7 @@ def validate(
         limits=limits.limits,
         supervisor=supervisor.supervisor,
     )
+    first_on_path(base)  # the project's modules, as its nodes import them (a user's type a bridge row names)
     seen: dict[str, int] = {}
     kinds: dict[tuple[str, str], int] = {}  # (namespace, built-in kind) -> its node's index
     claimed: dict[Any, int] = {}  # claim (resolved in the node's namespace) -> the index of the node that claims it
@@ -244,6 +245,9 @@ def validate(
             parts, what = problem(exc, kind.params, entry.params)
             raise report.error(["node", i, "params", *parts], what) from None
         params[entry.name] = msgspec.to_builtins(typed)
+        narrow = getattr(typed, "narrow_interface", None)  # what these parameters need of the kind's Interface
+        if callable(narrow) and kind.interface is not None:
+            resolved[entry.name] = msgspec.structs.replace(kind, interface=narrow(kind.interface))
 
     for (namespace, run), i in kinds.items():  # turtle1's nodes run outside any namespace or in turtle1's: not both
         if namespace == FIRST_TURTLE and ("", run) in kinds:

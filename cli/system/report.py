@@ -35,8 +35,8 @@ Parts = list[str | int]
 _NONE: Any = object()  # no data given to ``problem``
 
 
-def _keys_at(root: type, parts: Parts) -> list[str]:
-    """The keys allowed in the table at ``parts`` below ``root`` (empty if unknown)."""
+def _type_at(root: type, parts: Parts) -> Any:
+    """msgspec's type info of the value at ``parts`` below ``root``, metadata unwrapped (None if unknown)."""
     info: Any = mi.type_info(root)
     for part in parts:
         while isinstance(info, mi.Metadata):
@@ -48,9 +48,15 @@ def _keys_at(root: type, parts: Parts) -> list[str]:
         elif isinstance(part, str) and isinstance(info, mi.DictType):
             info = info.value_type
         else:
-            return []
+            return None
     while isinstance(info, mi.Metadata):
         info = info.type
+    return info
+
+
+def _keys_at(root: type, parts: Parts) -> list[str]:
+    """The keys allowed in the table at ``parts`` below ``root`` (empty if unknown)."""
+    info = _type_at(root, parts)
     return [f.encode_name for f in info.fields] if isinstance(info, mi.StructType) else []
 
 
@@ -69,6 +75,8 @@ def problem(exc: msgspec.ValidationError, root: Any, data: Any = _NONE) -> tuple
         parts.append(field["key"])
     elif words := in_words(what):
         what = words + _given(data, parts)
+    elif what.startswith("Invalid enum value") and isinstance(info := _type_at(root, parts), mi.LiteralType):
+        what = "must be one of " + ", ".join(map(str, info.values)) + _given(data, parts)
     return parts, what
 
 

@@ -51,7 +51,8 @@ def from_recording(path: Path, series: list[Series], stamps: bool = False) -> Fr
 
     recording = Recording(path)
     info = recording.info()
-    held = {t.key: t for t in info.topics if t.count}
+    # a ROS 2 bag's topics are ROS names (/turtle1/pose): plotted by their keys (turtle1/pose)
+    held = {t.key[1:] if t.key.startswith("/") else t.key: t for t in info.topics if t.count}
     extractor = Extractor(series)
     keys = list(extractor.by_key)
     missing = [k for k in keys if k not in held]
@@ -72,15 +73,17 @@ def from_recording(path: Path, series: list[Series], stamps: bool = False) -> Fr
         if record.scene:
             continue
         message: Any = record.message()
-        if message is None:  # kept raw: what it is, if it reads as data
-            data = generic(record.data, record.encoding)
+        key = record.key
+        if message is None:  # kept raw: what it is, if it reads as data (a ROS 2 bag's CDR: by its .msg)
+            ros = record.encoding == "cdr" and key.startswith("/")
+            data = recording.ros_fields(record) if ros else generic(record.data, record.encoding)
             if data is None:
                 continue
-            message = Undescribed(data)
-        t = (record.log_time - info.start) / 1e9 if stamped is None else stamped.time(record.key, message)
+            message, key = Undescribed(data), key[1:] if ros else key
+        t = (record.log_time - info.start) / 1e9 if stamped is None else stamped.time(key, message)
         if t is None:
             continue
-        for s, value in extractor.values(record.key, message):
+        for s, value in extractor.values(key, message):
             collected.add(s, t, value)
     if not collected.count:
         labels = ", ".join(s.label for s in series)

@@ -49,7 +49,10 @@ PURE = [
     "nodes.surroundings",
     "nodes.battery",
     "nodes.params",
+    "nodes.ros2_table",  # the ROS 2 bridge's table: launch --check validates it without DDS
+    "nodes.ros2_mapping",  # turtlectl <-> ROS 2 conversions (cyclonedds types, no network)
     "nodes.kinds",
+    "nodes.ros2_requests",  # the ROS 2 service types and requests, without DDS
     "cli.system.launchfile",
     "cli.system.compose",  # arguments and includes of launch files
     "cli.system.report",

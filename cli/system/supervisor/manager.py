@@ -37,7 +37,7 @@ from turtlectl.messages import DecodeError, ParameterEvent, decode
 from turtlectl.messages.keys import NODE_TOKEN_PREFIX, PARAMETER_EVENTS, domain_token, parse_node_token
 from turtlectl.runtime.client import credentials
 from turtlectl.runtime.client.errors import BadInput, CannotStart, ExitCode, TurtlectlError
-from turtlectl.runtime.config import ENV_VAR, Credentials, NodeConfig, encode_config
+from turtlectl.runtime.config import ENV_VAR, PROJECT_VAR, Credentials, NodeConfig, encode_config
 from turtlectl.runtime.endpoint import TLS_ENV
 from turtlectl.runtime.session import close_session, listen_hosts
 
@@ -267,6 +267,7 @@ class Supervisor:
             return Child(name, argv, env, self.printer, self.plan.folder)
         kind = self.plan.kinds[name]
         argv, env = node_command(self._config(name), supervisor_pid=os.getpid(), kind=kind)
+        env[PROJECT_VAR] = self.plan.folder  # a built-in imports a user's module (a type it bridges) from there
         if self.zygote is not None and kind.builtin:
             return ZygoteChild(name, argv, env, self.printer, self.zygote)
         return Child(name, argv, env, self.printer, None if kind.builtin else self.plan.folder)

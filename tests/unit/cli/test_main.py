@@ -36,6 +36,7 @@ HEAVY = [
     "turtlectl.runtime.lifecycle",
     "turtlectl.nodes.kinds",
     "msgspec",  # the message types would cost --help 25 ms; the commands that send one import them
+    "cyclonedds",  # the ROS 2 bridge's DDS side (~0.35 s): its node process imports it, nothing else
 ]
 
 

@@ -21,6 +21,7 @@ from turtlectl.messages import (
     SetParameter,
     SpawnRequest,
     SpawnResponse,
+    String,
     TeleportAbsolute,
     Turtles,
     TurtleStatus,
@@ -85,6 +86,7 @@ SAMPLES = [
         stamp=11,
         seq=12,
     ),
+    String(data="hello world ü", stamp=1_700_000_000_000_000_000, seq=3),
 ]
 
 

@@ -12,8 +12,8 @@ from typing import Any
 import msgspec
 import pytest
 
-from turtlectl.messages import Reset, TeleportAbsolute
-from turtlectl.messages.keys import RESET, TELEPORT
+from turtlectl.messages import Reset, TeleportAbsolute, Turtles
+from turtlectl.messages.keys import RESET, TELEPORT, TURTLES
 from turtlectl.nodes.kinds import KINDS, NodeKind
 from turtlectl.runtime.config import Interface
 from turtlectl.runtime.fake import FakeNode
@@ -34,8 +34,14 @@ def _exercise_sim(fake: FakeNode[Any]) -> None:
     fake.advance(0.1)
 
 
+def _exercise_ros2_bridge(fake: FakeNode[Any]) -> None:
+    """What the ROS 2 bridge declares once a turtle is there: its rows (cmd_vel both ways)."""
+    fake.deliver(TURTLES, Turtles(names=["turtle1"], x=[5.5], y=[5.5], theta=[0.0]))
+    fake.advance(0.1)
+
+
 #: what makes a kind declare what it declares only at run time (its calls), beyond its start
-EXERCISE: dict[str, Callable[[FakeNode[Any]], None]] = {"sim": _exercise_sim}
+EXERCISE: dict[str, Callable[[FakeNode[Any]], None]] = {"sim": _exercise_sim, "ros2_bridge": _exercise_ros2_bridge}
 
 
 def run(cls: Any, kind_name: str, interface: Interface) -> None:

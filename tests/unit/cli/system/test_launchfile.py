@@ -197,6 +197,11 @@ DETECTOR = '[[node]]\nname = "obstacle_detector"\nrun = "obstacle_detector"\n'
             "f.toml: node[0] (a).run: unknown node kind 'navigatr'; did you mean navigator?",
         ),
         ('[[node]]\nname = "world"\nrun = "sim"\n', "f.toml: node[0] (world).name: 'world' is reserved"),
+        (  # a value a Literal does not allow: the allowed ones named, not msgspec's "Invalid enum value"
+            '[[node]]\nname = "b"\nrun = "ros2_bridge"\n[[node.params.topics]]\nkey = "chatter"\nros = "/chatter"\n'
+            'type = "std_msgs/msg/String"\ndirection = "from-ros"\n',
+            'f.toml: node[0] (b).params.topics[0].direction must be one of both, from_ros, to_ros (got "from-ros")',
+        ),
     ],
 )
 def test_files_that_cannot_work_are_refused_before_anything_starts(text, message):

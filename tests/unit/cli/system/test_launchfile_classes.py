@@ -98,7 +98,10 @@ def test_an_override_of_a_node_class_s_params_is_checked_too(tmp_path):
         ("./patrol.py:Patrl", "node[1] (patrol).run: patrol.py has no Patrl; did you mean Patrol?"),
         ("./patrol.py:Gains", "node[1] (patrol).run: patrol.py:Gains is not a node class: it has no Params"),
         ("no_such_pkg_zz.patrol:Patrol", "node[1] (patrol).run: cannot import no_such_pkg_zz.patrol: no module"),
-        ("patrl", "node[1] (patrol).run: unknown node kind 'patrl' (known: navigator, obstacle_detector, sim, "),
+        (
+            "patrl",
+            "node[1] (patrol).run: unknown node kind 'patrl' (known: navigator, obstacle_detector, ros2_bridge, sim, ",
+        ),
     ],
 )
 def test_a_run_that_names_no_node_class_is_one_line(tmp_path, run, error):
