@@ -48,7 +48,7 @@ def main() -> None:
     print("READY", flush=True)
     for _ in range(count):
         writer.write(NotAString())
-        time.sleep(0.05)
+        time.sleep(0.05)  # pacing of the samples (20 Hz), not a readiness wait
     print("SENT", flush=True)
     time.sleep(1.0)  # let reliable repairs finish before the participant goes
 
