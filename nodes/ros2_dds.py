@@ -31,7 +31,14 @@ RELIABLE = Qos(Policy.Reliability.Reliable(0), Policy.Durability.Volatile, Polic
 SENSOR = Qos(Policy.Reliability.BestEffort, Policy.Durability.Volatile, Policy.History.KeepLast(5), XCDR1)
 #: what rcl's /rosout publishers offer (reliable, transient local, keep last 1000): a late subscriber
 #: asking for transient local (as rqt_console does) gets the last lines, and matches at all
-LATCHED = Qos(Policy.Reliability.Reliable(0), Policy.Durability.TransientLocal, Policy.History.KeepLast(1000), XCDR1)
+#: (Cyclone gives a late reader what its durability service keeps, one sample unless told: told 1000 too)
+LATCHED = Qos(
+    Policy.Reliability.Reliable(0),
+    Policy.Durability.TransientLocal,
+    Policy.History.KeepLast(1000),
+    Policy.DurabilityService(0, Policy.History.KeepLast(1000), -1, -1, -1),
+    XCDR1,
+)
 GRAPH = Qos(Policy.Reliability.Reliable(0), Policy.Durability.TransientLocal, Policy.History.KeepLast(1), XCDR1)
 
 

@@ -104,6 +104,9 @@ def test_rclpys_graph_lists_turtlectls_nodes_and_topics_with_their_ros_types(sid
 def test_rosout_reaches_a_reader_asking_for_rosouts_own_qos(side):
     """rcl publishes /rosout reliable and transient local; a reader asking for that (rqt_console)
     matches the bridge's writer only if it offers as much, and then gets the lines logged before."""
+    spawned = side.tool("spawn", "2", "2", "0", "--name", "rosout_probe")  # lines logged after the bridge's own
+    assert spawned.returncode == 0, spawned.stdout + spawned.stderr
+    side.system.wait_for("bridging rosout_probe")
     reader = side.rclpy("probe.py", "listen", "/rosout", "rcl_interfaces/msg/Log", "1000", "transient_local")
     logged = json.loads(reader.wait_for("^MSG .*bridging turtle1").split(" ", 1)[1])  # said at the bridge's start
     assert logged["name"] == "ros2_bridge" and logged["level"] == 20, logged
