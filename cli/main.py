@@ -37,6 +37,7 @@ from turtlectl.cli.commands import (
     topics,
     turtles,
     verify,
+    web,
 )
 from turtlectl.cli.commands.options import CONNECT_KEY, DomainOption
 from turtlectl.runtime.client import presence
@@ -63,7 +64,7 @@ COMMAND_GROUPS: dict[str, tuple[str, ...]] = {
     "Topics": ("echo", "hz", "pub", "topic", "plot"),
     "Services": ("call", "action"),
     "Parameters": ("param",),
-    "Introspection": ("list", "node", "log", "interface", "view"),
+    "Introspection": ("list", "node", "log", "interface", "view", "web"),
     "Recording and Foxglove": ("record", "info", "play", "recover", "foxglove"),
     "ROS 2": ("ros2",),
 }
@@ -157,6 +158,7 @@ GROUPS = (
     verify,
     specification,
     ros2,
+    web,
 )
 for group in GROUPS:
     group.register(app)

@@ -29,10 +29,12 @@ from turtlectl.nodes.params import (
     ROS2_BRIDGE_INTERFACE,
     STATUS_MONITOR_CLAIMS,
     STATUS_MONITOR_INTERFACE,
+    WEB_INTERFACE,
     NavigatorParams,
     ObstacleDetectorParams,
     Ros2BridgeParams,
     StatusMonitorParams,
+    WebParams,
 )
 from turtlectl.runtime.client.errors import BadInput
 from turtlectl.runtime.config import Claim, Interface
@@ -112,4 +114,7 @@ KINDS: dict[str, NodeKind] = {
     "ros2_bridge": _builtin(
         "turtlectl.nodes.ros2_bridge:Ros2Bridge", Ros2BridgeParams, ROS2_BRIDGE_CLAIMS, ROS2_BRIDGE_INTERFACE
     ),
+    # the web page is a tool of the command line's layer (it does what the commands do), so it is named,
+    # not imported, here, and started as a user's node class is: by exec (runtime/__main__.py)
+    "web": NodeKind("turtlectl.cli.web.node:Web", WebParams, (), WEB_INTERFACE),
 }

@@ -10,7 +10,7 @@ node process decodes its own table into them.
 
 from __future__ import annotations
 
-from typing import Annotated, ClassVar
+from typing import Annotated, ClassVar, Literal
 
 import msgspec
 
@@ -133,6 +133,30 @@ class Ros2BridgeParams(msgspec.Struct, forbid_unknown_fields=True, kw_only=True)
         return msgspec.structs.replace(declared, **bridged_keys(self.topics, self.defaults, self.turtles))
 
 
+Port = Annotated[int, msgspec.Meta(ge=1, le=65535)]
+Role = Literal["", "viewer", "operator", "teleop"]
+
+
+class WebParams(msgspec.Struct, forbid_unknown_fields=True, kw_only=True):
+    """The web page (``turtlectl web``): the world, goals by pointing, the keyboard and the live panels
+    in a browser, served on ``host``:``port`` (loopback unless told otherwise).  On a ``launch
+    --secure`` system the page does what ``role``'s login may, no more.  ``# unit: meaning`` per field."""
+
+    host: str = (
+        "127.0.0.1"  # address: where the page listens (loopback unless told otherwise; 0.0.0.0 for every address)
+    )
+    port: Port = 8080  # TCP port: the page's, http://host:port/
+    role: Role = ""  # login: the role the page uses on a --secure system ("": TURTLECTL_ROLE, else operator)
+    trail: Annotated[int, msgspec.Meta(ge=0, le=100000)] = 2000  # poses: each turtle's trail drawn on the page
+
+    FIXED: ClassVar[dict[str, str]] = {
+        "host": "the page's socket is bound once, at start",
+        "port": "the page's socket is bound once, at start",
+        "role": "the page logs in once, at start",
+        "trail": "a page reads it when it connects",
+    }
+
+
 NAVIGATOR_CLAIMS = (Claim("srv", NAVIGATE_TO),)
 NAVIGATOR_INTERFACE = Interface(
     publishes=(CMD_VEL,),
@@ -150,3 +174,6 @@ ROS2_BRIDGE_CLAIMS = (Claim("srv", f"/{ROS2_BRIDGE}"),)
 #: the bridge carries what its table says, which a launch file extends: any key, both ways; it
 #: follows the nodes' presence (their names in the ROS graph), and serves its claim
 ROS2_BRIDGE_INTERFACE = Interface(publishes=("**",), subscribes=("**",), watches=(GRAPH,), serves=(f"/{ROS2_BRIDGE}",))
+#: the page talks to the system through a client session of its own, logged in with its role (its rights
+#: are the role's: runtime.roles); its node session only answers what every node answers
+WEB_INTERFACE = Interface()

@@ -136,6 +136,17 @@ class Node(NodeCalls, Generic[P]):
         return self.core.interface
 
     @property
+    def connect(self) -> str:
+        """The router's endpoint the node reached (``turtlectl.Client(node.connect, node.domain)``:
+        a client of the node's own system)."""
+        return self._connect
+
+    @property
+    def domain(self) -> str:
+        """The node's domain ("" for none)."""
+        return self._domain
+
+    @property
     def remaps(self) -> dict[str, str]:
         """Key as written -> key used (its launch file's ``remap`` of the node)."""
         return self.core.remaps

@@ -56,58 +56,58 @@ class _In(msgspec.Struct, tag_field="t", forbid_unknown_fields=True, kw_only=Tru
     pass
 
 
-class Asked(_In):
+class Asked(_In, kw_only=True):
     id: int = 0  # the reply's id (0: no reply wanted)
 
 
-class Goal(Asked, tag="goal"):
+class Goal(Asked, tag="goal", kw_only=True):
     turtle: str
     x: float  # m
     y: float  # m
     theta: float  # degrees
 
 
-class CancelGoal(Asked, tag="cancel"):
+class CancelGoal(Asked, tag="cancel", kw_only=True):
     turtle: str
 
 
-class Teleport(Asked, tag="teleport"):
+class Teleport(Asked, tag="teleport", kw_only=True):
     turtle: str
     x: float  # m
     y: float  # m
     theta: float  # degrees
 
 
-class Spawn(Asked, tag="spawn"):
+class Spawn(Asked, tag="spawn", kw_only=True):
     x: float  # m
     y: float  # m
     theta: float  # degrees
     name: str = ""
 
 
-class Kill(Asked, tag="kill"):
+class Kill(Asked, tag="kill", kw_only=True):
     turtle: str
 
 
-class Drive(_In, tag="drive"):
+class Drive(_In, tag="drive", kw_only=True):
     turtle: str
     linear: float  # m/s
     angular: float  # rad/s
 
 
-class Stop(_In, tag="stop"):
+class Stop(_In, tag="stop", kw_only=True):
     turtle: str
 
 
-class Watch(_In, tag="watch"):
+class Watch(_In, tag="watch", kw_only=True):
     keys: list[str]
 
 
-class Params(Asked, tag="params"):
+class Params(Asked, tag="params", kw_only=True):
     node: str
 
 
-class SetParam(Asked, tag="set_param"):
+class SetParam(Asked, tag="set_param", kw_only=True):
     node: str
     name: str
     value: str
