@@ -33,9 +33,11 @@ bytecode: install
 	@$(BIN)/python -m compileall -q src messages runtime sim nodes cli
 
 ARGS ?=
+# the web page's port (`launch --web`): open http://127.0.0.1:8080/ while it runs; WEB= serves none
+WEB ?= 8080
 
-run: bytecode  ## start the whole system (Ctrl-C stops it); options with ARGS="--port 7448"
-	TURTLECTL_MAKE_RUN=1 $(BIN)/turtlectl launch $(ARGS)
+run: bytecode  ## start the whole system and its web page (Ctrl-C stops it); options with ARGS="--port 7448", WEB=8081
+	TURTLECTL_MAKE_RUN=1 $(BIN)/turtlectl launch $(if $(WEB),--web $(WEB)) $(ARGS)
 
 lint: install  ## ruff: lint rules and formatting (configuration in pyproject.toml)
 	$(BIN)/ruff check .

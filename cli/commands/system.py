@@ -73,6 +73,14 @@ def launch(
         "--use-sim-time",
         help="Every node on simulated time (the clock key): the simulator's, or a replay's (`play --clock`) without one.",
     ),
+    web: int | None = typer.Option(
+        None,
+        "--web",
+        min=1,
+        max=65535,
+        metavar="PORT",
+        help="Also serve the web page (turtlectl web) on 127.0.0.1:PORT, unless the file runs one.",
+    ),
     persist: bool = typer.Option(
         False, "--persist", help="A node started again (respawn) keeps parameters changed by `param set`."
     ),
@@ -127,7 +135,14 @@ def launch(
             raise BadInput("--deny-host tells hosts apart by their certificates: give it with --secure --tls DIR")
         allowed_common_names(tls, deny_host)  # BadInput for a host no certificate was issued to
     plan = launch_plan(
-        file or default_launch_file(), only, exclude, set_, time_scale, arguments=arg, use_sim_time=use_sim_time
+        file or default_launch_file(),
+        only,
+        exclude,
+        set_,
+        time_scale,
+        arguments=arg,
+        use_sim_time=use_sim_time,
+        web=web,
     )
     if check:
         typer.echo(format.plan_text(plan))

@@ -162,15 +162,38 @@ def launch_plan(
     time_scale: float | None = None,
     arguments: list[str] | None = None,
     use_sim_time: bool = False,
+    web: int | None = None,
 ) -> LaunchPlan:
     """What ``turtlectl launch`` runs: the file at ``path`` with its ``--arg`` values
     (``arguments``), its ``--only``/``--exclude`` selection, then its ``--set`` overrides
-    (``settings``), ``--time-scale`` (with_time_scale) and ``--use-sim-time`` (with_sim_time),
-    all validated as the file is."""
+    (``settings``), ``--time-scale`` (with_time_scale), ``--use-sim-time`` (with_sim_time) and
+    ``--web`` (with_web), all validated as the file is."""
     plan = select_nodes(load_launch(path, arguments), only, exclude)
     plan = with_overrides(plan, [parse_assignment(item, "--set", SET_FORM) for item in settings], "--set")
     plan = plan if time_scale is None else with_time_scale(plan, time_scale)
-    return with_sim_time(plan) if use_sim_time else plan
+    plan = with_sim_time(plan) if use_sim_time else plan
+    return plan if web is None else with_web(plan, web)
+
+
+WEB_NODE = "web"
+
+
+def with_web(plan: LaunchPlan, port: int) -> LaunchPlan:
+    """``launch --web PORT``: the plan and a web page node (``run = "web"``) serving on
+    127.0.0.1:``port``, as a ``[[node]]`` of the file would; none added when the file runs one
+    already (its own port holds)."""
+    if any(e.run == WEB_NODE for e in plan.launch.node):
+        return plan
+    names = {e.name for e in plan.launch.node}
+    name = next(n for n in (WEB_NODE, *(f"{WEB_NODE}{i}" for i in range(2, 100))) if n not in names)
+    web, named = class_plan(WEB_NODE, [f"port={port}"], Path(plan.folder or "."), name)
+    entry = web.launch.node[0]
+    return msgspec.structs.replace(
+        plan,
+        launch=msgspec.structs.replace(plan.launch, node=[*plan.launch.node, entry]),
+        params={**plan.params, named: web.params[named]},
+        kinds={**plan.kinds, named: web.kinds[named]},
+    )
 
 
 def with_sim_time(plan: LaunchPlan) -> LaunchPlan:

@@ -66,9 +66,7 @@ class Web:
             self.server.start()
         except OSError as exc:
             self.client.close()
-            raise CannotStart(
-                f"cannot serve the page on {p.host}:{p.port}: {exc.strerror or exc} (--port another)"
-            ) from None
+            raise CannotStart(page_port_problem(p.host, p.port, exc)) from None
         self.server.hub.start()
         node.on_shutdown(self.close)
         where = "this host only" if is_loopback(p.host) else "every host that reaches it"
@@ -120,6 +118,18 @@ class Web:
                 kind = KIND_UNKNOWN
             self.kinds[(name, pid)] = kind
         return kind
+
+
+def page_port_problem(host: str, port: int, error: OSError) -> str:
+    """Why the page cannot listen on ``host``:``port``, and what to do."""
+    import errno
+
+    if error.errno == errno.EADDRINUSE or "in use" in str(error):
+        return (
+            f"cannot serve the page: port {port} on {host} is in use (another turtlectl web?); choose another:"
+            " turtlectl web --port, launch --web, or the web node's port parameter"
+        )
+    return f"cannot serve the page on {host}:{port}: {error.strerror or error}"
 
 
 def _url_host(host: str) -> str:
