@@ -198,9 +198,9 @@ class Hub:
             for key, arrivals in self._arrivals.items():
                 while arrivals and arrivals[0] < now - RATE_WINDOW:
                     arrivals.popleft()
-                if arrivals:
-                    span = max(now - arrivals[0], 1e-9)
-                    out[key] = ((len(arrivals) - 1) / span if len(arrivals) > 1 else 0.0, self._types.get(key, ""))
+                if arrivals:  # over the arrivals of the window (a key that stopped leaves it within RATE_WINDOW s)
+                    span = arrivals[-1] - arrivals[0]
+                    out[key] = ((len(arrivals) - 1) / span if span > 0 else 0.0, self._types.get(key, ""))
             return out
 
 
