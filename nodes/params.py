@@ -142,9 +142,7 @@ class WebParams(msgspec.Struct, forbid_unknown_fields=True, kw_only=True):
     in a browser, served on ``host``:``port`` (loopback unless told otherwise).  On a ``launch
     --secure`` system the page does what ``role``'s login may, no more.  ``# unit: meaning`` per field."""
 
-    host: str = (
-        "127.0.0.1"  # address: where the page listens (loopback unless told otherwise; 0.0.0.0 for every address)
-    )
+    host: str = "127.0.0.1"  # address: where the page listens (loopback unless told; 0.0.0.0: every one)
     port: Port = 8080  # TCP port: the page's, http://host:port/
     role: Role = ""  # login: the role the page uses on a --secure system ("": TURTLECTL_ROLE, else operator)
     trail: Annotated[int, msgspec.Meta(ge=0, le=100000)] = 2000  # poses: each turtle's trail drawn on the page

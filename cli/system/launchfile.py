@@ -72,7 +72,7 @@ class NodeEntry(msgspec.Struct, forbid_unknown_fields=True, kw_only=True):
 
     name: str  # -: letters, digits, _ and -; unique in its namespace (its full name, namespace/name, in the system)
     namespace: str = ""  # -: the turtle it drives, its keys' prefix, e.g. "turtle2": navigate_to is turtle2/navigate_to and turtle1/pose is turtle2/pose (in a [[group]]: the group's); none: turtle1's, with the seed's keys (navigate_to, robot/status), or "turtle1" as any turtle's
-    run: str = ""  # -: a built-in kind (sim, navigator, status_monitor, obstacle_detector, ros2_bridge: nodes/kinds.py KINDS) or a node class (pkg.mod:Class, ./file.py:Class); or cmd
+    run: str = ""  # -: a built-in kind (sim, navigator, status_monitor, obstacle_detector, ros2_bridge, web: nodes/kinds.py KINDS) or a node class (pkg.mod:Class, ./file.py:Class); or cmd
     cmd: Argv = []  # -: instead of run, any program and its arguments, e.g. ["./driver", "--port", "/dev/ttyUSB0"] (./ relative to the launch file; a bare name from PATH); ready once started; no params
     params: dict[str, Any] = msgspec.field(default_factory=dict)  # -: the kind's parameters (below), a class's Params
     remap: Remaps = {}  # -: ROS's remappings, { "turtle1/cmd_vel" = "safety/cmd_vel" }: a key as the node's code writes it (or absolute: /turtle2/cmd_vel) -> the key it uses instead, both resolved in its namespace

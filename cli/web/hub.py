@@ -93,7 +93,7 @@ class Hub:
         self.skipped = 0  # samples of a drawn type that did not decode
 
     def start(self) -> None:
-        handler = zenoh.handlers.Callback(self._on_sample, indirect=False)
+        handler = zenoh.handlers.Callback(self.on_sample, indirect=False)
         self._sub = presence.subscriber(self._session, "**", handler)
 
     def close(self) -> None:
@@ -103,7 +103,8 @@ class Hub:
 
     # Zenoh's thread ------------------------------------------------------------------------------
 
-    def _on_sample(self, sample: zenoh.Sample) -> None:
+    def on_sample(self, sample: zenoh.Sample) -> None:
+        """One sample of the system (Zenoh's thread): counted; decoded and kept if drawn, a log record or watched."""
         key = str(sample.key_expr)
         now = self._clock()
         encoding = str(sample.encoding)
@@ -168,6 +169,18 @@ class Hub:
                     self._state["goals"][turtle] = (self.version, None)
                     out.setdefault("goals", {})[turtle] = None
             return self.version, out
+
+    def history(self, records: list[Log]) -> None:
+        """The records the nodes held before the hub started (``turtlectl log``'s recent ones), put
+        before those that came since (a record both held and heard is kept once)."""
+        with self._lock:
+            heard = {(r["node"], r["seq"], r["stamp"]) for _v, r in self._logs}
+            older = [log_fields(r) for r in records if (r.node, r.seq, r.stamp) not in heard]
+            self.version += 1
+            kept = [(self.version, r) for r in older] + [(self.version, r) for _v, r in self._logs]
+            self._logs.clear()
+            self._logs.extend(kept[-LOG_KEEP:])
+        self._wake()
 
     def logs(self, since: int) -> list[dict[str, Any]]:
         """Log records that arrived after version ``since``, oldest first."""

@@ -9,6 +9,7 @@ below the command line may not import.
 
 from __future__ import annotations
 
+import threading
 import time
 from typing import Any
 
@@ -30,6 +31,7 @@ KIND_UNKNOWN = "?"
 
 class Web:
     Params = WebParams
+    Claims = ()  # two pages may serve one system (on two ports)
     Interface = WEB_INTERFACE
 
     def __init__(self, node: Node[WebParams]):
@@ -68,10 +70,20 @@ class Web:
             self.client.close()
             raise CannotStart(page_port_problem(p.host, p.port, exc)) from None
         self.server.hub.start()
+        threading.Thread(target=self._history, name="web log history", daemon=True).start()
         node.on_shutdown(self.close)
         where = "this host only" if is_loopback(p.host) else "every host that reaches it"
         rights = f", logged in as {role}" if secure else ""
         node.log.info("the page: http://%s:%d/ (%s%s)", _url_host(p.host), p.port, where, rights)
+
+    def _history(self) -> None:
+        """The nodes' recent log records, for the log panel of a page that opens now."""
+        from turtlectl.cli.tools.log import recent
+
+        try:
+            self.server.hub.history(recent(self.client.session))
+        except Exception as exc:  # the panel shows what comes from now on
+            self.node.log.warning("could not read the nodes' recent log records: %s", exc)
 
     def close(self) -> None:
         self.server.stop()

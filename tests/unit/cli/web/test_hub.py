@@ -50,21 +50,21 @@ def test_which_turtle_and_what() -> None:
 def test_a_page_gets_the_newest_pose_not_each() -> None:
     h, _clock, woken = hub()
     for x in (1.0, 2.0, 3.0):
-        h._on_sample(Sample("turtle1/pose", Pose(x=x, y=1.0, theta=0.0, stamp=int(x))))
+        h.on_sample(Sample("turtle1/pose", Pose(x=x, y=1.0, theta=0.0, stamp=int(x))))
     version, changed = h.changes(0)
     assert changed["poses"]["turtle1"]["x"] == 3.0  # the newest only: a slow page never gets a backlog
     assert len(woken) == 3
     assert h.changes(version) == (version, {})  # nothing new since
-    h._on_sample(Sample("turtle2/pose", Pose(x=5.0, y=5.0, theta=1.0)))
+    h.on_sample(Sample("turtle2/pose", Pose(x=5.0, y=5.0, theta=1.0)))
     _v, changed = h.changes(version)
     assert list(changed["poses"]) == ["turtle2"]
 
 
 def test_a_killed_turtle_is_gone_from_the_page() -> None:
     h, _clock, _ = hub()
-    h._on_sample(Sample("turtle2/pose", Pose(x=5.0, y=5.0, theta=1.0)))
+    h.on_sample(Sample("turtle2/pose", Pose(x=5.0, y=5.0, theta=1.0)))
     version, _ = h.changes(0)
-    h._on_sample(Sample("turtles", Turtles(names=["turtle1"], x=[1.0], y=[1.0], theta=[0.0])))
+    h.on_sample(Sample("turtles", Turtles(names=["turtle1"], x=[1.0], y=[1.0], theta=[0.0])))
     _v, changed = h.changes(version)
     assert changed["poses"] == {"turtle2": None}
 
@@ -74,7 +74,7 @@ def test_a_goal_whose_feedback_stopped_is_no_longer_drawn() -> None:
     fb = NavigateToFeedback(
         state="driving", distance_remaining=1, heading_remaining=0, eta=1, elapsed=1, x=1, y=1, theta=0
     )
-    h._on_sample(Sample("turtle2/navigate_to/feedback", fb))
+    h.on_sample(Sample("turtle2/navigate_to/feedback", fb))
     version, changed = h.changes(0)
     assert changed["goals"]["turtle2"]["state"] == "driving"
     clock.now += 2.0
@@ -85,7 +85,7 @@ def test_a_goal_whose_feedback_stopped_is_no_longer_drawn() -> None:
 def test_rates_on_the_fake_clock_and_a_payload_that_is_garbage() -> None:
     h, clock, _ = hub()
     for _ in range(11):
-        h._on_sample(
+        h.on_sample(
             Sample(
                 "obstacles",
                 LaserScan(
@@ -94,7 +94,7 @@ def test_rates_on_the_fake_clock_and_a_payload_that_is_garbage() -> None:
             )
         )
         clock.now += 0.2
-    h._on_sample(Sample("turtle1/pose", payload=b"\xffnot msgpack", encoding=encoding_for(Pose)))
+    h.on_sample(Sample("turtle1/pose", payload=b"\xffnot msgpack", encoding=encoding_for(Pose)))
     rates = h.rates()
     assert abs(rates["obstacles"][0] - 5.0) < 0.01 and rates["obstacles"][1] == "LaserScan"
     assert h.skipped == 1  # counted and logged by no one: the page keeps the last good pose
@@ -107,12 +107,20 @@ def test_rates_on_the_fake_clock_and_a_payload_that_is_garbage() -> None:
 
 def test_logs_and_watched_topics() -> None:
     h, _clock, _ = hub()
-    h._on_sample(Sample("turtlectl/log/sim", Log(level=20, node="sim", message="ready")))
-    h._on_sample(Sample("robot/status", payload=b"", encoding=""))  # not watched, not drawn: counted only
+    h.on_sample(Sample("turtlectl/log/sim", Log(level=20, node="sim", message="ready")))
+    h.on_sample(Sample("robot/status", payload=b"", encoding=""))  # not watched, not drawn: counted only
     assert [r["message"] for r in h.logs(0)] == ["ready"]
     h.watch({"turtle1/pose"}, set())
-    h._on_sample(Sample("turtle1/pose", Pose(x=1.0, y=2.0, theta=0.0)))
+    h.on_sample(Sample("turtle1/pose", Pose(x=1.0, y=2.0, theta=0.0)))
     echoes = h.echoes({"turtle1/pose"}, 0)
     assert echoes[-1]["type"] == "Pose" and echoes[-1]["message"]["y"] == 2.0
     h.watch(set(), {"turtle1/pose"})
     assert h.echoes({"turtle1/pose"}, 0) == []
+
+
+def test_records_held_before_come_first_and_once() -> None:
+    h, _clock, _ = hub()
+    live = Log(level=20, node="sim", message="live", seq=5, stamp=50)
+    h.on_sample(Sample("turtlectl/log/sim", live))
+    h.history([Log(level=20, node="sim", message="old", seq=1, stamp=10), live])
+    assert [r["message"] for r in h.logs(0)] == ["old", "live"]
