@@ -37,6 +37,8 @@ from turtlectl.cli.web.actions import Actions, Deadman
 from turtlectl.cli.web.hub import Hub
 
 STATIC = Path(__file__).with_name("static")
+# the library's own line per connection opened and closed would fill the node's log: the page's own say who
+logging.getLogger("websockets").setLevel(logging.WARNING)
 LOOPBACK_NAMES = {"localhost", "127.0.0.1", "[::1]", "::1"}
 GRAPH_PERIOD = 1.0  # s between two graph frames
 TICK = 0.05  # s: how often the deadman and the router are looked at

@@ -84,7 +84,7 @@ export class Panels {
     ctx.strokeStyle = "#ccc"; ctx.strokeRect(40, 10, w - 50, h - 30); ctx.fillStyle = "#555";
     ctx.fillText(hi.toPrecision(4), 2, 14); ctx.fillText(lo.toPrecision(4), 2, h - 20); ctx.fillText(`last ${PLOT_SPAN} s`, w - 70, h - 5);
     const colors = ["#1f77b4", "#d62728", "#2ca02c", "#ff7f0e", "#9467bd", "#8c564b"];
-    $("plot-legend").innerHTML = chosen.map((n, i) => `<span style="color:${colors[i % colors.length]}">■ ${esc(n)} = ${this.series[n].at(-1)[1].toPrecision(5)}</span>`).join(" ");
+    $("plot-legend").replaceChildren(...chosen.map((n, i) => { const s = document.createElement("span"); s.style.color = colors[i % colors.length]; s.textContent = `■ ${n} = ${this.series[n].at(-1)[1].toPrecision(5)}  `; return s; }));
     chosen.forEach((n, i) => {
       ctx.strokeStyle = colors[i % colors.length]; ctx.lineWidth = 1.5; ctx.beginPath();
       this.series[n].forEach(([t, v], j) => { if (j) ctx.lineTo(X(t), Y(v)); else ctx.moveTo(X(t), Y(v)); });
