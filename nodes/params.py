@@ -134,7 +134,7 @@ class Ros2BridgeParams(msgspec.Struct, forbid_unknown_fields=True, kw_only=True)
 
 
 Port = Annotated[int, msgspec.Meta(ge=1, le=65535)]
-Role = Literal["", "viewer", "operator", "teleop"]
+Role = Literal["viewer", "operator", "teleop"]
 
 
 class WebParams(msgspec.Struct, forbid_unknown_fields=True, kw_only=True):
@@ -144,7 +144,7 @@ class WebParams(msgspec.Struct, forbid_unknown_fields=True, kw_only=True):
 
     host: str = "127.0.0.1"  # address: where the page listens (loopback unless told; 0.0.0.0: every one)
     port: Port = 8080  # TCP port: the page's, http://host:port/
-    role: Role = ""  # login: the role the page uses on a --secure system ("": TURTLECTL_ROLE, else operator)
+    role: Role = "operator"  # login: the role the page uses on a --secure system (viewer, operator, teleop)
     trail: Annotated[int, msgspec.Meta(ge=0, le=100000)] = 2000  # poses: each turtle's trail drawn on the page
 
     FIXED: ClassVar[dict[str, str]] = {

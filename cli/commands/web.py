@@ -41,9 +41,12 @@ def web(
 
     level = args.log_level(log_level)
     endpoint = checks.endpoint(connect)
-    overrides = [f"port={port}", f'host="{host}"']
-    if role:
-        overrides.append(f'role="{role}"')
+    from turtlectl.runtime.client import credentials
+    from turtlectl.runtime.client.errors import BadInput
+
+    if role and role not in credentials.ROLES:
+        raise BadInput(f"--role {role!r} is not a role (roles: {', '.join(credentials.ROLES)})")
+    overrides = [f"port={port}", f'host="{host}"', f'role="{role or credentials.role()}"']
     plan, named = class_plan("web", overrides, Path.cwd(), name)
     typer.echo(f"serving the page as node {named} on http://{host}:{port}/ (Ctrl-C stops it)", err=True)
     exec_node(node_config(plan, named, endpoint, None, domain, level), plan.kinds[named])

@@ -21,7 +21,6 @@ from turtlectl.cli.web.hub import Hub
 from turtlectl.cli.web.server import WebServer, is_loopback
 from turtlectl.nodes.params import WEB_INTERFACE, WebParams
 from turtlectl.runtime import Node
-from turtlectl.runtime.client import credentials
 from turtlectl.runtime.client.api import Client
 from turtlectl.runtime.client.errors import CannotStart, TurtlectlError
 from turtlectl.runtime.client.session import logged_in_as, router_lost
@@ -37,7 +36,7 @@ class Web:
     def __init__(self, node: Node[WebParams]):
         self.node = node
         p = node.params
-        role = p.role or credentials.role()
+        role = p.role
         self.client = Client(node.connect, node.domain, role=role)
         secure = logged_in_as(self.client.session) is not None
         allowed = protocol.can(role, secure)

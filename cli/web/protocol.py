@@ -169,11 +169,11 @@ def refusal(role: str, frame: Inbound, allowed: Can) -> str:
     """Why a page logged in as ``role`` may not do ``frame`` ("" if it may): the role's name and
     the role that may."""
     if isinstance(frame, Drive | Stop) and not allowed.drive:
-        return f"the {role} role cannot drive (it may not publish cmd_vel): run turtlectl web --role teleop"
+        return f'the {role} role cannot drive (it may not publish cmd_vel): run turtlectl web --role teleop (a launch file: the web node\'s role = "teleop")'
     if isinstance(frame, Goal | CancelGoal | Teleport | Spawn | Kill) and not allowed.command:
-        return f"the {role} role cannot send goals, teleport, spawn or kill: run turtlectl web --role operator"
+        return f"the {role} role cannot send goals, teleport, spawn or kill: run turtlectl web --role operator (a launch file: the web node's role)"
     if isinstance(frame, SetParam) and not allowed.edit:
-        return f"the {role} role cannot change parameters: run turtlectl web --role operator"
+        return f"the {role} role cannot change parameters: run turtlectl web --role operator (a launch file: the web node's role)"
     return ""
 
 
