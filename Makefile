@@ -3,7 +3,7 @@ PYTHON ?= python3
 VENV ?= .venv
 BIN := $(VENV)/bin
 
-.PHONY: install ros2-side bytecode lint run test unit bench soak docs clean
+.PHONY: install ros2-side browser bytecode lint run test unit bench soak docs clean
 
 $(BIN)/.installed: pyproject.toml
 	$(PYTHON) -m venv $(VENV)
@@ -26,6 +26,18 @@ $(ROS2_VENV)/.installed:
 
 ros2-side: $(ROS2_VENV)/.installed
 
+# The browser tests (tests/integration/browser.py) drive a Chromium through Playwright, whose pip package brings
+# no browser: Debian's from apt (about 40 s, once), as root or through sudo, when none is on PATH.
+# TURTLECTL_CHROMIUM names another Chromium executable instead (the tests then use it; nothing is installed).
+CHROMIUM_INSTALL := apt-get update -q && DEBIAN_FRONTEND=noninteractive apt-get install -y -q chromium
+browser:
+	@if [ -n "$$TURTLECTL_CHROMIUM" ] || command -v chromium >/dev/null; then exit 0; \
+	elif ! command -v apt-get >/dev/null; then \
+		echo "make test needs Chromium: install it, or set TURTLECTL_CHROMIUM to its executable" >&2; exit 1; \
+	elif [ "$$(id -u)" = 0 ]; then $(CHROMIUM_INSTALL); \
+	elif command -v sudo >/dev/null; then sudo sh -c '$(CHROMIUM_INSTALL)'; \
+	else echo "make test needs Chromium: run \`$(CHROMIUM_INSTALL)\` as root (or set TURTLECTL_CHROMIUM)" >&2; exit 1; fi
+
 # Our packages' bytecode, compiled where it is stale (pip does this for what it installs, not for an
 # editable project): Python reads __pycache__ even where PYTHONDONTWRITEBYTECODE forbids writing it,
 # and a launch otherwise compiles every module it imports each time (~100 ms of 0.4 s).
@@ -44,7 +56,7 @@ lint: install  ## ruff: lint rules and formatting (configuration in pyproject.to
 	$(BIN)/ruff format --check .
 
 # the tests include a strict build of the documentation site (tests/unit/docs/test_site.py)
-test: lint bytecode ros2-side  ## lint, then unit and multi-process integration tests
+test: lint bytecode ros2-side browser  ## lint, then unit and multi-process integration tests
 	$(BIN)/python -m pytest
 
 unit: bytecode  ## unit tests only
