@@ -217,6 +217,8 @@ function toolbar() {
   $("cancel").addEventListener("click", () => act({ t: "cancel", turtle: model.turtle }, `canceling ${model.turtle}'s goal`));
   $("kill").addEventListener("click", () => act({ t: "kill", turtle: model.turtle }, `killing ${model.turtle}`));
   $("fit").addEventListener("click", () => world.fit());
+  $("zoom-in").addEventListener("click", () => world.zoomBy(1.25));
+  $("zoom-out").addEventListener("click", () => world.zoomBy(0.8));
   $("clear").addEventListener("click", () => { model.trails = {}; world.dirty = true; });
 }
 app.mode = () => document.querySelector("input[name=mode]:checked").value;

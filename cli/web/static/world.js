@@ -94,6 +94,12 @@ export class World {
     else if (drag.what === "spawn") this.app.spawn(x, y, theta);
   }
   local(e) { const r = this.canvas.getBoundingClientRect(); return [e.clientX - r.left, e.clientY - r.top]; }
+  // zoom by ``factor`` about the middle of the map (the buttons: a phone has no wheel)
+  zoomBy(factor) {
+    const [px, py] = [this.w / 2, this.h / 2], [wx, wy] = this.toWorld(px, py);
+    this.scale = Math.max(5, Math.min(2000, this.scale * factor));
+    this.ox = px - wx * this.scale; this.oy = this.h - py - wy * this.scale; this.dirty = true;
+  }
   zoom(e) {
     e.preventDefault();
     const [px, py] = this.local(e), [wx, wy] = this.toWorld(px, py);
