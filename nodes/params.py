@@ -10,6 +10,7 @@ node process decodes its own table into them.
 
 from __future__ import annotations
 
+import ipaddress
 from typing import Annotated, ClassVar, Literal
 
 import msgspec
@@ -146,13 +147,27 @@ class WebParams(msgspec.Struct, forbid_unknown_fields=True, kw_only=True):
     port: Port = 8080  # TCP port: the page's, http://host:port/
     role: Role = "operator"  # login: the role the page uses on a --secure system (viewer, operator, teleop)
     trail: Annotated[int, msgspec.Meta(ge=0, le=100000)] = 2000  # poses: each turtle's trail drawn on the page
+    insecure: bool = False  # flag: may listen beyond loopback (the page has no logins of its own)
 
     FIXED: ClassVar[dict[str, str]] = {
         "host": "the page's socket is bound once, at start",
         "port": "the page's socket is bound once, at start",
         "role": "the page logs in once, at start",
         "trail": "a page reads it when it connects",
+        "insecure": "the page's socket is bound once, at start",
     }
+
+    def __post_init__(self) -> None:
+        try:
+            address = ipaddress.ip_address(self.host.strip("[]"))
+        except ValueError:
+            raise ValueError(f"host {self.host!r} is not an IP address") from None
+        if not (address.is_loopback or self.insecure):
+            raise ValueError(
+                f"host {self.host} reaches beyond this machine, and the page has no logins of its own: anyone who"
+                f" reaches it can do what its role ({self.role}) may; set insecure = true (turtlectl web --insecure)"
+                " to serve it so on a network you trust"
+            )
 
 
 NAVIGATOR_CLAIMS = (Claim("srv", NAVIGATE_TO),)

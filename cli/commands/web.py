@@ -24,6 +24,9 @@ def web(
         help="On a --secure system, the login the page uses: viewer, operator or teleop "
         "(default: TURTLECTL_ROLE, else operator); the page can do what the role may, no more.",
     ),
+    insecure: bool = typer.Option(
+        False, "--insecure", help="Let --host reach beyond this machine: the page has no logins of its own."
+    ),
     name: str = typer.Option("web", "--name", help="The page's node name."),
     log_level: str = LogLevelOption,
     connect: str = ConnectOption,
@@ -46,7 +49,15 @@ def web(
 
     if role and role not in credentials.ROLES:
         raise BadInput(f"--role {role!r} is not a role (roles: {', '.join(credentials.ROLES)})")
+    from turtlectl.nodes.params import WebParams
+
+    try:
+        WebParams(host=host, port=port, role=role or credentials.role(), insecure=insecure)  # type: ignore[arg-type]
+    except ValueError as exc:
+        raise BadInput(str(exc)) from None
     overrides = [f"port={port}", f'host="{host}"', f'role="{role or credentials.role()}"']
+    if insecure:
+        overrides.append("insecure=true")
     plan, named = class_plan("web", overrides, Path.cwd(), name)
     typer.echo(f"serving the page as node {named} on http://{host}:{port}/ (Ctrl-C stops it)", err=True)
     exec_node(node_config(plan, named, endpoint, None, domain, level), plan.kinds[named])

@@ -47,3 +47,21 @@ def test_a_bad_web_parameter_in_a_file_is_named(tmp_path: Path) -> None:
         LaunchFileError, match=r"\(page\)\.params\.role must be one of operator, teleop, viewer \(got \"admin\"\)"
     ):
         launch_plan(tmp_path / "launch.toml", [], [], [])
+
+
+def test_the_page_stays_on_loopback_unless_told(tmp_path: Path) -> None:
+    """The rule of the router's --listen: beyond loopback only when asked (the page has no logins)."""
+    from turtlectl.nodes.params import WebParams
+
+    assert WebParams(host="127.0.0.1").host == "127.0.0.1" and WebParams(host="::1").host == "::1"
+    with pytest.raises(ValueError, match=r"host 0.0.0.0 reaches beyond this machine.*role \(viewer\).*insecure = true"):
+        WebParams(host="0.0.0.0", role="viewer")
+    with pytest.raises(ValueError, match="host 'robot.local' is not an IP address"):
+        WebParams(host="robot.local")
+    assert WebParams(host="0.0.0.0", insecure=True).insecure
+    text = (
+        ROOT / "launch.toml"
+    ).read_text() + '\n[[node]]\nname = "page"\nrun = "web"\nparams = { host = "192.168.1.4" }\n'
+    (tmp_path / "launch.toml").write_text(text)
+    with pytest.raises(LaunchFileError, match=r"\(page\)\.params: host 192.168.1.4 reaches beyond this machine"):
+        launch_plan(tmp_path / "launch.toml", [], [], [])
