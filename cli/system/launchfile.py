@@ -45,7 +45,7 @@ from turtlectl.cli.system.report import problem, raw_names, read_text
 from turtlectl.messages.keys import FIRST_TURTLE
 from turtlectl.messages.world import Limits, World
 from turtlectl.nodes.kinds import KindError, NodeKind, kind_of
-from turtlectl.runtime.loader import first_on_path, type_clash
+from turtlectl.runtime.loader import first_on_path, is_target, type_clash
 from turtlectl.runtime.loader import suggestion as suggestion  # also for cli.system.overrides, cli.tools
 from turtlectl.runtime.params import validation_parts as validation_parts  # also for cli.tools.build
 from turtlectl.runtime.roles import claims_of, interface_of
@@ -205,7 +205,9 @@ def validate(
             kind = kind_of(entry.run, base)
         except KindError as exc:
             raise report.error(["node", i, "run"], str(exc)) from None
-        clash = None if kind.builtin else type_clash(base)
+        # a user's node class brings the project's message types, which may clash; a kind of the registry
+        # (forked, or the web page's, exec'd) brings only ours
+        clash = None if kind.builtin or not is_target(entry.run) else type_clash(base)
         if clash:
             raise report.error(["node", i, "run"], clash)
         if entry.run == "sim" and entry.namespace:
