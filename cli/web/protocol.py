@@ -60,28 +60,25 @@ class Asked(_In, kw_only=True):
     id: int = 0  # the reply's id (0: no reply wanted)
 
 
-class Goal(Asked, tag="goal", kw_only=True):
-    turtle: str
+class _Placed(Asked, kw_only=True):
     x: float  # m
     y: float  # m
     theta: float  # degrees
+
+
+class Goal(_Placed, tag="goal", kw_only=True):
+    turtle: str
 
 
 class CancelGoal(Asked, tag="cancel", kw_only=True):
     turtle: str
 
 
-class Teleport(Asked, tag="teleport", kw_only=True):
+class Teleport(_Placed, tag="teleport", kw_only=True):
     turtle: str
-    x: float  # m
-    y: float  # m
-    theta: float  # degrees
 
 
-class Spawn(Asked, tag="spawn", kw_only=True):
-    x: float  # m
-    y: float  # m
-    theta: float  # degrees
+class Spawn(_Placed, tag="spawn", kw_only=True):
     name: str = ""
 
 
