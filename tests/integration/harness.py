@@ -185,9 +185,11 @@ class System:
         join: str | None = None,
         domain: str = "",
         cwd: Path | None = None,
+        port: int | None = None,
     ):
         """``join``: run no router, join the one at that endpoint.  ``domain``: the system's key prefix.
-        ``cwd``: the folder it runs in (a user's project; default: this process's)."""
+        ``cwd``: the folder it runs in (a user's project; default: this process's).  ``port``: its
+        router's (default: a free one; a system started again on the port of one stopped)."""
         self.log_dir = Path(tempfile.mkdtemp(prefix="turtlectl-logs-"))
         self.child_pids: dict[int, float] = {}  # pid -> its start time, so a reused pid is never killed
         self.launched = LaunchedSystem(
@@ -196,7 +198,7 @@ class System:
             domain,
             self.log_dir,
             join=join,
-            port=free_port(),  # this module's: a bench may choose its own range
+            port=port or free_port(),  # this module's: a bench may choose its own range
             cwd=cwd or Path.cwd(),
             on_line=self._on_line,
         )

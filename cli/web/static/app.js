@@ -91,7 +91,7 @@ function take(frame) {
 }
 
 function routerState(state, where) {
-  model.router = state;
+  model.router = state === "lost" ? "lost" : "ok";
   if (state === "lost") { drive.halt(); banner(`the system's router${where ? " at " + where : ""} is lost: waiting for it to come back`, "warn"); }
   else { banner("the system is back", "ok"); setTimeout(() => { if (model.router === "ok" && model.conn === "open") banner("", ""); }, 3000); }
 }
