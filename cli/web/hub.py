@@ -177,21 +177,24 @@ class Hub:
             heard = {(r["node"], r["seq"], r["stamp"]) for _v, r in self._logs}
             older = [log_fields(r) for r in records if (r.node, r.seq, r.stamp) not in heard]
             self.version += 1
-            kept = [(self.version, r) for r in older] + [(self.version, r) for _v, r in self._logs]
+            kept = [(self.version, r) for r in older] + list(self._logs)  # a page has those heard already
             self._logs.clear()
             self._logs.extend(kept[-LOG_KEEP:])
         self._wake()
 
-    def logs(self, since: int) -> list[dict[str, Any]]:
-        """Log records that arrived after version ``since``, oldest first."""
+    def logs(self, since: int) -> tuple[int, list[dict[str, Any]]]:
+        """Log records that arrived after version ``since``, oldest first, and the version to ask
+        from next (the last one's)."""
         with self._lock:
-            return [record for v, record in self._logs if v > since]
+            got = [(v, record) for v, record in self._logs if v > since]
+        return max((v for v, _r in got), default=since), [record for _v, record in got]
 
-    def echoes(self, keys: set[str], since: int) -> list[dict[str, Any]]:
-        """Messages on ``keys`` that arrived after version ``since``, oldest first."""
+    def echoes(self, keys: set[str], since: int) -> tuple[int, list[dict[str, Any]]]:
+        """Messages on ``keys`` that arrived after version ``since``, oldest first, and the version to
+        ask from next."""
         with self._lock:
-            got = [(v, m) for key in keys for v, m in self._echo.get(key, ()) if v > since]
-        return [m for _v, m in sorted(got, key=lambda item: item[0])]
+            got = sorted(((v, m) for key in keys for v, m in self._echo.get(key, ()) if v > since), key=lambda i: i[0])
+        return (got[-1][0] if got else since), [m for _v, m in got]
 
     def watch(self, added: set[str], removed: set[str]) -> None:
         """A page starts watching ``added`` and stops ``removed`` (counted: two pages, one key)."""

@@ -42,6 +42,7 @@ logging.getLogger("websockets").setLevel(logging.WARNING)
 LOOPBACK_NAMES = {"localhost", "127.0.0.1", "[::1]", "::1"}
 GRAPH_PERIOD = 1.0  # s between two graph frames
 TICK = 0.05  # s: how often the deadman and the router are looked at
+FRAME_PERIOD = 0.016  # s: the simulator's step; a page gets at most a frame per step
 
 
 def is_loopback(host: str) -> bool:
@@ -264,24 +265,25 @@ class WebServer:
 
     async def _sender(self, page: Page) -> None:
         connection = page.connection
+        last = 0.0
         while True:
             await page.wake.wait()
+            # at most a frame per simulator step: what arrives meanwhile (another turtle's pose) joins it
+            await asyncio.sleep(max(0.0, last + FRAME_PERIOD - time.monotonic()))
+            last = time.monotonic()
             page.wake.clear()
             while not page.outbox.empty():
                 await connection.send(page.outbox.get_nowait().decode())
-            version, changed = self.hub.changes(page.sent)
+            page.sent, changed = self.hub.changes(page.sent)
             if changed:
                 await connection.send(protocol.encode("frame", **changed, sent=time.time() * 1000.0).decode())
-            page.sent = version
-            logs = self.hub.logs(page.logs_sent)
+            page.logs_sent, logs = self.hub.logs(page.logs_sent)
             if logs:
                 await connection.send(protocol.encode("log", records=logs).decode())
-            page.logs_sent = version
             if page.watched:
-                echoes = self.hub.echoes(page.watched, page.echo_sent)
+                page.echo_sent, echoes = self.hub.echoes(page.watched, page.echo_sent)
                 for echo in echoes[-protocol.WATCH_LIMIT * 4 :]:
                     await connection.send(protocol.encode("echo", **echo).decode())
-            page.echo_sent = version
 
     def _stop_driving(self, page: Page) -> None:
         for turtle in page.deadman.all():

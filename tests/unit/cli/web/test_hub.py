@@ -109,13 +109,16 @@ def test_logs_and_watched_topics() -> None:
     h, _clock, _ = hub()
     h.on_sample(Sample("turtlectl/log/sim", Log(level=20, node="sim", message="ready")))
     h.on_sample(Sample("robot/status", payload=b"", encoding=""))  # not watched, not drawn: counted only
-    assert [r["message"] for r in h.logs(0)] == ["ready"]
+    version, records = h.logs(0)
+    assert [r["message"] for r in records] == ["ready"]
+    assert h.logs(version) == (version, [])  # asked again from there: none twice
     h.watch({"turtle1/pose"}, set())
     h.on_sample(Sample("turtle1/pose", Pose(x=1.0, y=2.0, theta=0.0)))
-    echoes = h.echoes({"turtle1/pose"}, 0)
+    version, echoes = h.echoes({"turtle1/pose"}, 0)
     assert echoes[-1]["type"] == "Pose" and echoes[-1]["message"]["y"] == 2.0
+    assert h.echoes({"turtle1/pose"}, version) == (version, [])
     h.watch(set(), {"turtle1/pose"})
-    assert h.echoes({"turtle1/pose"}, 0) == []
+    assert h.echoes({"turtle1/pose"}, 0) == (0, [])
 
 
 def test_records_held_before_come_first_and_once() -> None:
@@ -123,4 +126,4 @@ def test_records_held_before_come_first_and_once() -> None:
     live = Log(level=20, node="sim", message="live", seq=5, stamp=50)
     h.on_sample(Sample("turtlectl/log/sim", live))
     h.history([Log(level=20, node="sim", message="old", seq=1, stamp=10), live])
-    assert [r["message"] for r in h.logs(0)] == ["old", "live"]
+    assert [r["message"] for r in h.logs(0)[1]] == ["old", "live"]

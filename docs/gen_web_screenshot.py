@@ -1,0 +1,55 @@
+"""The screenshot of docs/how-to/web.md, ``docs/images/web.png``: a system with two turtles, each on a
+goal, its page open in Debian's Chromium (headless, 1280x800) with the topics panel echoing one.
+
+    .venv/bin/python docs/gen_web_screenshot.py
+
+Run by hand when the page changes; nothing checks the picture against the page.
+"""
+
+from __future__ import annotations
+
+import sys
+import threading
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT))
+
+from tests.integration.browser import browser_page, wait_for  # noqa: E402
+from tests.integration.harness import System, free_port  # noqa: E402
+from turtlectl import Client  # noqa: E402
+
+OUT = ROOT / "docs" / "images" / "web.png"
+
+
+def main() -> int:
+    port = free_port()
+    system = System(extra_args=("--web", str(port)))
+    try:
+        system.wait_ready(("sim", "navigator", "status_monitor", "obstacle_detector", "web"))
+        system.run_cli("spawn", "2", "8", "0", "--name", "turtle2", "--connect", system.endpoint)
+        with Client(system.endpoint) as client:
+            client.goto(3.0, 2.5, 180.0)  # a trail to draw
+        goals = [
+            threading.Thread(target=lambda: Client(system.endpoint).goto(9.0, 5.5, 90.0), daemon=True),
+            threading.Thread(target=lambda: Client(system.endpoint, turtle="turtle2").goto(9.5, 8.0, 0.0), daemon=True),
+        ]
+        with browser_page(f"http://127.0.0.1:{port}/", viewport=(1280, 800)) as page:
+            wait_for(page, "turtlectl.model.poses.turtle2 && turtlectl.model.graph.topics.length > 0", 20)
+            page.click("#tabs button[data-tab=topics]")
+            page.click("#topics tr[data-key='robot/status'] td")
+            for goal in goals:
+                goal.start()
+            wait_for(page, "turtlectl.model.goals.turtle1 && turtlectl.model.goals.turtle2", 20)
+            time.sleep(1.5)  # the picture: well under way
+            OUT.parent.mkdir(exist_ok=True)
+            page.screenshot(path=str(OUT))
+    finally:
+        system.kill_everything()
+    print(f"wrote {OUT.relative_to(ROOT)} ({OUT.stat().st_size // 1024} KiB)")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
