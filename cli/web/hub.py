@@ -30,6 +30,7 @@ LOG_KEEP = 1000  # log records kept for a page that connects later
 GOAL_LIFETIME = 1.0  # s: a goal whose feedback stopped this long ago is no longer drawn running
 
 DRAWN = {"Pose", "LaserScan", "NavigateToFeedback", "TurtleStatus", "Turtles", "Log"}
+KEPT = {"Turtles", "Log"}  # decoded with no page open too: who is in the world, and the log a page shows from its start
 _SUFFIXES = {f"/{OBSTACLES}": "scans", f"/{FEEDBACK}": "goals", f"/{STATUS}": "status"}
 
 
@@ -91,6 +92,8 @@ class Hub:
         self._sub: Any = None
         self.turtles: list[str] = []  # the simulator's, as it last said
         self.skipped = 0  # samples of a drawn type that did not decode
+        #: whether a page is open (the server says): with none, poses, scans, feedback and status are counted only
+        self.viewed = True
 
     def start(self) -> None:
         handler = zenoh.handlers.Callback(self.on_sample, indirect=False)
@@ -119,8 +122,8 @@ class Hub:
                 arrivals.popleft()
             self._types[key] = name
             watched = self._watchers[key] > 0
-        if name not in DRAWN and not watched:
-            return
+        if not watched and (name not in DRAWN or (not self.viewed and name not in KEPT)):
+            return  # counted only: no page draws it now (a page that opens gets the next one)
         got = decode_sample(key, sample.payload.to_bytes(), encoding)
         if got.message is None and watched:
             got = learn(got, self._book)  # a user's type, described by the nodes that use it

@@ -68,6 +68,7 @@ class Web:
         except OSError as exc:
             self.client.close()
             raise CannotStart(page_port_problem(p.host, p.port, exc)) from None
+        self.server.hub.viewed = False  # until a page opens
         self.server.hub.start()
         threading.Thread(target=self._history, name="web log history", daemon=True).start()
         node.on_shutdown(self.close)

@@ -195,6 +195,7 @@ class WebServer:
     async def _page(self, connection: ServerConnection) -> None:
         page = Page(connection)
         self.pages.add(page)
+        self.hub.viewed = True
         peer = connection.remote_address
         self.log.info("a page connected from %s:%s (%d open)", peer[0], peer[1], len(self.pages))
         sender = asyncio.create_task(self._sender(page))
@@ -209,6 +210,7 @@ class WebServer:
             self._stop_driving(page)
             self.hub.watch(set(), page.watched)
             self.pages.discard(page)
+            self.hub.viewed = bool(self.pages)
             self.log.info("a page from %s:%s went away (%d open)", peer[0], peer[1], len(self.pages))
 
     def _take(self, page: Page, data: str | bytes) -> None:

@@ -127,3 +127,16 @@ def test_records_held_before_come_first_and_once() -> None:
     h.on_sample(Sample("turtlectl/log/sim", live))
     h.history([Log(level=20, node="sim", message="old", seq=1, stamp=10), live])
     assert [r["message"] for r in h.logs(0)[1]] == ["old", "live"]
+
+
+def test_with_no_page_open_poses_are_counted_not_kept() -> None:
+    h, _clock, _ = hub()
+    h.viewed = False
+    h.on_sample(Sample("turtle1/pose", Pose(x=1.0, y=1.0, theta=0.0)))
+    h.on_sample(Sample("turtlectl/log/sim", Log(level=20, node="sim", message="kept")))
+    version, changed = h.changes(0)
+    assert changed == {} and "turtle1/pose" in h.rates()
+    assert [r["message"] for r in h.logs(0)[1]] == ["kept"]
+    h.viewed = True
+    h.on_sample(Sample("turtle1/pose", Pose(x=2.0, y=1.0, theta=0.0)))
+    assert h.changes(version)[1]["poses"]["turtle1"]["x"] == 2.0
