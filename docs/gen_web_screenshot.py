@@ -1,5 +1,5 @@
-"""The screenshot of docs/how-to/web.md, ``docs/images/web.png``: a system with two turtles, each on a
-goal, its page open in Debian's Chromium (headless, 1280x800) with the topics panel echoing one.
+"""The screenshot of docs/how-to/web.md, ``docs/images/web.png``: the example fleet (three turtles, each
+with its nodes), two of them on a goal, its page open in Debian's Chromium (headless, 1280x800) with the topics panel echoing one.
 
     .venv/bin/python docs/gen_web_screenshot.py
 
@@ -25,14 +25,15 @@ OUT = ROOT / "docs" / "images" / "web.png"
 
 def main() -> int:
     port = free_port()
-    system = System(extra_args=("--web", str(port)))
+    system = System(ROOT / "examples" / "fleet" / "launch.toml", extra_args=("--web", str(port)))
     try:
-        system.wait_ready(("sim", "navigator", "status_monitor", "obstacle_detector", "web"))
-        system.run_cli("spawn", "2", "8", "0", "--name", "turtle2", "--connect", system.endpoint)
-        with Client(system.endpoint) as client:
+        system.wait_ready(("sim", "turtle2/navigator", "web"))
+        with Client(system.endpoint, turtle="turtle1") as client:
             client.goto(3.0, 2.5, 180.0)  # a trail to draw
         goals = [
-            threading.Thread(target=lambda: Client(system.endpoint).goto(9.0, 5.5, 90.0), daemon=True),
+            threading.Thread(
+                target=lambda: Client(system.endpoint, turtle="turtle1").goto(9.0, 5.5, 90.0), daemon=True
+            ),
             threading.Thread(target=lambda: Client(system.endpoint, turtle="turtle2").goto(9.5, 8.0, 0.0), daemon=True),
         ]
         with browser_page(f"http://127.0.0.1:{port}/", viewport=(1280, 800)) as page:

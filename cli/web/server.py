@@ -35,6 +35,7 @@ from websockets.http11 import Request, Response
 from turtlectl.cli.web import protocol
 from turtlectl.cli.web.actions import Actions, Deadman
 from turtlectl.cli.web.hub import Hub
+from turtlectl.runtime.client.session import ROUTER_CHECK
 
 STATIC = Path(__file__).with_name("static")
 # the library's own line per connection opened and closed would fill the node's log: the page's own say who
@@ -299,14 +300,17 @@ class WebServer:
 
     async def _ticks(self) -> None:
         """The deadman of every page, the router's presence and the graph, on the server's loop."""
-        next_graph = 0.0
+        next_graph = next_router = 0.0
         while True:
             now = time.monotonic()
             for page in list(self.pages):
                 for turtle in page.deadman.due(now):
                     self.log.info("%s stopped: its page sent no drive command for %.1f s", turtle, page.deadman.limit)
                     self._stop(turtle)
-            lost = await self.loop.run_in_executor(None, self.router_check)
+            lost = self.router_lost
+            if now >= next_router:  # as often as every long-running tool looks (runtime.client.session)
+                next_router = now + ROUTER_CHECK
+                lost = await self.loop.run_in_executor(None, self.router_check)
             if lost != self.router_lost:
                 self.router_lost = lost
                 self.log.warning("router %s", "lost: waiting for it to come back" if lost else "back")
