@@ -29,8 +29,8 @@ RATE_WINDOW = 3.0  # s of arrivals a key's rate is measured over
 LOG_KEEP = 1000  # log records kept for a page that connects later
 GOAL_LIFETIME = 1.0  # s: a goal whose feedback stopped this long ago is no longer drawn running
 
-DRAWN = {"Pose", "LaserScan", "NavigateToFeedback", "TurtleStatus", "Turtles", "Log"}
-KEPT = {"Turtles", "Log"}  # decoded with no page open too: who is in the world, and the log a page shows from its start
+DRAWN = (Pose, LaserScan, NavigateToFeedback, TurtleStatus, Turtles, Log)
+KEPT = (Turtles, Log)  # decoded with no page open too: who is in the world, and the log a page shows from its start
 _SUFFIXES = {f"/{OBSTACLES}": "scans", f"/{FEEDBACK}": "goals", f"/{STATUS}": "status"}
 
 
@@ -112,7 +112,7 @@ class Hub:
         now = self._clock()
         encoding = str(sample.encoding)
         msg_type = type_from_encoding(encoding)
-        name = msg_type.__name__ if msg_type is not None else encoding.partition(";")[2]
+        name = encoding.partition(";")[2]  # the type's full name, as the graph gives it (turtlectl/Pose)
         with self._lock:
             arrivals = self._arrivals.get(key)
             if arrivals is None:
@@ -122,7 +122,7 @@ class Hub:
                 arrivals.popleft()
             self._types[key] = name
             watched = self._watchers[key] > 0
-        if not watched and (name not in DRAWN or (not self.viewed and name not in KEPT)):
+        if not watched and (msg_type not in DRAWN or (not self.viewed and msg_type not in KEPT)):
             return  # counted only: no page draws it now (a page that opens gets the next one)
         got = decode_sample(key, sample.payload.to_bytes(), encoding)
         if got.message is None and watched:
@@ -146,9 +146,9 @@ class Hub:
                     for gone in set(self._state[section]) - set(self.turtles):
                         self._state[section][gone] = (version, None)
             elif message is None:
-                self.skipped += name in DRAWN
+                self.skipped += msg_type in DRAWN
             else:
-                placed = turtle_and_section(key, name)
+                placed = turtle_and_section(key, type(message).__name__)
                 if placed is not None:
                     turtle, section = placed
                     self._state[section][turtle] = (version, _fields(message, now))

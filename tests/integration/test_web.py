@@ -157,7 +157,7 @@ def test_another_origin_is_refused_and_a_bad_frame_is_answered(system) -> None: 
         ws.send(json.dumps({"t": "watch", "keys": ["robot/status"]}))  # still open, still answering
         while (frame := json.loads(ws.recv(timeout=5)))["t"] != "echo":
             pass
-        assert frame["key"] == "robot/status" and frame["type"] == "TurtleStatus"
+        assert frame["key"] == "robot/status" and frame["type"] == "turtlectl/TurtleStatus"
 
 
 def test_a_users_nodes_and_own_type_show_in_the_panels(tmp_path: Path) -> None:

@@ -96,7 +96,7 @@ def test_rates_on_the_fake_clock_and_a_payload_that_is_garbage() -> None:
         clock.now += 0.2
     h.on_sample(Sample("turtle1/pose", payload=b"\xffnot msgpack", encoding=encoding_for(Pose)))
     rates = h.rates()
-    assert abs(rates["obstacles"][0] - 5.0) < 0.01 and rates["obstacles"][1] == "LaserScan"
+    assert abs(rates["obstacles"][0] - 5.0) < 0.01 and rates["obstacles"][1] == "turtlectl/LaserScan"
     assert h.skipped == 1  # counted and logged by no one: the page keeps the last good pose
     _v, changed = h.changes(0)
     assert changed["scans"]["turtle1"]["ranges"] == [1.0, float("inf")]
@@ -115,7 +115,7 @@ def test_logs_and_watched_topics() -> None:
     h.watch({"turtle1/pose"}, set())
     h.on_sample(Sample("turtle1/pose", Pose(x=1.0, y=2.0, theta=0.0)))
     version, echoes = h.echoes({"turtle1/pose"}, 0)
-    assert echoes[-1]["type"] == "Pose" and echoes[-1]["message"]["y"] == 2.0
+    assert echoes[-1]["type"] == "turtlectl/Pose" and echoes[-1]["message"]["y"] == 2.0
     assert h.echoes({"turtle1/pose"}, version) == (version, [])
     h.watch(set(), {"turtle1/pose"})
     assert h.echoes({"turtle1/pose"}, 0) == (0, [])
