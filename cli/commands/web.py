@@ -35,7 +35,7 @@ def web(
     """Serve a page of the running system: the world drawn live (turtles, trails, scans, goals),
     drag on the map to send a goal (rviz's 2D Goal Pose), arrows or WASD to drive, and the nodes,
     topics, live echo, plot, log and parameters beside it (docs/how-to/web.md).  Runs in the
-    foreground until Ctrl-C; exit code 4 if the port is taken.
+    foreground until Ctrl-C; exit code 3 if no system runs at --connect, 4 if the port is taken.
 
     Example: turtlectl web --port 8080   (then open http://127.0.0.1:8080/)
     """
@@ -55,6 +55,9 @@ def web(
         WebParams(host=host, port=port, role=role or credentials.role(), insecure=insecure)  # type: ignore[arg-type]
     except ValueError as exc:
         raise BadInput(str(exc)) from None
+    from turtlectl.runtime.client.session import probe
+
+    probe(endpoint)  # no system there: the line every client command says (exit 3), before the page starts
     overrides = [f"port={port}", f'host="{host}"', f'role="{role or credentials.role()}"']
     if insecure:
         overrides.append("insecure=true")

@@ -99,7 +99,7 @@ class Web:
 
     def graph_frame(self) -> bytes | None:
         """The ``graph`` frame: nodes (name, kind, pid, host, uptime, namespace), other clients,
-        topics (key, type, rate Hz, publishers, subscribers)."""
+        topics (key, type, rate Hz, publishers, subscribers), the goal services served (keys)."""
         try:
             graph = self.client.graph()
         except TurtlectlError:
@@ -116,8 +116,14 @@ class Web:
             if key not in listed and not key.startswith("@"):
                 topics.append({"key": key, "type": seen, "rate": rate, "publishers": [], "subscribers": []})
         clients = [msgspec.to_builtins(c) for c in graph.clients]
+        goals = sorted(row.key for row in graph.goals)
         return protocol.encode(
-            "graph", nodes=nodes, clients=clients, topics=sorted(topics, key=lambda t: t["key"]), time=time.time()
+            "graph",
+            nodes=nodes,
+            clients=clients,
+            topics=sorted(topics, key=lambda t: t["key"]),
+            goals=goals,
+            time=time.time(),
         )
 
     def _kind(self, name: str, pid: int) -> str:

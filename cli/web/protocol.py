@@ -29,7 +29,8 @@ From the server (``hello`` first, then as things change):
   (never a backlog: a browser that draws slower gets fewer frames); ``sent`` is the server's
   clock (ms since the epoch) as it sends;
 * ``outcome`` ``{turtle, success, reason, time_taken, position_error, heading_error, detail}``;
-* ``graph``   ``{nodes, clients, topics}`` once a second; a topic's ``rate`` in Hz;
+* ``graph``   ``{nodes, clients, topics, goals}`` once a second; a topic's ``rate`` in Hz; ``goals``: the
+  goal services served (``navigate_to``, ``turtle2/navigate_to``);
 * ``echo``    ``{key, type, message}``: each message on a watched topic (at most ``ECHO_RATE`` a
   second each);
 * ``log``     ``{records}``: log records, oldest first;

@@ -167,8 +167,16 @@ class WebServer:
             with contextlib.suppress(asyncio.TimeoutError):
                 await asyncio.wait_for(self._server.wait_closed(), 2.0)
 
+        async def end_tasks() -> None:  # the ticks and the pages' senders end here, not destroyed pending
+            tasks = [t for t in asyncio.all_tasks() if t is not asyncio.current_task()]
+            for task in tasks:
+                task.cancel()
+            await asyncio.gather(*tasks, return_exceptions=True)
+
         with contextlib.suppress(Exception):
             asyncio.run_coroutine_threadsafe(close(), self.loop).result(3.0)
+        with contextlib.suppress(Exception):
+            asyncio.run_coroutine_threadsafe(end_tasks(), self.loop).result(3.0)
         self.loop.call_soon_threadsafe(self.loop.stop)
         if self._thread is not None:
             self._thread.join(3.0)

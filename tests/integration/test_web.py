@@ -25,7 +25,7 @@ from websockets.sync.client import connect as ws_connect
 
 from tests.integration.browser import browser_page, page_errors, wait_for
 from tests.integration.harness import ROOT, System, free_port, running_system, turtlectl
-from turtlectl.messages import Pose
+from turtlectl.messages import Pose, Turtles
 from turtlectl.messages.keys import POSE
 from turtlectl.runtime.client import credentials
 
@@ -116,6 +116,39 @@ def test_a_page_that_stops_sending_stops_the_turtle(system, page) -> None:  # ty
     page.evaluate("turtlectl.send({t: 'drive', turtle: 'turtle1', linear: 1.5, angular: 0})")
     s.wait_moving(speed=0.5, timeout=5.0)
     s.wait_stopped(timeout=CMD_TIMEOUT - 2.0)
+
+
+def drag(page, start: tuple[float, float], end: tuple[float, float], modifier: str = "") -> None:  # type: ignore[no-untyped-def]
+    """Press at world point ``start`` (m) and release at ``end``, holding ``modifier`` (Shift, Alt)."""
+    if modifier:
+        page.keyboard.down(modifier)
+    page.mouse.move(*page.evaluate(f"turtlectl.world.pagePoint({start[0]}, {start[1]})"))
+    page.mouse.down()
+    page.mouse.move(*page.evaluate(f"turtlectl.world.pagePoint({end[0]}, {end[1]})"), steps=4)
+    page.mouse.up()
+    if modifier:
+        page.keyboard.up(modifier)
+
+
+def test_spawn_teleport_and_kill_by_gestures(system, page) -> None:  # type: ignore[no-untyped-def]
+    """alt+drag spawns, shift+drag teleports, kill removes; a goal for a turtle no navigator drives says why."""
+    s, _port = system
+    drag(page, (2.0, 9.5), (2.0, 10.5), "Alt")  # dragged north: facing 90 degrees
+    said = wait_for(page, "(t => t.startsWith('spawned') && t)(document.getElementById('said').textContent)", 10)
+    name = said.split()[-1]
+    assert page.evaluate("turtlectl.model.turtle") == name  # the new turtle is the chosen one
+    born = s.collect(f"{name}/pose", Pose, 1, timeout=5.0)[-1][1]
+    assert math.hypot(born.x - 2.0, born.y - 9.5) < 0.05 and abs(math.degrees(born.theta) - 90.0) < 1.0
+    drag(page, (9.0, 9.5), (10.0, 9.5))  # a goal: but only turtle1 has a navigator here
+    wait_for(page, f"document.getElementById('said').textContent.includes('{name} has no navigator')")
+    drag(page, (6.0, 9.5), (6.0, 8.5), "Shift")  # teleported there, facing south
+    wait_for(page, f"(p => p && Math.abs(p.x - 6) < 0.05)(turtlectl.model.poses['{name}'])", 10)
+    moved = s.collect(f"{name}/pose", Pose, 1, timeout=5.0)[-1][1]
+    assert math.hypot(moved.x - 6.0, moved.y - 9.5) < 0.05 and abs(abs(math.degrees(moved.theta)) - 90.0) < 1.0
+    assert page.evaluate(f"turtlectl.model.trails['{name}'].includes(null)")  # no trail drawn across the jump
+    page.click("#kill")
+    wait_for(page, f"!turtlectl.model.poses['{name}']", 10)
+    assert name not in s.collect("turtles", Turtles, 1, timeout=5.0)[-1][1].names  # the simulator's own list
 
 
 def test_the_parameters_panel_sets_a_value_and_shows_a_refusal(system, page) -> None:  # type: ignore[no-untyped-def]

@@ -158,7 +158,15 @@ async function act(frame, doing) {
   say(reply.text, reply.ok ? "good" : "bad");
   return reply;
 }
-app.goal = (turtle, x, y, theta) => act({ t: "goal", turtle, x, y, theta }, `${turtle}: goal (${x.toFixed(2)}, ${y.toFixed(2)}) ${theta.toFixed(0)}°`);
+// whether a navigator serves the turtle's goals (a spawned turtle has none unless a launch file gives it one)
+function navigated(turtle) {
+  const goals = model.graph.goals || [];
+  return goals.includes(`${turtle}/navigate_to`) || (turtle === "turtle1" && goals.includes("navigate_to"));
+}
+app.navigated = navigated;
+app.goal = (turtle, x, y, theta) => !navigated(turtle)
+  ? (say(`${turtle} has no navigator (nothing serves ${turtle}/navigate_to): teleport it (shift+drag) or drive it (keys, pad)`, "bad"), Promise.resolve({ ok: false }))
+  : act({ t: "goal", turtle, x, y, theta }, `${turtle}: goal (${x.toFixed(2)}, ${y.toFixed(2)}) ${theta.toFixed(0)}°`);
 app.teleport = (turtle, x, y, theta) => act({ t: "teleport", turtle, x, y, theta }, `teleporting ${turtle}`);
 app.spawn = (x, y, theta) => act({ t: "spawn", x, y, theta }, "spawning").then((r) => { if (r.ok && r.data) { model.turtle = r.data.name; chooser(); } return r; });
 

@@ -7,6 +7,7 @@
 
 const COLORS = ["#ffd54f", "#80deea", "#ef9a9a", "#a5d6a7", "#ce93d8", "#ffab91", "#b0bec5"];
 const TRAIL_STEP = 0.02; // m between two trail points
+const TRAIL_JUMP = 0.5; // m between two poses that no drive covers (a pose is 16 ms, 4 m/s at most): a teleport
 
 export class World {
   constructor(canvas, model, app) {
@@ -51,8 +52,10 @@ export class World {
   trail(turtle, pose) {
     const trails = this.model.trails, keep = (this.model.hello && this.model.hello.trail) || 2000;
     const t = trails[turtle] || (trails[turtle] = []);
-    const last = t[t.length - 1];
-    if (!last || Math.hypot(last[0] - pose.x, last[1] - pose.y) >= TRAIL_STEP) { t.push([pose.x, pose.y]); if (t.length > keep) t.splice(0, t.length - keep); }
+    const last = t.findLast((p) => p !== null);
+    const step = last ? Math.hypot(last[0] - pose.x, last[1] - pose.y) : Infinity;
+    if (last && step > TRAIL_JUMP) t.push(null);  // a teleport: the trail starts again there, no line across
+    if (step >= TRAIL_STEP) { t.push([pose.x, pose.y]); if (t.length > keep) t.splice(0, t.length - keep); }
   }
 
   // gestures ----------------------------------------------------------------------------------------
@@ -141,7 +144,14 @@ export class World {
   polyline(points, color, width, dash) {
     if (points.length < 2) return;
     const { ctx } = this; ctx.strokeStyle = color; ctx.lineWidth = width; ctx.setLineDash(dash || []);
-    ctx.beginPath(); points.forEach(([x, y], i) => { const [sx, sy] = this.toScreen(x, y); if (i) ctx.lineTo(sx, sy); else ctx.moveTo(sx, sy); });
+    ctx.beginPath();
+    let pen = false;
+    for (const point of points) {
+      if (point === null) { pen = false; continue; }
+      const [sx, sy] = this.toScreen(point[0], point[1]);
+      if (pen) ctx.lineTo(sx, sy); else ctx.moveTo(sx, sy);
+      pen = true;
+    }
     ctx.stroke(); ctx.setLineDash([]);
   }
   scan(turtle, scan) {
