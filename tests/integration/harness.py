@@ -458,3 +458,18 @@ def node_in_process(name: str) -> Iterator[tuple[Node[NoParams], zenoh.Session]]
     finally:
         for session in (client, peer, router):
             close_session(session)
+
+
+@contextmanager
+def credentials_at(path: Path) -> Iterator[Path]:
+    """``TURTLECTL_CREDENTIALS`` set to ``path`` while the block runs (a test's secure systems write their
+    logins there, never in the user's own file), restored after."""
+    before = os.environ.get(credentials.ENV)
+    os.environ[credentials.ENV] = str(path)
+    try:
+        yield path
+    finally:
+        if before is None:
+            del os.environ[credentials.ENV]
+        else:
+            os.environ[credentials.ENV] = before

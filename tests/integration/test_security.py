@@ -15,7 +15,7 @@ import psutil
 import pytest
 import zenoh
 
-from tests.integration.harness import running_system, turtlectl
+from tests.integration.harness import credentials_at, running_system, turtlectl
 from tests.integration.test_log import Lines
 from turtlectl.messages import Pose, Twist, encode, encoding_for
 from turtlectl.messages.keys import CMD_VEL, NAVIGATE_TO
@@ -30,16 +30,8 @@ pytestmark = pytest.mark.integration
 @pytest.fixture(scope="module")
 def store(tmp_path_factory):
     """The credentials file of this module's systems (never the user's own)."""
-    path = tmp_path_factory.mktemp("credentials") / "credentials.json"
-    before = os.environ.get(credentials.ENV)
-    os.environ[credentials.ENV] = str(path)
-    try:
+    with credentials_at(tmp_path_factory.mktemp("credentials") / "credentials.json") as path:
         yield path
-    finally:
-        if before is None:
-            del os.environ[credentials.ENV]
-        else:
-            os.environ[credentials.ENV] = before
 
 
 @pytest.fixture(scope="module")

@@ -24,10 +24,9 @@ from websockets.exceptions import InvalidStatus
 from websockets.sync.client import connect as ws_connect
 
 from tests.integration.browser import browser_page, page_errors, wait_for
-from tests.integration.harness import ROOT, System, free_port, running_system, turtlectl
+from tests.integration.harness import ROOT, System, credentials_at, free_port, running_system, turtlectl
 from turtlectl.messages import Pose, Turtles
 from turtlectl.messages.keys import POSE
-from turtlectl.runtime.client import credentials
 
 pytestmark = pytest.mark.integration
 
@@ -218,16 +217,8 @@ def test_a_users_nodes_and_own_type_show_in_the_panels(tmp_path: Path) -> None:
 @pytest.fixture
 def credentials_file(tmp_path: Path) -> Iterator[Path]:
     """The credentials file of this test's secure system (never the user's own)."""
-    path = tmp_path / "credentials.json"
-    before = os.environ.get(credentials.ENV)
-    os.environ[credentials.ENV] = str(path)
-    try:
+    with credentials_at(tmp_path / "credentials.json") as path:
         yield path
-    finally:
-        if before is None:
-            del os.environ[credentials.ENV]
-        else:
-            os.environ[credentials.ENV] = before
 
 
 def serve(endpoint: str, port: int, *more: str) -> subprocess.Popen[str]:
