@@ -108,6 +108,24 @@ def test_a_held_arrow_key_drives_and_releasing_it_stops(system, page) -> None:  
     assert rest.x > 3.0 and abs(rest.linear_velocity) < 1e-6
 
 
+def test_the_pad_drives_and_losing_focus_stops_the_keys(system, page) -> None:  # type: ignore[no-untyped-def]
+    s, _port = system
+    s.teleport(2.0, 5.5, 0.0)
+    page.click("#map", button="right")  # the map had focus (the keys' place) before the pad is pressed
+    box = page.locator("#pad [data-drive=fwd]").bounding_box()
+    page.mouse.move(box["x"] + box["width"] / 2, box["y"] + box["height"] / 2)
+    page.mouse.down()
+    s.wait_moving(speed=1.0, timeout=5.0)  # the pad drives, held, and stops when released
+    page.mouse.up()
+    s.wait_stopped(timeout=CMD_TIMEOUT - 2.0)
+    page.focus("#map")
+    page.keyboard.down("ArrowLeft")  # turning in place
+    wait_for(page, "Math.abs(turtlectl.model.poses.turtle1.w) > 1", 5)
+    page.focus("#turtle")  # the map loses focus with the key still held
+    wait_for(page, "turtlectl.model.poses.turtle1.w === 0", CMD_TIMEOUT - 2.0)
+    page.keyboard.up("ArrowLeft")
+
+
 def test_a_page_that_stops_sending_stops_the_turtle(system, page) -> None:  # type: ignore[no-untyped-def]
     """The server's deadman: one drive command and nothing after (a page frozen, a network lost)."""
     s, _port = system

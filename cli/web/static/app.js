@@ -174,7 +174,7 @@ app.spawn = (x, y, theta) => act({ t: "spawn", x, y, theta }, "spawning").then((
 
 const KEYS = { ArrowUp: "fwd", w: "fwd", W: "fwd", ArrowDown: "back", s: "back", S: "back", ArrowLeft: "left", a: "left", A: "left", ArrowRight: "right", d: "right", D: "right" };
 const drive = {
-  held: new Set(), timer: null, turtle: null, linear: 2.0, angular: 2.0,
+  held: new Set(), timer: null, turtle: null, source: null, linear: 2.0, angular: 2.0,
   twist() {
     let v = 0, w = 0;
     if (this.held.has("fwd")) v += this.linear;
@@ -183,11 +183,12 @@ const drive = {
     if (this.held.has("right")) w -= this.angular;
     return [v, w];
   },
-  press(what) {
+  press(what, source) {
     if (!model.can.drive) { say(`this page's login (${model.hello ? model.hello.role : "?"}) cannot drive: run turtlectl web --role teleop`, "bad"); return; }
     if (model.router === "lost" || model.conn !== "open") return;
     if (what === "stop") { this.halt(); return; }
     this.held.add(what);
+    this.source = source;
     this.turtle = this.turtle || model.turtle;
     this.tick();
     if (!this.timer) this.timer = setInterval(() => this.tick(), (model.hello.drive_repeat || 0.1) * 1000);
@@ -199,21 +200,21 @@ const drive = {
     this.held.clear();
     if (this.timer) { clearInterval(this.timer); this.timer = null; }
     if (was) send({ t: "stop", turtle: was });
-    this.turtle = null; model.stats.driving = [0, 0];
+    this.turtle = null; this.source = null; model.stats.driving = [0, 0];
   },
 };
 app.drive = drive;
 
 function keys() {
   const map = $("map");
-  map.addEventListener("keydown", (e) => { const k = KEYS[e.key]; if (k) { e.preventDefault(); if (!e.repeat) drive.press(k); } else if (e.key === " ") { e.preventDefault(); drive.halt(); } });
+  map.addEventListener("keydown", (e) => { const k = KEYS[e.key]; if (k) { e.preventDefault(); if (!e.repeat) drive.press(k, "keys"); } else if (e.key === " ") { e.preventDefault(); drive.halt(); } });
   map.addEventListener("keyup", (e) => { const k = KEYS[e.key]; if (k) { e.preventDefault(); drive.release(k); } });
-  map.addEventListener("blur", () => drive.halt());
+  map.addEventListener("blur", () => { if (drive.source === "keys") drive.halt(); });  // the pad takes focus as it drives
   window.addEventListener("blur", () => drive.halt());
   document.addEventListener("visibilitychange", () => { if (document.hidden) drive.halt(); });
   for (const button of document.querySelectorAll("#pad button")) {
     const what = button.dataset.drive;
-    button.addEventListener("pointerdown", (e) => { e.preventDefault(); button.setPointerCapture(e.pointerId); drive.press(what); });
+    button.addEventListener("pointerdown", (e) => { e.preventDefault(); button.setPointerCapture(e.pointerId); drive.press(what, "pad"); });
     for (const end of ["pointerup", "pointercancel", "lostpointercapture"]) button.addEventListener(end, () => { if (what !== "stop") drive.release(what); });
   }
 }
