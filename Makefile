@@ -49,7 +49,7 @@ ARGS ?=
 WEB ?= 8080
 
 run: bytecode  ## start the whole system and its web page (Ctrl-C stops it); options with ARGS="--port 7448", WEB=8081
-	TURTLECTL_MAKE_RUN=1 $(BIN)/turtlectl launch $(if $(WEB),--web $(WEB)) $(ARGS)
+	TURTLECTL_MAKE_RUN=1 TURTLECTL_MAKE_WEB=$(WEB) $(BIN)/turtlectl launch $(ARGS) $(if $(WEB),--web $(WEB))
 
 lint: install  ## ruff: lint rules and formatting (configuration in pyproject.toml)
 	$(BIN)/ruff check .

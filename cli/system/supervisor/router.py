@@ -34,6 +34,7 @@ from turtlectl.runtime.session import (
 
 JOIN_TIMEOUT = 3.0  # s to reach the router that ``launch --connect`` joins
 MAKE_RUN_ENV = "TURTLECTL_MAKE_RUN"  # set by the Makefile's `run`: its command line is `make run ARGS=...`
+MAKE_WEB_ENV = "TURTLECTL_MAKE_WEB"  # set by the Makefile's `run` to its WEB: it adds `--web WEB` after ARGS
 
 
 def free_port_near(port: int, host: str = "127.0.0.1") -> int:
@@ -84,13 +85,16 @@ def with_port(args: Sequence[str], port: int) -> list[str]:
 def retyped(argv: Sequence[str], command: str, port: int, environ: Mapping[str, str] | None = None) -> str:
     """The command line ``argv`` (``sys.argv`` of a ``command``) as the user typed it, its
     launch file and every argument kept, with ``--port port``; under ``make run`` (which sets
-    ``MAKE_RUN_ENV``) the ``make run ARGS=...`` to type. Without ``argv`` (or one of another command):
+    ``MAKE_RUN_ENV``) the ``make run ARGS=...`` to type (without the ``--web`` make adds itself). Without ``argv`` (or one of another command):
     ``turtlectl command --port port``."""
     env = os.environ if environ is None else environ
     if len(argv) < 2 or command_of(list(argv[1:])) != command:
         return shlex.join(["turtlectl", command, "--port", str(port)])
     words = with_port(argv[1:], port)
     if env.get(MAKE_RUN_ENV) and words[0] == "launch":
+        web = env.get(MAKE_WEB_ENV, "")
+        if web and words[-2:] == ["--web", web]:  # make's own, not the user's ARGS
+            words = words[:-2]
         return "make run ARGS=" + shlex.quote(shlex.join(words[1:]))
     return shlex.join([*invoked_as(argv[0], env.get("PATH", os.defpath)), *words])
 

@@ -9,6 +9,7 @@ import pytest
 
 from turtlectl.cli.system.supervisor.router import (
     MAKE_RUN_ENV,
+    MAKE_WEB_ENV,
     free_port_near,
     invoked_as,
     join_router,
@@ -70,6 +71,12 @@ def test_under_make_run_the_suggestion_is_make_run_with_the_same_args():
     argv = [".venv/bin/turtlectl", "launch", "examples/fleet/launch.toml", "--port", "7447"]
     suggestion = retyped(argv, "launch", 7448, {MAKE_RUN_ENV: "1"})
     assert suggestion == "make run ARGS='examples/fleet/launch.toml --port 7448'"
+    # the page make run serves (WEB) is make's own: not in the ARGS to type; a --web of the user's ARGS is
+    argv = [".venv/bin/turtlectl", "launch", "--port", "7447", "--web", "8080"]
+    assert retyped(argv, "launch", 7448, {MAKE_RUN_ENV: "1", MAKE_WEB_ENV: "8080"}) == "make run ARGS='--port 7448'"
+    assert (
+        retyped(argv, "launch", 7448, {MAKE_RUN_ENV: "1", MAKE_WEB_ENV: ""}) == "make run ARGS='--port 7448 --web 8080'"
+    )
 
 
 def test_a_program_found_on_path_is_named_as_typed_and_any_other_by_its_path(tmp_path):
