@@ -62,7 +62,6 @@ def web(
     if insecure:
         overrides.append("insecure=true")
     plan, named = class_plan("web", overrides, Path.cwd(), name)
-    typer.echo(f"serving the page as node {named} on http://{host}:{port}/ (Ctrl-C stops it)", err=True)
     exec_node(node_config(plan, named, endpoint, None, domain, level), plan.kinds[named])
 
 

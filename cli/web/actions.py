@@ -122,7 +122,7 @@ class Actions:
 
     def _cancel_quietly(self, key: str) -> None:
         try:
-            self.client.cancel(key, TAKEN_OVER)
+            self.client.cancel(key, "teleop", TAKEN_OVER)  # as turtlectl teleop's cancel
         except TurtlectlError:
             pass  # the goal ended meanwhile, or its navigator went: nothing left to cancel
 
@@ -144,7 +144,7 @@ class Actions:
         raise _Refused(f"{frame.turtle}: {getattr(result, 'reason', '')}: {getattr(result, 'detail', '')}")
 
     def cancel(self, frame: CancelGoal) -> tuple[str, Any]:
-        ack = self.client.cancel(resolve(NAVIGATE_TO, self.namespace(frame.turtle)), "canceled from the web page")
+        ack = self.client.cancel(resolve(NAVIGATE_TO, self.namespace(frame.turtle)))
         if not ack.ok:
             raise _Refused(f"{frame.turtle}: no goal was running")
         return f"{frame.turtle}: goal canceled", None
@@ -211,5 +211,5 @@ def _outcome(turtle: str, response: Any, error: str, waited: float) -> bytes:
         time_taken=fields.get("time_taken", waited),
         position_error=fields.get("position_error"),
         heading_error=fields.get("heading_error"),
-        detail=error if not fields.get("success") else "",
+        detail="" if fields.get("success") else (fields.get("detail") or error),
     )

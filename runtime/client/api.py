@@ -143,12 +143,14 @@ class Client:
         request = NavigateToRequest(x=float(x), y=float(y), theta=float(theta))
         return self._run_goal(goals.navigate_to(self._goal_key(NAVIGATE_TO)), request, timeout, on_feedback)  # type: ignore[no-any-return]
 
-    def cancel(self, service: str = NAVIGATE_TO, reason: str = "") -> Ack:
+    def cancel(self, service: str = NAVIGATE_TO, reason: str = "", detail: str = "") -> Ack:
         """Cancel the running goal of the goal service ``service`` (default ``navigate_to``);
-        the server's Ack (``ok`` false: no goal was running)."""
+        the server's Ack (``ok`` false: no goal was running).  ``reason`` and ``detail``: what the
+        goal's caller is told (``Cancel``'s; default: the server's own words for a cancel)."""
         cancel_key = f"{check_key(self._goal_key(service))}/cancel"
+        request = Cancel(reason=reason, detail=detail)
         with self._hinted():
-            answers = list(replies(self._session, cancel_key, Cancel(reason=reason), CALL_TIMEOUT, goal=True))
+            answers = list(replies(self._session, cancel_key, request, CALL_TIMEOUT, goal=True))
         answer = answers[-1] if answers else None
         if not isinstance(answer, Ack):
             raise Failed(f"{cancel_key} answered {type_name(type(answer))}, not {type_name(Ack)}")

@@ -77,6 +77,31 @@ def test_the_page_draws_the_turtle_where_its_pose_says(system, page) -> None:  #
     assert page.evaluate("turtlectl.model.stats.latencies.length") > 0
 
 
+def test_a_click_sends_nothing_and_the_map_stays_put(system, page) -> None:  # type: ignore[no-untyped-def]
+    s, _port = system
+    box = page.locator("#map").bounding_box()
+    page.mouse.click(*page.evaluate("turtlectl.world.pagePoint(2, 2)"))  # the map's focus, no goal
+    wait_for(page, "document.getElementById('said').textContent.startsWith('drag to send a goal')")
+    rest = s.collect(POSE, Pose, 30, timeout=5.0)
+    assert all(abs(p.linear_velocity) < 1e-6 and abs(p.angular_velocity) < 1e-6 for _t, p in rest)
+    assert page.evaluate("document.activeElement.id") == "map"
+    page.evaluate("turtlectl.say('a long line '.repeat(60), 'bad')")  # what a long refusal would say
+    assert page.locator("#map").bounding_box() == box  # the map did not move under the pointer
+
+
+def test_a_canceled_goal_says_so_once(system, page) -> None:  # type: ignore[no-untyped-def]
+    s, _port = system
+    s.teleport(1.5, 5.5, 0.0)
+    drag(page, (9.5, 5.5), (10.5, 5.5))
+    wait_for(page, "turtlectl.model.goals.turtle1", 10)
+    page.click("#cancel")
+    outcome = wait_for(page, "turtlectl.model.outcomes.turtle1", 10)
+    assert not outcome["success"] and outcome["reason"] == "canceled"
+    line = page.inner_text("#goal")
+    assert line.startswith("turtle1: not reached (canceled)") and line.count("canceled") <= 3, line
+    s.wait_stopped()
+
+
 def test_a_drag_on_the_map_sends_a_goal_and_the_turtle_arrives(system, page) -> None:  # type: ignore[no-untyped-def]
     s, _port = system
     start = page.evaluate("turtlectl.world.pagePoint(8, 3)")
@@ -152,8 +177,9 @@ def test_spawn_teleport_and_kill_by_gestures(system, page) -> None:  # type: ign
     s, _port = system
     drag(page, (2.0, 9.5), (2.0, 10.5), "Alt")  # dragged north: facing 90 degrees
     said = wait_for(page, "(t => t.startsWith('spawned') && t)(document.getElementById('said').textContent)", 10)
-    name = said.split()[-1]
-    assert page.evaluate("turtlectl.model.turtle") == name  # the new turtle is the chosen one
+    name = said.split()[1].rstrip(":")
+    assert page.evaluate("turtlectl.model.turtle") == name  # the new turtle is the chosen one, and it says so
+    assert "chosen now" in said
     born = s.collect(f"{name}/pose", Pose, 1, timeout=5.0)[-1][1]
     assert math.hypot(born.x - 2.0, born.y - 9.5) < 0.05 and abs(math.degrees(born.theta) - 90.0) < 1.0
     drag(page, (9.0, 9.5), (10.0, 9.5))  # a goal: but only turtle1 has a navigator here
@@ -165,6 +191,12 @@ def test_spawn_teleport_and_kill_by_gestures(system, page) -> None:  # type: ign
     assert page.evaluate(f"turtlectl.model.trails['{name}'].includes(null)")  # no trail drawn across the jump
     page.click("#kill")
     wait_for(page, f"!turtlectl.model.poses['{name}']", 10)
+    # the list no longer offers it, and turtle1 is the chosen one again
+    wait_for(
+        page,
+        f"turtlectl.model.turtle === 'turtle1' && ![...document.querySelectorAll('#turtle option')].some(o => o.value === '{name}')",
+        5,
+    )
     assert name not in s.collect("turtles", Turtles, 1, timeout=5.0)[-1][1].names  # the simulator's own list
 
 
@@ -270,6 +302,8 @@ def test_a_viewers_page_cannot_drive(credentials_file: Path) -> None:
                 wait_for(page, "turtlectl.model.errors.some(e => e.includes('viewer role cannot drive'))")
                 reply = page.evaluate("turtlectl.request({t: 'goal', turtle: 'turtle1', x: 2, y: 2, theta: 0})")
                 assert reply["ok"] is False and "viewer role cannot send goals" in reply["text"]
+                drag(page, (3.0, 3.0), (4.0, 3.0))  # a goal's gesture says which role may
+                wait_for(page, "document.getElementById('said').textContent.includes('(viewer) can only watch')")
                 page.focus("#map")
                 page.keyboard.down("ArrowUp")  # the keys say why, and send nothing
                 wait_for(page, "document.getElementById('said').textContent.includes('cannot drive')")

@@ -9,7 +9,7 @@ const model = {
   conn: "connecting",   // open | reconnecting | connecting
   router: "ok",         // ok | lost
   hello: null, world: null, can: { drive: false, command: false, edit: false },
-  turtles: [], poses: {}, trails: {}, scans: {}, goals: {}, status: {}, outcomes: {},
+  poses: {}, trails: {}, scans: {}, goals: {}, status: {}, outcomes: {},
   graph: { nodes: [], clients: [], topics: [] }, logs: [], echo: {}, replies: {},
   stats: { frames: 0, latencies: [], drawn: 0, reconnects: 0 },
   turtle: "turtle1",
@@ -22,7 +22,7 @@ const $ = (id) => document.getElementById(id);
 let socket = null, nextId = 1, backoff = 500;
 const pending = new Map();
 
-function say(text, kind = "") { const el = $("said"); el.textContent = text; el.className = "line " + kind; }
+function say(text, kind = "") { const el = $("said"); el.textContent = el.title = text; el.className = "line " + kind; }
 function banner(text, kind) { const el = $("banner"); el.textContent = text; el.className = kind || ""; }
 
 function send(frame) {
@@ -77,7 +77,7 @@ function take(frame) {
     case "world": model.world = frame.world; world.dirty = true; break;
     case "frame": takeFrame(frame); break;
     case "outcome": outcome(frame); break;
-    case "graph": model.graph = frame; model.turtles = turtlesOf(frame); chooser(); panels.graph(frame); break;
+    case "graph": model.graph = frame; chooser(); panels.graph(frame); break;
     case "echo": model.echo[frame.key] = frame; panels.echo(frame); break;
     case "log":
       for (const r of frame.records) model.logs.push(r);
@@ -98,8 +98,14 @@ function routerState(state, where) {
 
 function takeFrame(frame) {
   model.stats.frames += 1;
+  let gone = false;
   for (const [turtle, pose] of Object.entries(frame.poses || {})) {
-    if (pose === null) { delete model.poses[turtle]; continue; }
+    if (pose === null) {  // killed: the chosen one goes to turtle1 (or another that is there)
+      delete model.poses[turtle]; gone = true;
+      if (turtle === model.turtle) { drive.halt(); const left = Object.keys(model.poses).sort(); model.turtle = left.includes("turtle1") ? "turtle1" : (left[0] || "turtle1"); }
+      continue;
+    }
+    if (!(turtle in model.poses)) gone = true;  // a new one: the chooser lists it
     model.poses[turtle] = { ...pose, received: performance.timeOrigin + performance.now() };
     world.trail(turtle, pose);
   }
@@ -109,17 +115,14 @@ function takeFrame(frame) {
     }
   }
   world.dirty = true;
+  if (gone) chooser();
   showGoal();
-}
-
-function turtlesOf(graph) {
-  const names = new Set(Object.keys(model.poses));
-  return [...names].sort();
 }
 
 function chooser() {
   const select = $("turtle");
-  const names = [...new Set([...Object.keys(model.poses), model.turtle])].sort();
+  const names = Object.keys(model.poses).sort();
+  if (!names.includes(model.turtle)) names.push(model.turtle);  // chosen, its first pose not here yet (spawned)
   if ([...select.options].map((o) => o.value).join() !== names.join()) {
     select.innerHTML = names.map((n) => `<option>${n}</option>`).join("");
     select.value = model.turtle;
@@ -130,7 +133,6 @@ function enable() {
   for (const b of document.querySelectorAll("#pad button")) b.disabled = !model.can.drive;
   $("cancel").disabled = $("kill").disabled = !model.can.command;
   for (const input of document.querySelectorAll("input[name=mode]")) if (input.value !== "pan") input.disabled = !model.can.command;
-  if (!model.can.command) { document.querySelector("input[value=pan]").checked = true; }
   if (!model.can.drive) say(`this page's login (${model.hello.role}) may watch, not drive`, "");
 }
 
@@ -146,8 +148,9 @@ function showGoal() {
     const o = model.outcomes[model.turtle];
     el.className = "line " + (o.success ? "good" : "bad");
     const errors = o.position_error == null ? "" : ` (off by ${o.position_error.toFixed(3)} m, ${o.heading_error.toFixed(1)}°)`;
-    el.textContent = o.success ? `${o.turtle}: reached in ${o.time_taken.toFixed(1)} s${errors}` : `${o.turtle}: not reached: ${o.reason}${o.detail ? ": " + o.detail : ""} after ${Number(o.time_taken).toFixed(1)} s${errors}`;
+    el.textContent = o.success ? `${o.turtle}: reached in ${o.time_taken.toFixed(1)} s${errors}` : `${o.turtle}: not reached (${o.reason}): ${o.detail || o.reason}, after ${Number(o.time_taken).toFixed(1)} s${errors}`;
   } else el.textContent = "";
+  el.title = el.textContent;  // the whole line, when the map's width cuts it
 }
 
 function outcome(frame) { model.outcomes[frame.turtle] = frame; delete model.goals[frame.turtle]; world.dirty = true; showGoal(); }
@@ -168,7 +171,10 @@ app.goal = (turtle, x, y, theta) => !navigated(turtle)
   ? (say(`${turtle} has no navigator (nothing serves ${turtle}/navigate_to): teleport it (shift+drag) or drive it (keys, pad)`, "bad"), Promise.resolve({ ok: false }))
   : act({ t: "goal", turtle, x, y, theta }, `${turtle}: goal (${x.toFixed(2)}, ${y.toFixed(2)}) ${theta.toFixed(0)}°`);
 app.teleport = (turtle, x, y, theta) => act({ t: "teleport", turtle, x, y, theta }, `teleporting ${turtle}`);
-app.spawn = (x, y, theta) => act({ t: "spawn", x, y, theta }, "spawning").then((r) => { if (r.ok && r.data) { model.turtle = r.data.name; chooser(); } return r; });
+app.spawn = (x, y, theta) => act({ t: "spawn", x, y, theta }, "spawning").then((r) => {
+  if (r.ok && r.data) { model.turtle = r.data.name; say(`${r.text}: chosen now (the turtle list above the map)`, "good"); }
+  return r;
+});
 
 // driving: the keys while the map has focus, and the pad ------------------------------------------------
 

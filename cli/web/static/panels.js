@@ -108,7 +108,7 @@ export class Panels {
     if (!reply.ok) { said.textContent = reply.text; said.className = "bad"; return; }
     said.textContent = ""; said.className = "";
     const editable = this.model.can.edit;
-    $("params").tBodies[0].innerHTML = reply.data.parameters.map((p) => `<tr><td title="${esc(p.type)}">${esc(p.name)}</td><td>${p.run_time && editable ? `<input data-param="${esc(p.name)}" value="${esc(shown(p.value))}">` : `<span title="${esc(p.fixed_because || "")}">${esc(shown(p.value))}</span>`}</td><td>${esc(p.unit)}</td><td>${esc(p.range)}</td><td>${esc(p.meaning)}</td></tr>`).join("");
+    $("params").tBodies[0].innerHTML = reply.data.parameters.map((p) => `<tr><td title="${esc(p.type)}">${esc(p.name)}</td><td>${p.run_time && editable ? `<input data-param="${esc(p.name)}" data-value="${esc(shown(p.value))}" value="${esc(shown(p.value))}">` : `<span title="${esc(p.fixed_because || "")}">${esc(shown(p.value))}</span>`}</td><td>${esc(p.unit)}</td><td>${esc(p.range)}</td><td>${esc(p.meaning)}</td></tr>`).join("");
     for (const input of $("params").querySelectorAll("input[data-param]")) input.addEventListener("keydown", (e) => { if (e.key === "Enter") this.setParam(node, input); });
   }
   async setParam(node, input) {
@@ -117,6 +117,8 @@ export class Panels {
     const reply = await this.app.request({ t: "set_param", node, name: input.dataset.param, value: input.value });
     said.textContent = reply.text; said.className = reply.ok ? "good" : "bad";
     input.classList.toggle("bad", !reply.ok);
+    if (reply.ok) input.dataset.value = input.value;
+    else input.value = input.dataset.value;  // the value in force: the node kept it
     this.model.lastParamReply = reply;
   }
 }

@@ -7,6 +7,7 @@
 
 const COLORS = ["#ffd54f", "#80deea", "#ef9a9a", "#a5d6a7", "#ce93d8", "#ffab91", "#b0bec5"];
 const TRAIL_STEP = 0.02; // m between two trail points
+const DRAG = 6; // px: a press released nearer than this is a click (focus only), not a gesture
 const TRAIL_JUMP = 0.5; // m between two poses that no drive covers (a pose is 16 ms, 4 m/s at most): a teleport
 
 export class World {
@@ -69,7 +70,10 @@ export class World {
   down(e) {
     this.canvas.focus();
     const what = this.gesture(e);
-    if (what !== "pan" && !this.model.can.command) { this.app.say && this.app.say("this page's login may not send goals"); }
+    if (what !== "pan" && !this.model.can.command) {
+      const role = this.model.hello ? this.model.hello.role : "";
+      this.app.say(`this page's login (${role}) can only watch: goals, teleport, spawn and kill need turtlectl web --role operator`, "bad");
+    }
     const [px, py] = this.local(e);
     this.drag = { what: (what !== "pan" && !this.model.can.command) ? "pan" : what, from: [px, py], to: [px, py], o: [this.ox, this.oy] };
     this.canvas.setPointerCapture(e.pointerId);
@@ -87,9 +91,11 @@ export class World {
     drag.to = this.local(e);
     const [x, y] = this.toWorld(...drag.from);
     const [dx, dy] = [drag.to[0] - drag.from[0], drag.from[1] - drag.to[1]];
-    let theta;
-    if (Math.hypot(dx, dy) >= 6) theta = Math.atan2(dy, dx) * 180 / Math.PI;
-    else { const p = this.model.poses[this.model.turtle]; theta = p ? Math.atan2(y - p.y, x - p.x) * 180 / Math.PI : 0; }
+    if (Math.hypot(dx, dy) < DRAG) {  // a click: the map's focus (for the keys), nothing sent
+      this.app.say(`drag to ${drag.what === "goal" ? "send a goal" : drag.what}: press where the turtle should be, release towards where it should face`);
+      return;
+    }
+    let theta = Math.atan2(dy, dx) * 180 / Math.PI;
     theta = ((theta % 360) + 360) % 360;
     const turtle = this.model.turtle;
     if (drag.what === "goal") this.app.goal(turtle, x, y, theta);
