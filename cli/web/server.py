@@ -181,12 +181,6 @@ class WebServer:
         if self._thread is not None:
             self._thread.join(3.0)
 
-    @property
-    def bound(self) -> list[tuple[str, int]]:
-        """The addresses the page listens on."""
-        assert self._server is not None
-        return [s.getsockname()[:2] for s in self._server.sockets]
-
     # HTTP ------------------------------------------------------------------------------------------
 
     def _http(self, connection: ServerConnection, request: Request) -> Response | None:
