@@ -18,12 +18,13 @@ from typing import Any
 
 import msgspec
 
+from turtlectl.cli.tools.format import ack_lines, teleport_line
 from turtlectl.cli.web import protocol
 from turtlectl.cli.web.protocol import CancelGoal, Drive, Goal, Kill, Params, SetParam, Spawn, Stop, Teleport
 from turtlectl.messages import Ack, NavigateToFeedback, NavigateToRequest, SpawnResponse, TeleportAbsolute, Twist
 from turtlectl.messages import Kill as KillRequest
 from turtlectl.messages.angles import heading_radians
-from turtlectl.messages.keys import CMD_VEL, KILL, NAVIGATE_TO, SPAWN, cmd_vel_key, resolve, teleport_key
+from turtlectl.messages.keys import KILL, NAVIGATE_TO, SPAWN, cmd_vel_key, resolve, teleport_key
 from turtlectl.runtime.client.api import Client
 from turtlectl.runtime.client.errors import TurtlectlError
 from turtlectl.runtime.client.session import live_turtle_namespace
@@ -82,8 +83,11 @@ class Actions:
 
     def handle(self, frame: protocol.Inbound, send: Send) -> None:
         """Do ``frame``'s request on a worker thread; its reply goes to ``send``."""
-        if isinstance(frame, Drive | Stop):  # a publish: at once, on the caller's thread
-            self.drive(frame.turtle, frame.linear if isinstance(frame, Drive) else 0.0, getattr(frame, "angular", 0.0))
+        if isinstance(frame, Drive):  # a publish: at once, on the caller's thread
+            self.drive(frame.turtle, frame.linear, frame.angular)
+            return
+        if isinstance(frame, Stop):
+            self.drive(frame.turtle, 0.0, 0.0)
             return
         work = {
             Goal: self.goal,
@@ -112,7 +116,7 @@ class Actions:
 
     def drive(self, turtle: str, linear: float, angular: float) -> None:
         """Publish ``turtle``'s cmd_vel (m/s, rad/s), as teleop does."""
-        self.client.publish(cmd_vel_key(turtle) if turtle else CMD_VEL, Twist(linear=linear, angular=angular))
+        self.client.publish(cmd_vel_key(turtle), Twist(linear=linear, angular=angular))
 
     def take_over(self, turtle: str) -> None:
         """The keys start driving ``turtle``: its running goal is canceled first, as teleop cancels it."""
@@ -152,10 +156,11 @@ class Actions:
     def teleport(self, frame: Teleport) -> tuple[str, Any]:
         request = TeleportAbsolute(x=frame.x, y=frame.y, theta=heading_radians(frame.theta))
         acks = [a for a in self.client.call_all(teleport_key(frame.turtle), request) if isinstance(a, Ack)]
-        refused = [a.detail for a in acks if not a.ok]
-        if refused or not acks:
-            raise _Refused("; ".join(refused) or "the simulator did not confirm the teleport")
-        return f"{frame.turtle} teleported to ({frame.x:.2f}, {frame.y:.2f}) facing {frame.theta:.0f} deg", None
+        if not acks:
+            raise _Refused("the simulator did not confirm the teleport")
+        if not all(a.ok for a in acks):  # the simulator's own words, as teleport says them
+            raise _Refused(ack_lines(acks))
+        return f"{frame.turtle} {teleport_line(frame.x, frame.y, frame.theta)}", None
 
     def spawn(self, frame: Spawn) -> tuple[str, Any]:
         from turtlectl.messages import SpawnRequest

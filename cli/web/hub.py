@@ -185,6 +185,12 @@ class Hub:
             self._logs.extend(kept[-LOG_KEEP:])
         self._wake()
 
+    def goal_running(self, turtle: str) -> bool:
+        """Whether ``turtle``'s navigator sent feedback within GOAL_LIFETIME s (a goal runs)."""
+        with self._lock:
+            fields = self._state["goals"].get(turtle, (0, None))[1]
+        return fields is not None and self._clock() - fields["received"] <= GOAL_LIFETIME
+
     def logs(self, since: int) -> tuple[int, list[dict[str, Any]]]:
         """Log records that arrived after version ``since``, oldest first, and the version to ask
         from next (the last one's)."""
@@ -233,13 +239,10 @@ def _fields(message: Any, now: float) -> dict[str, Any]:
         return pose_fields(message)
     if isinstance(message, LaserScan):
         return scan_fields(message)
+    fields: dict[str, Any] = msgspec.to_builtins(message)  # feedback and status: as they are
     if isinstance(message, NavigateToFeedback):
-        fields: dict[str, Any] = msgspec.to_builtins(message)
         fields["received"] = now
-        return fields
-    if isinstance(message, TurtleStatus):
-        return msgspec.to_builtins(message)
-    return msgspec.to_builtins(message)
+    return fields
 
 
 __all__ = ["Hub"]

@@ -11,7 +11,6 @@ from __future__ import annotations
 
 import threading
 import time
-from typing import Any
 
 import msgspec
 
@@ -55,7 +54,7 @@ class Web:
         self.server = WebServer(
             p.host,
             p.port,
-            Actions(self.client, self._outcome, self._goal_running),
+            Actions(self.client, self._outcome, lambda turtle: self.server.hub.goal_running(turtle)),
             lambda wake: Hub(self.client.session, wake),
             hello,
             role,
@@ -92,10 +91,6 @@ class Web:
 
     def _outcome(self, frame: bytes) -> None:
         self.server.broadcast(frame)
-
-    def _goal_running(self, turtle: str) -> bool:
-        _version, changed = self.server.hub.changes(-1)
-        return changed.get("goals", {}).get(turtle) is not None
 
     def graph_frame(self) -> bytes | None:
         """The ``graph`` frame: nodes (name, kind, pid, host, uptime, namespace), other clients,
@@ -152,9 +147,3 @@ def page_port_problem(host: str, port: int, error: OSError) -> str:
 
 def _url_host(host: str) -> str:
     return "127.0.0.1" if host in ("0.0.0.0", "") else host
-
-
-def main() -> Any:  # pragma: no cover - the launch runs it through runtime.__main__
-    from turtlectl.runtime import run_main
-
-    run_main(Web, WebParams)

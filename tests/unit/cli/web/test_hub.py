@@ -140,3 +140,15 @@ def test_with_no_page_open_poses_are_counted_not_kept() -> None:
     h.viewed = True
     h.on_sample(Sample("turtle1/pose", Pose(x=2.0, y=1.0, theta=0.0)))
     assert h.changes(version)[1]["poses"]["turtle1"]["x"] == 2.0
+
+
+def test_a_goal_runs_while_its_feedback_comes() -> None:
+    h, clock, _ = hub()
+    assert not h.goal_running("turtle1")
+    fb = NavigateToFeedback(
+        state="driving", distance_remaining=1, heading_remaining=0, eta=1, elapsed=1, x=1, y=1, theta=0
+    )
+    h.on_sample(Sample("navigate_to/feedback", fb))
+    assert h.goal_running("turtle1") and not h.goal_running("turtle2")
+    clock.now += 2.0
+    assert not h.goal_running("turtle1")
